@@ -1,0 +1,149 @@
+//! The scalar trait every kernel is generic over: [`Fx`] computes what
+//! fixtures hold, `f64` (through `libm`) is the accuracy reference.
+
+#![allow(clippy::float_arithmetic)] // the f64 reference implementation lives here
+
+use core::fmt::Debug;
+use core::ops::Neg;
+
+use nalgebra::{ClosedAddAssign, ClosedMulAssign, ClosedSubAssign, Scalar};
+use num_traits::{One, Zero};
+
+use super::{Angle, Fx, func};
+
+/// A real number type a kernel computes with.
+///
+/// For [`Fx`] every operation follows the fixed-point overflow policy
+/// (saturating, round to nearest); for `f64` it is the exact `libm`
+/// function. Write a kernel once as `fn step<R: Real>(…)` and compare the
+/// two instances to measure the fixed-point error.
+pub trait Real:
+    Scalar + Copy + Debug + PartialOrd + Zero + One + ClosedAddAssign + ClosedSubAssign + ClosedMulAssign + Neg<Output = Self>
+{
+    /// Converts a fixed-point parameter (exactly, for `f64`).
+    fn from_fx(x: Fx) -> Self;
+    /// An integer.
+    fn from_int(i: i32) -> Self;
+    /// `num / den` (rounded for [`Fx`]).
+    fn from_ratio(num: i32, den: i32) -> Self;
+    /// The value as `f64`, for comparisons against the reference.
+    fn to_f64(self) -> f64;
+    /// Division (saturating for [`Fx`]; `x / 0` saturates).
+    fn div(self, rhs: Self) -> Self;
+    /// Absolute value.
+    fn abs(self) -> Self;
+    /// Square root; negative input gives zero.
+    fn sqrt(self) -> Self;
+    /// e^self.
+    fn exp(self) -> Self;
+    /// ln(self); non-positive input gives the most negative value.
+    fn ln(self) -> Self;
+    /// The logistic function 1 / (1 + e^(−self)).
+    fn sigmoid(self) -> Self;
+    /// sin of a binary angle.
+    fn sin(a: Angle) -> Self;
+    /// cos of a binary angle.
+    fn cos(a: Angle) -> Self;
+    /// The angle of `(x, y)`.
+    fn atan2(y: Self, x: Self) -> Angle;
+    /// `a · self` for an angle `a` taken as signed (see [`Angle::scale`]).
+    fn scale_angle(self, a: Angle) -> Angle;
+}
+
+impl Real for Fx {
+    fn from_fx(x: Fx) -> Fx {
+        x
+    }
+    fn from_int(i: i32) -> Fx {
+        Fx::from_int(i)
+    }
+    fn from_ratio(num: i32, den: i32) -> Fx {
+        Fx::from_ratio(num, den)
+    }
+    fn to_f64(self) -> f64 {
+        self.to_fixed().to_num::<f64>()
+    }
+    fn div(self, rhs: Fx) -> Fx {
+        self.saturating_div(rhs)
+    }
+    fn abs(self) -> Fx {
+        Fx::abs(self)
+    }
+    fn sqrt(self) -> Fx {
+        func::sqrt(self)
+    }
+    fn exp(self) -> Fx {
+        func::exp(self)
+    }
+    fn ln(self) -> Fx {
+        func::ln(self)
+    }
+    fn sigmoid(self) -> Fx {
+        func::sigmoid(self)
+    }
+    fn sin(a: Angle) -> Fx {
+        func::sin(a)
+    }
+    fn cos(a: Angle) -> Fx {
+        func::cos(a)
+    }
+    fn atan2(y: Fx, x: Fx) -> Angle {
+        func::atan2(y, x)
+    }
+    fn scale_angle(self, a: Angle) -> Angle {
+        a.scale(self)
+    }
+}
+
+/// Turns per binary-angle unit.
+const TURN_UNITS: f64 = 4_294_967_296.0;
+
+fn radians(a: Angle) -> f64 {
+    a.signed() as f64 / TURN_UNITS * core::f64::consts::TAU
+}
+
+impl Real for f64 {
+    fn from_fx(x: Fx) -> f64 {
+        x.to_bits() as f64 / 65_536.0
+    }
+    fn from_int(i: i32) -> f64 {
+        i as f64
+    }
+    fn from_ratio(num: i32, den: i32) -> f64 {
+        num as f64 / den as f64
+    }
+    fn to_f64(self) -> f64 {
+        self
+    }
+    fn div(self, rhs: f64) -> f64 {
+        self / rhs
+    }
+    fn abs(self) -> f64 {
+        libm::fabs(self)
+    }
+    fn sqrt(self) -> f64 {
+        if self <= 0.0 { 0.0 } else { libm::sqrt(self) }
+    }
+    fn exp(self) -> f64 {
+        libm::exp(self)
+    }
+    fn ln(self) -> f64 {
+        if self <= 0.0 { f64::MIN } else { libm::log(self) }
+    }
+    fn sigmoid(self) -> f64 {
+        1.0 / (1.0 + libm::exp(-self))
+    }
+    fn sin(a: Angle) -> f64 {
+        libm::sin(radians(a))
+    }
+    fn cos(a: Angle) -> f64 {
+        libm::cos(radians(a))
+    }
+    fn atan2(y: f64, x: f64) -> Angle {
+        let turns = libm::atan2(y, x) / core::f64::consts::TAU;
+        Angle(libm::round(turns * TURN_UNITS) as i64 as u32)
+    }
+    fn scale_angle(self, a: Angle) -> Angle {
+        Angle(libm::round(a.signed() as f64 * self) as i64 as u32)
+    }
+}
