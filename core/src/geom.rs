@@ -47,25 +47,37 @@ impl<R: Real> Rigid<R> {
     /// The identity motion.
     #[must_use]
     pub fn identity() -> Self {
-        Rigid { rotation: Matrix3::identity(), translation: Vector3::zeros() }
+        Rigid {
+            rotation: Matrix3::identity(),
+            translation: Vector3::zeros(),
+        }
     }
 
     /// A pure translation T.
     #[must_use]
     pub fn translation(t: Vector3<R>) -> Self {
-        Rigid { rotation: Matrix3::identity(), translation: t }
+        Rigid {
+            rotation: Matrix3::identity(),
+            translation: t,
+        }
     }
 
     /// A pure rotation.
     #[must_use]
     pub fn rotation(rotation: Matrix3<R>) -> Self {
-        Rigid { rotation, translation: Vector3::zeros() }
+        Rigid {
+            rotation,
+            translation: Vector3::zeros(),
+        }
     }
 
     /// The positioner form of the horn paper, `T·R_z(z)·R_y(y)·R_x(x)`.
     #[must_use]
     pub fn positioner(t: Vector3<R>, z: Angle, y: Angle, x: Angle) -> Self {
-        Rigid { rotation: rot_z::<R>(z) * rot_y::<R>(y) * rot_x::<R>(x), translation: t }
+        Rigid {
+            rotation: rot_z::<R>(z) * rot_y::<R>(y) * rot_x::<R>(x),
+            translation: t,
+        }
     }
 
     /// `self · other`: apply `other` first, then `self`.
@@ -93,7 +105,10 @@ impl<R: Real> Rigid<R> {
     #[must_use]
     pub fn inverse(&self) -> Self {
         let rt = self.rotation.transpose();
-        Rigid { rotation: rt, translation: -(rt * self.translation) }
+        Rigid {
+            rotation: rt,
+            translation: -(rt * self.translation),
+        }
     }
 
     /// The 4×4 homogeneous matrix.
@@ -110,7 +125,10 @@ impl<R: Real> Rigid<R> {
 /// exact sum of products as Q32 bits (no rounding, no overflow).
 #[must_use]
 pub fn dot_wide(a: &Vector3<Fx>, b: &Vector3<Fx>) -> i64 {
-    a.iter().zip(b.iter()).map(|(x, y)| x.to_bits() as i64 * y.to_bits() as i64).sum()
+    a.iter()
+        .zip(b.iter())
+        .map(|(x, y)| x.to_bits() as i64 * y.to_bits() as i64)
+        .sum()
 }
 
 /// The Euclidean length of a fixed-point vector, from a wide accumulator
@@ -130,7 +148,11 @@ mod tests {
     /// The largest deviation of `m` from the identity, in LSB.
     fn off_identity(m: &Matrix4<Fx>) -> i32 {
         let id = Matrix4::<Fx>::identity();
-        m.iter().zip(id.iter()).map(|(a, b)| (a.to_bits() - b.to_bits()).abs()).max().unwrap_or(0)
+        m.iter()
+            .zip(id.iter())
+            .map(|(a, b)| (a.to_bits() - b.to_bits()).abs())
+            .max()
+            .unwrap_or(0)
     }
 
     fn angles() -> impl Iterator<Item = Angle> {
@@ -140,9 +162,18 @@ mod tests {
     #[test]
     fn rotations_are_orthonormal_within_six_lsb() {
         for a in angles() {
-            for r in [rot_x::<Fx>(a), rot_y(a), rot_z(a), rot_z::<Fx>(a) * rot_y::<Fx>(a + Angle::QUARTER) * rot_x::<Fx>(-a)] {
+            for r in [
+                rot_x::<Fx>(a),
+                rot_y(a),
+                rot_z(a),
+                rot_z::<Fx>(a) * rot_y::<Fx>(a + Angle::QUARTER) * rot_x::<Fx>(-a),
+            ] {
                 let rrt = Rigid::rotation(r * r.transpose()).to_homogeneous();
-                assert!(off_identity(&rrt) <= 6, "R·Rᵀ off by {} LSB at {a:?}", off_identity(&rrt));
+                assert!(
+                    off_identity(&rrt) <= 6,
+                    "R·Rᵀ off by {} LSB at {a:?}",
+                    off_identity(&rrt)
+                );
             }
         }
     }
@@ -151,21 +182,38 @@ mod tests {
     fn composition_with_the_inverse_is_identity() {
         // Bound: rotation block ≤ 6 LSB; translation ≤ 6 LSB per unit of |t|.
         for (i, a) in angles().enumerate() {
-            let t = Vector3::new(Fx::from_int(i as i32 - 40), Fx::from_ratio(7, 3), Fx::from_int(12));
+            let t = Vector3::new(
+                Fx::from_int(i as i32 - 40),
+                Fx::from_ratio(7, 3),
+                Fx::from_int(12),
+            );
             let m = Rigid::positioner(t, a, a + a, Angle(a.0 / 3));
             let both = m.compose(&m.inverse());
             let rotation = off_identity(&Rigid::rotation(both.rotation).to_homogeneous());
             assert!(rotation <= 6, "M·M⁻¹ rotation off by {rotation} LSB");
             let budget = 6 * (1 + length(&t).floor_int());
-            let drift = both.translation.iter().map(|x| x.to_bits().abs()).max().unwrap_or(0);
-            assert!(drift <= budget, "M·M⁻¹ translation off by {drift} LSB > {budget}");
+            let drift = both
+                .translation
+                .iter()
+                .map(|x| x.to_bits().abs())
+                .max()
+                .unwrap_or(0);
+            assert!(
+                drift <= budget,
+                "M·M⁻¹ translation off by {drift} LSB > {budget}"
+            );
         }
     }
 
     #[test]
     fn positioner_order_is_t_rz_ry_rx() {
         // Applying P to x̂: R_x leaves x̂ alone, R_y(90°) sends it to −ẑ, R_z leaves ẑ alone.
-        let p = Rigid::<Fx>::positioner(Vector3::new(Fx::ONE, Fx::ZERO, Fx::ZERO), Angle::QUARTER, Angle::QUARTER, Angle::QUARTER);
+        let p = Rigid::<Fx>::positioner(
+            Vector3::new(Fx::ONE, Fx::ZERO, Fx::ZERO),
+            Angle::QUARTER,
+            Angle::QUARTER,
+            Angle::QUARTER,
+        );
         let x = p.apply_point(&Vector3::x());
         assert_eq!(x, Vector3::new(Fx::ONE, Fx::ZERO, -Fx::ONE));
         // ŷ: R_x(90°) → ẑ, R_y(90°) → x̂, R_z(90°) → ŷ.
@@ -189,9 +237,18 @@ mod tests {
     #[test]
     fn fixed_and_f64_transforms_agree() {
         for a in angles() {
-            let pf = Rigid::<Fx>::positioner(Vector3::new(Fx::from_int(3), Fx::ONE, Fx::HALF), a, -a, a + a);
+            let pf = Rigid::<Fx>::positioner(
+                Vector3::new(Fx::from_int(3), Fx::ONE, Fx::HALF),
+                a,
+                -a,
+                a + a,
+            );
             let pd = Rigid::<f64>::positioner(Vector3::new(3.0, 1.0, 0.5), a, -a, a + a);
-            let v = pf.apply_point(&Vector3::new(Fx::from_int(10), Fx::from_int(-4), Fx::from_int(2)));
+            let v = pf.apply_point(&Vector3::new(
+                Fx::from_int(10),
+                Fx::from_int(-4),
+                Fx::from_int(2),
+            ));
             let w = pd.apply_point(&Vector3::new(10.0, -4.0, 2.0));
             // Bound: 4 LSB per unit of the point's and translation's size (|p| + |t| < 15).
             for (x, y) in v.iter().zip(w.iter()) {

@@ -1,12 +1,40 @@
 //! Morphogen's `no_std` core: fixed-point kernels that simulate growth
-//! models and stream their results identically on a workstation and on a
-//! Cortex-M.
+//! models and stream their results identically, bit for bit, on a
+//! workstation and on a Cortex-M.
+//!
+//! ```
+//! use morphogen::preset::{self, Runner};
+//! use morphogen::stream::Encoder;
+//!
+//! let preset = preset::find("growth-curve").unwrap();
+//! let mut encoder = Encoder::new(heapless::Vec::<u8, 16384>::new());
+//! preset::run(preset, 0, &mut Runner::new(), &mut encoder, &mut |_| {}).unwrap();
+//! assert!(encoder.frames() > 700);
+//! println!("digest {:016x}", encoder.digest());
+//! ```
 #![cfg_attr(not(test), no_std)]
 #![forbid(unsafe_code)]
-#![deny(missing_docs, missing_debug_implementations, rustdoc::broken_intra_doc_links)]
-#![deny(clippy::float_arithmetic, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+#![deny(
+    missing_docs,
+    missing_debug_implementations,
+    rustdoc::broken_intra_doc_links
+)]
+#![deny(
+    clippy::float_arithmetic,
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic
+)]
 #![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
+mod error;
 pub mod fx;
 pub mod geom;
+pub mod growth;
+pub mod growth_curve;
+pub mod preset;
 pub mod rng;
+pub mod sim;
+pub mod stream;
+
+pub use error::Error;

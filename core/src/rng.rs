@@ -132,7 +132,9 @@ impl KeyedRng {
     /// [`RngError::PoissonMeanTooLarge`] above [`POISSON_MAX_MEAN`].
     pub fn poisson(&mut self, mean: Fx) -> Result<u32, RngError> {
         if mean > POISSON_MAX_MEAN {
-            return Err(RngError::PoissonMeanTooLarge { mean_bits: mean.to_bits() });
+            return Err(RngError::PoissonMeanTooLarge {
+                mean_bits: mean.to_bits(),
+            });
         }
         let horizon = mean.to_bits() as i64;
         let mut elapsed = 0i64;
@@ -176,7 +178,10 @@ mod tests {
             counts[rng.below(6) as usize] += 1;
         }
         // χ² with 5 degrees of freedom; 20.5 is the 0.999 quantile.
-        let chi2: f64 = counts.iter().map(|&c| (c as f64 - 10_000.0).powi(2) / 10_000.0).sum();
+        let chi2: f64 = counts
+            .iter()
+            .map(|&c| (c as f64 - 10_000.0).powi(2) / 10_000.0)
+            .sum();
         assert!(chi2 < 20.5, "{counts:?}");
         assert_eq!(rng.below(0), 0);
         assert_eq!(rng.between(5, 5), 5);
@@ -186,7 +191,12 @@ mod tests {
     #[test]
     fn unit_is_in_zero_one() {
         let mut rng = KeyedRng::new(3, 9);
-        let mean: f64 = (0..10_000).map(|_| rng.unit()).inspect(|u| assert!(*u >= Fx::ZERO && *u < Fx::ONE)).map(|u| u.to_f64()).sum::<f64>() / 10_000.0;
+        let mean: f64 = (0..10_000)
+            .map(|_| rng.unit())
+            .inspect(|u| assert!(*u >= Fx::ZERO && *u < Fx::ONE))
+            .map(|u| u.to_f64())
+            .sum::<f64>()
+            / 10_000.0;
         assert!((mean - 0.5).abs() < 0.01, "{mean}");
     }
 
@@ -194,7 +204,10 @@ mod tests {
     fn exponential_has_its_mean() {
         let mut rng = KeyedRng::new(4, 0);
         let n = 20_000;
-        let mean: f64 = (0..n).map(|_| rng.exponential(Fx::from_int(10)).to_f64()).sum::<f64>() / n as f64;
+        let mean: f64 = (0..n)
+            .map(|_| rng.exponential(Fx::from_int(10)).to_f64())
+            .sum::<f64>()
+            / n as f64;
         assert!((mean - 10.0).abs() < 0.3, "{mean}"); // σ/√n = 0.07
     }
 
@@ -203,22 +216,37 @@ mod tests {
         for lambda in [Fx::from_ratio(1, 10), Fx::ONE, Fx::from_int(7)] {
             let mut rng = KeyedRng::new(5, lambda.to_bits() as u64);
             let n = 20_000;
-            let draws: heapless::Vec<u32, 20_000> = (0..n).map(|_| rng.poisson(lambda).unwrap()).collect();
+            let draws: heapless::Vec<u32, 20_000> =
+                (0..n).map(|_| rng.poisson(lambda).unwrap()).collect();
             let mean = draws.iter().map(|&k| k as f64).sum::<f64>() / n as f64;
-            let var = draws.iter().map(|&k| (k as f64 - mean).powi(2)).sum::<f64>() / n as f64;
+            let var = draws
+                .iter()
+                .map(|&k| (k as f64 - mean).powi(2))
+                .sum::<f64>()
+                / n as f64;
             let l = lambda.to_f64();
-            assert!((mean - l).abs() < 4.0 * (l / n as f64).sqrt() + 1e-3, "mean {mean} for {l}");
+            assert!(
+                (mean - l).abs() < 4.0 * (l / n as f64).sqrt() + 1e-3,
+                "mean {mean} for {l}"
+            );
             assert!((var - l).abs() < 0.06 * l + 0.01, "variance {var} for {l}");
         }
         let mut rng = KeyedRng::new(5, 0);
-        assert_eq!(rng.poisson(Fx::from_int(2000)), Err(RngError::PoissonMeanTooLarge { mean_bits: 2000 << 16 }));
+        assert_eq!(
+            rng.poisson(Fx::from_int(2000)),
+            Err(RngError::PoissonMeanTooLarge {
+                mean_bits: 2000 << 16
+            })
+        );
         assert_eq!(rng.poisson(-Fx::ONE), Ok(0));
     }
 
     #[test]
     fn chance_matches_probability() {
         let mut rng = KeyedRng::new(6, 0);
-        let hits = (0..100_000).filter(|_| rng.chance(Fx::from_ratio(3, 1000))).count();
+        let hits = (0..100_000)
+            .filter(|_| rng.chance(Fx::from_ratio(3, 1000)))
+            .count();
         assert!((200..400).contains(&hits), "{hits}");
         assert!(!rng.chance(Fx::ZERO));
         assert!(rng.chance(Fx::ONE));

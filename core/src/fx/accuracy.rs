@@ -8,7 +8,11 @@ use super::{Angle, Fx, Real};
 const LSB: f64 = 1.0 / 65_536.0;
 
 /// The largest error in LSB of `f` against `reference` over `inputs`.
-fn worst(inputs: impl Iterator<Item = Fx>, f: impl Fn(Fx) -> Fx, reference: impl Fn(f64) -> f64) -> (f64, Fx) {
+fn worst(
+    inputs: impl Iterator<Item = Fx>,
+    f: impl Fn(Fx) -> Fx,
+    reference: impl Fn(f64) -> f64,
+) -> (f64, Fx) {
     let mut worst = (0.0, Fx::ZERO);
     for x in inputs {
         let err = libm::fabs(f(x).to_f64() - reference(x.to_f64())) / LSB;
@@ -21,7 +25,10 @@ fn worst(inputs: impl Iterator<Item = Fx>, f: impl Fn(Fx) -> Fx, reference: impl
 
 /// Every `step`-th Fx bit pattern in `[lo, hi]`, both ends included.
 fn sweep(lo: i32, hi: i32, step: usize) -> impl Iterator<Item = Fx> {
-    (lo..=hi).step_by(step).chain(core::iter::once(hi)).map(Fx::from_bits)
+    (lo..=hi)
+        .step_by(step)
+        .chain(core::iter::once(hi))
+        .map(Fx::from_bits)
 }
 
 #[test]
@@ -29,7 +36,10 @@ fn sin_and_cos_within_two_lsb_over_the_whole_turn() {
     let mut worst = 0.0f64;
     for units in (0..=u32::MAX).step_by(4_099) {
         let a = Angle(units);
-        for (fx, reference) in [(Fx::sin(a), <f64 as Real>::sin(a)), (Fx::cos(a), <f64 as Real>::cos(a))] {
+        for (fx, reference) in [
+            (Fx::sin(a), <f64 as Real>::sin(a)),
+            (Fx::cos(a), <f64 as Real>::cos(a)),
+        ] {
             worst = worst.max(libm::fabs(fx.to_f64() - reference) / LSB);
         }
     }
@@ -42,14 +52,21 @@ fn sqrt_within_one_lsb_over_the_whole_range() {
     let (err, at) = worst(sweep(0, i32::MAX, 1_009), Real::sqrt, libm::sqrt);
     assert!(err <= 1.0, "sqrt error {err} LSB at {at}");
     // Exactly rounded means at most half an LSB.
-    assert!(err <= 0.5 + 1e-9, "sqrt not exactly rounded: {err} LSB at {at}");
+    assert!(
+        err <= 0.5 + 1e-9,
+        "sqrt not exactly rounded: {err} LSB at {at}"
+    );
 }
 
 #[test]
 fn sigmoid_within_four_lsb_over_the_whole_range() {
-    let (err, at) = worst(sweep(i32::MIN, i32::MAX, 3_001), Real::sigmoid, |x| 1.0 / (1.0 + libm::exp(-x)));
+    let (err, at) = worst(sweep(i32::MIN, i32::MAX, 3_001), Real::sigmoid, |x| {
+        1.0 / (1.0 + libm::exp(-x))
+    });
     assert!(err <= 4.0, "sigmoid error {err} LSB at {at}");
-    let (near, at) = worst(sweep(-20 << 16, 20 << 16, 7), Real::sigmoid, |x| 1.0 / (1.0 + libm::exp(-x)));
+    let (near, at) = worst(sweep(-20 << 16, 20 << 16, 7), Real::sigmoid, |x| {
+        1.0 / (1.0 + libm::exp(-x))
+    });
     assert!(near <= 2.0, "sigmoid error {near} LSB at {at}");
 }
 
@@ -83,7 +100,10 @@ fn atan2_within_budget_all_around() {
             worst = worst.max((got - exact).signed().unsigned_abs());
         }
     }
-    assert!(worst <= 1 << 14, "atan2 error {worst} units (2^-18 turn = 16384)");
+    assert!(
+        worst <= 1 << 14,
+        "atan2 error {worst} units (2^-18 turn = 16384)"
+    );
 }
 
 #[test]

@@ -16,7 +16,9 @@ use super::Fx;
 /// assert_eq!(Angle::from_degrees(90), Angle::QUARTER);
 /// assert_eq!(Angle::from_degrees(270) + Angle::QUARTER, Angle::ZERO);
 /// ```
-#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default, Debug, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default, Debug, Serialize, Deserialize,
+)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Angle(pub u32);
 
@@ -143,7 +145,10 @@ mod tests {
         assert_eq!(Angle::from_degrees(-90), Angle(3 << 30));
         assert_eq!(Angle::from_degrees(45).0, 1 << 29);
         assert_eq!(Angle::from_degrees_fx(Fx::from_int(90)), Angle::QUARTER);
-        assert_eq!(Angle::from_degrees_fx(Fx::from_ratio(45, 2)), Angle::from_turn_ratio(1, 16));
+        assert_eq!(
+            Angle::from_degrees_fx(Fx::from_ratio(45, 2)),
+            Angle::from_turn_ratio(1, 16)
+        );
         assert_eq!(Angle::from_radians_fx(Fx::PI), Angle(2_147_479_307)); // Fx::PI is π rounded to Q16
         assert_eq!(Angle::QUARTER.to_degrees_fx(), Fx::from_int(90));
         assert_eq!(Angle::from_degrees(-30).to_degrees_fx(), Fx::from_int(-30));
@@ -151,12 +156,21 @@ mod tests {
 
     #[test]
     fn scaling_takes_the_angle_as_signed() {
-        assert_eq!(Angle::from_degrees(90).scale(Fx::HALF), Angle::from_degrees(45));
-        assert_eq!(Angle::from_degrees(-90).scale(Fx::HALF), Angle::from_degrees(-45));
+        assert_eq!(
+            Angle::from_degrees(90).scale(Fx::HALF),
+            Angle::from_degrees(45)
+        );
+        assert_eq!(
+            Angle::from_degrees(-90).scale(Fx::HALF),
+            Angle::from_degrees(-45)
+        );
         let eighty = Angle::from_degrees(80).scale(Fx::HALF) - Angle::from_degrees(40);
         assert!(eighty.signed().abs() <= 1, "off by {eighty:?}");
         assert_eq!(Angle::from_degrees(75).scale(Fx::ZERO), Angle::ZERO);
-        assert_eq!(Angle::from_degrees(75).scale(Fx::ONE), Angle::from_degrees(75));
+        assert_eq!(
+            Angle::from_degrees(75).scale(Fx::ONE),
+            Angle::from_degrees(75)
+        );
         assert_eq!(Angle::QUARTER.times(4), Angle::ZERO);
     }
 }

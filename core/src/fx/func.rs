@@ -46,7 +46,10 @@ pub(super) fn cos(a: Angle) -> Fx {
 
 /// The angle of the vector `(x, y)`; `atan2(0, 0)` is zero.
 pub(super) fn atan2(y: Fx, x: Fx) -> Angle {
-    let (ax, ay) = ((x.to_bits() as i64).unsigned_abs(), (y.to_bits() as i64).unsigned_abs());
+    let (ax, ay) = (
+        (x.to_bits() as i64).unsigned_abs(),
+        (y.to_bits() as i64).unsigned_abs(),
+    );
     if ax == 0 && ay == 0 {
         return Angle::ZERO;
     }
@@ -55,8 +58,16 @@ pub(super) fn atan2(y: Fx, x: Fx) -> Angle {
     let t = (small << 32) / large; // Q32 in [0, 2³²]
     let octant = lerp(&ATAN_Q32, (t >> 24) as usize, t & ((1 << 24) - 1), 24) as u32;
     let first = if ay <= ax { octant } else { (1 << 30) - octant };
-    let half = if x.to_bits() < 0 { (1u32 << 31) - first } else { first };
-    Angle(if y.to_bits() < 0 { half.wrapping_neg() } else { half })
+    let half = if x.to_bits() < 0 {
+        (1u32 << 31) - first
+    } else {
+        first
+    };
+    Angle(if y.to_bits() < 0 {
+        half.wrapping_neg()
+    } else {
+        half
+    })
 }
 
 /// The square root, exactly rounded; negative input gives zero.
@@ -123,7 +134,11 @@ pub(crate) fn ln_q16(b: u64, frac_bits: u32) -> i64 {
     let log2_x = ((exponent as i128) << 31) + log2_m; // Q31
     let ln_q63 = log2_x * LN2_Q32;
     let half = 1i128 << 46;
-    let q16 = if ln_q63 >= 0 { (ln_q63 + half) >> 47 } else { -((-ln_q63 + half) >> 47) };
+    let q16 = if ln_q63 >= 0 {
+        (ln_q63 + half) >> 47
+    } else {
+        -((-ln_q63 + half) >> 47)
+    };
     q16 as i64
 }
 
@@ -139,7 +154,11 @@ pub(super) fn sigmoid(x: Fx) -> Fx {
         lerp(&SIGMOID_Q32, index, ax & ((1 << 11) - 1), 11)
     };
     let upper = round_shift(upper_q32, 16) as i32;
-    Fx::from_bits(if x.to_bits() < 0 { (1 << 16) - upper } else { upper })
+    Fx::from_bits(if x.to_bits() < 0 {
+        (1 << 16) - upper
+    } else {
+        upper
+    })
 }
 
 #[cfg(test)]

@@ -149,7 +149,10 @@ impl Fx {
     /// `MIN` or (for `0 / 0`) zero.
     #[must_use]
     pub const fn saturating_div(self, rhs: Fx) -> Fx {
-        Fx::from_bits(div_bits((self.to_bits() as i64) << FRAC, rhs.to_bits() as i64))
+        Fx::from_bits(div_bits(
+            (self.to_bits() as i64) << FRAC,
+            rhs.to_bits() as i64,
+        ))
     }
 
     /// `1 / self`, saturated (see [`Fx::saturating_div`]).
@@ -161,13 +164,21 @@ impl Fx {
     /// The smaller of two values.
     #[must_use]
     pub const fn min(self, other: Fx) -> Fx {
-        if self.to_bits() <= other.to_bits() { self } else { other }
+        if self.to_bits() <= other.to_bits() {
+            self
+        } else {
+            other
+        }
     }
 
     /// The larger of two values.
     #[must_use]
     pub const fn max(self, other: Fx) -> Fx {
-        if self.to_bits() >= other.to_bits() { self } else { other }
+        if self.to_bits() >= other.to_bits() {
+            self
+        } else {
+            other
+        }
     }
 
     /// `self` limited to `[lo, hi]`.
@@ -179,7 +190,11 @@ impl Fx {
 
 /// `n / d` rounded to nearest with a signed divisor, not yet saturated.
 const fn div_round_signed(n: i64, d: i64) -> i64 {
-    if d < 0 { div_round(-n, -d) } else { div_round(n, d) }
+    if d < 0 {
+        div_round(-n, -d)
+    } else {
+        div_round(n, d)
+    }
 }
 
 /// Saturating, rounded fixed-point quotient of pre-shifted `n` by `d`.
@@ -316,7 +331,10 @@ mod tests {
         assert_eq!(Fx::ZERO / Fx::ZERO, Fx::ZERO);
         assert_eq!(Fx::ONE.checked_div(Fx::ZERO), None);
         assert_eq!(Fx::from_int(1000).checked_div(Fx::from_ratio(1, 100)), None);
-        assert_eq!(Fx::from_int(7).checked_div(Fx::from_int(2)), Some(Fx::from_ratio(7, 2)));
+        assert_eq!(
+            Fx::from_int(7).checked_div(Fx::from_int(2)),
+            Some(Fx::from_ratio(7, 2))
+        );
         assert_eq!(Fx::from_int(2).recip(), Fx::HALF);
     }
 

@@ -18,7 +18,16 @@ use super::{Angle, Fx, func};
 /// function. Write a kernel once as `fn step<R: Real>(…)` and compare the
 /// two instances to measure the fixed-point error.
 pub trait Real:
-    Scalar + Copy + Debug + PartialOrd + Zero + One + ClosedAddAssign + ClosedSubAssign + ClosedMulAssign + Neg<Output = Self>
+    Scalar
+    + Copy
+    + Debug
+    + PartialOrd
+    + Zero
+    + One
+    + ClosedAddAssign
+    + ClosedSubAssign
+    + ClosedMulAssign
+    + Neg<Output = Self>
 {
     /// Converts a fixed-point parameter (exactly, for `f64`).
     fn from_fx(x: Fx) -> Self;
@@ -128,7 +137,11 @@ impl Real for f64 {
         libm::exp(self)
     }
     fn ln(self) -> f64 {
-        if self <= 0.0 { f64::MIN } else { libm::log(self) }
+        if self <= 0.0 {
+            f64::MIN
+        } else {
+            libm::log(self)
+        }
     }
     fn sigmoid(self) -> f64 {
         1.0 / (1.0 + libm::exp(-self))

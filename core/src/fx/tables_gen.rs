@@ -59,12 +59,20 @@ fn render() -> String {
          //! `MORPHOGEN_REGENERATE_TABLES=1 cargo test -p morphogen tables_are_current`.\n",
     );
     for t in tables() {
-        let _ = write!(out, "\n/// {}\n#[rustfmt::skip]\npub(super) const {}: [u32; {}] = [\n", t.doc, t.name, t.len);
+        let _ = write!(
+            out,
+            "\n/// {}\n#[rustfmt::skip]\npub(super) const {}: [u32; {}] = [\n",
+            t.doc, t.name, t.len
+        );
         for row in (0..t.len).collect::<std::vec::Vec<_>>().chunks(6) {
             out.push_str("   ");
             for &i in row {
                 let v = libm::round((t.entry)(i as f64));
-                assert!((0.0..=u32::MAX as f64).contains(&v), "{} entry {i} out of u32", t.name);
+                assert!(
+                    (0.0..=u32::MAX as f64).contains(&v),
+                    "{} entry {i} out of u32",
+                    t.name
+                );
                 let _ = write!(out, " {},", group(v as u64));
             }
             out.push('\n');

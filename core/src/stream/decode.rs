@@ -1,0 +1,260 @@
+//! Reading frames back: typed errors for corrupt or truncated frames, and
+//! resynchronisation at the next zero byte.
+
+use super::Record;
+use super::digest::FRAME_CRC;
+use super::encode::{MAX_FRAME, MAX_RECORD};
+
+/// Why a frame could not be decoded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum FrameError {
+    /// The bytes between two delimiters are not valid COBS.
+    Cobs,
+    /// Longer than [`MAX_FRAME`]: not a frame of this format.
+    TooLong,
+    /// Fewer than 5 decoded bytes: no room for a record and its CRC.
+    TooShort,
+    /// The CRC-32 does not match the record bytes.
+    Crc {
+        /// The CRC carried by the frame.
+        carried: u32,
+        /// The CRC of the bytes received.
+        computed: u32,
+    },
+    /// The CRC matches but the bytes are not a record of this version.
+    Record,
+    /// The input ended without a closing zero byte.
+    Truncated,
+}
+
+impl core::fmt::Display for FrameError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            FrameError::Cobs => f.write_str("invalid COBS encoding"),
+            FrameError::TooLong => write!(f, "frame longer than MAX_FRAME = {MAX_FRAME} bytes"),
+            FrameError::TooShort => f.write_str("frame too short for a record and its CRC"),
+            FrameError::Crc { carried, computed } => {
+                write!(
+                    f,
+                    "CRC mismatch (frame carries {carried:#010x}, bytes give {computed:#010x})"
+                )
+            }
+            FrameError::Record => f.write_str("CRC is valid but the bytes are not a known record"),
+            FrameError::Truncated => f.write_str("truncated: the stream ends inside a frame"),
+        }
+    }
+}
+
+impl core::error::Error for FrameError {}
+
+/// One frame read from a byte string.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Decoded {
+    /// Offset of the frame's first byte in the input.
+    pub offset: usize,
+    /// Length of the frame including its zero delimiter (if any).
+    pub len: usize,
+    /// The record, or why the frame is unreadable.
+    pub result: Result<Record, FrameError>,
+}
+
+/// Iterates over the frames of an encoded stream.
+///
+/// ```
+/// use morphogen::stream::{Decoder, Encoder, Record, Sink};
+/// let mut enc = Encoder::new(heapless::Vec::<u8, 64>::new());
+/// enc.record(&Record::FrameEnd { frame: 3 }).unwrap();
+/// let bytes = enc.into_writer();
+/// let frames: Vec<_> = Decoder::new(&bytes).collect();
+/// assert_eq!(frames[0].result, Ok(Record::FrameEnd { frame: 3 }));
+/// ```
+#[derive(Clone, Debug)]
+pub struct Decoder<'a> {
+    input: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> Decoder<'a> {
+    /// A decoder over `input`.
+    #[must_use]
+    pub fn new(input: &'a [u8]) -> Decoder<'a> {
+        Decoder { input, pos: 0 }
+    }
+
+    /// Decodes one frame's bytes (without its delimiter).
+    #[must_use]
+    pub fn decode_frame(body: &[u8]) -> Result<Record, FrameError> {
+        if body.len() > MAX_FRAME - 1 {
+            return Err(FrameError::TooLong);
+        }
+        let mut raw = [0u8; MAX_FRAME];
+        let len = cobs::decode(body, &mut raw).map_err(|_| FrameError::Cobs)?;
+        let raw = raw.get(..len).ok_or(FrameError::Cobs)?;
+        if len < 5 || len > MAX_RECORD + 4 {
+            return Err(if len < 5 {
+                FrameError::TooShort
+            } else {
+                FrameError::TooLong
+            });
+        }
+        let (record, crc) = raw.split_at(len - 4);
+        let carried = u32::from_le_bytes([crc[0], crc[1], crc[2], crc[3]]);
+        let computed = FRAME_CRC.checksum(record);
+        if carried != computed {
+            return Err(FrameError::Crc { carried, computed });
+        }
+        match postcard::take_from_bytes::<Record>(record) {
+            Ok((r, rest)) if rest.is_empty() => Ok(r),
+            _ => Err(FrameError::Record),
+        }
+    }
+}
+
+impl Iterator for Decoder<'_> {
+    type Item = Decoded;
+
+    fn next(&mut self) -> Option<Decoded> {
+        let rest = self.input.get(self.pos..)?;
+        if rest.is_empty() {
+            return None;
+        }
+        let offset = self.pos;
+        let Some(end) = rest.iter().position(|&b| b == 0) else {
+            self.pos = self.input.len();
+            return Some(Decoded {
+                offset,
+                len: rest.len(),
+                result: Err(FrameError::Truncated),
+            });
+        };
+        self.pos += end + 1;
+        let result = rest
+            .get(..end)
+            .map_or(Err(FrameError::Truncated), Decoder::decode_frame);
+        Some(Decoded {
+            offset,
+            len: end + 1,
+            result,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use std::vec::Vec;
+
+    use super::*;
+    use crate::fx::Fx;
+    use crate::stream::{Encoder, Header, Sink};
+
+    fn sample_records() -> Vec<Record> {
+        std::vec![
+            Record::Header(Header {
+                version: 1,
+                preset: "growth-curve".try_into().unwrap(),
+                seed: 7,
+                params: 0xdead_beef
+            }),
+            Record::FrameStart {
+                frame: 0,
+                time: Fx::from_int(3)
+            },
+            Record::Segment {
+                a: [Fx::ONE; 3],
+                b: [Fx::MIN, Fx::MAX, Fx::ZERO],
+                width: Fx::HALF,
+                colour: 9
+            },
+            Record::Cell {
+                id: 1_000_000,
+                kind: 2,
+                p: [Fx::from_ratio(1, 3), -Fx::ONE]
+            },
+            Record::Ring {
+                module: 7,
+                ring: 300,
+                points: 24
+            },
+            Record::FrameEnd { frame: 0 },
+        ]
+    }
+
+    fn encode(records: &[Record]) -> Vec<u8> {
+        let mut enc = Encoder::new(heapless::Vec::<u8, 4096>::new());
+        for r in records {
+            enc.record(r).unwrap();
+        }
+        enc.into_writer().to_vec()
+    }
+
+    #[test]
+    fn round_trip() {
+        let records = sample_records();
+        let bytes = encode(&records);
+        let back: Vec<Record> = Decoder::new(&bytes).map(|d| d.result.unwrap()).collect();
+        assert_eq!(back, records);
+    }
+
+    #[test]
+    fn corrupt_frame_is_reported_and_the_next_frame_decodes() {
+        let records = sample_records();
+        let mut bytes = encode(&records);
+        let second = Decoder::new(&bytes).nth(1).unwrap();
+        bytes[second.offset + 2] ^= 0x10;
+        let decoded: Vec<Decoded> = Decoder::new(&bytes).collect();
+        assert_eq!(decoded.len(), records.len());
+        assert!(matches!(
+            decoded[1].result,
+            Err(FrameError::Crc { .. }) | Err(FrameError::Cobs)
+        ));
+        assert_eq!(decoded[2].result.as_ref().unwrap(), &records[2]);
+    }
+
+    #[test]
+    fn truncated_stream_ends_with_a_truncated_frame() {
+        let bytes = encode(&sample_records());
+        let cut = &bytes[..bytes.len() - 3];
+        let last = Decoder::new(cut).last().unwrap();
+        assert_eq!(last.result, Err(FrameError::Truncated));
+    }
+
+    #[test]
+    fn every_single_bit_flip_is_detected() {
+        let records = sample_records();
+        let bytes = encode(&records);
+        for i in 0..bytes.len() {
+            for bit in 0..8 {
+                let mut b = bytes.clone();
+                b[i] ^= 1 << bit;
+                let back: Vec<Result<Record, FrameError>> =
+                    Decoder::new(&b).map(|d| d.result).collect();
+                let clean = back.len() == records.len()
+                    && back.iter().zip(&records).all(|(x, r)| x.as_ref() == Ok(r));
+                assert!(!clean, "flip of bit {bit} at byte {i} went unnoticed");
+            }
+        }
+    }
+
+    #[test]
+    fn garbage_never_panics() {
+        let mut rng = crate::rng::KeyedRng::new(99, 0);
+        for _ in 0..2_000 {
+            let len = rng.below(300) as usize;
+            let junk: Vec<u8> = (0..len)
+                .map(|_| {
+                    if rng.below(8) == 0 {
+                        0
+                    } else {
+                        rng.next_u32() as u8
+                    }
+                })
+                .collect();
+            for d in Decoder::new(&junk) {
+                assert!(d.len > 0);
+            }
+        }
+    }
+}

@@ -1,0 +1,84 @@
+//! Digests: CRC-32 per frame, CRC-64 over the whole stream and over a
+//! preset's parameters.
+
+use crc::{CRC_32_ISO_HDLC, CRC_64_XZ, Crc};
+use serde::Serialize;
+
+/// The per-frame check: CRC-32/ISO-HDLC (the zlib/Ethernet CRC).
+pub(super) static FRAME_CRC: Crc<u32> = Crc::<u32>::new(&CRC_32_ISO_HDLC);
+/// The stream and parameter digest: CRC-64/XZ.
+static STREAM_CRC: Crc<u64> = Crc::<u64>::new(&CRC_64_XZ);
+
+/// A running CRC-64/XZ over every byte of an encoded stream.
+pub struct StreamDigest(crc::Digest<'static, u64>);
+
+impl StreamDigest {
+    /// An empty digest.
+    #[must_use]
+    pub fn new() -> StreamDigest {
+        StreamDigest(STREAM_CRC.digest())
+    }
+
+    /// Feeds bytes.
+    pub fn update(&mut self, bytes: &[u8]) {
+        self.0.update(bytes);
+    }
+
+    /// The digest of everything fed so far.
+    #[must_use]
+    pub fn value(&self) -> u64 {
+        self.0.clone().finalize()
+    }
+
+    /// The digest of a whole byte string.
+    #[must_use]
+    pub fn of(bytes: &[u8]) -> u64 {
+        STREAM_CRC.checksum(bytes)
+    }
+}
+
+impl Default for StreamDigest {
+    fn default() -> Self {
+        StreamDigest::new()
+    }
+}
+
+impl core::fmt::Debug for StreamDigest {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "StreamDigest({:#018x})", self.value())
+    }
+}
+
+/// A postcard serializer flavor that feeds a digest instead of a buffer.
+pub struct ParamDigest(crc::Digest<'static, u64>);
+
+impl core::fmt::Debug for ParamDigest {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("ParamDigest")
+    }
+}
+
+impl postcard::ser_flavors::Flavor for ParamDigest {
+    type Output = u64;
+
+    fn try_push(&mut self, data: u8) -> postcard::Result<()> {
+        self.0.update(&[data]);
+        Ok(())
+    }
+
+    fn try_extend(&mut self, data: &[u8]) -> postcard::Result<()> {
+        self.0.update(data);
+        Ok(())
+    }
+
+    fn finalize(self) -> postcard::Result<u64> {
+        Ok(self.0.finalize())
+    }
+}
+
+/// CRC-64/XZ of a parameter set's postcard encoding: the header's
+/// `params` field. Parameters that postcard cannot encode digest to 0.
+#[must_use]
+pub fn params_digest<P: Serialize + ?Sized>(params: &P) -> u64 {
+    postcard::serialize_with_flavor(params, ParamDigest(STREAM_CRC.digest())).unwrap_or(0)
+}

@@ -1,0 +1,106 @@
+//! Framing records for the wire: postcard, CRC-32, COBS, zero delimiter.
+
+use super::digest::{FRAME_CRC, StreamDigest};
+use super::{Record, Sink, SinkError};
+
+/// The largest encoded record, in bytes (postcard, before CRC and COBS).
+pub const MAX_RECORD: usize = 96;
+/// The largest frame on the wire: the record, its 4-byte CRC, COBS
+/// overhead (1 byte per 254) and the zero delimiter.
+pub const MAX_FRAME: usize = MAX_RECORD + 4 + (MAX_RECORD + 4) / 254 + 2;
+
+/// Where encoded bytes go: a UART, a file, a buffer.
+pub trait ByteSink {
+    /// Writes all of `bytes`.
+    ///
+    /// # Errors
+    /// When the bytes cannot be written.
+    fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError>;
+}
+
+/// A fixed-capacity buffer is a byte sink; a full one is [`SinkError::Full`].
+impl<const N: usize> ByteSink for heapless::Vec<u8, N> {
+    fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError> {
+        self.extend_from_slice(bytes)
+            .map_err(|()| SinkError::Full { capacity: N as u32 })
+    }
+}
+
+/// The sink that frames records onto a [`ByteSink`] and digests the stream.
+#[derive(Debug)]
+pub struct Encoder<W> {
+    writer: W,
+    digest: StreamDigest,
+    frames: u32,
+    bytes: u64,
+}
+
+impl<W: ByteSink> Encoder<W> {
+    /// An encoder writing to `writer`.
+    pub fn new(writer: W) -> Encoder<W> {
+        Encoder {
+            writer,
+            digest: StreamDigest::new(),
+            frames: 0,
+            bytes: 0,
+        }
+    }
+
+    /// The CRC-64/XZ of every byte written so far.
+    #[must_use]
+    pub fn digest(&self) -> u64 {
+        self.digest.value()
+    }
+
+    /// Frames written so far.
+    #[must_use]
+    pub fn frames(&self) -> u32 {
+        self.frames
+    }
+
+    /// Bytes written so far.
+    #[must_use]
+    pub fn bytes(&self) -> u64 {
+        self.bytes
+    }
+
+    /// The writer.
+    pub fn writer(&mut self) -> &mut W {
+        &mut self.writer
+    }
+
+    /// Gives the writer back.
+    pub fn into_writer(self) -> W {
+        self.writer
+    }
+
+    /// Encodes one record into `frame` and returns the frame's length.
+    ///
+    /// # Errors
+    /// [`SinkError::RecordTooLarge`] when the record exceeds [`MAX_RECORD`].
+    pub fn encode_frame(record: &Record, frame: &mut [u8; MAX_FRAME]) -> Result<usize, SinkError> {
+        let mut raw = [0u8; MAX_RECORD + 4];
+        let len = postcard::to_slice(record, &mut raw[..MAX_RECORD])
+            .map_err(|_| SinkError::RecordTooLarge)?
+            .len();
+        let crc = FRAME_CRC.checksum(&raw[..len]).to_le_bytes();
+        raw[len..len + 4].copy_from_slice(&crc);
+        let encoded = cobs::try_encode(&raw[..len + 4], &mut frame[..MAX_FRAME - 1])
+            .map_err(|_| SinkError::RecordTooLarge)?;
+        frame[encoded] = 0;
+        Ok(encoded + 1)
+    }
+}
+
+impl<W: ByteSink> Sink for Encoder<W> {
+    fn record(&mut self, record: &Record) -> Result<(), SinkError> {
+        let mut frame = [0u8; MAX_FRAME];
+        let len = Self::encode_frame(record, &mut frame)?;
+        let bytes = frame.get(..len).ok_or(SinkError::RecordTooLarge)?;
+        self.writer.write_all(bytes)?;
+        self.digest.update(bytes);
+        self.frames += 1;
+        self.bytes += len as u64;
+        Ok(())
+    }
+}
