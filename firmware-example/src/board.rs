@@ -1,0 +1,138 @@
+//! The LM3S6965 board support this program needs: the system clock and
+//! UART0 (register addresses and values from the LM3S6965 data sheet,
+//! rev. 2008, chapters 6 "System Control", 9 "GPIO" and 13 "UART").
+//!
+//! Raw volatile register accesses keep the firmware free of a PAC; each
+//! `unsafe` block writes a documented, always-mapped peripheral register.
+
+use core::ptr::{read_volatile, write_volatile};
+
+use morphogen::stream::{ByteSink, SinkError};
+
+/// System control: run-mode clock configuration (RCC).
+const SYSCTL_RCC: usize = 0x400F_E060;
+/// System control: run-mode clock gating 1 (bit 0 = UART0).
+const SYSCTL_RCGC1: usize = 0x400F_E104;
+/// System control: run-mode clock gating 2 (bit 0 = GPIO port A).
+const SYSCTL_RCGC2: usize = 0x400F_E108;
+/// GPIO port A: alternate function select.
+const GPIOA_AFSEL: usize = 0x4000_4420;
+/// GPIO port A: digital enable.
+const GPIOA_DEN: usize = 0x4000_451C;
+/// PA0 = U0Rx, PA1 = U0Tx.
+const UART0_PINS: u32 = 0b11;
+
+/// UART0 base address.
+const UART0: usize = 0x4000_C000;
+/// Data register.
+const UART_DR: usize = UART0;
+/// Flag register: bit 3 BUSY, bit 5 TXFF (transmit FIFO full).
+const UART_FR: usize = UART0 + 0x18;
+const FR_BUSY: u32 = 1 << 3;
+const FR_TXFF: u32 = 1 << 5;
+/// Integer and fractional baud-rate divisors, line control, control.
+const UART_IBRD: usize = UART0 + 0x24;
+const UART_FBRD: usize = UART0 + 0x28;
+const UART_LCRH: usize = UART0 + 0x2C;
+const UART_CTL: usize = UART0 + 0x30;
+/// LCRH: 8 data bits (WLEN = 3), FIFOs on; no parity, 1 stop bit.
+const LCRH_8N1_FIFO: u32 = (0b11 << 5) | (1 << 4);
+/// CTL: UARTEN | TXE | RXE.
+const CTL_ENABLE: u32 = (1 << 0) | (1 << 8) | (1 << 9);
+
+/// The system clock on real hardware: the LM3S6965 EVB's 8 MHz crystal,
+/// PLL bypassed and powered down, no divider.
+pub const SYSCLK_HZ: u32 = 8_000_000;
+/// UART0 line rate.
+pub const BAUD: u32 = 115_200;
+/// Baud divisor = SYSCLK / (16 · BAUD) = 4.3403: integer part…
+const IBRD: u32 = SYSCLK_HZ / (16 * BAUD);
+/// …and the fraction in 64ths, rounded: 0.3403 · 64 + 0.5 → 22
+/// (115 107 baud, −0.08 %).
+const FBRD: u32 = ((SYSCLK_HZ % (16 * BAUD)) * 64 * 2 / (16 * BAUD) + 1) / 2;
+const _: () = assert!(IBRD == 4 && FBRD == 22);
+
+/// RCC fields.
+const RCC_MOSCDIS: u32 = 1 << 0;
+const RCC_OSCSRC_MASK: u32 = 0b11 << 4;
+const RCC_XTAL_MASK: u32 = 0xF << 6;
+/// XTAL = 0xB: an 8 MHz crystal.
+const RCC_XTAL_8MHZ: u32 = 0xB << 6;
+const RCC_BYPASS: u32 = 1 << 11;
+const RCC_USESYSDIV: u32 = 1 << 22;
+const RCC_SYSDIV_MASK: u32 = 0xF << 23;
+/// SYSDIV = 3. Unused on hardware (USESYSDIV = 0 keeps 8 MHz), but QEMU
+/// derives its CPU clock from SYSDIV alone (200 MHz / (SYSDIV + 1) =
+/// 50 MHz), which makes one SysTick tick 20 instructions under
+/// `-icount shift=0` (1 ns per instruction) instead of 80 at reset.
+const RCC_SYSDIV_3: u32 = 3 << 23;
+/// CPU clock QEMU models with this RCC value.
+pub const QEMU_CPU_HZ: u32 = 50_000_000;
+
+fn read(addr: usize) -> u32 {
+    // SAFETY: `addr` is one of the peripheral registers above: aligned,
+    // always mapped on the LM3S6965, reads have no side effects.
+    unsafe { read_volatile(addr as *const u32) }
+}
+
+fn write(addr: usize, value: u32) {
+    // SAFETY: as in `read`; the written values follow the data sheet.
+    unsafe { write_volatile(addr as *mut u32, value) }
+}
+
+fn modify(addr: usize, f: impl FnOnce(u32) -> u32) {
+    write(addr, f(read(addr)));
+}
+
+/// Switches the system clock from the ±30 % internal oscillator (reset
+/// state) to the 8 MHz crystal, so that UART timing is exact.
+pub fn init_clock() {
+    // Start the main oscillator, let it settle, then select it.
+    modify(SYSCTL_RCC, |rcc| rcc & !RCC_MOSCDIS);
+    cortex_m::asm::delay(50_000); // ≥ 4 ms at 12 MHz
+    modify(SYSCTL_RCC, |rcc| {
+        (rcc & !(RCC_OSCSRC_MASK | RCC_XTAL_MASK | RCC_USESYSDIV | RCC_SYSDIV_MASK))
+            | RCC_XTAL_8MHZ
+            | RCC_BYPASS
+            | RCC_SYSDIV_3
+    });
+}
+
+/// UART0 as a [`ByteSink`]: 115 200 baud, 8N1, no flow control. A
+/// zero-sized token; [`Uart0::init`] is the only way to get one.
+#[derive(Clone, Copy, Debug)]
+pub struct Uart0 {
+    _private: (),
+}
+
+impl Uart0 {
+    /// Clocks UART0 and port A, routes PA0/PA1 to it and sets 115 200 8N1.
+    pub fn init() -> Uart0 {
+        modify(SYSCTL_RCGC1, |v| v | 1);
+        modify(SYSCTL_RCGC2, |v| v | 1);
+        cortex_m::asm::delay(16); // a few clocks before the gated blocks answer
+        modify(GPIOA_AFSEL, |v| v | UART0_PINS);
+        modify(GPIOA_DEN, |v| v | UART0_PINS);
+        write(UART_CTL, 0);
+        write(UART_IBRD, IBRD);
+        write(UART_FBRD, FBRD);
+        write(UART_LCRH, LCRH_8N1_FIFO);
+        write(UART_CTL, CTL_ENABLE);
+        Uart0 { _private: () }
+    }
+
+    /// Waits until the last byte has left the shift register.
+    pub fn flush(&self) {
+        while read(UART_FR) & FR_BUSY != 0 {}
+    }
+}
+
+impl ByteSink for Uart0 {
+    fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError> {
+        for &b in bytes {
+            while read(UART_FR) & FR_TXFF != 0 {}
+            write(UART_DR, u32::from(b));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,20 @@
+//! The host side of Morphogen: running presets into streams, decoding,
+//! drawing and exporting them, and checking them against golden fixtures.
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+
+pub mod capture;
+pub mod exec;
+pub mod fixture;
+pub mod jsonl;
+pub mod outputs;
+pub mod verify;
+
+/// How a command ended, mapped to the process exit code.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    /// Everything matched or was written (exit 0).
+    Ok,
+    /// A stream differs from its fixture (exit 1).
+    Mismatch,
+}

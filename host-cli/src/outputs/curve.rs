@@ -1,0 +1,57 @@
+//! `growth-curve`: a CSV of the daily samples and a PNG plot of f(t)
+//! (blue) and the daily increment (orange, scaled to the plot), with a
+//! grid line at the start of each month.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use morphogen::growth_curve::{SERIES_DAILY, SERIES_GROWTH};
+use morphogen::stream::Record;
+
+use super::plot::{Plot, rgb};
+use crate::fixture::write_atomic;
+
+/// First day of each month in a non-leap year.
+const MONTH_STARTS: [f64; 12] = [
+    0.0, 31.0, 59.0, 90.0, 120.0, 151.0, 181.0, 212.0, 243.0, 273.0, 304.0, 334.0,
+];
+
+fn series(records: &[Record], which: u16) -> Vec<(f64, f64)> {
+    records
+        .iter()
+        .filter_map(|r| match r {
+            Record::Sample { series, x, y } if *series == which => Some((
+                f64::from(x.to_bits()) / 65_536.0,
+                f64::from(y.to_bits()) / 65_536.0,
+            )),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Writes `growth.csv` and `growth.png`.
+///
+/// # Errors
+/// When a file cannot be written.
+pub fn write(records: &[Record], dir: &Path) -> Result<Vec<PathBuf>> {
+    let growth = series(records, SERIES_GROWTH);
+    let daily = series(records, SERIES_DAILY);
+    let mut csv = String::from("day,growth,daily_increment\n");
+    for (g, d) in growth.iter().zip(&daily) {
+        let _ = writeln!(csv, "{},{},{}", g.0, g.1, d.1);
+    }
+    let csv_path = dir.join("growth.csv");
+    write_atomic(&csv_path, csv.as_bytes())?;
+
+    let days = growth.last().map_or(365.0, |p| p.0);
+    let mut plot = Plot::new(800, 400, (0.0, days), (0.0, 1.05))?;
+    plot.grid(&MONTH_STARTS, &[0.25, 0.5, 0.75, 1.0]);
+    let peak = daily.iter().map(|p| p.1).fold(f64::MIN_POSITIVE, f64::max);
+    let scaled: Vec<(f64, f64)> = daily.iter().map(|&(x, y)| (x, y / peak)).collect();
+    plot.line(&scaled, rgb(230, 130, 30), 2.0);
+    plot.line(&growth, rgb(30, 90, 200), 2.5);
+    let png_path = dir.join("growth.png");
+    plot.save(&png_path)?;
+    Ok(vec![csv_path, png_path])
+}

@@ -1,0 +1,239 @@
+//! The `morphogen` binary end to end: outputs, exit codes, fixtures.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use morphogen_cli::{exec, fixture, verify};
+
+fn morphogen(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_morphogen"))
+        .args(args)
+        .output()
+        .expect("run morphogen")
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+fn workspace_fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures")
+}
+
+/// A private copy of the growth-curve fixture.
+fn fixture_copy(tmp: &Path) -> PathBuf {
+    let dir = tmp.join("fixtures/growth-curve");
+    fs::create_dir_all(&dir).unwrap();
+    for f in [fixture::STREAM_FILE, fixture::SUMMARY_FILE] {
+        fs::copy(
+            workspace_fixtures().join("growth-curve").join(f),
+            dir.join(f),
+        )
+        .unwrap();
+    }
+    tmp.join("fixtures")
+}
+
+#[test]
+fn list_names_every_preset() {
+    let o = morphogen(&["list"]);
+    assert!(o.status.success());
+    for p in morphogen::preset::PRESETS {
+        assert!(text(&o).contains(p.name), "{} missing from list", p.name);
+    }
+}
+
+#[test]
+fn run_writes_stream_jsonl_and_model_files_and_decode_reproduces_jsonl() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("gc");
+    let o = morphogen(&["run", "growth-curve", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    for f in ["stream.bin", "records.jsonl", "growth.csv", "growth.png"] {
+        assert!(out.join(f).is_file(), "{f} not written");
+    }
+    let decoded = morphogen(&["decode", out.join("stream.bin").to_str().unwrap()]);
+    assert!(decoded.status.success());
+    assert_eq!(decoded.stdout, fs::read(out.join("records.jsonl")).unwrap());
+    let csv = fs::read_to_string(out.join("growth.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 366);
+}
+
+#[test]
+fn verify_passes_on_the_workspace_fixtures() {
+    let o = morphogen(&["verify"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("ok        growth-curve"));
+}
+
+#[test]
+fn flipping_any_byte_of_a_fixture_is_a_mismatch_naming_the_record() {
+    let tmp = tempfile::tempdir().unwrap();
+    let fixtures = fixture_copy(tmp.path());
+    let stream_path = fixtures.join("growth-curve/stream.bin");
+    let clean = fs::read(&stream_path).unwrap();
+    let preset = exec::find("growth-curve").unwrap();
+    let run = exec::run(preset, 0, false).unwrap();
+    assert_eq!(run.stream, clean);
+    // Every byte, in process: the comparison names a record at or before it.
+    for i in 0..clean.len() {
+        let mut flipped = clean.clone();
+        flipped[i] ^= 0x01;
+        let diff = verify::compare(&flipped, &run.stream)
+            .unwrap_or_else(|| panic!("flip at {i} unnoticed"));
+        assert!(
+            diff.offset <= i,
+            "flip at byte {i} reported at byte {}",
+            diff.offset
+        );
+    }
+    // A sample through the binary: exit 1 and the record named.
+    for i in [0, 1, 17, clean.len() / 2, clean.len() - 2, clean.len() - 1] {
+        let mut flipped = clean.clone();
+        flipped[i] ^= 0x80;
+        fs::write(&stream_path, &flipped).unwrap();
+        let o = morphogen(&[
+            "verify",
+            "growth-curve",
+            "--fixtures",
+            fixtures.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(1), "flip at {i}: {}", text(&o));
+        assert!(
+            text(&o).contains("MISMATCH  growth-curve: first difference"),
+            "{}",
+            text(&o)
+        );
+        assert!(text(&o).contains("expected:") && text(&o).contains("actual:"));
+    }
+}
+
+#[test]
+fn a_capture_with_a_flipped_bit_names_the_preset_and_frame() {
+    let tmp = tempfile::tempdir().unwrap();
+    let fixtures = fixture_copy(tmp.path());
+    let clean = fs::read(fixtures.join("growth-curve/stream.bin")).unwrap();
+    let mut capture = clean.clone();
+    capture.extend_from_slice(&clean); // two streams back to back
+    let path = tmp.path().join("capture.bin");
+    fs::write(&path, &capture).unwrap();
+    let o = morphogen(&[
+        "verify",
+        "--stream",
+        path.to_str().unwrap(),
+        "--fixtures",
+        fixtures.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("2 stream(s)"));
+    capture[clean.len() + clean.len() / 2] ^= 0x04;
+    fs::write(&path, &capture).unwrap();
+    let o = morphogen(&[
+        "verify",
+        "--stream",
+        path.to_str().unwrap(),
+        "--fixtures",
+        fixtures.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("MISMATCH  growth-curve"), "{}", text(&o));
+    assert!(
+        text(&o).contains("first difference in frame 0"),
+        "{}",
+        text(&o)
+    );
+}
+
+#[test]
+fn bad_input_exits_2_with_a_message_and_no_backtrace() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let file = t.join("file");
+    fs::write(&file, b"not a folder").unwrap();
+    let junk = t.join("junk.bin");
+    fs::write(&junk, [1u8, 2, 3, 0, 9, 9]).unwrap();
+    let broken = fixture_copy(t);
+    fs::write(broken.join("growth-curve/summary.toml"), "preset = ").unwrap();
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec!["run".into(), "no-such-preset".into()],
+            "unknown preset 'no-such-preset'",
+        ),
+        (
+            vec![
+                "verify".into(),
+                "--fixtures".into(),
+                t.join("absent").display().to_string(),
+            ],
+            "no fixture for preset",
+        ),
+        (
+            vec![
+                "verify".into(),
+                "growth-curve".into(),
+                "--fixtures".into(),
+                broken.display().to_string(),
+            ],
+            "summary.toml is not a valid fixture summary",
+        ),
+        (
+            vec![
+                "run".into(),
+                "growth-curve".into(),
+                "--out".into(),
+                file.join("sub").display().to_string(),
+            ],
+            "cannot create output folder",
+        ),
+        (
+            vec!["decode".into(), t.join("absent.bin").display().to_string()],
+            "cannot read",
+        ),
+        (
+            vec!["decode".into(), junk.display().to_string()],
+            "corrupt or truncated frame",
+        ),
+        (
+            vec![
+                "verify".into(),
+                "--stream".into(),
+                t.join("absent.bin").display().to_string(),
+            ],
+            "cannot read capture",
+        ),
+        (vec!["frobnicate".into()], "unrecognized subcommand"),
+    ];
+    for (args, message) in cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = morphogen(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains(message), "{args:?}: {}", text(&o));
+        assert!(!text(&o).contains("panicked"), "{args:?}: {}", text(&o));
+    }
+}
+
+#[test]
+fn bless_writes_what_verify_accepts() {
+    let tmp = tempfile::tempdir().unwrap();
+    let fixtures = tmp.path().join("fx");
+    let o = morphogen(&[
+        "bless",
+        "growth-curve",
+        "--fixtures",
+        fixtures.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(
+        fs::read(fixtures.join("growth-curve/stream.bin")).unwrap(),
+        fs::read(workspace_fixtures().join("growth-curve/stream.bin")).unwrap()
+    );
+    let leftovers: Vec<_> = fs::read_dir(fixtures.join("growth-curve"))
+        .unwrap()
+        .collect();
+    assert_eq!(leftovers.len(), 2, "temporary files left behind");
+}
