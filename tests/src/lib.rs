@@ -1,0 +1,1 @@
+//! End-to-end tests across Morphogen's crates live in `tests/`.

@@ -1,0 +1,38 @@
+//! The determinism contract across build profiles: the stream a release
+//! build writes equals, byte for byte, the one this (debug) test build
+//! computes in process.
+
+use std::path::Path;
+use std::process::Command;
+
+use morphogen_cli::exec;
+
+/// Presets whose release stream is compared with the debug one: one per
+/// model, small enough to run unoptimised.
+const PROBES: &[&str] = &["growth-curve"];
+
+#[test]
+fn release_build_writes_the_same_bytes_as_debug() {
+    assert!(cfg!(debug_assertions), "this test must run in a debug build");
+    let workspace = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let target = workspace.join("target/determinism");
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let status = Command::new(cargo)
+        .args(["build", "--release", "--quiet", "-p", "morphogen-cli", "--target-dir"])
+        .arg(&target)
+        .current_dir(&workspace)
+        .status()
+        .expect("start cargo");
+    assert!(status.success(), "release build failed");
+    let binary = target.join("release/morphogen");
+    let tmp = tempfile::tempdir().unwrap();
+    for name in PROBES {
+        let out = tmp.path().join(name);
+        let o = Command::new(&binary).args(["run", name, "--out"]).arg(&out).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let release = std::fs::read(out.join("stream.bin")).unwrap();
+        let debug = exec::run(exec::find(name).unwrap(), exec::find(name).unwrap().default_seed, false).unwrap();
+        assert_eq!(release.len(), debug.stream.len(), "{name}: lengths differ");
+        assert!(release == debug.stream, "{name}: release and debug streams differ");
+    }
+}
