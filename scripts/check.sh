@@ -18,14 +18,17 @@ done
 
 step "format"
 cargo fmt --all --check
+(cd firmware-example && cargo fmt --check)
 
 step "lint"
 cargo clippy --workspace --all-targets -- -D warnings
+cargo clippy -p morphogen --all-targets --features rig,defmt -- -D warnings
+(cd firmware-example && cargo clippy --release -- -D warnings)
 
 step "core builds for Cortex-M0+ and Cortex-M3 (no_std, no alloc)"
 for t in thumbv6m-none-eabi thumbv7m-none-eabi; do
     cargo build -p morphogen --target "$t"
-    cargo build -p morphogen --target "$t" --features defmt
+    cargo build -p morphogen --target "$t" --features defmt,rig
 done
 
 step "tests"

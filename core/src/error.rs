@@ -1,5 +1,9 @@
 //! The crate-wide error: one variant per module that can fail.
 
+use crate::body::BodyError;
+use crate::horn::HornError;
+use crate::lsys::LsysError;
+use crate::mosaic::MosaicError;
 use crate::rng::RngError;
 use crate::stream::SinkError;
 
@@ -21,6 +25,14 @@ pub enum Error {
     },
     /// `step` was called on a runner that holds no simulation.
     NotStarted,
+    /// A horn's parameters are inconsistent.
+    Horn(HornError),
+    /// A mosaic's parameters or control inputs are unusable.
+    Mosaic(MosaicError),
+    /// An L-system's grammar, derivation or turtle failed.
+    Lsys(LsysError),
+    /// A body model, its growth table or its mesh is unusable.
+    Body(BodyError),
 }
 
 impl core::fmt::Display for Error {
@@ -32,6 +44,10 @@ impl core::fmt::Display for Error {
                 write!(f, "capacity {limit} = {capacity} exceeded")
             }
             Error::NotStarted => f.write_str("no simulation has been started"),
+            Error::Horn(e) => write!(f, "horn: {e}"),
+            Error::Mosaic(e) => write!(f, "mosaic: {e}"),
+            Error::Lsys(e) => write!(f, "L-system: {e}"),
+            Error::Body(e) => write!(f, "body: {e}"),
         }
     }
 }
@@ -47,5 +63,23 @@ impl From<SinkError> for Error {
 impl From<RngError> for Error {
     fn from(e: RngError) -> Error {
         Error::Rng(e)
+    }
+}
+
+impl From<HornError> for Error {
+    fn from(e: HornError) -> Error {
+        Error::Horn(e)
+    }
+}
+
+impl From<LsysError> for Error {
+    fn from(e: LsysError) -> Error {
+        Error::Lsys(e)
+    }
+}
+
+impl From<BodyError> for Error {
+    fn from(e: BodyError) -> Error {
+        Error::Body(e)
     }
 }

@@ -27,14 +27,21 @@
 )]
 #![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
+pub mod body;
 mod error;
 pub mod fx;
 pub mod geom;
 pub mod growth;
 pub mod growth_curve;
+pub mod horn;
+pub mod lsys;
+pub mod mosaic;
 pub mod preset;
+#[cfg(feature = "rig")]
+pub mod rig;
 pub mod rng;
 pub mod sim;
 pub mod stream;
+pub mod turtle;
 
 pub use error::Error;

@@ -2,7 +2,11 @@
 //! running in one place (a `static` on the MCU).
 
 use crate::Error;
+use crate::body::{self, Body, BodyParams};
 use crate::growth_curve::{self, GrowthCurve};
+use crate::horn::{self, Horn};
+use crate::lsys::{self, LSystem};
+use crate::mosaic::{Mosaic, Params as MosaicParams, presets as mosaics};
 use crate::sim::{Progress, Simulation};
 use crate::stream::{FORMAT_VERSION, Header, PresetName, Record, Sink, params_digest};
 
@@ -28,6 +32,72 @@ pub static PRESETS: &[Preset] = &[Preset {
         *runner = Runner::GrowthCurve(GrowthCurve::new(growth_curve::PARAMS));
         params_digest(&growth_curve::PARAMS)
     },
+},
+Preset {
+    name: "ram-horn",
+    summary: "ram horn of 8 modules placed by positioners (horn paper Table 1), every half year for 8 years",
+    default_seed: 0,
+    start: |runner, _seed| {
+        *runner = Runner::Horn(Horn::new(&horn::presets::RAM_HORN));
+        params_digest(&horn::presets::RAM_HORN)
+    },
+},
+Preset {
+    name: "ram-horn-animation",
+    summary: "the ram horn growing, monthly frames for 8 years, monthly rings (horn paper Sec. 7, Fig. 10)",
+    default_seed: 0,
+    start: |runner, _seed| {
+        *runner = Runner::Horn(Horn::new(&horn::presets::RAM_HORN_ANIMATION));
+        params_digest(&horn::presets::RAM_HORN_ANIMATION)
+    },
+},
+Preset {
+    name: "abop-shrub",
+    summary: "L-system: ABOP Fig. 1.25 shrub, n = 7, δ = 22.5°, 77 399 modules derived streaming (grammars/abop-shrub.lsys)",
+    default_seed: 0,
+    start: |runner, seed| start_lsystem(runner, lsys::presets::SHRUB, seed),
+},
+Preset {
+    name: "abop-2d-plant",
+    summary: "L-system: ABOP Fig. 1.24a bracketed 2D plant, n = 5, δ = 25.7° (grammars/abop-2d-plant.lsys)",
+    default_seed: 0,
+    start: |runner, seed| start_lsystem(runner, lsys::presets::PLANT_2D, seed),
+},
+Preset {
+    name: "abop-stochastic",
+    summary: "L-system: ABOP Fig. 1.27 stochastic plants, three side by side from seeds s, s+1, s+2 (grammars/abop-stochastic.lsys)",
+    default_seed: 1,
+    start: |runner, seed| start_lsystem(runner, lsys::presets::STOCHASTIC, seed),
+},
+Preset {
+    name: "abop-monopodial",
+    summary: "L-system: ABOP Fig. 2.6a parametric monopodial tree, n = 10 (grammars/abop-monopodial.lsys)",
+    default_seed: 0,
+    start: |runner, seed| start_lsystem(runner, lsys::presets::MONOPODIAL, seed),
+},
+Preset {
+    name: "croton-mcu",
+    summary: "MClone croton leaf sized for a 64 KB MCU: 180 cells growing to ~1 800 over 35 days, every day (thesis Fig. 4.1; runs on the firmware)",
+    default_seed: 1,
+    start: |runner, seed| start_mosaic_mcu(runner, &mosaics::CROTON_MCU, seed),
+},
+Preset {
+    name: "horse-growth",
+    summary: "quarter horse of 18 cylinders grown by its measured table, 0-60 months every 6 months (growth paper Table 1, Fig. 5)",
+    default_seed: 0,
+    start: |runner, _seed| start_body(runner, &body::presets::HORSE_GROWTH),
+},
+Preset {
+    name: "cow-growth",
+    summary: "Holstein of 18 cylinders grown by its measured table, 0-36 months every 3 months (growth paper Table 2, Fig. 6)",
+    default_seed: 0,
+    start: |runner, _seed| start_body(runner, &body::presets::COW_GROWTH),
+},
+Preset {
+    name: "horse-trot",
+    summary: "the horse trotting (12 frames per stride, diagonal pairs) while growing from 6 to 60 months (growth paper Sec. 7, Fig. 8)",
+    default_seed: 0,
+    start: |runner, _seed| start_body(runner, &body::presets::HORSE_TROT),
 }];
 
 /// The preset called `name`.
@@ -36,7 +106,30 @@ pub fn find(name: &str) -> Option<&'static Preset> {
     PRESETS.iter().find(|p| p.name == name)
 }
 
+/// The stream header of a run of the preset `name` with `seed` and the
+/// parameter digest `params`, exactly as [`Runner::start`] writes it (the
+/// host uses it for its own presets, so that their streams match).
+#[must_use]
+pub fn header(name: &str, seed: u64, params: u64) -> Record {
+    let mut preset = PresetName::new();
+    // Preset names are short literals; a longer one is truncated.
+    for c in name.chars() {
+        if preset.push(c).is_err() {
+            break;
+        }
+    }
+    Record::Header(Header {
+        version: FORMAT_VERSION,
+        preset,
+        seed,
+        params,
+    })
+}
+
 /// Holds the running simulation, whatever its model.
+// The runner lives in a `static` and there is no allocator to box its
+// variants: each is as big as its model's bounded state, by design.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Default)]
 #[non_exhaustive]
 pub enum Runner {
@@ -45,6 +138,14 @@ pub enum Runner {
     Idle,
     /// `growth-curve`.
     GrowthCurve(GrowthCurve),
+    /// `ram-horn` and `ram-horn-animation`.
+    Horn(Horn),
+    /// The MCU-sized mosaics (`croton-mcu`), stored inline.
+    Mosaic(Mosaic<mosaics::McuStore>),
+    /// The L-system presets (`abop-*`), derived streaming.
+    LSystem(LSystem),
+    /// The body presets (`horse-growth`, `cow-growth`, `horse-trot`).
+    Body(Body<'static>),
 }
 
 impl Runner {
@@ -60,20 +161,7 @@ impl Runner {
     /// When the sink refuses the header.
     pub fn start(&mut self, preset: &Preset, seed: u64, sink: &mut dyn Sink) -> Result<(), Error> {
         let params = (preset.start)(self, seed);
-        let mut name = PresetName::new();
-        // Preset names are short literals; a longer one is truncated.
-        for c in preset.name.chars() {
-            if name.push(c).is_err() {
-                break;
-            }
-        }
-        let header = Header {
-            version: FORMAT_VERSION,
-            preset: name,
-            seed,
-            params,
-        };
-        sink.record(&Record::Header(header))?;
+        sink.record(&header(preset.name, seed, params))?;
         Ok(())
     }
 
@@ -85,6 +173,10 @@ impl Runner {
         match self {
             Runner::Idle => Err(Error::NotStarted),
             Runner::GrowthCurve(sim) => sim.step(sink),
+            Runner::Horn(sim) => sim.step(sink),
+            Runner::Mosaic(sim) => sim.step(sink),
+            Runner::LSystem(sim) => sim.step(sink),
+            Runner::Body(sim) => sim.step(sink),
         }
     }
 }
@@ -109,4 +201,45 @@ pub fn run(
             return Ok(());
         }
     }
+}
+
+/// An empty MCU mosaic, written into the runner in place (a `const` of
+/// zeros, so no 49 KB temporary on a small stack).
+const EMPTY_MCU_MOSAIC: Mosaic<mosaics::McuStore> = Mosaic::new(mosaics::McuStore::EMPTY);
+
+/// Starts an MCU-sized mosaic in `runner`, reusing its store if it holds one.
+fn start_mosaic_mcu(runner: &mut Runner, params: &'static MosaicParams, seed: u64) -> u64 {
+    if !matches!(runner, Runner::Mosaic(_)) {
+        *runner = Runner::Mosaic(EMPTY_MCU_MOSAIC);
+    }
+    if let Runner::Mosaic(m) = runner {
+        let _ = m.start(params, seed); // an error is reported by the first step
+    }
+    params_digest(params)
+}
+
+/// An empty L-system, written into the runner in place.
+const EMPTY_LSYSTEM: LSystem = LSystem::new();
+
+/// Starts the L-system `grammar` in `runner`, parsing in place (no
+/// grammar-sized temporary on a small stack).
+fn start_lsystem(runner: &mut Runner, grammar: &'static str, seed: u64) -> u64 {
+    if !matches!(runner, Runner::LSystem(_)) {
+        *runner = Runner::LSystem(EMPTY_LSYSTEM);
+    }
+    if let Runner::LSystem(sim) = runner {
+        let _ = sim.load(grammar, seed); // an error is reported by the first step
+    }
+    params_digest(grammar)
+}
+
+/// Starts a body in `runner`, loading it in place.
+fn start_body(runner: &mut Runner, params: &'static BodyParams<'static>) -> u64 {
+    if !matches!(runner, Runner::Body(_)) {
+        *runner = Runner::Body(Body::new());
+    }
+    if let Runner::Body(sim) = runner {
+        sim.start(params); // an error is reported by the first step
+    }
+    params_digest(params)
 }

@@ -47,9 +47,9 @@ pub const SYSCLK_HZ: u32 = 8_000_000;
 pub const BAUD: u32 = 115_200;
 /// Baud divisor = SYSCLK / (16 · BAUD) = 4.3403: integer part…
 const IBRD: u32 = SYSCLK_HZ / (16 * BAUD);
-/// …and the fraction in 64ths, rounded: 0.3403 · 64 + 0.5 → 22
+/// …and the fraction in 64ths, rounded to nearest: 0.3403 · 64 → 22
 /// (115 107 baud, −0.08 %).
-const FBRD: u32 = ((SYSCLK_HZ % (16 * BAUD)) * 64 * 2 / (16 * BAUD) + 1) / 2;
+const FBRD: u32 = ((SYSCLK_HZ % (16 * BAUD)) * 64 + 8 * BAUD) / (16 * BAUD);
 const _: () = assert!(IBRD == 4 && FBRD == 22);
 
 /// RCC fields.

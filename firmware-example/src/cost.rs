@@ -20,11 +20,14 @@ static WRAPS: AtomicU32 = AtomicU32::new(0);
 
 /// Counts one wrap of the 24-bit counter.
 pub fn on_systick_wrap() {
-    WRAPS.store(WRAPS.load(Ordering::Relaxed).wrapping_add(1), Ordering::Relaxed);
+    WRAPS.store(
+        WRAPS.load(Ordering::Relaxed).wrapping_add(1),
+        Ordering::Relaxed,
+    );
 }
 
 /// A 64-bit tick counter built on SysTick and its wrap interrupt.
-#[derive(Debug)]
+/// (Owns SysTick, which has no `Debug`.)
 pub struct InstructionClock {
     _syst: SYST,
 }

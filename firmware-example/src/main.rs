@@ -14,7 +14,9 @@
 #![deny(missing_docs, clippy::unwrap_used, clippy::expect_used)]
 
 #[cfg(all(feature = "semihosting", feature = "rtt"))]
-compile_error!("choose one defmt transport: `semihosting` (default) or `rtt` (with --no-default-features)");
+compile_error!(
+    "choose one defmt transport: `semihosting` (default) or `rtt` (with --no-default-features)"
+);
 #[cfg(not(any(feature = "semihosting", feature = "rtt")))]
 compile_error!("enable a defmt transport: `semihosting` (default) or `rtt`");
 
@@ -27,6 +29,8 @@ mod board;
 mod cost;
 mod exit;
 
+use core::mem::MaybeUninit;
+
 use cortex_m_rt::{ExceptionFrame, entry, exception};
 use morphogen::preset::{self, PRESETS, Runner};
 use morphogen::sim::Progress;
@@ -35,11 +39,22 @@ use morphogen::stream::Encoder;
 use crate::board::Uart0;
 use crate::cost::{InstructionClock, StackPaint};
 
+/// The preset runner, the largest object of the program (tens of KB: it
+/// holds the biggest model's state). In `.uninit`, neither copied from
+/// flash (as `.data` would be: `Runner::Idle` is not all zeros) nor zeroed
+/// at reset; `main` writes `Runner::Idle` into it in place.
+#[unsafe(link_section = ".uninit.morphogen.RUNNER")]
+static mut RUNNER: MaybeUninit<Runner> = MaybeUninit::uninit();
+
 #[entry]
 fn main() -> ! {
-    // `#[entry]` turns this into a `&'static mut` to a zero-cost `static`:
-    // the runner (the largest object of the program) never lives on the stack.
-    static mut RUNNER: Runner = Runner::new();
+    // SAFETY: `main` runs once and never returns, and nothing else names
+    // RUNNER, so this is the only reference to it, ever.
+    let runner: &'static mut Runner = unsafe {
+        let slot = (&raw mut RUNNER).cast::<Runner>();
+        slot.write(Runner::new());
+        &mut *slot
+    };
 
     let Some(peripherals) = cortex_m::Peripherals::take() else {
         exit::failure()
@@ -51,6 +66,11 @@ fn main() -> ! {
     defmt::info!(
         "morphogen firmware: {=usize} presets; runner {=usize} bytes in static RAM",
         PRESETS.len(),
+        core::mem::size_of::<Runner>()
+    );
+    defmt::info!(
+        "report clock qemu_cpu_hz={=u32} runner_bytes={=usize}",
+        board::QEMU_CPU_HZ,
         core::mem::size_of::<Runner>()
     );
 
@@ -70,7 +90,7 @@ fn main() -> ! {
         let result = preset::run(
             preset,
             preset.default_seed,
-            RUNNER,
+            runner,
             &mut encoder,
             &mut log_progress,
         );

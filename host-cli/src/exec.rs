@@ -1,12 +1,72 @@
 //! Running a preset into an in-memory stream, with a progress bar on runs
-//! longer than a second.
+//! longer than a second. The presets are the core's registry
+//! ([`morphogen::preset::PRESETS`], also run by the firmware) followed by
+//! the host-only ones ([`HOST_PRESETS`]).
 
 use std::time::{Duration, Instant};
 
 use anyhow::{Result, anyhow};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use morphogen::preset::{self, Preset, Runner};
+use morphogen::sim::Progress;
 use morphogen::stream::{ByteSink, Encoder, SinkError};
+
+use crate::host_presets::{HOST_PRESETS, HostPreset};
+
+/// A preset of either registry.
+#[derive(Debug, Clone, Copy)]
+pub enum PresetRef {
+    /// A core preset (`morphogen::preset::PRESETS`; runs on the firmware).
+    Core(&'static Preset),
+    /// A host-only preset ([`HOST_PRESETS`]).
+    Host(&'static HostPreset),
+}
+
+impl PresetRef {
+    /// The name used on the command line and in stream headers.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            PresetRef::Core(p) => p.name,
+            PresetRef::Host(p) => p.name,
+        }
+    }
+
+    /// One line for `morphogen list`.
+    #[must_use]
+    pub fn summary(self) -> &'static str {
+        match self {
+            PresetRef::Core(p) => p.summary,
+            PresetRef::Host(p) => p.summary,
+        }
+    }
+
+    /// The seed used when none is given.
+    #[must_use]
+    pub fn default_seed(self) -> u64 {
+        match self {
+            PresetRef::Core(p) => p.default_seed,
+            PresetRef::Host(p) => p.default_seed,
+        }
+    }
+
+    /// The host-only preset, if this is one.
+    #[must_use]
+    pub fn host(self) -> Option<&'static HostPreset> {
+        match self {
+            PresetRef::Core(_) => None,
+            PresetRef::Host(p) => Some(p),
+        }
+    }
+}
+
+/// Every preset: the core's, then the host-only ones.
+pub fn all() -> impl Iterator<Item = PresetRef> + Clone {
+    preset::PRESETS
+        .iter()
+        .map(PresetRef::Core)
+        .chain(HOST_PRESETS.iter().map(PresetRef::Host))
+}
 
 /// A growable byte sink for the host.
 #[derive(Debug, Default)]
@@ -35,9 +95,8 @@ pub struct Run {
 ///
 /// # Errors
 /// The core's error, with the preset named.
-pub fn run(preset: &Preset, seed: u64, progress: bool) -> Result<Run> {
+pub fn run(preset: PresetRef, seed: u64, progress: bool) -> Result<Run> {
     let mut encoder = Encoder::new(Bytes::default());
-    let mut runner = Runner::new();
     let start = Instant::now();
     let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
     bar.set_style(
@@ -47,17 +106,21 @@ pub fn run(preset: &Preset, seed: u64, progress: bool) -> Result<Run> {
         .unwrap_or_else(|_| ProgressStyle::default_bar())
         .progress_chars("=> "),
     );
-    bar.set_prefix(preset.name);
+    bar.set_prefix(preset.name());
     let mut shown = false;
-    preset::run(preset, seed, &mut runner, &mut encoder, &mut |p| {
+    let mut report = |p: Progress| {
         bar.set_length(u64::from(p.total));
         bar.set_position(u64::from(p.done));
         if progress && !shown && start.elapsed() > Duration::from_secs(1) {
             bar.set_draw_target(ProgressDrawTarget::stderr());
             shown = true;
         }
-    })
-    .map_err(|e| anyhow!("preset {}: {e}", preset.name))?;
+    };
+    match preset {
+        PresetRef::Core(p) => preset::run(p, seed, &mut Runner::new(), &mut encoder, &mut report),
+        PresetRef::Host(p) => p.run(seed, &mut encoder, &mut report),
+    }
+    .map_err(|e| anyhow!("preset {}: {e}", preset.name()))?;
     bar.finish_and_clear();
     let digest = encoder.digest();
     let frames = encoder.frames();
@@ -68,13 +131,14 @@ pub fn run(preset: &Preset, seed: u64, progress: bool) -> Result<Run> {
     })
 }
 
-/// The preset called `name`, or an error listing the known ones.
+/// The preset called `name` (core or host-only), or an error listing the
+/// known ones.
 ///
 /// # Errors
 /// When no preset has that name.
-pub fn find(name: &str) -> Result<&'static Preset> {
-    preset::find(name).ok_or_else(|| {
-        let known: Vec<&str> = preset::PRESETS.iter().map(|p| p.name).collect();
+pub fn find(name: &str) -> Result<PresetRef> {
+    all().find(|p| p.name() == name).ok_or_else(|| {
+        let known: Vec<&str> = all().map(PresetRef::name).collect();
         anyhow!("unknown preset '{name}' (known: {})", known.join(", "))
     })
 }

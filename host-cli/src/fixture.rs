@@ -11,7 +11,7 @@ use anyhow::{Context, Result, bail};
 use morphogen::stream::{Decoder, Record};
 use serde::{Deserialize, Serialize};
 
-use crate::exec::Run;
+use crate::exec::{PresetRef, Run};
 
 /// The stream file inside a fixture folder.
 pub const STREAM_FILE: &str = "stream.bin";
@@ -89,7 +89,7 @@ pub fn load(fixtures: &Path, preset: &str) -> Result<Fixture> {
 
 /// The summary of a run of `preset`.
 #[must_use]
-pub fn summarise(preset: &morphogen::preset::Preset, seed: u64, run: &Run) -> Summary {
+pub fn summarise(preset: PresetRef, seed: u64, run: &Run) -> Summary {
     let mut records = BTreeMap::new();
     let mut params = 0;
     let mut version = 0;
@@ -103,9 +103,9 @@ pub fn summarise(preset: &morphogen::preset::Preset, seed: u64, run: &Run) -> Su
         }
     }
     Summary {
-        preset: preset.name.to_string(),
+        preset: preset.name().to_string(),
         seed,
-        description: preset.summary.to_string(),
+        description: preset.summary().to_string(),
         format_version: version,
         params_digest: format!("{params:016x}"),
         stream_digest: format!("{:016x}", run.digest),
@@ -147,6 +147,14 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     tmp.as_file()
         .sync_all()
         .with_context(|| format!("cannot write {}", path.display()))?;
+    // tempfile creates files 0600; outputs and fixtures are ordinary files.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        tmp.as_file()
+            .set_permissions(fs::Permissions::from_mode(0o644))
+            .with_context(|| format!("cannot write {}", path.display()))?;
+    }
     tmp.persist(path)
         .with_context(|| format!("cannot write {}", path.display()))?;
     Ok(())

@@ -3,11 +3,14 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+pub mod body_input;
 pub mod capture;
 pub mod exec;
 pub mod fixture;
+pub mod host_presets;
 pub mod jsonl;
 pub mod outputs;
+pub mod rig;
 pub mod verify;
 
 /// How a command ended, mapped to the process exit code.

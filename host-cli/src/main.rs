@@ -6,7 +6,6 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
-use morphogen::preset::PRESETS;
 use morphogen::stream::Decoder;
 use morphogen_cli::{Outcome, capture, exec, fixture, jsonl, outputs, verify};
 
@@ -32,14 +31,31 @@ enum Command {
     /// Run a preset and write its stream, its records as JSON Lines and the
     /// model's own files (PNG, OBJ, CSV).
     Run {
-        /// The preset's name (see `morphogen list`).
-        preset: String,
+        /// The preset's name (see `morphogen list`); omit it (or say
+        /// `custom`) with --grammar.
+        #[arg(required_unless_present = "grammar")]
+        preset: Option<String>,
+        /// Run an L-system grammar file instead of a preset (format:
+        /// docs/lsystems.md); writes plant.png, plant.obj, segments.csv.
+        #[arg(long, value_name = "FILE")]
+        grammar: Option<PathBuf>,
         /// The seed (default: the preset's own, the one fixtures use).
         #[arg(long)]
         seed: Option<u64>,
         /// The output folder (default: out/<preset>).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// With a body preset: grow this OBJ mesh instead of the built-in
+        /// body (needs --cylinders; format: docs/body.md).
+        #[arg(long, value_name = "FILE", requires = "cylinders", conflicts_with = "grammar")]
+        mesh: Option<PathBuf>,
+        /// The cylinder file for --mesh (docs/body.md).
+        #[arg(long, value_name = "FILE", requires = "mesh")]
+        cylinders: Option<PathBuf>,
+        /// Also write rig-WxH.png: the last frame as a W×H display rig
+        /// (LED matrix, OLED) shows it, drawn by the core's rig renderer.
+        #[arg(long, value_name = "WxH")]
+        rig: Option<String>,
     },
     /// Re-run presets and compare their streams with the golden fixtures,
     /// or check a device capture with --stream.
@@ -91,16 +107,57 @@ fn main() -> ExitCode {
 fn dispatch(command: Command) -> Result<Outcome> {
     match command {
         Command::List => {
-            let width = PRESETS.iter().map(|p| p.name.len()).max().unwrap_or(0);
-            for p in PRESETS {
+            let width = exec::all().map(|p| p.name().len()).max().unwrap_or(0);
+            for p in exec::all() {
+                let note = p
+                    .host()
+                    .map(|h| format!("  ({})", h.host_only_note()))
+                    .unwrap_or_default();
                 println!(
-                    "{:width$}  seed {:<4} {}",
-                    p.name, p.default_seed, p.summary
+                    "{:width$}  seed {:<4} {}{note}",
+                    p.name(),
+                    p.default_seed(),
+                    p.summary()
                 );
             }
             Ok(Outcome::Ok)
         }
-        Command::Run { preset, seed, out } => run(&preset, seed, out),
+        Command::Run {
+            preset,
+            grammar: Some(file),
+            seed,
+            out,
+            ..
+        } => match preset.as_deref() {
+            None | Some("custom") => run_grammar(&file, seed, out),
+            Some(other) => bail!(
+                "--grammar runs a grammar file: give no preset name (got '{other}'), or `custom`"
+            ),
+        },
+        Command::Run {
+            preset: Some(preset),
+            grammar: None,
+            seed,
+            out,
+            mesh: Some(mesh),
+            cylinders: Some(cylinders),
+            ..
+        } => morphogen_cli::body_input::run(&preset, seed, out, &mesh, &cylinders),
+        Command::Run {
+            preset: Some(preset),
+            grammar: None,
+            seed,
+            out,
+            rig,
+            ..
+        } => run(&preset, seed, out, rig.as_deref()),
+        Command::Run {
+            preset: None,
+            grammar: None,
+            ..
+        } => {
+            bail!("give a preset name (see `morphogen list`) or --grammar FILE")
+        }
         Command::Verify {
             presets,
             fixtures,
@@ -123,10 +180,11 @@ fn dispatch(command: Command) -> Result<Outcome> {
     }
 }
 
-fn run(name: &str, seed: Option<u64>, out: Option<PathBuf>) -> Result<Outcome> {
+fn run(name: &str, seed: Option<u64>, out: Option<PathBuf>, rig: Option<&str>) -> Result<Outcome> {
+    let rig = rig.map(morphogen_cli::rig::parse_rig_size).transpose()?;
     let preset = exec::find(name)?;
-    let seed = seed.unwrap_or(preset.default_seed);
-    let dir = out.unwrap_or_else(|| Path::new("out").join(preset.name));
+    let seed = seed.unwrap_or(preset.default_seed());
+    let dir = out.unwrap_or_else(|| Path::new("out").join(preset.name()));
     fs::create_dir_all(&dir)
         .with_context(|| format!("cannot create output folder {}", dir.display()))?;
     let run = exec::run(preset, seed, true)?;
@@ -138,10 +196,49 @@ fn run(name: &str, seed: Option<u64>, out: Option<PathBuf>) -> Result<Outcome> {
         .filter_map(|d| d.result.ok())
         .collect();
     let mut written = vec![stream_path, jsonl_path];
-    written.extend(outputs::write(preset.name, &records, &dir)?);
+    written.extend(outputs::write(preset.name(), &records, &dir)?);
+    if let Some((w, h)) = rig {
+        let path = dir.join(format!("rig-{w}x{h}.png"));
+        morphogen_cli::rig::render_rig_png(&records, w, h, &path)?;
+        written.push(path);
+    }
     println!(
         "{} seed {}: {} frames, {} bytes, digest {:016x}",
-        preset.name,
+        preset.name(),
+        seed,
+        run.frames,
+        run.stream.len(),
+        run.digest
+    );
+    for path in written {
+        println!("  wrote {}", path.display());
+    }
+    Ok(Outcome::Ok)
+}
+
+fn run_grammar(file: &Path, seed: Option<u64>, out: Option<PathBuf>) -> Result<Outcome> {
+    let text = fs::read_to_string(file)
+        .with_context(|| format!("cannot read grammar {}", file.display()))?;
+    let seed = seed.unwrap_or(0);
+    let stem = file
+        .file_stem()
+        .map_or_else(|| "grammar".into(), |s| s.to_string_lossy().into_owned());
+    let run = outputs::plant::run_grammar(file, &text, seed)?;
+    let dir = out.unwrap_or_else(|| Path::new("out").join(&stem));
+    fs::create_dir_all(&dir)
+        .with_context(|| format!("cannot create output folder {}", dir.display()))?;
+    let stream_path = dir.join("stream.bin");
+    fixture::write_atomic(&stream_path, &run.stream)?;
+    let jsonl_path = dir.join("records.jsonl");
+    fixture::write_atomic(&jsonl_path, jsonl::stream(&run.stream).as_bytes())?;
+    let records: Vec<_> = Decoder::new(&run.stream)
+        .filter_map(|d| d.result.ok())
+        .collect();
+    let mut written = vec![stream_path, jsonl_path];
+    written.extend(outputs::plant::write(&records, &dir)?);
+    println!(
+        "{} seed {}: {} frames, {} bytes, digest {:016x}",
+        file.display(),
         seed,
         run.frames,
         run.stream.len(),
@@ -155,22 +252,24 @@ fn run(name: &str, seed: Option<u64>, out: Option<PathBuf>) -> Result<Outcome> {
 
 fn verify_presets(names: Vec<String>, fixtures: &Path) -> Result<Outcome> {
     let names: Vec<String> = if names.is_empty() {
-        PRESETS.iter().map(|p| p.name.to_string()).collect()
+        exec::all().map(|p| p.name().to_string()).collect()
     } else {
         names
     };
     let mut outcome = Outcome::Ok;
     for name in names {
         let preset = exec::find(&name)?;
-        let fixture = fixture::load(fixtures, preset.name)?;
+        let fixture = fixture::load(fixtures, preset.name())?;
         let run = exec::run(preset, fixture.summary.seed, true)?;
         match verify::compare(&fixture.stream, &run.stream) {
             None => println!(
                 "ok        {} ({} frames, digest {:016x})",
-                preset.name, run.frames, run.digest
+                preset.name(),
+                run.frames,
+                run.digest
             ),
             Some(diff) => {
-                println!("MISMATCH  {}: {diff}", preset.name);
+                println!("MISMATCH  {}: {diff}", preset.name());
                 outcome = Outcome::Mismatch;
             }
         }
@@ -186,6 +285,7 @@ fn verify_capture(file: &Path, fixtures: &Path) -> Result<Outcome> {
         bail!("capture {} holds no frames", file.display());
     }
     let mut outcome = Outcome::Ok;
+    let mut missing = Vec::new();
     for part in &parts {
         let actual = &bytes[part.range.clone()];
         let Some(header) = &part.header else {
@@ -196,7 +296,14 @@ fn verify_capture(file: &Path, fixtures: &Path) -> Result<Outcome> {
             outcome = Outcome::Mismatch;
             continue;
         };
-        let fixture = fixture::load(fixtures, header.preset.as_str())?;
+        let fixture = match fixture::load(fixtures, header.preset.as_str()) {
+            Ok(fixture) => fixture,
+            Err(e) => {
+                println!("ERROR     {}: {e:#}", header.preset);
+                missing.push(header.preset.to_string());
+                continue;
+            }
+        };
         match verify::compare(&fixture.stream, actual) {
             None => println!(
                 "ok        {} (bytes {}..{} of the capture)",
@@ -212,19 +319,22 @@ fn verify_capture(file: &Path, fixtures: &Path) -> Result<Outcome> {
         }
     }
     println!("{} stream(s) in {}", parts.len(), file.display());
+    if !missing.is_empty() {
+        bail!("the capture holds streams without a fixture: {}", missing.join(", "));
+    }
     Ok(outcome)
 }
 
 fn bless(names: &[String], fixtures: &Path, seed: Option<u64>) -> Result<Outcome> {
     for name in names {
         let preset = exec::find(name)?;
-        let seed = seed.unwrap_or(preset.default_seed);
+        let seed = seed.unwrap_or(preset.default_seed());
         let run = exec::run(preset, seed, true)?;
         let summary = fixture::summarise(preset, seed, &run);
         let dir = fixture::bless(fixtures, &summary, &run)?;
         println!(
             "blessed   {} seed {seed}: {} frames, digest {:016x} -> {}",
-            preset.name,
+            preset.name(),
             run.frames,
             run.digest,
             dir.display()

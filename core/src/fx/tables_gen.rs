@@ -2,6 +2,8 @@
 //! matches. Run `MORPHOGEN_REGENERATE_TABLES=1 cargo test -p morphogen
 //! tables_are_current` to rewrite it after changing a table's definition.
 
+#![allow(clippy::float_arithmetic)] // generating the tables from f64 is this module's job
+
 extern crate std;
 
 use std::fmt::Write;

@@ -84,7 +84,9 @@ impl<'a> Decoder<'a> {
     }
 
     /// Decodes one frame's bytes (without its delimiter).
-    #[must_use]
+    ///
+    /// # Errors
+    /// Why the frame is unreadable.
     pub fn decode_frame(body: &[u8]) -> Result<Record, FrameError> {
         if body.len() > MAX_FRAME - 1 {
             return Err(FrameError::TooLong);
@@ -92,21 +94,20 @@ impl<'a> Decoder<'a> {
         let mut raw = [0u8; MAX_FRAME];
         let len = cobs::decode(body, &mut raw).map_err(|_| FrameError::Cobs)?;
         let raw = raw.get(..len).ok_or(FrameError::Cobs)?;
-        if len < 5 || len > MAX_RECORD + 4 {
-            return Err(if len < 5 {
-                FrameError::TooShort
-            } else {
-                FrameError::TooLong
-            });
+        if len < 5 {
+            return Err(FrameError::TooShort);
+        }
+        if len > MAX_RECORD + 4 {
+            return Err(FrameError::TooLong);
         }
         let (record, crc) = raw.split_at(len - 4);
-        let carried = u32::from_le_bytes([crc[0], crc[1], crc[2], crc[3]]);
+        let carried = u32::from_le_bytes(crc.try_into().map_err(|_| FrameError::TooShort)?);
         let computed = FRAME_CRC.checksum(record);
         if carried != computed {
             return Err(FrameError::Crc { carried, computed });
         }
         match postcard::take_from_bytes::<Record>(record) {
-            Ok((r, rest)) if rest.is_empty() => Ok(r),
+            Ok((r, [])) => Ok(r),
             _ => Err(FrameError::Record),
         }
     }

@@ -4,9 +4,14 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
+use morphogen::horn::presets::{RAM_HORN, RAM_HORN_ANIMATION};
 use morphogen::stream::Record;
 
+pub mod body;
 pub mod curve;
+pub mod horn;
+pub mod mosaic;
+pub mod plant;
 pub mod plot;
 
 /// Writes the files natural to `preset`'s model into `dir`; returns their
@@ -17,6 +22,15 @@ pub mod plot;
 pub fn write(preset: &str, records: &[Record], dir: &Path) -> Result<Vec<PathBuf>> {
     match preset {
         "growth-curve" => curve::write(records, dir),
-        _ => Ok(Vec::new()),
+        "horse-growth" | "cow-growth" | "horse-trot" => body::write_preset(preset, records, dir),
+        "ram-horn" => horn::write(records, dir, RAM_HORN.rings_per_module),
+        "ram-horn-animation" => horn::write(records, dir, RAM_HORN_ANIMATION.rings_per_module),
+        name if morphogen::lsys::presets::ALL.iter().any(|(n, _)| *n == name) => {
+            plant::write(records, dir)
+        }
+        name => match morphogen::mosaic::presets::by_name(name) {
+            Some(params) => mosaic::write(params, records, dir),
+            None => Ok(Vec::new()),
+        },
     }
 }

@@ -1,0 +1,44 @@
+//! Rings per second for a full `ram-horn` frame (t = 8 years: 8 complete
+//! modules, 200 rings of 24 points), in fixed point and in the f64
+//! reference. Run: `cargo bench -p morphogen --bench horn`.
+
+use std::hint::black_box;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use morphogen::Error;
+use morphogen::fx::{Fx, Real};
+use morphogen::horn::presets::RAM_HORN;
+use morphogen::horn::{Emit, HornKernel, Moment};
+
+/// Places and emits one frame, folding every point into a checksum.
+fn frame<R: Real>(kernel: &mut HornKernel<'_, R>, t: Moment) -> Result<u64, Error> {
+    kernel.place(t)?;
+    let mut sum = 0u64;
+    kernel.emit(&mut |e| {
+        if let Emit::Point(p) = e {
+            sum = sum.wrapping_add(p.x.to_f64().to_bits() ^ p.z.to_f64().to_bits());
+        }
+        Ok(())
+    })?;
+    Ok(sum)
+}
+
+fn full_frame(c: &mut Criterion) {
+    let last = Moment::new(RAM_HORN.frames(), u32::from(RAM_HORN.frames_per_year));
+    let mut fixed = HornKernel::<Fx>::new(&RAM_HORN).expect("valid preset");
+    fixed.place(last).expect("in range");
+    let rings = u64::from(fixed.ring_count());
+    let mut group = c.benchmark_group("ram-horn full frame");
+    group.throughput(Throughput::Elements(rings));
+    group.bench_function("fx rings", |b| {
+        b.iter(|| frame(&mut fixed, black_box(last)).expect("frame"))
+    });
+    let mut reference = HornKernel::<f64>::new(&RAM_HORN).expect("valid preset");
+    group.bench_function("f64 rings", |b| {
+        b.iter(|| frame(&mut reference, black_box(last)).expect("frame"))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, full_frame);
+criterion_main!(benches);

@@ -1,0 +1,82 @@
+//! L-system throughput on the host: derived modules per second (streaming
+//! and buffered) and turtle segments per second (the whole simulation into
+//! a counting sink), on ABOP Fig. 1.25's shrub (77 399 modules, 3 891
+//! segments, 1 284 polygons at n = 7).
+//!
+//! `CARGO_TARGET_DIR=… cargo bench -p morphogen --bench lsys`
+
+use std::hint::black_box;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use morphogen::lsys::{Buffered, Derivation, Grammar, LSystem, Module, Streaming, presets};
+use morphogen::sim::Simulation;
+use morphogen::stream::{Record, Sink, SinkError};
+
+struct Count(u64);
+
+impl Sink for Count {
+    fn record(&mut self, r: &Record) -> Result<(), SinkError> {
+        if matches!(r, Record::Segment { .. }) {
+            self.0 += 1;
+        }
+        Ok(())
+    }
+}
+
+fn shrub() -> Grammar {
+    let mut g = Grammar::new();
+    g.parse(presets::SHRUB).expect("the shrub parses");
+    g
+}
+
+fn derive(c: &mut Criterion) {
+    let g = shrub();
+    let mut group = c.benchmark_group("shrub_derivation");
+    group.throughput(Throughput::Elements(77_399));
+    group.bench_function("streaming_modules", |b| {
+        let mut d = Streaming::new();
+        b.iter(|| {
+            d.restart(&g, 7, 0).expect("restart");
+            let mut n = 0u32;
+            while let Some(m) = d.next_module(&g).expect("module") {
+                n += u32::from(black_box(m).symbol);
+            }
+            n
+        });
+    });
+    let mut a = vec![Module::default(); 80_000];
+    let mut bb = vec![Module::default(); 80_000];
+    group.bench_function("buffered_modules", |b| {
+        let mut d = Buffered::new(&mut a, &mut bb);
+        b.iter(|| {
+            d.restart(&g, 7, 0).expect("restart");
+            black_box(d.string().len())
+        });
+    });
+    group.finish();
+}
+
+fn draw(c: &mut Criterion) {
+    let mut group = c.benchmark_group("shrub_turtle");
+    group.throughput(Throughput::Elements(3_891));
+    group.bench_function("segments_streaming", |b| {
+        let mut sim = Box::new(LSystem::new());
+        b.iter(|| {
+            sim.load(presets::SHRUB, 0).expect("load");
+            let mut sink = Count(0);
+            while !sim.step(&mut sink).expect("step").finished() {}
+            sink.0
+        });
+    });
+    group.finish();
+}
+
+fn parse(c: &mut Criterion) {
+    c.bench_function("parse_monopodial", |b| {
+        let mut g = Grammar::new();
+        b.iter(|| g.parse(black_box(presets::MONOPODIAL)).expect("parse"));
+    });
+}
+
+criterion_group!(benches, derive, draw, parse);
+criterion_main!(benches);

@@ -1,0 +1,149 @@
+//! Clonal mosaic costs (issue 6). Run with
+//! `cargo bench -p morphogen --features host-capacity --bench mosaic`.
+//!
+//! 1. `sansevieria` end to end on one core (the thesis's 25–30 minute run):
+//!    median of 5 wall-clock runs, with cell-relaxation steps per second.
+//! 2. One relaxation step, uniform grid vs naive O(N²), at 2 000 and 15 000
+//!    cells (criterion).
+//! 3. Bytes of RAM per cell.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use morphogen::mosaic::grid::Grid;
+use morphogen::mosaic::relaxation::{self, Forces};
+use morphogen::mosaic::store::{self, CellStore, VecStore};
+use morphogen::mosaic::{MAX_TYPES, Mosaic, Params, presets};
+use morphogen::preset::{self, Runner};
+use morphogen::sim::Simulation;
+use morphogen::stream::{ByteSink, Encoder, Record, Sink, SinkError};
+
+/// Counts bytes like a file would.
+struct Bytes(u64);
+
+impl ByteSink for Bytes {
+    fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError> {
+        self.0 += bytes.len() as u64;
+        Ok(())
+    }
+}
+
+struct Null;
+
+impl Sink for Null {
+    fn record(&mut self, _: &Record) -> Result<(), SinkError> {
+        Ok(())
+    }
+}
+
+/// Cell-relaxation steps of one sansevieria run: Σ over relaxations of N.
+fn relaxation_steps(params: &'static Params) -> u64 {
+    let cells = presets::host_capacity(params);
+    let mut m = Mosaic::new(VecStore::new(cells, cells / 4 + 1));
+    m.start(params, 1).ok();
+    let mut steps = 0u64;
+    loop {
+        let Ok(p) = m.step(&mut Null) else { return 0 };
+        let rho = if p.done == 1 {
+            params.initial_relaxations
+        } else {
+            params.daily_relaxations
+        };
+        steps += m.len() as u64 * u64::from(rho);
+        if p.finished() {
+            return steps;
+        }
+    }
+}
+
+fn end_to_end() {
+    let sansevieria = preset::find("sansevieria").expect("host-capacity registry");
+    let mut times = Vec::new();
+    let mut bytes = 0;
+    for _ in 0..5 {
+        let mut encoder = Encoder::new(Bytes(0));
+        let mut runner = Runner::new();
+        let t = Instant::now();
+        preset::run(
+            sansevieria,
+            sansevieria.default_seed,
+            &mut runner,
+            &mut encoder,
+            &mut |_| {},
+        )
+        .expect("runs");
+        times.push(t.elapsed().as_secs_f64());
+        bytes = encoder.into_writer().0;
+    }
+    times.sort_by(f64::total_cmp);
+    let median = times[2];
+    let steps = relaxation_steps(&presets::SANSEVIERIA);
+    println!(
+        "sansevieria end to end (1 core): median of 5 = {:.3} s (runs {:?}), {bytes} stream bytes; \
+         {steps} cell-relaxation steps = {:.1} M steps/s",
+        median,
+        times
+            .iter()
+            .map(|t| (t * 1000.0).round() / 1000.0)
+            .collect::<Vec<_>>(),
+        steps as f64 / median / 1e6
+    );
+    println!(
+        "RAM per cell: {} B in the arrays + 4 B per grid bin; MCU store ArrayStore<2048, 513> = {} B = {:.3} B/cell",
+        store::CELL_BYTES,
+        core::mem::size_of::<presets::McuStore>(),
+        core::mem::size_of::<presets::McuStore>() as f64 / 2048.0
+    );
+}
+
+/// A croton-like configuration of `n` cells after a few relaxations.
+fn configuration(n: u32) -> (&'static Params, Mosaic<VecStore>) {
+    let side = f64::from(n).sqrt();
+    let params: &'static Params = Box::leak(Box::new(Params {
+        initial_cells: n,
+        days: 0,
+        initial_relaxations: 5,
+        domain: morphogen::mosaic::Domain::periodic(
+            morphogen::fx::Fx::from_int(side.round() as i32),
+            morphogen::fx::Fx::from_int((f64::from(n) / side.round()).round() as i32),
+        ),
+        ..presets::CROTON
+    }));
+    let mut m = Mosaic::new(VecStore::new(n as usize, n as usize / 4 + 1));
+    m.start(params, 1).expect("valid");
+    while !m.step(&mut Null).expect("runs").finished() {}
+    (params, m)
+}
+
+fn grid_vs_naive(c: &mut Criterion) {
+    end_to_end();
+    let mut g = c.benchmark_group("mosaic relaxation step");
+    g.sample_size(10);
+    for n in [2_000u32, 15_000] {
+        let (params, mut m) = configuration(n);
+        let radius = m.radius().to_bits();
+        let len = m.len();
+        let forces = Forces {
+            domain: &params.domain,
+            radius,
+            repel: [[1 << 16; MAX_TYPES]; MAX_TYPES],
+            push_weight: params.push_weight.to_bits(),
+            anisotropy_weight: 0,
+            field: None,
+        };
+        let store = m.store_mut();
+        let bins = store.slices().bins.len() - 1;
+        let grid = Grid::plan(&params.domain, radius, bins);
+        g.bench_function(format!("grid {n}"), |b| {
+            b.iter(|| relaxation::relax(&mut store.slices(), black_box(len), &grid, &forces));
+        });
+        g.bench_function(format!("naive {n}"), |b| {
+            b.iter(|| relaxation::relax_naive(&mut store.slices(), black_box(len), &forces));
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, grid_vs_naive);
+criterion_main!(benches);

@@ -1,0 +1,47 @@
+//! Fuzzes the L-system grammar parser, then derives and draws whatever
+//! parses (bounded): no input may panic, hang or give an unlocated error.
+//!
+//! `cargo +nightly fuzz run parse -- -max_total_time=600` from `core/`
+//! (or see `docs/lsystems.md` for running it without cargo-fuzz).
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use morphogen::lsys::{LSystem, LsysError};
+use morphogen::sim::Simulation;
+use morphogen::stream::{Record, Sink, SinkError};
+
+/// Accepts a bounded number of records.
+struct Budget(u32);
+
+impl Sink for Budget {
+    fn record(&mut self, _: &Record) -> Result<(), SinkError> {
+        self.0 = self
+            .0
+            .checked_sub(1)
+            .ok_or(SinkError::Full { capacity: 0 })?;
+        Ok(())
+    }
+}
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(text) = core::str::from_utf8(data) else {
+        return;
+    };
+    let mut sim = Box::new(LSystem::new());
+    match sim.load(text, 1) {
+        Err(LsysError::Parse(e)) => {
+            assert!(e.line >= 1 && e.column >= 1);
+            assert!(e.line as usize <= text.split('\n').count());
+        }
+        Err(e) => panic!("load failed without a location: {e}"),
+        Ok(()) => {
+            let mut sink = Budget(5000);
+            for _ in 0..64 {
+                match sim.step(&mut sink) {
+                    Ok(p) if !p.finished() => {}
+                    _ => break,
+                }
+            }
+        }
+    }
+});

@@ -1,0 +1,121 @@
+//! Joint motion from measured angles (growth paper, Sec. 7 and Fig. 7): a
+//! gait is a table of joint bends over one stride, sampled at equal phases
+//! and interpolated linearly, each channel driving the cylinder of that
+//! name. As in the paper, the measured half stride of one diagonal pair is
+//! reused for the other pair half a stride later.
+
+use serde::Serialize;
+
+use super::Label;
+use super::chain::Joint;
+use crate::fx::{Angle, Fx};
+
+/// The bends of one joint over a stride.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Channel<'a> {
+    /// The cylinder it bends (cylinders of other names keep their rest
+    /// pose; a body without this name ignores the channel).
+    pub cylinder: Label,
+    /// Phase offset in samples (half the samples for the other diagonal).
+    pub shift: u8,
+    /// Bend about the cylinder's local Z in whole degrees, one per sample,
+    /// measured from the rest pose.
+    pub degrees: &'a [i16],
+}
+
+/// A cyclic gait.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Gait<'a> {
+    /// The joints it moves.
+    pub channels: &'a [Channel<'a>],
+}
+
+impl Gait<'_> {
+    /// The joint of the cylinder `name` at `phase` ∈ [0, 1) of the stride.
+    #[must_use]
+    pub fn joint(&self, name: Label, phase: Fx) -> Joint {
+        let Some(ch) = self.channels.iter().find(|c| c.cylinder == name) else {
+            return Joint::REST;
+        };
+        let n = ch.degrees.len();
+        if n == 0 {
+            return Joint::REST;
+        }
+        // Position in samples: phase·n, as Q16 (phase < 1, n ≤ 65535).
+        let pos = (i64::from(phase.to_bits().max(0)) * n as i64) as u64;
+        let whole = (pos >> 16) as usize + usize::from(ch.shift);
+        let frac = Fx::from_bits((pos & 0xFFFF) as i32);
+        let (a, b) = (
+            Fx::from_int(i32::from(ch.degrees[whole % n])),
+            Fx::from_int(i32::from(ch.degrees[(whole + 1) % n])),
+        );
+        // |b − a| ≤ 65535 and frac < 1: no saturation.
+        Joint::bend(Angle::from_degrees_fx(a + (b - a) * frac))
+    }
+}
+
+/// Fore forearm swing at the elbow over 12 phases of a trot, degrees
+/// (positive: hoof forward); stance in phases 0–5, swing in 6–11. Drawn
+/// after Muybridge's trotting horse, the paper's source (Fig. 7).
+const FORE_SWING: [i16; 12] = [18, 12, 6, 0, -6, -12, -16, -8, 4, 16, 26, 24];
+/// Knee: the cannon folds back during the swing.
+const FORE_KNEE: [i16; 12] = [0, 0, 0, 0, 0, -5, -25, -60, -75, -50, -15, -2];
+/// Fetlock: over-extended under load, folded in the swing.
+const FETLOCK: [i16; 12] = [0, 8, 14, 18, 20, 10, -20, -45, -40, -20, -5, 0];
+/// Hind gaskin swing at the stifle.
+const HIND_SWING: [i16; 12] = [12, 8, 4, 0, -4, -8, -12, -6, 4, 14, 20, 18];
+/// Hock: the hind cannon swings forward as the hock flexes.
+const HOCK: [i16; 12] = [0, 0, 0, 0, 0, 8, 25, 45, 50, 30, 10, 2];
+
+const fn channel(name: &str, shift: u8, degrees: &'static [i16]) -> Channel<'static> {
+    Channel {
+        cylinder: Label::new(name),
+        shift,
+        degrees,
+    }
+}
+
+/// A trot: left fore with right hind, then right fore with left hind half
+/// a stride (6 samples) later.
+pub static TROT: Gait<'static> = Gait {
+    channels: &[
+        channel("l-fore-forearm", 0, &FORE_SWING),
+        channel("l-fore-cannon", 0, &FORE_KNEE),
+        channel("l-fore-pastern", 0, &FETLOCK),
+        channel("r-hind-gaskin", 0, &HIND_SWING),
+        channel("r-hind-cannon", 0, &HOCK),
+        channel("r-hind-pastern", 0, &FETLOCK),
+        channel("r-fore-forearm", 6, &FORE_SWING),
+        channel("r-fore-cannon", 6, &FORE_KNEE),
+        channel("r-fore-pastern", 6, &FETLOCK),
+        channel("l-hind-gaskin", 6, &HIND_SWING),
+        channel("l-hind-cannon", 6, &HOCK),
+        channel("l-hind-pastern", 6, &FETLOCK),
+    ],
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_interpolate_and_diagonals_are_half_a_stride_apart() {
+        let lf = Label::new("l-fore-forearm");
+        assert_eq!(
+            TROT.joint(lf, Fx::ZERO),
+            Joint::bend(Angle::from_degrees_fx(Fx::from_int(18)))
+        );
+        // Half way between samples 0 and 1 (18° and 12°): 15°, up to the
+        // rounding of the phase 1/24.
+        let half = TROT.joint(lf, Fx::from_ratio(1, 24)).bend.to_degrees_fx();
+        assert!(
+            (half - Fx::from_int(15)).abs() < Fx::from_ratio(1, 1000),
+            "{half}"
+        );
+        let rf = Label::new("r-fore-forearm");
+        assert_eq!(TROT.joint(rf, Fx::ZERO), TROT.joint(lf, Fx::HALF));
+        assert_eq!(TROT.joint(Label::new("torso"), Fx::HALF), Joint::REST);
+    }
+}

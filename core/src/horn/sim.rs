@@ -1,0 +1,75 @@
+//! The horn as a [`Simulation`]: one frame per step.
+//!
+//! Frame m (from 0) shows global time t = (m + 1)·T / `frames_per_year`;
+//! its `FrameStart` carries t in years. Then, module by module from the tip,
+//! each ring as a `Ring` record and its `Point`s, then `FrameEnd`.
+
+use super::{Emit, HornKernel, HornParams, Moment};
+use crate::Error;
+use crate::fx::Fx;
+use crate::sim::{Progress, Simulation};
+use crate::stream::{Record, Sink};
+
+/// A running horn: the fixed-point kernel and the frame counter. A few
+/// hundred bytes plus the outline (see [`super::MAX_RING_POINTS`]).
+#[derive(Clone, Debug)]
+pub struct Horn {
+    /// The kernel, or why the parameters were refused (reported by the
+    /// first `step`).
+    kernel: Result<HornKernel<'static, Fx>, Error>,
+    frame: u32,
+}
+
+impl Horn {
+    /// A run over `params`; invalid parameters make the first
+    /// [`Simulation::step`] fail with the reason.
+    #[must_use]
+    pub fn new(params: &'static HornParams) -> Horn {
+        Horn {
+            kernel: HornKernel::new(params),
+            frame: 0,
+        }
+    }
+}
+
+impl Simulation for Horn {
+    fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
+        let kernel = self.kernel.as_mut().map_err(|e| *e)?;
+        let params = kernel.params();
+        let total = params.frames();
+        if self.frame >= total {
+            return Ok(Progress { done: total, total });
+        }
+        let per_year = u32::from(params.frames_per_year);
+        let at = Moment::new(self.frame + 1, per_year);
+        kernel.place(at)?;
+        // Years = frame / frames_per_year; both ≤ u16::MAX, so the ratio is
+        // a small Fx.
+        let years = Fx::from_ratio((self.frame + 1) as i32, per_year as i32);
+        sink.record(&Record::FrameStart {
+            frame: self.frame,
+            time: years,
+        })?;
+        kernel.emit(&mut |e| {
+            let record = match e {
+                Emit::Ring {
+                    module,
+                    ring,
+                    points,
+                } => Record::Ring {
+                    module,
+                    ring,
+                    points,
+                },
+                Emit::Point(p) => Record::Point { p: [p.x, p.y, p.z] },
+            };
+            sink.record(&record).map_err(Error::from)
+        })?;
+        sink.record(&Record::FrameEnd { frame: self.frame })?;
+        self.frame += 1;
+        Ok(Progress {
+            done: self.frame,
+            total,
+        })
+    }
+}

@@ -1,0 +1,450 @@
+//! Derivation: choosing a production for each module (ABOP ch. 1.8–1.10)
+//! and expanding the axiom `n` times, streaming ([`Streaming`]) or into a
+//! double buffer ([`Buffered`]).
+//!
+//! Production choice, for a module `m` at position `p` of the string that
+//! derivation step `k` rewrites:
+//! 1. the candidates are the productions whose predecessor has `m`'s symbol
+//!    and arity, whose contexts match (skipping ignored symbols and whole
+//!    branches, ABOP p. 32) and whose condition is non-zero;
+//! 2. none: `m` is copied unchanged;
+//! 3. no candidate has a probability: the first one in the text wins;
+//! 4. otherwise one is drawn with probability proportional to its weight
+//!    (a missing weight counts 1, a negative one 0; all zero copies `m`),
+//!    from one 32-bit draw of `KeyedRng::new(seed, stream_id(k, p))`.
+
+use heapless::Vec;
+
+use crate::fx::Fx;
+use crate::rng::KeyedRng;
+
+use super::grammar::{AXIOM, Grammar, Production, bind, matches};
+use super::{LsysError, MAX_FORMALS, MAX_PARAMS, MAX_PRODUCTIONS, MAX_STEPS, Module};
+
+/// The RNG stream of the choice for the module at `position` of the string
+/// rewritten by derivation step `step` (from 1): the step in the top 8 bits,
+/// the position in the low 56.
+#[must_use]
+pub const fn stream_id(step: u8, position: u64) -> u64 {
+    ((step as u64) << 56) | (position & ((1 << 56) - 1))
+}
+
+/// A source of the derived string, module by module.
+pub trait Derivation {
+    /// Starts deriving `steps` steps of `grammar` with `seed`.
+    ///
+    /// # Errors
+    /// A capacity, or [`LsysError::NeedsBuffer`] for a context-sensitive
+    /// grammar given to [`Streaming`].
+    fn restart(&mut self, grammar: &Grammar, steps: u8, seed: u64) -> Result<(), LsysError>;
+
+    /// The next module of the derived string, `None` at its end.
+    ///
+    /// # Errors
+    /// A capacity.
+    fn next_module(&mut self, grammar: &Grammar) -> Result<Option<Module>, LsysError>;
+}
+
+/// The index of the nearest context candidate before `j` (ABOP p. 32:
+/// skips ignored symbols, whole branches `[…]`, and climbs out of the
+/// current branch at `[`).
+fn previous(g: &Grammar, s: &[Module], mut j: usize) -> Option<usize> {
+    loop {
+        j = j.checked_sub(1)?;
+        match s.get(j)?.symbol {
+            b']' => {
+                let mut depth = 1u32;
+                while depth > 0 {
+                    j = j.checked_sub(1)?;
+                    match s.get(j)?.symbol {
+                        b']' => depth += 1,
+                        b'[' => depth -= 1,
+                        _ => {}
+                    }
+                }
+            }
+            b'[' => {}
+            sym if g.is_ignored(sym) => {}
+            _ => return Some(j),
+        }
+    }
+}
+
+/// The index of the nearest context candidate at or after `j`: skips
+/// ignored symbols and lateral branches; `None` at the end of a branch.
+fn next(g: &Grammar, s: &[Module], mut j: usize) -> Option<usize> {
+    loop {
+        match s.get(j)?.symbol {
+            b'[' => {
+                let mut depth = 1u32;
+                while depth > 0 {
+                    j += 1;
+                    match s.get(j)?.symbol {
+                        b'[' => depth += 1,
+                        b']' => depth -= 1,
+                        _ => {}
+                    }
+                }
+                j += 1;
+            }
+            b']' => return None,
+            sym if g.is_ignored(sym) => j += 1,
+            _ => return Some(j),
+        }
+    }
+}
+
+/// Matches `p`'s contexts around `m` and binds every formal parameter
+/// (left context, predecessor, right context, in text order).
+fn bind_production(
+    g: &Grammar,
+    p: &Production,
+    m: &Module,
+    context: Option<(&[Module], usize)>,
+    formals: &mut [Fx; MAX_FORMALS],
+) -> bool {
+    let left = g.contexts.get(p.left.range()).unwrap_or(&[]);
+    let right = g.contexts.get(p.right.range()).unwrap_or(&[]);
+    let left_arity: usize = left.iter().map(|q| q.arity as usize).sum();
+    if !bind(formals, left_arity, m) {
+        return false;
+    }
+    if left.is_empty() && right.is_empty() {
+        return true;
+    }
+    let Some((s, i)) = context else {
+        return false;
+    };
+    let (mut j, mut offset) = (i, left_arity);
+    for q in left.iter().rev() {
+        let Some(k) = previous(g, s, j) else {
+            return false;
+        };
+        let Some(mk) = s.get(k) else { return false };
+        offset -= q.arity as usize;
+        if !matches(q, mk) || !bind(formals, offset, mk) {
+            return false;
+        }
+        j = k;
+    }
+    let (mut j, mut offset) = (i + 1, left_arity + m.arity as usize);
+    for q in right {
+        let Some(k) = next(g, s, j) else {
+            return false;
+        };
+        let Some(mk) = s.get(k) else { return false };
+        if !matches(q, mk) || !bind(formals, offset, mk) {
+            return false;
+        }
+        offset += q.arity as usize;
+        j = k + 1;
+    }
+    true
+}
+
+/// The production applied to `m` (see the module docs) and its bound
+/// formal parameters; `None` copies `m`.
+fn choose(
+    g: &Grammar,
+    m: &Module,
+    context: Option<(&[Module], usize)>,
+    step: u8,
+    position: u64,
+    seed: u64,
+) -> Option<(u8, [Fx; MAX_FORMALS])> {
+    let mut candidates = Vec::<(u8, Fx), MAX_PRODUCTIONS>::new();
+    let mut weighted = false;
+    for (k, p) in g.productions.iter().enumerate() {
+        if !matches(&p.predecessor, m) {
+            continue;
+        }
+        let mut formals = [Fx::ZERO; MAX_FORMALS];
+        if !bind_production(g, p, m, context, &mut formals) {
+            continue;
+        }
+        if let Some(c) = p.condition
+            && g.eval(c as usize, &formals).0 == Fx::ZERO
+        {
+            continue;
+        }
+        let weight = match p.weight {
+            Some(w) => {
+                weighted = true;
+                g.eval(w as usize, &formals).0.max(Fx::ZERO)
+            }
+            None => Fx::ONE,
+        };
+        if !weighted && p.weight.is_none() && candidates.is_empty() {
+            // A deterministic first match wins unless a later candidate is
+            // weighted; keep collecting only if another could apply.
+            let more = g
+                .productions
+                .iter()
+                .skip(k + 1)
+                .any(|q| matches(&q.predecessor, m));
+            if !more {
+                return Some((k as u8, formals));
+            }
+        }
+        // At most MAX_PRODUCTIONS candidates: the push cannot fail.
+        let _ = candidates.push((k as u8, weight));
+    }
+    let &(first, _) = candidates.first()?;
+    let chosen = if weighted {
+        let total: i64 = candidates.iter().map(|c| c.1.to_bits() as i64).sum();
+        if total == 0 {
+            return None;
+        }
+        let draw = KeyedRng::new(seed, stream_id(step, position)).next_u32();
+        // total < 2^36, so the product fits u128 and r < total.
+        let r = ((draw as u128 * total as u128) >> 32) as i64;
+        let mut acc = 0i64;
+        let mut chosen = first;
+        for &(k, w) in &candidates {
+            acc += w.to_bits() as i64;
+            if r < acc {
+                chosen = k;
+                break;
+            }
+        }
+        chosen
+    } else {
+        first
+    };
+    let p = g.productions.get(chosen as usize)?;
+    let mut formals = [Fx::ZERO; MAX_FORMALS];
+    bind_production(g, p, m, context, &mut formals).then_some((chosen, formals))
+}
+
+/// One level of the depth-first expansion: which successor is being
+/// expanded (the axiom's or a production's), how far, and the bound
+/// parameters of the module it replaced.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Frame {
+    production: u8,
+    next: u16,
+    formals: [Fx; MAX_PARAMS],
+}
+
+/// Depth-first derivation of a context-free grammar: the string of step
+/// `n` is produced module by module, holding one [`Frame`] per step
+/// (`MAX_STEPS + 1` frames, ~24 bytes each) and one position counter per
+/// step (for keying stochastic choices), never the string.
+///
+/// Positions: the frames visit every level's string in order, so a running
+/// counter per level gives each module its index in its level's string —
+/// the same index [`Buffered`] sees. A module that no production rewrites
+/// is carried to the last level at once, advancing the deeper counters.
+#[derive(Clone, Debug)]
+pub struct Streaming {
+    frames: Vec<Frame, { MAX_STEPS + 1 }>,
+    positions: [u64; MAX_STEPS + 1],
+    steps: u8,
+    seed: u64,
+}
+
+impl Default for Streaming {
+    fn default() -> Self {
+        Streaming::new()
+    }
+}
+
+impl Streaming {
+    /// An idle derivation (`const`, for a `static`).
+    #[must_use]
+    pub const fn new() -> Streaming {
+        Streaming {
+            frames: Vec::new(),
+            positions: [0; MAX_STEPS + 1],
+            steps: 0,
+            seed: 0,
+        }
+    }
+
+    /// The number of modules of each level's string produced so far; after
+    /// a complete derivation, the length of every intermediate string.
+    #[must_use]
+    pub fn positions(&self) -> &[u64] {
+        self.positions.get(..=self.steps as usize).unwrap_or(&[])
+    }
+}
+
+impl Derivation for Streaming {
+    fn restart(&mut self, grammar: &Grammar, steps: u8, seed: u64) -> Result<(), LsysError> {
+        if grammar.is_context_sensitive() {
+            return Err(LsysError::NeedsBuffer);
+        }
+        if steps as usize > MAX_STEPS {
+            return Err(LsysError::Capacity {
+                limit: "MAX_STEPS",
+                capacity: MAX_STEPS as u32,
+            });
+        }
+        self.frames.clear();
+        self.positions = [0; MAX_STEPS + 1];
+        self.steps = steps;
+        self.seed = seed;
+        let _ = self.frames.push(Frame {
+            production: AXIOM,
+            ..Frame::default()
+        });
+        Ok(())
+    }
+
+    fn next_module(&mut self, grammar: &Grammar) -> Result<Option<Module>, LsysError> {
+        loop {
+            let Some(level) = self.frames.len().checked_sub(1) else {
+                return Ok(None);
+            };
+            let Some(frame) = self.frames.last_mut() else {
+                return Ok(None);
+            };
+            let span = grammar.successor(frame.production);
+            if frame.next >= span.len {
+                self.frames.pop();
+                continue;
+            }
+            let m = grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
+            frame.next += 1;
+            let Some(counter) = self.positions.get_mut(level) else {
+                return Ok(None);
+            };
+            let position = *counter;
+            *counter += 1;
+            if level >= self.steps as usize {
+                return Ok(Some(m));
+            }
+            match choose(grammar, &m, None, level as u8 + 1, position, self.seed) {
+                Some((production, formals)) => {
+                    let mut f = [Fx::ZERO; MAX_PARAMS];
+                    f.copy_from_slice(&formals[..MAX_PARAMS]);
+                    self.frames
+                        .push(Frame {
+                            production,
+                            next: 0,
+                            formals: f,
+                        })
+                        .map_err(|_| LsysError::Capacity {
+                            limit: "MAX_STEPS",
+                            capacity: MAX_STEPS as u32,
+                        })?;
+                }
+                None => {
+                    let deeper = level + 1..=self.steps as usize;
+                    for counter in self.positions.get_mut(deeper).unwrap_or(&mut []) {
+                        *counter += 1;
+                    }
+                    return Ok(Some(m));
+                }
+            }
+        }
+    }
+}
+
+/// Derivation into two caller-provided module buffers (a fixed-capacity
+/// double buffer): step `k` reads one and writes the other. Handles
+/// context-sensitive grammars; the capacity is the shorter buffer's length
+/// (`BUFFER_MODULES` in errors).
+#[derive(Debug)]
+pub struct Buffered<'b> {
+    a: &'b mut [Module],
+    b: &'b mut [Module],
+    front_is_a: bool,
+    len: usize,
+    read: usize,
+    peak: usize,
+}
+
+impl<'b> Buffered<'b> {
+    /// A derivation over two buffers.
+    #[must_use]
+    pub fn new(a: &'b mut [Module], b: &'b mut [Module]) -> Buffered<'b> {
+        Buffered {
+            a,
+            b,
+            front_is_a: true,
+            len: 0,
+            read: 0,
+            peak: 0,
+        }
+    }
+
+    /// The derived string (valid after [`Derivation::restart`]).
+    #[must_use]
+    pub fn string(&self) -> &[Module] {
+        let front: &[Module] = if self.front_is_a { self.a } else { self.b };
+        front.get(..self.len).unwrap_or(&[])
+    }
+
+    /// The largest number of modules held at once (both buffers) so far.
+    #[must_use]
+    pub fn peak_modules(&self) -> usize {
+        self.peak
+    }
+
+    fn capacity_error(&self) -> LsysError {
+        LsysError::Capacity {
+            limit: "BUFFER_MODULES",
+            capacity: self.a.len().min(self.b.len()) as u32,
+        }
+    }
+}
+
+impl Derivation for Buffered<'_> {
+    fn restart(&mut self, grammar: &Grammar, steps: u8, seed: u64) -> Result<(), LsysError> {
+        self.front_is_a = true;
+        self.read = 0;
+        self.len = 0;
+        let axiom = grammar.axiom.range();
+        if axiom.len() > self.a.len().min(self.b.len()) {
+            return Err(self.capacity_error());
+        }
+        for (slot, t) in self.a.iter_mut().zip(axiom) {
+            *slot = grammar.instantiate(t, &[]);
+            self.len += 1;
+        }
+        self.peak = self.peak.max(self.len);
+        for step in 1..=steps {
+            let error = self.capacity_error();
+            let (front, back): (&[Module], &mut [Module]) = if self.front_is_a {
+                (self.a, self.b)
+            } else {
+                (self.b, self.a)
+            };
+            let front = front.get(..self.len).unwrap_or(&[]);
+            let mut out = 0usize;
+            for (position, m) in front.iter().enumerate() {
+                let chosen = choose(
+                    grammar,
+                    m,
+                    Some((front, position)),
+                    step,
+                    position as u64,
+                    seed,
+                );
+                match chosen {
+                    Some((production, formals)) => {
+                        for t in grammar.successor(production).range() {
+                            *back.get_mut(out).ok_or(error)? = grammar.instantiate(t, &formals);
+                            out += 1;
+                        }
+                    }
+                    None => {
+                        *back.get_mut(out).ok_or(error)? = *m;
+                        out += 1;
+                    }
+                }
+            }
+            self.peak = self.peak.max(self.len + out);
+            self.len = out;
+            self.front_is_a = !self.front_is_a;
+        }
+        Ok(())
+    }
+
+    fn next_module(&mut self, _grammar: &Grammar) -> Result<Option<Module>, LsysError> {
+        let m = self.string().get(self.read).copied();
+        self.read += 1;
+        Ok(m)
+    }
+}

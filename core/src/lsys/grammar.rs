@@ -1,0 +1,236 @@
+//! A parsed grammar: productions, axiom and settings in fixed-capacity
+//! pools (no allocation, no borrowing of the text).
+
+use heapless::Vec;
+
+use crate::fx::Fx;
+
+use super::expr;
+use super::{
+    MAX_CODE, MAX_CONTEXT_MODULES, MAX_FORMALS, MAX_LITERALS, MAX_PARAMS, MAX_PRODUCTIONS,
+    MAX_SUCCESSOR_MODULES, Module,
+};
+
+/// The numbers a grammar sets with `name = value` lines (defaults in
+/// brackets): `n` derivation steps (required), `delta` the turn angle in
+/// degrees \[90\], `step` the length of a bare `F` \[1\], `width` the
+/// initial segment width \[1\], `thin` the factor a bare `!` multiplies
+/// the width by \[0.7\], `plants` how many plants to draw side by side,
+/// each from its own seed `seed + i` \[1\], `spacing` the distance between
+/// them along x \[0\], `animate` 1 to draw every derivation step as its own
+/// frame (0 draws only step `n`) \[0\].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Settings {
+    /// Derivation steps.
+    pub steps: u8,
+    /// Turn angle δ in degrees.
+    pub delta: Fx,
+    /// Length of a bare `F`, `f`, `G`, `g`.
+    pub step: Fx,
+    /// Initial width.
+    pub width: Fx,
+    /// Factor applied by a bare `!`.
+    pub thin: Fx,
+    /// Plants drawn side by side.
+    pub plants: u8,
+    /// Distance between plants along x.
+    pub spacing: Fx,
+    /// Whether every derivation step is drawn as a frame.
+    pub animate: bool,
+}
+
+impl Settings {
+    /// The defaults (with `n = 0`).
+    pub const DEFAULT: Settings = Settings {
+        steps: 0,
+        delta: Fx::from_int(90),
+        step: Fx::ONE,
+        width: Fx::ONE,
+        thin: Fx::from_bits(45_875), // 0.7
+        plants: 1,
+        spacing: Fx::ZERO,
+        animate: false,
+    };
+}
+
+/// A pattern in a context: a symbol and its number of formal parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Pattern {
+    pub symbol: u8,
+    pub arity: u8,
+}
+
+/// A successor module: its symbol and the code of its parameters (`arity`
+/// expressions back to back from `code`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Template {
+    pub symbol: u8,
+    pub arity: u8,
+    pub code: u16,
+}
+
+/// A `start..start + len` range in one of the pools.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Span {
+    pub start: u16,
+    pub len: u16,
+}
+
+impl Span {
+    pub fn range(self) -> core::ops::Range<usize> {
+        self.start as usize..self.start as usize + self.len as usize
+    }
+}
+
+/// `lc < pred > rc : condition -> (weight) successor`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Production {
+    pub predecessor: Pattern,
+    /// Into the context pool, left to right.
+    pub left: Span,
+    /// Into the context pool, left to right.
+    pub right: Span,
+    /// Start of the condition's code, if any.
+    pub condition: Option<u16>,
+    /// Start of the probability weight's code, if any.
+    pub weight: Option<u16>,
+    /// Into the successor pool.
+    pub successor: Span,
+}
+
+/// A parsed L-system.
+///
+/// Memory: a fixed ~3 KB whatever the text (see the `MAX_*` limits);
+/// [`Grammar::parse`] fills it in place, so a grammar can live in a
+/// `static` and be re-parsed without a stack temporary.
+#[derive(Clone, Debug)]
+pub struct Grammar {
+    pub(crate) productions: Vec<Production, MAX_PRODUCTIONS>,
+    pub(crate) contexts: Vec<Pattern, MAX_CONTEXT_MODULES>,
+    pub(crate) templates: Vec<Template, MAX_SUCCESSOR_MODULES>,
+    pub(crate) code: Vec<u8, MAX_CODE>,
+    pub(crate) literals: Vec<Fx, MAX_LITERALS>,
+    pub(crate) axiom: Span,
+    /// Symbols skipped when matching contexts, as a 128-bit set.
+    pub(crate) ignored: [u32; 4],
+    pub(crate) settings: Settings,
+}
+
+impl Default for Grammar {
+    fn default() -> Self {
+        Grammar::new()
+    }
+}
+
+impl Grammar {
+    /// An empty grammar (no productions, empty axiom, `n = 0`).
+    #[must_use]
+    pub const fn new() -> Grammar {
+        Grammar {
+            productions: Vec::new(),
+            contexts: Vec::new(),
+            templates: Vec::new(),
+            code: Vec::new(),
+            literals: Vec::new(),
+            axiom: Span { start: 0, len: 0 },
+            ignored: [0; 4],
+            settings: Settings::DEFAULT,
+        }
+    }
+
+    /// The settings.
+    #[must_use]
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// Number of productions.
+    #[must_use]
+    pub fn production_count(&self) -> usize {
+        self.productions.len()
+    }
+
+    /// Whether any production has a left or right context (then only
+    /// [`super::Buffered`] can derive it).
+    #[must_use]
+    pub fn is_context_sensitive(&self) -> bool {
+        self.productions
+            .iter()
+            .any(|p| p.left.len > 0 || p.right.len > 0)
+    }
+
+    /// Whether `symbol` is in the `ignore:` set.
+    #[must_use]
+    pub fn is_ignored(&self, symbol: u8) -> bool {
+        let word = self.ignored.get(symbol as usize / 32).copied().unwrap_or(0);
+        symbol < 128 && word & (1 << (symbol % 32)) != 0
+    }
+
+    pub(crate) fn ignore(&mut self, symbol: u8) {
+        if let Some(word) = self.ignored.get_mut(symbol as usize / 32) {
+            *word |= 1 << (symbol % 32);
+        }
+    }
+
+    /// The number of modules in the axiom.
+    #[must_use]
+    pub fn axiom_len(&self) -> usize {
+        self.axiom.len as usize
+    }
+
+    /// Evaluates the expression starting at `start`; returns the value and
+    /// where the next expression starts.
+    pub(crate) fn eval(&self, start: usize, formals: &[Fx]) -> (Fx, usize) {
+        expr::eval(&self.code, &self.literals, start, formals)
+    }
+
+    /// Instantiates successor template `index` with `formals`.
+    pub(crate) fn instantiate(&self, index: usize, formals: &[Fx]) -> Module {
+        let Some(t) = self.templates.get(index) else {
+            return Module::default();
+        };
+        let mut m = Module::bare(t.symbol);
+        m.arity = t.arity;
+        let mut pc = t.code as usize;
+        for slot in m.params.iter_mut().take(t.arity as usize) {
+            let (v, next) = self.eval(pc, formals);
+            *slot = v;
+            pc = next;
+        }
+        m
+    }
+
+    /// The successor span of production `index`, or the axiom for
+    /// `index == AXIOM`.
+    pub(crate) fn successor(&self, index: u8) -> Span {
+        if index == AXIOM {
+            return self.axiom;
+        }
+        self.productions
+            .get(index as usize)
+            .map_or(Span::default(), |p| p.successor)
+    }
+}
+
+/// The pseudo-production index of the axiom.
+pub(crate) const AXIOM: u8 = u8::MAX;
+
+/// Copies a module's parameters into `formals` at `offset`; false when they
+/// do not fit (cannot happen for a parsed grammar).
+pub(crate) fn bind(formals: &mut [Fx; MAX_FORMALS], offset: usize, m: &Module) -> bool {
+    match formals.get_mut(offset..offset + m.arity as usize) {
+        Some(slots) => {
+            slots.copy_from_slice(m.args());
+            true
+        }
+        None => false,
+    }
+}
+
+/// Whether module `m` matches pattern `p` (symbol and arity).
+pub(crate) fn matches(p: &Pattern, m: &Module) -> bool {
+    p.symbol == m.symbol && p.arity == m.arity
+}
+
+const _: () = assert!(MAX_PARAMS <= MAX_FORMALS);

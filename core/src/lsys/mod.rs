@@ -1,0 +1,230 @@
+//! L-systems as a plant modeller knows them (Prusinkiewicz & Lindenmayer,
+//! *The Algorithmic Beauty of Plants*, ch. 1–2; seed `002_…`): bracketed,
+//! stochastic, parametric and context-sensitive, derived in bounded memory.
+//!
+//! - [`Grammar`] is parsed from a small text format (`docs/lsystems.md`)
+//!   into fixed-capacity pools, without allocation; errors carry a line and
+//!   a column.
+//! - [`Streaming`] derives a context-free system depth first: its state is
+//!   one frame per derivation step, so the derived string is never held
+//!   (ABOP Fig. 1.25's shrub has 77 399 modules after 7 steps; streaming
+//!   needs a few hundred bytes for it).
+//! - [`Buffered`] derives any system, context-sensitive ones included, in
+//!   two caller-provided module buffers (a double buffer).
+//! - Both key each stochastic choice by (derivation step, position of the
+//!   module in the string it rewrites), so they agree module for module.
+//! - [`LSystem`] is the simulation: it derives and feeds the modules to the
+//!   3D [`crate::turtle`], which emits segments and polygons.
+//!
+//! ```
+//! use morphogen::lsys::{Derivation, Grammar, Streaming};
+//! let mut g = Grammar::new();
+//! g.parse("n = 2\naxiom: F\nF -> F[+F]F").unwrap();
+//! let mut d = Streaming::new();
+//! d.restart(&g, 2, 0).unwrap();
+//! let mut text = heapless::String::<64>::new();
+//! while let Some(m) = d.next_module(&g).unwrap() {
+//!     text.push(m.symbol as char).unwrap();
+//! }
+//! assert_eq!(text, "F[+F]F[+F[+F]F]F[+F]F");
+//! ```
+
+mod derive;
+mod expr;
+mod grammar;
+mod parse;
+pub mod presets;
+mod sim;
+
+#[cfg(test)]
+mod fuzz_tests;
+#[cfg(test)]
+mod tests;
+
+pub use derive::{Buffered, Derivation, Streaming, stream_id};
+pub use grammar::{Grammar, Settings};
+pub use sim::{LSystem, MODULES_PER_STEP};
+
+use crate::fx::Fx;
+use crate::turtle::TurtleError;
+
+/// Productions per grammar.
+pub const MAX_PRODUCTIONS: usize = 32;
+/// Successor modules over all productions and the axiom.
+pub const MAX_SUCCESSOR_MODULES: usize = 256;
+/// Context modules (left and right) over all productions.
+pub const MAX_CONTEXT_MODULES: usize = 32;
+/// Bytes of compiled expression code over the whole grammar.
+pub const MAX_CODE: usize = 1024;
+/// Distinct numeric literals in expressions.
+pub const MAX_LITERALS: usize = 64;
+/// Parameters of one module.
+pub const MAX_PARAMS: usize = 4;
+/// Formal parameters of one production (contexts and predecessor).
+pub const MAX_FORMALS: usize = 8;
+/// Named constants and settings.
+pub const MAX_CONSTANTS: usize = 32;
+/// Characters of a constant's or formal parameter's name.
+pub const MAX_NAME: usize = 16;
+/// Evaluation stack of one expression.
+pub const MAX_EXPR_STACK: usize = 16;
+/// Nesting of parentheses and unary operators in one expression.
+pub const MAX_NESTING: usize = 16;
+/// Derivation steps `n`.
+pub const MAX_STEPS: usize = 32;
+
+/// A module: a symbol and its actual parameters (`F(2.5)`, `+`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Module {
+    /// The symbol, a printable ASCII byte.
+    pub symbol: u8,
+    /// How many of `params` are used.
+    pub arity: u8,
+    /// The parameter values; those past `arity` are zero.
+    pub params: [Fx; MAX_PARAMS],
+}
+
+impl Module {
+    /// A module without parameters.
+    #[must_use]
+    pub const fn bare(symbol: u8) -> Module {
+        Module {
+            symbol,
+            arity: 0,
+            params: [Fx::ZERO; MAX_PARAMS],
+        }
+    }
+
+    /// The parameters in use.
+    #[must_use]
+    pub fn args(&self) -> &[Fx] {
+        self.params.get(..self.arity as usize).unwrap_or(&[])
+    }
+}
+
+/// Where a grammar is wrong: 1-based line and column (in characters).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ParseError {
+    /// Line, from 1.
+    pub line: u32,
+    /// Column, from 1.
+    pub column: u32,
+    /// What is wrong.
+    pub kind: ParseErrorKind,
+}
+
+/// What is wrong with a grammar.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum ParseErrorKind {
+    /// Something else was expected here (the text says what).
+    Expected(&'static str),
+    /// A name that is neither a formal parameter nor a constant.
+    UnknownName,
+    /// A name defined twice (a constant, a setting or a formal parameter).
+    DuplicateName,
+    /// A second `axiom:` line.
+    DuplicateAxiom,
+    /// No `axiom:` line.
+    MissingAxiom,
+    /// No `n = …` line.
+    MissingSteps,
+    /// A number that does not fit I16F16 (±32768).
+    NumberOutOfRange,
+    /// A character outside printable ASCII.
+    NotAscii,
+    /// A setting with a value outside its range (the text says which).
+    InvalidValue(&'static str),
+    /// A fixed capacity was exceeded.
+    Capacity {
+        /// The limit's name (e.g. `MAX_PRODUCTIONS`).
+        limit: &'static str,
+        /// Its value.
+        capacity: u32,
+    },
+}
+
+impl core::fmt::Display for ParseErrorKind {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ParseErrorKind::Expected(what) => write!(f, "expected {what}"),
+            ParseErrorKind::UnknownName => {
+                f.write_str("unknown name (not a formal parameter or a constant)")
+            }
+            ParseErrorKind::DuplicateName => f.write_str("name defined twice"),
+            ParseErrorKind::DuplicateAxiom => f.write_str("a second `axiom:` line"),
+            ParseErrorKind::MissingAxiom => f.write_str("no `axiom:` line"),
+            ParseErrorKind::MissingSteps => f.write_str("no `n = <derivation steps>` line"),
+            ParseErrorKind::NumberOutOfRange => {
+                f.write_str("number out of range (fixed point, ±32768)")
+            }
+            ParseErrorKind::NotAscii => f.write_str("character outside printable ASCII"),
+            ParseErrorKind::InvalidValue(what) => write!(f, "invalid value: {what}"),
+            ParseErrorKind::Capacity { limit, capacity } => write!(
+                f,
+                "capacity {limit} = {capacity} exceeded (raise it in core/src/lsys/mod.rs)"
+            ),
+        }
+    }
+}
+
+impl core::fmt::Display for ParseError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "{}:{}: {}", self.line, self.column, self.kind)
+    }
+}
+
+impl core::error::Error for ParseError {}
+
+/// An error from parsing, deriving or drawing an L-system.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum LsysError {
+    /// The grammar text is malformed.
+    Parse(ParseError),
+    /// A derivation capacity was exceeded.
+    Capacity {
+        /// The limit's name (e.g. `BUFFER_MODULES`).
+        limit: &'static str,
+        /// Its value.
+        capacity: u32,
+    },
+    /// A context-sensitive grammar cannot be derived by [`Streaming`]; use
+    /// [`Buffered`].
+    NeedsBuffer,
+    /// The turtle failed.
+    Turtle(TurtleError),
+}
+
+impl core::fmt::Display for LsysError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            LsysError::Parse(e) => write!(f, "grammar {e}"),
+            LsysError::Capacity { limit, capacity } => {
+                write!(f, "capacity {limit} = {capacity} exceeded")
+            }
+            LsysError::NeedsBuffer => f.write_str(
+                "a context-sensitive grammar needs buffered derivation (streaming cannot see the context)",
+            ),
+            LsysError::Turtle(e) => write!(f, "turtle: {e}"),
+        }
+    }
+}
+
+impl core::error::Error for LsysError {}
+
+impl From<ParseError> for LsysError {
+    fn from(e: ParseError) -> LsysError {
+        LsysError::Parse(e)
+    }
+}
+
+impl From<TurtleError> for LsysError {
+    fn from(e: TurtleError) -> LsysError {
+        LsysError::Turtle(e)
+    }
+}

@@ -1,0 +1,763 @@
+//! The grammar text parser: line by line, alloc-free, every error located.
+//! The format is specified in `docs/lsystems.md`.
+
+use fixed::types::I16F16;
+use heapless::Vec;
+
+use crate::fx::Fx;
+
+use super::expr::{self, FUNCTIONS};
+use super::grammar::{Grammar, Pattern, Production, Span, Template};
+use super::{
+    MAX_CODE, MAX_CONSTANTS, MAX_CONTEXT_MODULES, MAX_EXPR_STACK, MAX_FORMALS, MAX_LITERALS,
+    MAX_NAME, MAX_NESTING, MAX_PARAMS, MAX_PRODUCTIONS, MAX_STEPS, MAX_SUCCESSOR_MODULES,
+    ParseError, ParseErrorKind,
+};
+
+type Name = Vec<u8, MAX_NAME>;
+type Constants = Vec<(Name, Fx), MAX_CONSTANTS>;
+type Formals = Vec<Name, MAX_FORMALS>;
+
+const fn capacity(limit: &'static str, capacity: usize) -> ParseErrorKind {
+    ParseErrorKind::Capacity {
+        limit,
+        capacity: capacity as u32,
+    }
+}
+
+/// Whether `b` can be a module's symbol: printable ASCII other than the
+/// format's punctuation `( ) , # < > :`.
+#[must_use]
+pub(crate) fn is_symbol(b: u8) -> bool {
+    b.is_ascii_graphic() && !b"(),#<>:".contains(&b)
+}
+
+/// A position in one line, limited to `pos..end`.
+#[derive(Clone, Copy)]
+struct Cursor<'t> {
+    text: &'t str,
+    pos: usize,
+    end: usize,
+    line: u32,
+}
+
+impl<'t> Cursor<'t> {
+    fn bytes(&self) -> &'t [u8] {
+        self.text.as_bytes()
+    }
+    fn peek(&self) -> Option<u8> {
+        if self.pos < self.end {
+            self.bytes().get(self.pos).copied()
+        } else {
+            None
+        }
+    }
+    fn peek_at(&self, k: usize) -> Option<u8> {
+        if self.pos + k < self.end {
+            self.bytes().get(self.pos + k).copied()
+        } else {
+            None
+        }
+    }
+    fn bump(&mut self) {
+        self.pos += 1;
+    }
+    fn skip_ws(&mut self) {
+        while matches!(self.peek(), Some(b' ' | b'\t')) {
+            self.bump();
+        }
+    }
+    fn at_end(&mut self) -> bool {
+        self.skip_ws();
+        self.pos >= self.end
+    }
+    fn err_at(&self, pos: usize, kind: ParseErrorKind) -> ParseError {
+        ParseError {
+            line: self.line,
+            column: (pos as u32).saturating_add(1),
+            kind,
+        }
+    }
+    fn err(&self, kind: ParseErrorKind) -> ParseError {
+        self.err_at(self.pos, kind)
+    }
+    fn expect(&mut self, byte: u8, what: &'static str) -> Result<(), ParseError> {
+        self.skip_ws();
+        if self.peek() == Some(byte) {
+            self.bump();
+            Ok(())
+        } else {
+            Err(self.err(ParseErrorKind::Expected(what)))
+        }
+    }
+    fn expect_end(&mut self) -> Result<(), ParseError> {
+        if self.at_end() {
+            Ok(())
+        } else {
+            Err(self.err(ParseErrorKind::Expected("the end of the line")))
+        }
+    }
+    /// `[A-Za-z_][A-Za-z0-9_]*`, or `None` (position unchanged).
+    fn ident(&mut self) -> Option<&'t str> {
+        let start = self.pos;
+        match self.peek() {
+            Some(b) if b.is_ascii_alphabetic() || b == b'_' => self.bump(),
+            _ => return None,
+        }
+        while matches!(self.peek(), Some(b) if b.is_ascii_alphanumeric() || b == b'_') {
+            self.bump();
+        }
+        self.text.get(start..self.pos)
+    }
+    fn name(&self, start: usize, word: &str) -> Result<Name, ParseError> {
+        Name::from_slice(word.as_bytes())
+            .map_err(|()| self.err_at(start, capacity("MAX_NAME", MAX_NAME)))
+    }
+    fn symbol(&mut self) -> Result<u8, ParseError> {
+        self.skip_ws();
+        match self.peek() {
+            Some(b) if is_symbol(b) => {
+                self.bump();
+                Ok(b)
+            }
+            _ => Err(self.err(ParseErrorKind::Expected("a module symbol"))),
+        }
+    }
+}
+
+/// Finds `needle` in `hay[from..to]`.
+fn find(hay: &[u8], from: usize, to: usize, needle: &[u8]) -> Option<usize> {
+    let window = hay.get(from..to)?;
+    window
+        .windows(needle.len())
+        .position(|w| w == needle)
+        .map(|i| i + from)
+}
+
+/// Compiles one expression into the grammar's code pool.
+struct Compiler<'g, 'c> {
+    grammar: &'g mut Grammar,
+    formals: &'c [Name],
+    constants: &'c [(Name, Fx)],
+    depth: usize,
+    nesting: usize,
+}
+
+impl Compiler<'_, '_> {
+    fn emit(&mut self, c: &Cursor<'_>, op: u8, operand: Option<u8>) -> Result<(), ParseError> {
+        let (pops, pushes) = expr::arity(op);
+        self.depth = self.depth.saturating_sub(pops) + pushes;
+        if self.depth > MAX_EXPR_STACK {
+            return Err(c.err(capacity("MAX_EXPR_STACK", MAX_EXPR_STACK)));
+        }
+        let full = || c.err(capacity("MAX_CODE", MAX_CODE));
+        self.grammar.code.push(op).map_err(|_| full())?;
+        if let Some(b) = operand {
+            self.grammar.code.push(b).map_err(|_| full())?;
+        }
+        Ok(())
+    }
+
+    fn literal(&mut self, c: &Cursor<'_>, at: usize, v: Fx) -> Result<(), ParseError> {
+        let index = match self.grammar.literals.iter().position(|&l| l == v) {
+            Some(i) => i,
+            None => {
+                self.grammar
+                    .literals
+                    .push(v)
+                    .map_err(|_| c.err_at(at, capacity("MAX_LITERALS", MAX_LITERALS)))?;
+                self.grammar.literals.len() - 1
+            }
+        };
+        self.emit(c, expr::LITERAL, Some(index as u8))
+    }
+
+    /// A whole expression followed by `END`; returns where its code starts.
+    fn expression(&mut self, c: &mut Cursor<'_>) -> Result<u16, ParseError> {
+        let start = self.grammar.code.len() as u16;
+        self.depth = 0;
+        self.or(c)?;
+        self.emit(c, expr::END, None)?;
+        Ok(start)
+    }
+
+    fn or(&mut self, c: &mut Cursor<'_>) -> Result<(), ParseError> {
+        self.and(c)?;
+        loop {
+            c.skip_ws();
+            if c.peek() == Some(b'|') && c.peek_at(1) == Some(b'|') {
+                c.pos += 2;
+                self.and(c)?;
+                self.emit(c, expr::OR, None)?;
+            } else {
+                return Ok(());
+            }
+        }
+    }
+
+    fn and(&mut self, c: &mut Cursor<'_>) -> Result<(), ParseError> {
+        self.comparison(c)?;
+        loop {
+            c.skip_ws();
+            if c.peek() == Some(b'&') && c.peek_at(1) == Some(b'&') {
+                c.pos += 2;
+                self.comparison(c)?;
+                self.emit(c, expr::AND, None)?;
+            } else {
+                return Ok(());
+            }
+        }
+    }
+
+    fn comparison(&mut self, c: &mut Cursor<'_>) -> Result<(), ParseError> {
+        self.sum(c)?;
+        c.skip_ws();
+        let (op, len) = match (c.peek(), c.peek_at(1)) {
+            (Some(b'<'), Some(b'=')) => (expr::LE, 2),
+            (Some(b'>'), Some(b'=')) => (expr::GE, 2),
+            (Some(b'='), Some(b'=')) => (expr::EQ, 2),
+            (Some(b'!'), Some(b'=')) => (expr::NE, 2),
+            (Some(b'<'), _) => (expr::LT, 1),
+            (Some(b'>'), _) => (expr::GT, 1),
+            _ => return Ok(()),
+        };
+        c.pos += len;
+        self.sum(c)?;
+        self.emit(c, op, None)
+    }
+
+    fn sum(&mut self, c: &mut Cursor<'_>) -> Result<(), ParseError> {
+        self.product(c)?;
+        loop {
+            c.skip_ws();
+            let op = match (c.peek(), c.peek_at(1)) {
+                (Some(b'+'), _) => expr::ADD,
+                (Some(b'-'), next) if next != Some(b'>') => expr::SUB,
+                _ => return Ok(()),
+            };
+            c.bump();
+            self.product(c)?;
+            self.emit(c, op, None)?;
+        }
+    }
+
+    fn product(&mut self, c: &mut Cursor<'_>) -> Result<(), ParseError> {
+        self.unary(c)?;
+        loop {
+            c.skip_ws();
+            let op = match c.peek() {
+                Some(b'*') => expr::MUL,
+                Some(b'/') => expr::DIV,
+                _ => return Ok(()),
+            };
+            c.bump();
+            self.unary(c)?;
+            self.emit(c, op, None)?;
+        }
+    }
+
+    fn unary(&mut self, c: &mut Cursor<'_>) -> Result<(), ParseError> {
+        self.nesting += 1;
+        if self.nesting > MAX_NESTING {
+            return Err(c.err(capacity("MAX_NESTING", MAX_NESTING)));
+        }
+        c.skip_ws();
+        let result = match (c.peek(), c.peek_at(1)) {
+            (Some(b'-'), _) => {
+                c.bump();
+                self.unary(c).and_then(|()| self.emit(c, expr::NEG, None))
+            }
+            (Some(b'!'), next) if next != Some(b'=') => {
+                c.bump();
+                self.unary(c).and_then(|()| self.emit(c, expr::NOT, None))
+            }
+            _ => self.power(c),
+        };
+        self.nesting -= 1;
+        result
+    }
+
+    fn power(&mut self, c: &mut Cursor<'_>) -> Result<(), ParseError> {
+        self.atom(c)?;
+        c.skip_ws();
+        if c.peek() == Some(b'^') {
+            c.bump();
+            self.unary(c)?;
+            self.emit(c, expr::POW, None)?;
+        }
+        Ok(())
+    }
+
+    fn atom(&mut self, c: &mut Cursor<'_>) -> Result<(), ParseError> {
+        c.skip_ws();
+        let start = c.pos;
+        match c.peek() {
+            Some(b'(') => {
+                c.bump();
+                self.or(c)?;
+                c.expect(b')', "`)`")
+            }
+            Some(b) if b.is_ascii_digit() || b == b'.' => {
+                let v = number(c)?;
+                self.literal(c, start, v)
+            }
+            Some(b) if b.is_ascii_alphabetic() || b == b'_' => {
+                let word = c.ident().unwrap_or("");
+                let save = *c;
+                c.skip_ws();
+                if c.peek() == Some(b'(')
+                    && let Some(&(_, op)) = FUNCTIONS.iter().find(|(f, _)| *f == word)
+                {
+                    c.bump();
+                    self.or(c)?;
+                    c.expect(b')', "`)`")?;
+                    return self.emit(c, op, None);
+                }
+                *c = save;
+                if let Some(i) = self
+                    .formals
+                    .iter()
+                    .position(|f| f.as_slice() == word.as_bytes())
+                {
+                    return self.emit(c, expr::FORMAL, Some(i as u8));
+                }
+                match self
+                    .constants
+                    .iter()
+                    .find(|(n, _)| n.as_slice() == word.as_bytes())
+                {
+                    Some(&(_, v)) => self.literal(c, start, v),
+                    None => Err(c.err_at(start, ParseErrorKind::UnknownName)),
+                }
+            }
+            _ => Err(c.err(ParseErrorKind::Expected("an expression"))),
+        }
+    }
+}
+
+/// A decimal number `12`, `0.5`, `.5`, `3.`.
+fn number(c: &mut Cursor<'_>) -> Result<Fx, ParseError> {
+    let start = c.pos;
+    let mut digits = 0;
+    let mut point = false;
+    while let Some(b) = c.peek() {
+        if b.is_ascii_digit() {
+            digits += 1;
+        } else if b == b'.' && !point {
+            point = true;
+        } else {
+            break;
+        }
+        c.bump();
+    }
+    if digits == 0 {
+        return Err(c.err_at(start, ParseErrorKind::Expected("a number")));
+    }
+    let text = c.text.get(start..c.pos).unwrap_or("0");
+    let (int, frac) = text.split_once('.').unwrap_or((text, ""));
+    // `fixed` wants digits on both sides of a point.
+    let mut buf = [b'0'; 48];
+    let (int, frac) = (if int.is_empty() { "0" } else { int }, frac);
+    let len = int.len() + 1 + frac.len().max(1);
+    let Some(slot) = buf.get_mut(..len) else {
+        return Err(c.err_at(start, ParseErrorKind::NumberOutOfRange));
+    };
+    slot[..int.len()].copy_from_slice(int.as_bytes());
+    slot[int.len()] = b'.';
+    slot[int.len() + 1..int.len() + 1 + frac.len()].copy_from_slice(frac.as_bytes());
+    let s = core::str::from_utf8(slot).unwrap_or("0");
+    I16F16::from_str(s)
+        .map(Fx::from_fixed)
+        .map_err(|_| c.err_at(start, ParseErrorKind::NumberOutOfRange))
+}
+
+/// What `Grammar::parse` tracks across lines.
+struct State {
+    constants: Constants,
+    axiom_seen: bool,
+    steps_seen: bool,
+}
+
+impl Grammar {
+    /// Parses `text` into `self`, replacing what it held.
+    ///
+    /// # Errors
+    /// The first problem, with its line and column; `self` then holds an
+    /// unspecified (but safe to drop or re-parse) grammar.
+    pub fn parse(&mut self, text: &str) -> Result<(), ParseError> {
+        *self = Grammar::new();
+        let mut state = State {
+            constants: Vec::new(),
+            axiom_seen: false,
+            steps_seen: false,
+        };
+        let mut lines = 0u32;
+        for raw in text.split('\n') {
+            lines = lines.saturating_add(1);
+            let raw = raw.strip_suffix('\r').unwrap_or(raw);
+            let content = match raw.find('#') {
+                Some(k) => raw.get(..k).unwrap_or(""),
+                None => raw,
+            };
+            let mut c = Cursor {
+                text: content,
+                pos: 0,
+                end: content.len(),
+                line: lines,
+            };
+            if let Some(bad) = content
+                .bytes()
+                .position(|b| !(b.is_ascii_graphic() || b == b' ' || b == b'\t'))
+            {
+                // The column counts characters, not bytes.
+                let column = content.get(..bad).map_or(bad, |s| s.chars().count());
+                return Err(c.err_at(column, ParseErrorKind::NotAscii));
+            }
+            if c.at_end() {
+                continue;
+            }
+            self.statement(&mut c, &mut state)?;
+        }
+        let end = ParseError {
+            line: lines,
+            column: 1,
+            kind: ParseErrorKind::MissingAxiom,
+        };
+        if !state.axiom_seen {
+            return Err(end);
+        }
+        if !state.steps_seen {
+            return Err(ParseError {
+                kind: ParseErrorKind::MissingSteps,
+                ..end
+            });
+        }
+        Ok(())
+    }
+
+    fn statement(&mut self, c: &mut Cursor<'_>, state: &mut State) -> Result<(), ParseError> {
+        let start = c.pos;
+        let arrow = find(c.bytes(), c.pos, c.end, b"->");
+        if let Some(word) = c.ident() {
+            c.skip_ws();
+            if (word == "axiom" || word == "ignore") && c.peek() == Some(b':') {
+                c.bump();
+                return if word == "axiom" {
+                    if state.axiom_seen {
+                        return Err(c.err_at(start, ParseErrorKind::DuplicateAxiom));
+                    }
+                    state.axiom_seen = true;
+                    self.axiom = self.parse_successor(c, &[], &state.constants)?;
+                    Ok(())
+                } else {
+                    self.ignore_line(c)
+                };
+            }
+            if c.peek() == Some(b'=') && c.peek_at(1) != Some(b'=') && arrow.is_none() {
+                c.bump();
+                return self.assignment(c, start, word, state);
+            }
+        }
+        c.pos = start;
+        match arrow {
+            Some(at) => self.production(c, at, &state.constants),
+            None => Err(c.err(ParseErrorKind::Expected(
+                "a production `pred -> successor`, `axiom:`, `ignore:` or `name = value`",
+            ))),
+        }
+    }
+
+    fn ignore_line(&mut self, c: &mut Cursor<'_>) -> Result<(), ParseError> {
+        while !c.at_end() {
+            let s = c.symbol()?;
+            self.ignore(s);
+        }
+        Ok(())
+    }
+
+    fn assignment(
+        &mut self,
+        c: &mut Cursor<'_>,
+        start: usize,
+        word: &str,
+        state: &mut State,
+    ) -> Result<(), ParseError> {
+        let name = c.name(start, word)?;
+        if state.constants.iter().any(|(n, _)| *n == name) {
+            return Err(c.err_at(start, ParseErrorKind::DuplicateName));
+        }
+        let value_at = {
+            c.skip_ws();
+            c.pos
+        };
+        let (code_len, literal_len) = (self.code.len(), self.literals.len());
+        let mut compiler = Compiler {
+            grammar: self,
+            formals: &[],
+            constants: &state.constants,
+            depth: 0,
+            nesting: 0,
+        };
+        let at = compiler.expression(c)?;
+        c.expect_end()?;
+        let (value, _) = self.eval(at as usize, &[]);
+        self.code.truncate(code_len);
+        self.literals.truncate(literal_len);
+        let invalid = |what| c.err_at(value_at, ParseErrorKind::InvalidValue(what));
+        let integer = |lo: i32, hi: i32| {
+            let i = value.floor_int();
+            (value.to_bits() & 0xFFFF == 0 && (lo..=hi).contains(&i)).then_some(i)
+        };
+        let s = &mut self.settings;
+        match word {
+            "n" => {
+                s.steps = integer(0, MAX_STEPS as i32).ok_or(invalid(
+                    "`n` must be a whole number from 0 to MAX_STEPS = 32",
+                ))? as u8;
+                state.steps_seen = true;
+            }
+            "delta" => s.delta = value,
+            "step" => s.step = value,
+            "width" => s.width = value,
+            "thin" => s.thin = value,
+            "spacing" => s.spacing = value,
+            "plants" => {
+                s.plants = integer(1, 16)
+                    .ok_or(invalid("`plants` must be a whole number from 1 to 16"))?
+                    as u8;
+            }
+            "animate" => {
+                s.animate = integer(0, 1).ok_or(invalid("`animate` must be 0 or 1"))? == 1;
+            }
+            _ => {}
+        }
+        state
+            .constants
+            .push((name, value))
+            .map_err(|_| c.err_at(start, capacity("MAX_CONSTANTS", MAX_CONSTANTS)))
+    }
+
+    /// `pattern ('(' name (',' name)* ')')?`, appending formals.
+    fn pattern(
+        &mut self,
+        c: &mut Cursor<'_>,
+        formals: &mut Formals,
+    ) -> Result<Pattern, ParseError> {
+        c.skip_ws();
+        let at = c.pos;
+        let symbol = c.symbol()?;
+        if symbol == b'[' || symbol == b']' {
+            return Err(c.err_at(
+                at,
+                ParseErrorKind::Expected(
+                    "a module other than `[` or `]` (brackets are neither rewritten nor matched)",
+                ),
+            ));
+        }
+        let mut arity = 0u8;
+        if c.peek() == Some(b'(') {
+            c.bump();
+            loop {
+                c.skip_ws();
+                let name_at = c.pos;
+                let Some(word) = c.ident() else {
+                    return Err(c.err(ParseErrorKind::Expected("a formal parameter name")));
+                };
+                let name = c.name(name_at, word)?;
+                if formals.contains(&name) {
+                    return Err(c.err_at(name_at, ParseErrorKind::DuplicateName));
+                }
+                if arity as usize >= MAX_PARAMS {
+                    return Err(c.err_at(name_at, capacity("MAX_PARAMS", MAX_PARAMS)));
+                }
+                formals
+                    .push(name)
+                    .map_err(|_| c.err_at(name_at, capacity("MAX_FORMALS", MAX_FORMALS)))?;
+                arity += 1;
+                c.skip_ws();
+                match c.peek() {
+                    Some(b',') => c.bump(),
+                    Some(b')') => {
+                        c.bump();
+                        break;
+                    }
+                    _ => return Err(c.err(ParseErrorKind::Expected("`,` or `)`"))),
+                }
+            }
+        }
+        Ok(Pattern { symbol, arity })
+    }
+
+    /// Patterns until `<`, `>` or the end of the cursor.
+    fn patterns(
+        &mut self,
+        c: &mut Cursor<'_>,
+        formals: &mut Formals,
+    ) -> Result<Vec<Pattern, MAX_CONTEXT_MODULES>, ParseError> {
+        let mut list = Vec::new();
+        while !c.at_end() && !matches!(c.peek(), Some(b'<' | b'>')) {
+            let at = c.pos;
+            let p = self.pattern(c, formals)?;
+            list.push(p)
+                .map_err(|_| c.err_at(at, capacity("MAX_CONTEXT_MODULES", MAX_CONTEXT_MODULES)))?;
+        }
+        Ok(list)
+    }
+
+    fn context(&mut self, c: &Cursor<'_>, at: usize, list: &[Pattern]) -> Result<Span, ParseError> {
+        let start = self.contexts.len() as u16;
+        for &p in list {
+            self.contexts
+                .push(p)
+                .map_err(|_| c.err_at(at, capacity("MAX_CONTEXT_MODULES", MAX_CONTEXT_MODULES)))?;
+        }
+        Ok(Span {
+            start,
+            len: list.len() as u16,
+        })
+    }
+
+    fn production(
+        &mut self,
+        c: &mut Cursor<'_>,
+        arrow: usize,
+        constants: &Constants,
+    ) -> Result<(), ParseError> {
+        let line_end = c.end;
+        let colon = find(c.bytes(), c.pos, arrow, b":");
+        let mut formals = Formals::new();
+        // Predecessor with contexts.
+        c.end = colon.unwrap_or(arrow);
+        let first_at = {
+            c.skip_ws();
+            c.pos
+        };
+        let first = self.patterns(c, &mut formals)?;
+        let (left, pred_list, pred_at) = if c.peek() == Some(b'<') {
+            if first.is_empty() {
+                return Err(c.err(ParseErrorKind::Expected("a left-context module before `<`")));
+            }
+            c.bump();
+            c.skip_ws();
+            let at = c.pos;
+            (first, self.patterns(c, &mut formals)?, at)
+        } else {
+            (Vec::new(), first, first_at)
+        };
+        let [predecessor] = pred_list.as_slice() else {
+            return Err(c.err_at(
+                pred_at,
+                ParseErrorKind::Expected("one predecessor module before `->`"),
+            ));
+        };
+        let mut right = Vec::<Pattern, MAX_CONTEXT_MODULES>::new();
+        if c.peek() == Some(b'>') {
+            c.bump();
+            right = self.patterns(c, &mut formals)?;
+            if right.is_empty() || c.peek() == Some(b'<') || c.peek() == Some(b'>') {
+                return Err(c.err(ParseErrorKind::Expected("right-context modules after `>`")));
+            }
+        }
+        if c.peek() == Some(b'<') {
+            return Err(c.err(ParseErrorKind::Expected("`>` or `->` (only one `<`)")));
+        }
+        c.expect_end()?;
+        let left = self.context(c, first_at, &left)?;
+        let right = self.context(c, pred_at, &right)?;
+        // Condition.
+        let mut condition = None;
+        if let Some(colon) = colon {
+            c.pos = colon + 1;
+            c.end = arrow;
+            c.skip_ws();
+            if c.peek() == Some(b'*') {
+                c.bump();
+            } else {
+                condition = Some(self.compile(c, &formals, constants)?);
+            }
+            c.expect_end()?;
+        }
+        // Weight and successor.
+        c.pos = arrow + 2;
+        c.end = line_end;
+        c.skip_ws();
+        let mut weight = None;
+        if c.peek() == Some(b'(') {
+            c.bump();
+            weight = Some(self.compile(c, &formals, constants)?);
+            c.expect(b')', "`)` after the probability")?;
+        }
+        let successor = self.parse_successor(c, &formals, constants)?;
+        self.productions
+            .push(Production {
+                predecessor: *predecessor,
+                left,
+                right,
+                condition,
+                weight,
+                successor,
+            })
+            .map_err(|_| c.err_at(first_at, capacity("MAX_PRODUCTIONS", MAX_PRODUCTIONS)))
+    }
+
+    fn compile(
+        &mut self,
+        c: &mut Cursor<'_>,
+        formals: &[Name],
+        constants: &Constants,
+    ) -> Result<u16, ParseError> {
+        Compiler {
+            grammar: self,
+            formals,
+            constants,
+            depth: 0,
+            nesting: 0,
+        }
+        .expression(c)
+    }
+
+    /// Modules with parameter expressions, to the end of the cursor.
+    fn parse_successor(
+        &mut self,
+        c: &mut Cursor<'_>,
+        formals: &[Name],
+        constants: &Constants,
+    ) -> Result<Span, ParseError> {
+        let start = self.templates.len() as u16;
+        while !c.at_end() {
+            let at = c.pos;
+            let symbol = c.symbol()?;
+            let mut t = Template {
+                symbol,
+                arity: 0,
+                code: self.code.len() as u16,
+            };
+            if c.peek() == Some(b'(') {
+                c.bump();
+                loop {
+                    if t.arity as usize >= MAX_PARAMS {
+                        return Err(c.err(capacity("MAX_PARAMS", MAX_PARAMS)));
+                    }
+                    self.compile(c, formals, constants)?;
+                    t.arity += 1;
+                    c.skip_ws();
+                    match c.peek() {
+                        Some(b',') => c.bump(),
+                        Some(b')') => {
+                            c.bump();
+                            break;
+                        }
+                        _ => return Err(c.err(ParseErrorKind::Expected("`,` or `)`"))),
+                    }
+                }
+            }
+            self.templates.push(t).map_err(|_| {
+                c.err_at(at, capacity("MAX_SUCCESSOR_MODULES", MAX_SUCCESSOR_MODULES))
+            })?;
+        }
+        Ok(Span {
+            start,
+            len: self.templates.len() as u16 - start,
+        })
+    }
+}

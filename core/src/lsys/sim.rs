@@ -1,0 +1,213 @@
+//! The L-system simulation: derive, then draw with the turtle, streaming
+//! segment by segment.
+//!
+//! Frames: by default one frame (index 0, time `n`) holding the plants of
+//! derivation step `n`; with `animate = 1`, frame `k` (time `k`) holds step
+//! `k` for `k = 0..=n`, so a display can show the plant growing. Inside a
+//! frame plant `i` (of `plants`) is derived with seed `seed + i` and drawn
+//! from `(i·spacing, 0, 0)`. Each [`Simulation::step`] interprets at most
+//! [`MODULES_PER_STEP`] modules; progress counts finished plants.
+
+use nalgebra::Vector3;
+
+use crate::Error;
+use crate::fx::Fx;
+use crate::sim::{Progress, Simulation};
+use crate::stream::{Record, Sink};
+use crate::turtle::{Drawn, Params, Turtle};
+
+use super::{Derivation, Grammar, LsysError, Module, Streaming};
+
+/// Modules interpreted per [`Simulation::step`] at most.
+pub const MODULES_PER_STEP: usize = 512;
+
+/// A grammar being derived and drawn.
+#[derive(Debug)]
+pub struct LSystem<D: Derivation = Streaming> {
+    grammar: Grammar,
+    derivation: D,
+    turtle: Turtle<Fx>,
+    seed: u64,
+    frame: u32,
+    plant: u8,
+    drawing: bool,
+    done: u32,
+    failed: Option<Error>,
+}
+
+fn turtle_params(g: &Grammar) -> Params<Fx> {
+    let s = g.settings();
+    Params {
+        step: s.step,
+        delta: crate::turtle::degrees(s.delta),
+        width: s.width,
+        thin: s.thin,
+    }
+}
+
+impl LSystem<Streaming> {
+    /// An empty simulation with streaming derivation (`const`, for a
+    /// `static`); [`LSystem::load`] a grammar before stepping it.
+    #[must_use]
+    pub const fn new() -> LSystem<Streaming> {
+        LSystem::with_derivation(Streaming::new())
+    }
+}
+
+impl Default for LSystem<Streaming> {
+    fn default() -> Self {
+        LSystem::new()
+    }
+}
+
+impl<D: Derivation> LSystem<D> {
+    /// An empty simulation over `derivation` (e.g. [`super::Buffered`]).
+    #[must_use]
+    pub const fn with_derivation(derivation: D) -> LSystem<D> {
+        LSystem {
+            grammar: Grammar::new(),
+            derivation,
+            turtle: Turtle::new_const(),
+            seed: 0,
+            frame: 0,
+            plant: 0,
+            drawing: false,
+            done: 0,
+            failed: None,
+        }
+    }
+
+    /// Parses `text` in place and rewinds to its first frame.
+    ///
+    /// # Errors
+    /// The parse error; stepping then returns it too.
+    pub fn load(&mut self, text: &str, seed: u64) -> Result<(), LsysError> {
+        self.seed = seed;
+        self.frame = 0;
+        self.plant = 0;
+        self.drawing = false;
+        self.done = 0;
+        self.failed = None;
+        match self.grammar.parse(text) {
+            Ok(()) => {
+                self.turtle = Turtle::new(turtle_params(&self.grammar));
+                Ok(())
+            }
+            Err(e) => {
+                self.failed = Some(Error::Lsys(e.into()));
+                Err(e.into())
+            }
+        }
+    }
+
+    /// The parsed grammar.
+    #[must_use]
+    pub fn grammar(&self) -> &Grammar {
+        &self.grammar
+    }
+
+    /// The derivation (e.g. to read [`super::Buffered::peak_modules`]).
+    #[must_use]
+    pub fn derivation(&self) -> &D {
+        &self.derivation
+    }
+
+    fn frames(&self) -> u32 {
+        let s = self.grammar.settings();
+        if s.animate { s.steps as u32 + 1 } else { 1 }
+    }
+
+    fn total(&self) -> u32 {
+        self.frames() * self.grammar.settings().plants as u32
+    }
+
+    fn depth(&self) -> u8 {
+        let s = self.grammar.settings();
+        if s.animate { self.frame as u8 } else { s.steps }
+    }
+
+    fn draw(&mut self, m: &Module, sink: &mut dyn Sink) -> Result<(), Error> {
+        let bits = |v: Vector3<Fx>| [v.x, v.y, v.z];
+        match self.turtle.apply(m).map_err(LsysError::from)? {
+            Drawn::Nothing => {}
+            Drawn::Segment {
+                a,
+                b,
+                width,
+                colour,
+            } => sink.record(&Record::Segment {
+                a: bits(a),
+                b: bits(b),
+                width,
+                colour,
+            })?,
+            Drawn::Polygon { colour } => {
+                let vertices = self.turtle.polygon();
+                sink.record(&Record::Polygon {
+                    vertices: vertices.len() as u16,
+                    colour,
+                })?;
+                for &v in vertices {
+                    sink.record(&Record::Point { p: bits(v) })?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn advance(&mut self, sink: &mut dyn Sink) -> Result<(), Error> {
+        if !self.drawing {
+            let depth = self.depth();
+            if self.plant == 0 {
+                sink.record(&Record::FrameStart {
+                    frame: self.frame,
+                    time: Fx::from_int(depth as i32),
+                })?;
+            }
+            let seed = self.seed.wrapping_add(self.plant as u64);
+            self.derivation.restart(&self.grammar, depth, seed)?;
+            let x = self
+                .grammar
+                .settings()
+                .spacing
+                .saturating_mul_int(self.plant as i32);
+            self.turtle.reset(Vector3::new(x, Fx::ZERO, Fx::ZERO));
+            self.drawing = true;
+        }
+        for _ in 0..MODULES_PER_STEP {
+            let Some(m) = self.derivation.next_module(&self.grammar)? else {
+                self.turtle.finish().map_err(LsysError::from)?;
+                self.drawing = false;
+                self.done += 1;
+                self.plant += 1;
+                if self.plant >= self.grammar.settings().plants {
+                    sink.record(&Record::FrameEnd { frame: self.frame })?;
+                    self.plant = 0;
+                    self.frame += 1;
+                }
+                break;
+            };
+            self.draw(&m, sink)?;
+        }
+        Ok(())
+    }
+}
+
+impl<D: Derivation> Simulation for LSystem<D> {
+    fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
+        if let Some(e) = self.failed {
+            return Err(e);
+        }
+        let total = self.total();
+        if self.done < total
+            && let Err(e) = self.advance(sink)
+        {
+            self.failed = Some(e);
+            return Err(e);
+        }
+        Ok(Progress {
+            done: self.done.min(total),
+            total,
+        })
+    }
+}

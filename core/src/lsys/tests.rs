@@ -1,0 +1,447 @@
+//! Cross-module tests of the L-system engine: reference counts, streaming
+//! vs buffered, ABOP figures, located errors.
+#![allow(clippy::float_arithmetic)]
+
+use std::string::String;
+use std::vec;
+use std::vec::Vec;
+
+use super::presets::{ALL, MONOPODIAL, PLANT_2D, SHRUB, STOCHASTIC};
+use super::*;
+use crate::fx::Real;
+use crate::sim::Simulation;
+use crate::stream::{Record, Sink, SinkError};
+use crate::turtle::{Drawn, Params, Turtle};
+
+fn grammar(text: &str) -> Grammar {
+    let mut g = Grammar::new();
+    g.parse(text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+    g
+}
+
+fn streamed(g: &Grammar, steps: u8, seed: u64) -> Vec<Module> {
+    let mut d = Streaming::new();
+    d.restart(g, steps, seed).unwrap();
+    let mut out = Vec::new();
+    while let Some(m) = d.next_module(g).unwrap() {
+        out.push(m);
+    }
+    out
+}
+
+fn buffered(g: &Grammar, steps: u8, seed: u64) -> Vec<Module> {
+    let mut a = vec![Module::default(); 200_000];
+    let mut b = vec![Module::default(); 200_000];
+    let mut d = Buffered::new(&mut a, &mut b);
+    d.restart(g, steps, seed).unwrap();
+    d.string().to_vec()
+}
+
+fn text(modules: &[Module]) -> String {
+    modules.iter().map(|m| m.symbol as char).collect()
+}
+
+/// The shrub's string lengths after 0..=7 steps, by hand: with
+/// `a, f, s` the lengths derived from A, F, S after k steps and L's
+/// successor of 23 terminals, `a' = 26 + 3a + 3f + 3l`, `f' = 5 + s + f`,
+/// `s' = f + l` (l = 1 at k = 0, 23 after), from a = f = s = 1.
+const SHRUB_LENGTHS: [u64; 8] = [1, 35, 221, 800, 2642, 8294, 25481, 77399];
+
+#[test]
+fn shrub_symbol_counts_match_the_hand_computed_reference() {
+    let g = grammar(SHRUB);
+    assert_eq!(g.settings().steps, 7);
+    assert_eq!(g.settings().delta, Fx::from_ratio(45, 2));
+    // Streaming: the per-level position counters are the lengths.
+    let mut d = Streaming::new();
+    d.restart(&g, 7, 0).unwrap();
+    let mut count = 0u64;
+    while d.next_module(&g).unwrap().is_some() {
+        count += 1;
+    }
+    assert_eq!(count, SHRUB_LENGTHS[7]);
+    assert_eq!(d.positions(), SHRUB_LENGTHS);
+    for k in 0..=7u8 {
+        assert_eq!(buffered(&g, k, 0).len() as u64, SHRUB_LENGTHS[k as usize]);
+    }
+    assert_eq!(
+        text(&streamed(&g, 1, 0)),
+        "[&FL!A]/////'[&FL!A]///////'[&FL!A]"
+    );
+}
+
+#[test]
+fn streaming_and_buffered_derivations_agree() {
+    for (name, source) in ALL {
+        let g = grammar(source);
+        for seed in [0, 1, 2, 77] {
+            let steps = g.settings().steps.min(6);
+            let s = streamed(&g, steps, seed);
+            let b = buffered(&g, steps, seed);
+            assert_eq!(s.len(), b.len(), "{name} seed {seed}");
+            assert!(s == b, "{name} seed {seed}: strings differ");
+        }
+    }
+}
+
+/// Collects records.
+#[derive(Default)]
+struct Records(Vec<Record>);
+
+impl Sink for Records {
+    fn record(&mut self, r: &Record) -> Result<(), SinkError> {
+        self.0.push(r.clone());
+        Ok(())
+    }
+}
+
+fn run_sim<D: Derivation>(sim: &mut LSystem<D>) -> Vec<Record> {
+    let mut sink = Records::default();
+    loop {
+        let p = sim.step(&mut sink).unwrap();
+        if p.finished() {
+            return sink.0;
+        }
+    }
+}
+
+#[test]
+fn streaming_and_buffered_simulations_emit_identical_streams() {
+    for (name, source) in ALL {
+        for seed in [0, 5] {
+            let mut streaming = LSystem::new();
+            streaming.load(source, seed).unwrap();
+            let s = run_sim(&mut streaming);
+            let mut a = vec![Module::default(); 100_000];
+            let mut b = vec![Module::default(); 100_000];
+            let mut buffered = LSystem::with_derivation(Buffered::new(&mut a, &mut b));
+            buffered.load(source, seed).unwrap();
+            let b = run_sim(&mut buffered);
+            assert!(s.len() > 100, "{name}");
+            assert!(s == b, "{name} seed {seed}: streams differ");
+        }
+    }
+}
+
+#[test]
+fn stochastic_choices_depend_on_the_seed_with_the_right_odds() {
+    let g = grammar(STOCHASTIC);
+    let plants: Vec<String> = (1..=3).map(|s| text(&streamed(&g, 5, s))).collect();
+    assert_ne!(plants[0], plants[1]);
+    assert_ne!(plants[1], plants[2]);
+    assert_eq!(
+        text(&streamed(&g, 5, 2)),
+        plants[1],
+        "same seed, same plant"
+    );
+    // 3000 F in three steps (A -> 20 B, B -> 150 C, C -> F), then one
+    // stochastic step: the three successors' frequencies.
+    let rules = STOCHASTIC.split("axiom: '(8)F\n").nth(1).unwrap();
+    let g = grammar(&format!(
+        "n = 4\naxiom: A\nA -> {}\nB -> {}\nC -> F\n{rules}",
+        "B".repeat(20),
+        "C".repeat(150)
+    ));
+    let one = text(&streamed(&g, 4, 9));
+    let both = one.matches("F[+F]F[-F]F").count();
+    let plus = one.matches("F[+F]F").count() - both;
+    let minus = one.matches("F[-F]F").count() - both;
+    assert_eq!(both + plus + minus, 3000);
+    for (k, p) in [(both, 0.33), (plus, 0.33), (minus, 0.34)] {
+        let expected = 3000.0 * p;
+        // 4 standard deviations of a binomial(3000, p).
+        assert!(
+            (k as f64 - expected).abs() < 4.0 * (expected * (1.0 - p)).sqrt(),
+            "{k} vs {expected}"
+        );
+    }
+}
+
+#[test]
+fn parametric_monopodial_tree_derives_as_in_abop() {
+    let g = grammar(MONOPODIAL);
+    let s = streamed(&g, 1, 0);
+    assert_eq!(text(&s), "!F[&B]/A");
+    let f = |x: f64| Fx::from_fixed(fixed::types::I16F16::from_num(x));
+    assert_eq!(s[0].args(), [Fx::from_int(10)]);
+    assert_eq!(s[1].args(), [Fx::from_int(100)]);
+    assert_eq!(s[3].args(), [Fx::from_int(45)]);
+    assert_eq!(
+        s[4].args(),
+        [
+            Fx::from_int(100).saturating_mul(f(0.6)),
+            Fx::from_int(10).saturating_mul(f(0.707))
+        ]
+    );
+    assert_eq!(s[6].args(), [f(137.5)]);
+    assert_eq!(
+        s[7].args(),
+        [
+            Fx::from_int(100).saturating_mul(f(0.9)),
+            Fx::from_int(10).saturating_mul(f(0.707))
+        ]
+    );
+    // Two apices per apex per step: 2^10 apices after 10 steps.
+    let last = streamed(&g, 10, 0);
+    let apices = last.iter().filter(|m| b"ABC".contains(&m.symbol)).count();
+    assert_eq!(apices, 1024);
+}
+
+#[test]
+fn context_sensitive_signal_propagation() {
+    // ABOP Sec. 1.8: a signal b travels right through a string of a's.
+    let g = grammar("n = 3\naxiom: baaaaaaaa\nb < a -> b\nb -> a");
+    assert_eq!(text(&buffered(&g, 1, 0)), "abaaaaaaa");
+    assert_eq!(text(&buffered(&g, 3, 0)), "aaabaaaaa");
+    let mut d = Streaming::new();
+    assert_eq!(d.restart(&g, 1, 0), Err(LsysError::NeedsBuffer));
+    // ABOP p. 32: contexts skip branches and ignored symbols, climb out at `[`.
+    let g = grammar(
+        "n = 1\nignore: +-\naxiom: A+[B]C[-D]E\nA < C > E -> X\nA < B -> Y\nB > C -> Z\nC < D -> W\nA < D -> V",
+    );
+    assert_eq!(text(&buffered(&g, 1, 0)), "A+[Y]X[-W]E");
+    // Parametric contexts bind in text order.
+    let g = grammar(
+        "n = 1\naxiom: A(1)B(2)C(3)\nA(x) < B(y) > C(z) : x + z == 4 -> B(x * 100 + y * 10 + z)",
+    );
+    let s = buffered(&g, 1, 0);
+    assert_eq!(s[1].args(), [Fx::from_int(123)]);
+}
+
+#[test]
+fn buffer_capacity_is_an_error_naming_the_limit() {
+    let g = grammar(SHRUB);
+    let mut a = vec![Module::default(); 1000];
+    let mut b = vec![Module::default(); 1000];
+    let mut d = Buffered::new(&mut a, &mut b);
+    assert_eq!(
+        d.restart(&g, 4, 0),
+        Err(LsysError::Capacity {
+            limit: "BUFFER_MODULES",
+            capacity: 1000
+        })
+    );
+}
+
+fn segments(source: &str, seed: u64) -> Vec<([Fx; 3], [Fx; 3])> {
+    let mut sim = LSystem::new();
+    sim.load(source, seed).unwrap();
+    run_sim(&mut sim)
+        .into_iter()
+        .filter_map(|r| match r {
+            Record::Segment { a, b, .. } => Some((a, b)),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn abop_fig_1_24a_main_axis_is_3_to_the_n_steps_straight_up() {
+    let segs = segments(PLANT_2D, 0);
+    assert_eq!(segs.len(), 5usize.pow(5));
+    let tip = segs.last().unwrap().1;
+    assert_eq!(tip, [Fx::ZERO, Fx::from_int(243), Fx::ZERO]);
+    let top = segs.iter().map(|s| s.1[1]).max().unwrap();
+    assert_eq!(top, Fx::from_int(243));
+    assert!(
+        segs.iter().all(|s| s.1[2] == Fx::ZERO),
+        "a 2D figure stays in z = 0"
+    );
+    // Width 1 throughout, colour 0.
+}
+
+#[test]
+fn abop_quadratic_koch_island_closes() {
+    // ABOP Fig. 1.7a: F-F-F-F, F -> F-F+F+FF-F-F+F, δ = 90°. The generator
+    // moves (0,1) (1,1) (1,2) (0,2) (-1,2) (-1,3) (0,3) (0,4): a net 4 along
+    // the segment it replaces, so after n = 2 each side of the initial
+    // square (drawn clockwise, `-` turns right) is 64 segments spanning 16.
+    let g = "n = 2\ndelta = 90\naxiom: F-F-F-F\nF -> F-F+F+FF-F-F+F";
+    let segs = segments(g, 0);
+    assert_eq!(segs.len(), 4 * 64);
+    let corner = |k: usize| segs[64 * k - 1].1;
+    let p = |x: i32, y: i32| [Fx::from_int(x), Fx::from_int(y), Fx::ZERO];
+    assert_eq!(
+        [corner(1), corner(2), corner(3), corner(4)],
+        [p(0, 16), p(16, 16), p(16, 0), p(0, 0)]
+    );
+    assert_eq!(
+        segs[..8].iter().map(|s| s.1).collect::<Vec<_>>(),
+        [
+            p(0, 1),
+            p(1, 1),
+            p(1, 2),
+            p(0, 2),
+            p(-1, 2),
+            p(-1, 3),
+            p(0, 3),
+            p(0, 4)
+        ]
+    );
+}
+
+#[test]
+fn fixed_point_shrub_tracks_the_f64_reference() {
+    let g = grammar(SHRUB);
+    let s = g.settings();
+    let mut fx = Turtle::<Fx>::new(Params {
+        step: s.step,
+        delta: crate::turtle::degrees(s.delta),
+        width: s.width,
+        thin: s.thin,
+    });
+    let mut reference = Turtle::<f64>::new(Params {
+        step: 1.0,
+        delta: crate::turtle::degrees(s.delta),
+        width: s.width.to_f64(),
+        thin: s.thin.to_f64(),
+    });
+    let mut d = Streaming::new();
+    d.restart(&g, 7, 0).unwrap();
+    let (mut worst, mut extent, mut n) = (0.0f64, 0.0f64, 0);
+    while let Some(m) = d.next_module(&g).unwrap() {
+        let (a, b) = (fx.apply(&m).unwrap(), reference.apply(&m).unwrap());
+        if let (Drawn::Segment { b: p, .. }, Drawn::Segment { b: q, .. }) = (a, b) {
+            for i in 0..3 {
+                worst = worst.max((p[i].to_f64() - q[i]).abs());
+                extent = extent.max(q[i].abs());
+            }
+            n += 1;
+        }
+    }
+    assert!(n > 3000, "{n} segments");
+    // End to end, within 1/1000 of the shrub's size. The error is the
+    // quantised sin/cos of δ (≤ 1·10⁻⁵ rad per turn, systematic), compounded
+    // over the ~hundreds of turns along the longest branch.
+    std::println!("shrub: fixed vs f64 worst {worst:.6} of extent {extent:.3} over {n} segments");
+    assert!(worst < extent / 1000.0, "worst {worst} of extent {extent}");
+}
+
+/// The simulation's RAM: what a `static` holds for the shrub on the MCU.
+#[test]
+fn simulation_state_fits_the_mcu_budget() {
+    let size = core::mem::size_of::<LSystem>();
+    assert!(size < 6 * 1024, "LSystem is {size} bytes");
+    // Buffered derivation of the same shrub holds two strings at once.
+    let g = grammar(SHRUB);
+    let mut a = vec![Module::default(); 80_000];
+    let mut b = vec![Module::default(); 80_000];
+    let mut d = Buffered::new(&mut a, &mut b);
+    d.restart(&g, 7, 0).unwrap();
+    let peak = d.peak_modules();
+    assert_eq!(peak as u64, SHRUB_LENGTHS[6] + SHRUB_LENGTHS[7]);
+    std::println!(
+        "shrub peak memory: streaming {size} bytes (whole simulation), buffered {} bytes of modules ({peak} × {})",
+        peak * core::mem::size_of::<Module>(),
+        core::mem::size_of::<Module>()
+    );
+    std::println!(
+        "size_of: LSystem {size}, Grammar {}, Streaming {}, Turtle {}, Module {}",
+        core::mem::size_of::<Grammar>(),
+        core::mem::size_of::<Streaming>(),
+        core::mem::size_of::<Turtle>(),
+        core::mem::size_of::<Module>()
+    );
+}
+
+fn parse_err(text: &str) -> ParseError {
+    let mut g = Grammar::new();
+    match g.parse(text) {
+        Err(e) => e,
+        Ok(()) => panic!("parsed: {text}"),
+    }
+}
+
+#[test]
+fn malformed_grammars_get_located_errors() {
+    use ParseErrorKind as K;
+    let cases: [(&str, u32, u32, K); 16] = [
+        (
+            "n = 1\naxiom: F\nF -> F(",
+            3,
+            8,
+            K::Expected("an expression"),
+        ),
+        (
+            "n = 1\naxiom: F\nF F -> F",
+            3,
+            1,
+            K::Expected("one predecessor module before `->`"),
+        ),
+        ("n = 1\naxiom: F\nF(x) -> F(y)", 3, 11, K::UnknownName),
+        ("n = 1\naxiom: F\nF(x, x) -> F", 3, 6, K::DuplicateName),
+        ("n = 1\naxiom: F\naxiom: G", 3, 1, K::DuplicateAxiom),
+        ("n = 1\n", 2, 1, K::MissingAxiom),
+        ("axiom: F", 1, 1, K::MissingSteps),
+        (
+            "n = 99\naxiom: F",
+            1,
+            5,
+            K::InvalidValue("`n` must be a whole number from 0 to MAX_STEPS = 32"),
+        ),
+        ("n = 1\naxiom: F(40000)", 2, 10, K::NumberOutOfRange),
+        ("n = 1\naxiom: F\nF -> F é", 3, 8, K::NotAscii),
+        ("n = 1\naxiom: F\nF : x > -> F", 3, 5, K::UnknownName),
+        (
+            "n = 1\naxiom: F\nwhat is this",
+            3,
+            1,
+            K::Expected("a production `pred -> successor`, `axiom:`, `ignore:` or `name = value`"),
+        ),
+        (
+            "n = 1\naxiom: F\n[ -> F",
+            3,
+            1,
+            K::Expected(
+                "a module other than `[` or `]` (brackets are neither rewritten nor matched)",
+            ),
+        ),
+        (
+            "n = 1\naxiom: F\nF -> (0.5 F",
+            3,
+            11,
+            K::Expected("`)` after the probability"),
+        ),
+        ("n = 1\nn = 2\naxiom: F", 2, 1, K::DuplicateName),
+        (
+            "n = 1\naxiom: F(((((((((((((((((((1)))))))))))))))))))",
+            2,
+            26,
+            K::Capacity {
+                limit: "MAX_NESTING",
+                capacity: 16,
+            },
+        ),
+    ];
+    for (text, line, column, kind) in cases {
+        let e = parse_err(text);
+        assert_eq!(
+            (e.line, e.column, e.kind),
+            (line, column, kind),
+            "{text:?}: {e}"
+        );
+    }
+    let many: String = (0..40).map(|i| format!("c{i} = {i}\n")).collect();
+    let e = parse_err(&format!("n = 1\n{many}axiom: F"));
+    assert_eq!(
+        e.kind,
+        K::Capacity {
+            limit: "MAX_CONSTANTS",
+            capacity: 32
+        }
+    );
+    assert_eq!(e.line, 33); // `n` is the first of the 32
+}
+
+#[test]
+fn expressions_conditions_and_settings() {
+    let g = grammar(
+        "n = 2   # steps\nk = 2 * 3 + 1\ndelta = k * 10 - 50\naxiom: A(0)\n\
+         A(x) : x < 1 && !(x == 5) -> A(x + 1) B(k ^ 2, 7 / 0, -x)\nA(x) : * -> C(sqrt(16), floor(2.5), x)",
+    );
+    assert_eq!(g.settings().delta, Fx::from_int(20));
+    let s = streamed(&g, 2, 0);
+    assert_eq!(text(&s), "CB");
+    assert_eq!(s[0].args(), [Fx::from_int(4), Fx::from_int(2), Fx::ONE]);
+    assert_eq!(s[1].args(), [Fx::from_int(49), Fx::MAX, Fx::ZERO]);
+}

@@ -1,0 +1,190 @@
+//! A uniform grid for the neighbour search of the relaxation: cells are
+//! counting-sorted into square-ish bins at least one repulsion radius wide,
+//! so every neighbour of a cell lies in its bin or the 8 around it. O(N)
+//! per build, no allocation: the bins and the permutation live in the
+//! caller's [`CellStore`](super::store::CellStore).
+
+use super::domain::Domain;
+
+/// Bin layout for one relaxation step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Grid {
+    /// Bins along u.
+    pub cols: u32,
+    /// Bins along v.
+    pub rows: u32,
+    /// `⌊2^32·cols/size_u⌋` and the same for v: bin = `(p·scale) >> 32`.
+    scale: [u64; 2],
+    periodic: [bool; 2],
+}
+
+impl Grid {
+    /// The finest grid whose bins are wider than `radius` (Q16 bits) with at
+    /// most `max_bins` bins.
+    #[must_use]
+    pub fn plan(domain: &Domain, radius: i32, max_bins: usize) -> Grid {
+        let size = [domain.size[0].to_bits(), domain.size[1].to_bits()];
+        // A margin of 1/64 + 1 LSB keeps every bin wider than the radius
+        // despite the truncated scale factors below.
+        let side = i64::from(radius.max(1)) + i64::from(radius.max(1) >> 6) + 1;
+        let count = |s: i32| (i64::from(s) / side).clamp(1, 1 << 15) as u32;
+        let (mut cols, mut rows) = (count(size[0]), count(size[1]));
+        let max_bins = max_bins.max(1) as u64;
+        while u64::from(cols) * u64::from(rows) > max_bins {
+            if cols >= rows {
+                cols -= 1;
+            } else {
+                rows -= 1;
+            }
+        }
+        let scale = |n: u32, s: i32| (u64::from(n) << 32) / (s.max(1) as u64);
+        Grid {
+            cols,
+            rows,
+            scale: [scale(cols, size[0]), scale(rows, size[1])],
+            periodic: domain.periodic,
+        }
+    }
+
+    /// Number of bins.
+    #[must_use]
+    pub const fn bins(&self) -> usize {
+        self.cols as usize * self.rows as usize
+    }
+
+    /// Column and row of a position.
+    #[inline]
+    #[must_use]
+    pub fn cell_of(&self, p: [i32; 2]) -> (u32, u32) {
+        // p ∈ [0, size): (p·scale) >> 32 < cols; the min guards rounding.
+        let c = ((p[0].max(0) as u64 * self.scale[0]) >> 32) as u32;
+        let r = ((p[1].max(0) as u64 * self.scale[1]) >> 32) as u32;
+        (c.min(self.cols - 1), r.min(self.rows - 1))
+    }
+
+    /// Bin index of a position.
+    #[inline]
+    #[must_use]
+    pub fn bin_of(&self, p: [i32; 2]) -> usize {
+        let (c, r) = self.cell_of(p);
+        r as usize * self.cols as usize + c as usize
+    }
+
+    /// Counting sort of `pos` into `order`; afterwards the cells of bin `b`
+    /// are `order[bins[b]..bins[b + 1]]`, in increasing index order.
+    /// `bins` needs `self.bins() + 1` entries and `order` `pos.len()`.
+    pub fn build(&self, pos: &[[i32; 2]], order: &mut [u32], bins: &mut [u32]) {
+        let nb = self.bins();
+        let Some(bins) = bins.get_mut(..=nb) else {
+            return;
+        };
+        bins.fill(0);
+        for p in pos {
+            bins[self.bin_of(*p)] += 1;
+        }
+        let mut sum = 0u32;
+        for b in bins.iter_mut().take(nb) {
+            sum += *b;
+            *b = sum; // end of the bin
+        }
+        bins[nb] = sum;
+        for (i, p) in pos.iter().enumerate().rev() {
+            let b = self.bin_of(*p);
+            bins[b] -= 1; // ends as the start of the bin
+            order[bins[b] as usize] = i as u32;
+        }
+    }
+
+    /// The bins along `axis` that hold every point within `radius` of
+    /// coordinate `x` (periodic where the domain wraps): up to 3 distinct
+    /// indices, in order; returns how many are used. Needs `2·radius` below
+    /// the domain size and bins wider than `radius`.
+    #[inline]
+    #[must_use]
+    pub fn span(&self, axis: usize, x: i32, radius: i32, size: i32) -> ([u32; 3], usize) {
+        let n = if axis == 0 { self.cols } else { self.rows };
+        let at = |p: i32| {
+            let c = ((p as u64 * self.scale[axis]) >> 32) as u32;
+            c.min(n - 1)
+        };
+        let (lo, hi) = if self.periodic[axis] {
+            let lo = if x < radius {
+                x - radius + size
+            } else {
+                x - radius
+            };
+            let hi = if x >= size - radius {
+                x + radius - size
+            } else {
+                x + radius
+            };
+            (at(lo), at(hi))
+        } else {
+            (at((x - radius).max(0)), at((x + radius).min(size - 1)))
+        };
+        let gap = if hi >= lo { hi - lo } else { hi + n - lo };
+        let count = (gap + 1).min(3) as usize;
+        let mut out = [lo, 0, 0];
+        let mut c = lo;
+        for slot in out.iter_mut().take(count).skip(1) {
+            c = if c + 1 == n { 0 } else { c + 1 };
+            *slot = c;
+        }
+        (out, count)
+    }
+
+    /// The distinct columns (or rows) next to `c` along `axis`, `c`'s own
+    /// first; returns how many of the three slots are used.
+    #[inline]
+    #[must_use]
+    pub fn around(&self, axis: usize, c: u32) -> ([u32; 3], usize) {
+        let n = if axis == 0 { self.cols } else { self.rows };
+        let mut out = [c, 0, 0];
+        let mut len = 1;
+        let mut add = |x: u32| {
+            if !out[..len].contains(&x) {
+                out[len] = x;
+                len += 1;
+            }
+        };
+        if c > 0 {
+            add(c - 1);
+        } else if self.periodic[axis] {
+            add(n - 1);
+        }
+        if c + 1 < n {
+            add(c + 1);
+        } else if self.periodic[axis] {
+            add(0);
+        }
+        (out, len)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fx::Fx;
+
+    #[test]
+    fn counting_sort_groups_cells_by_bin() {
+        let d = Domain::periodic(Fx::from_int(10), Fx::from_int(10));
+        let g = Grid::plan(&d, Fx::from_int(3).to_bits(), 100);
+        assert_eq!((g.cols, g.rows), (3, 3));
+        let pos = [[1, 1], [9 << 16, 9 << 16], [2 << 16, 1], [5 << 16, 5 << 16]];
+        let mut order = [0u32; 4];
+        let mut bins = [0u32; 10];
+        g.build(&pos, &mut order, &mut bins);
+        assert_eq!(order, [0, 2, 3, 1]);
+        assert_eq!(bins, [0, 2, 2, 2, 2, 3, 3, 3, 3, 4]);
+        // Wrapped neighbours of column 0 are 2 and 1; a walled axis has none.
+        assert_eq!(g.around(0, 0), ([0, 2, 1], 3));
+        let w = Grid::plan(
+            &Domain::walled(Fx::from_int(10), Fx::from_int(10)),
+            3 << 16,
+            4,
+        );
+        assert_eq!((w.cols, w.rows), (2, 2));
+        assert_eq!(w.around(0, 0), ([0, 1, 0], 2));
+    }
+}

@@ -1,0 +1,395 @@
+//! Clonal mosaics: the MClone model of Walter et al. as used for plant
+//! patterns in the thesis `004_…` (Secs. 3.2 and 4.1; DESIGN.md "Clonal
+//! mosaic"), in bounded memory and fixed point.
+//!
+//! Cells are points with a type on a [`Domain`]. Day 0 spreads
+//! [`Params::initial_cells`] cells uniformly at random (types by their
+//! initial probabilities, foreground only where the [`Mask`] allows) and
+//! relaxes them ρ_i times ignoring adhesion. Each following day first
+//! divides the cells whose division day has come ([`division`]), then
+//! recomputes the repulsion radius r = w_r·√(area/N) and relaxes ρ_s times
+//! ([`relaxation`]). Selected days are streamed as frames of
+//! [`Record::Cell`]s; the host draws them as Voronoi regions.
+//!
+//! ```
+//! use morphogen::mosaic::{Mosaic, presets, store::ArrayStore};
+//! use morphogen::sim::Simulation;
+//! use morphogen::stream::Digest;
+//!
+//! let mut m = Mosaic::new(ArrayStore::<2048, 513>::EMPTY);
+//! m.start(&presets::CROTON_MCU, 7).unwrap();
+//! let mut sink = Digest::new();
+//! while !m.step(&mut sink).unwrap().finished() {}
+//! assert!(m.len() > presets::CROTON_MCU.initial_cells as usize * 5);
+//! ```
+
+pub mod control;
+pub mod division;
+pub mod domain;
+pub mod grid;
+pub mod params;
+pub mod presets;
+pub mod relaxation;
+pub mod store;
+
+pub use control::{Anisotropy, ControlError, ControlVector, Field, Mask};
+pub use domain::Domain;
+pub use params::{CellType, Frames, MAX_TYPES, Params};
+
+use crate::Error;
+use crate::fx::Fx;
+use crate::rng::KeyedRng;
+use crate::sim::{Progress, Simulation};
+use crate::stream::{Record, Sink};
+use division::{Purpose, stream_id};
+use grid::Grid;
+use relaxation::Forces;
+use store::CellStore;
+
+/// The name of the cell-store limit in [`Error::Capacity`].
+pub const CELL_LIMIT: &str = "mosaic cell store (capacity of the preset's CellStore)";
+
+/// An invalid mosaic setup.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum MosaicError {
+    /// A parameter is out of range; names it.
+    Param(&'static str),
+    /// The mask or the anisotropy field is unusable.
+    Control(ControlError),
+}
+
+impl core::fmt::Display for MosaicError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            MosaicError::Param(p) => write!(f, "mosaic parameter out of range: {p}"),
+            MosaicError::Control(e) => write!(f, "mosaic control: {e}"),
+        }
+    }
+}
+
+impl core::error::Error for MosaicError {}
+
+impl From<MosaicError> for Error {
+    fn from(e: MosaicError) -> Error {
+        Error::Mosaic(e)
+    }
+}
+
+/// Checks `params` before a run.
+///
+/// # Errors
+/// The first parameter out of range.
+pub fn validate(params: &Params) -> Result<(), MosaicError> {
+    let bad = |p| Err(MosaicError::Param(p));
+    if !params.domain.is_valid() {
+        return bad("domain size (0, 16384]");
+    }
+    if params.types.is_empty() || params.types.len() > MAX_TYPES {
+        return bad("types (1 to MAX_TYPES)");
+    }
+    if params
+        .types
+        .iter()
+        .any(|t| t.division_days == 0 || t.division_days > 1024)
+    {
+        return bad("division_days (1 to 1024)");
+    }
+    if params.radius_weight <= Fx::ZERO || params.radius_weight > Fx::from_int(16) {
+        return bad("radius_weight (0, 16]");
+    }
+    if params.initial_cells == 0 {
+        return bad("initial_cells (at least 1)");
+    }
+    if params.mask.is_some_and(|m| !m.is_valid()) {
+        return Err(MosaicError::Control(ControlError::BadMask));
+    }
+    Ok(())
+}
+
+/// A running mosaic over the cell store `S`.
+#[derive(Debug)]
+pub struct Mosaic<S: CellStore> {
+    store: S,
+    params: Option<&'static Params>,
+    seed: u64,
+    cells: u32,
+    day: u16,
+    /// Steps done: 0 before day 0, then days done + 1.
+    done: u32,
+    frame: u32,
+    radius: i32,
+    field: Field,
+    divisions: [[u32; MAX_TYPES]; MAX_TYPES],
+    /// A failed [`Mosaic::start`], reported by the next step.
+    pending: Option<Error>,
+}
+
+impl<S: CellStore> Mosaic<S> {
+    /// A mosaic over `store`, not yet started.
+    pub const fn new(store: S) -> Mosaic<S> {
+        Mosaic {
+            store,
+            params: None,
+            seed: 0,
+            cells: 0,
+            day: 0,
+            done: 0,
+            frame: 0,
+            radius: 0,
+            field: Field::ZERO,
+            divisions: [[0; MAX_TYPES]; MAX_TYPES],
+            pending: None,
+        }
+    }
+
+    /// (Re)starts a run of `params` with `seed`, in place.
+    ///
+    /// # Errors
+    /// Invalid parameters, or more initial cells than the store holds; the
+    /// error is also kept and returned by the next [`Simulation::step`].
+    pub fn start(&mut self, params: &'static Params, seed: u64) -> Result<(), Error> {
+        self.params = None;
+        let result = self.try_start(params, seed);
+        self.pending = result.err();
+        result
+    }
+
+    fn try_start(&mut self, params: &'static Params, seed: u64) -> Result<(), Error> {
+        validate(params)?;
+        if params.initial_cells as usize > self.store.capacity() {
+            return Err(Error::Capacity {
+                limit: CELL_LIMIT,
+                capacity: self.store.capacity() as u32,
+            });
+        }
+        self.field = match &params.anisotropy {
+            Some(a) => Field::interpolate(&params.domain, a).map_err(MosaicError::Control)?,
+            None => Field::ZERO,
+        };
+        self.params = Some(params);
+        self.seed = seed;
+        self.cells = 0;
+        self.day = 0;
+        self.done = 0;
+        self.frame = 0;
+        self.divisions = [[0; MAX_TYPES]; MAX_TYPES];
+        Ok(())
+    }
+
+    /// Number of cells.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.cells as usize
+    }
+
+    /// Whether there are no cells (before day 0).
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.cells == 0
+    }
+
+    /// The cell store (for benches and tools that drive the kernels
+    /// directly; the first [`Mosaic::len`] cells are live).
+    pub fn store_mut(&mut self) -> &mut S {
+        &mut self.store
+    }
+
+    /// The current repulsion radius (Q16 bits).
+    #[must_use]
+    pub fn radius(&self) -> Fx {
+        Fx::from_bits(self.radius)
+    }
+
+    /// The cells' positions (Q16 bits) by id.
+    #[must_use]
+    pub fn positions(&self) -> &[[i32; 2]] {
+        &self.store.positions()[..self.len()]
+    }
+
+    /// The cells' types by id.
+    #[must_use]
+    pub fn kinds(&self) -> &[u8] {
+        &self.store.kinds()[..self.len()]
+    }
+
+    /// Divisions so far, by parent type (row) and child type (column).
+    #[must_use]
+    pub fn divisions(&self) -> &[[u32; MAX_TYPES]; MAX_TYPES] {
+        &self.divisions
+    }
+
+    /// The day last simulated (0 after the initial relaxation).
+    #[must_use]
+    pub fn day(&self) -> u16 {
+        self.day
+    }
+
+    fn params(&self) -> Result<&'static Params, Error> {
+        self.params.ok_or(Error::NotStarted)
+    }
+
+    /// r = w_r·√(area/N), held below half the smallest side (so that the
+    /// minimum image is unique).
+    fn update_radius(&mut self, params: &Params) {
+        let n = i64::from(self.cells.max(1));
+        let spacing = ((params.domain.area_q32() / n) as u64).isqrt() as i64; // Q16
+        let r = (spacing * i64::from(params.radius_weight.to_bits())) >> 16;
+        let half = i64::from(params.domain.size[0].min(params.domain.size[1]).to_bits() / 2 - 1);
+        self.radius = r.clamp(1, half.max(1)) as i32;
+    }
+
+    /// Spreads the initial cells (day 0).
+    fn place(&mut self, params: &Params) -> Result<(), Error> {
+        let cells = self.store.slices();
+        let size = params.domain.size.map(|s| s.to_bits() as u32);
+        for id in 0..params.initial_cells {
+            let mut rng = KeyedRng::new(self.seed, stream_id(Purpose::Place, 0, id));
+            let p = [rng.below(size[0]) as i32, rng.below(size[1]) as i32];
+            let mut kind = division::initial_type(&mut rng, params.types);
+            if kind != 0 && params.mask.is_some_and(|m| !m.allows(&params.domain, p)) {
+                kind = 0;
+            }
+            let t = &params.types[kind as usize];
+            cells.pos[id as usize] = p;
+            cells.kind[id as usize] = kind;
+            cells.next_division[id as usize] = division::interval(&mut rng, t)?;
+        }
+        self.cells = params.initial_cells;
+        Ok(())
+    }
+
+    /// Divides every cell whose day has come (in id order; children are
+    /// appended and divide on later days only).
+    fn divide(&mut self, params: &Params) -> Result<(), Error> {
+        let day = self.day;
+        let capacity = self.store.capacity();
+        let disc = self.radius / 200; // diameter 1 % of r
+        let ntypes = params.types.len();
+        let cells = self.store.slices();
+        let existing = self.cells as usize;
+        let mut n = existing;
+        for id in 0..existing {
+            if cells.next_division[id] > day {
+                continue;
+            }
+            if n >= capacity {
+                return Err(Error::Capacity {
+                    limit: CELL_LIMIT,
+                    capacity: capacity as u32,
+                });
+            }
+            let mut rng = KeyedRng::new(self.seed, stream_id(Purpose::Divide, day, id as u32));
+            let parent = cells.kind[id];
+            let child = division::child_type(&mut rng, parent, &params.mutation, ntypes);
+            let off = division::offset_in_disc(&mut rng, disc);
+            let p = cells.pos[id];
+            cells.pos[n] = [
+                params
+                    .domain
+                    .confine(0, i64::from(p[0]) + i64::from(off[0])),
+                params
+                    .domain
+                    .confine(1, i64::from(p[1]) + i64::from(off[1])),
+            ];
+            cells.kind[n] = child;
+            let later = |k: u8, rng: &mut KeyedRng| -> Result<u16, Error> {
+                let t = &params.types[k as usize % ntypes];
+                Ok(day.saturating_add(division::interval(rng, t)?))
+            };
+            cells.next_division[n] = later(child, &mut rng)?;
+            cells.next_division[id] = later(parent, &mut rng)?;
+            self.divisions[parent as usize % MAX_TYPES][child as usize % MAX_TYPES] += 1;
+            n += 1;
+        }
+        self.cells = n as u32;
+        Ok(())
+    }
+
+    /// `times` relaxation steps at the current radius, with or without
+    /// adhesion.
+    fn relax(&mut self, params: &Params, times: u16, adhesion: bool) {
+        let mut repel = [[1 << 16; MAX_TYPES]; MAX_TYPES];
+        if adhesion {
+            for (row, a) in repel.iter_mut().zip(&params.adhesion) {
+                for (x, alpha) in row.iter_mut().zip(a) {
+                    *x = (Fx::ONE - (*alpha).clamp(Fx::ZERO, Fx::ONE)).to_bits();
+                }
+            }
+        }
+        let forces = Forces {
+            domain: &params.domain,
+            radius: self.radius,
+            repel,
+            push_weight: params.push_weight.to_bits(),
+            anisotropy_weight: params
+                .anisotropy
+                .map_or(0, |a| a.weight.clamp(Fx::ZERO, Fx::ONE).to_bits()),
+            field: params.anisotropy.as_ref().map(|_| &self.field),
+        };
+        let n = self.cells as usize;
+        let mut cells = self.store.slices();
+        let max_bins = cells.bins.len().saturating_sub(1);
+        let grid = Grid::plan(&params.domain, self.radius, max_bins);
+        for _ in 0..times {
+            relaxation::relax(&mut cells, n, &grid, &forces);
+        }
+    }
+
+    fn emit(&mut self, params: &Params, sink: &mut dyn Sink) -> Result<(), Error> {
+        if !params.frames.includes(self.day) {
+            return Ok(());
+        }
+        sink.record(&Record::FrameStart {
+            frame: self.frame,
+            time: Fx::from_int(i32::from(self.day)),
+        })?;
+        let n = self.len();
+        let (pos, kind) = (self.store.positions(), self.store.kinds());
+        for (id, (p, k)) in pos[..n].iter().zip(&kind[..n]).enumerate() {
+            sink.record(&Record::Cell {
+                id: id as u32,
+                kind: *k,
+                p: [Fx::from_bits(p[0]), Fx::from_bits(p[1])],
+            })?;
+        }
+        sink.record(&Record::FrameEnd { frame: self.frame })?;
+        self.frame += 1;
+        Ok(())
+    }
+}
+
+impl<S: CellStore> Simulation for Mosaic<S> {
+    /// Step 0 places and relaxes the initial cells; step d ≥ 1 simulates
+    /// day d. A step streams its day if [`Params::frames`] selects it.
+    fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
+        if let Some(e) = self.pending {
+            return Err(e);
+        }
+        let params = self.params()?;
+        let total = u32::from(params.days) + 1;
+        if self.done >= total {
+            return Ok(Progress { done: total, total });
+        }
+        if self.done == 0 {
+            self.place(params)?;
+            self.update_radius(params);
+            self.relax(params, params.initial_relaxations, false);
+        } else {
+            self.day += 1;
+            self.divide(params)?;
+            self.update_radius(params);
+            self.relax(params, params.daily_relaxations, true);
+        }
+        self.emit(params, sink)?;
+        self.done += 1;
+        Ok(Progress {
+            done: self.done,
+            total,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests;

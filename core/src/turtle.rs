@@ -1,0 +1,580 @@
+//! The 3D turtle that draws an L-system's string (ABOP ch. 1.5, seed
+//! `002_…`, "Three-dimensional commands"), generic over [`Real`] so the
+//! fixed-point turtle can be checked against an `f64` one.
+//!
+//! # Conventions (pinned; `docs/lsystems.md` has the figures)
+//!
+//! World: x right, y up (against gravity), z towards the viewer. The
+//! turtle starts at the origin with heading H = +y, left L = −x, up U = +z
+//! (so H × L = U), width `width`, colour 0. Every turn is a right-handed
+//! rotation of the frame by δ (or the module's parameter, in degrees)
+//! about one of the turtle's own axes:
+//!
+//! | symbol | rotation | effect |
+//! |---|---|---|
+//! | `+` / `-` | about U by +δ / −δ | turn left (H towards L) / right |
+//! | `&` / `^` | about L by +δ / −δ | pitch down (H towards −U) / up |
+//! | `\` / `/` | about H by +δ / −δ | roll (L towards U) / back |
+//! | `\|` | about U by 180° | turn around |
+//! | `$` | roll about H | L horizontal: L = (V × H)/‖V × H‖, U = H × L, V = +y |
+//!
+//! So in 2D (viewed from +z) `+` turns counter-clockwise, as ABOP's 2D
+//! figures have it. ABOP prints `+` as R_U(δ), `&` as R_L(δ) and `\` as
+//! R_H(δ); its matrices, taken literally with row vectors, turn the other
+//! way for `+` and `&`: we follow its words (turn left, pitch down), and
+//! its matrix for `\`.
+//!
+//! Other symbols: `F`/`G` move by `step` (or the parameter) drawing a
+//! segment, `f`/`g` move without drawing; inside `{ }` the end of every
+//! `F`/`f` move and every `.` add a polygon vertex (`G`/`g` do not); `{`
+//! adds the start position; `}` emits the polygon (a vertex equal to the
+//! previous one, or a last vertex equal to the first, is dropped). `!`
+//! multiplies the width by `thin` (`!(w)` sets it), `'` adds 1 to the
+//! colour index (`'(c)` sets it). `[`/`]` push/pop the whole state (not the
+//! polygon). Any other symbol is ignored.
+
+use heapless::Vec;
+use nalgebra::Vector3;
+
+use crate::fx::{Angle, Fx, Real};
+use crate::lsys::Module;
+
+/// Depth of the `[` stack.
+pub const MAX_TURTLE_STACK: usize = 16;
+/// Vertices of one polygon.
+pub const MAX_POLYGON_VERTICES: usize = 24;
+/// The largest coordinate the turtle may reach: half the I16F16 range, so
+/// that no move can saturate unnoticed.
+pub const COORDINATE_LIMIT: i32 = 16_384;
+
+/// An error of the turtle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum TurtleError {
+    /// More than `MAX_TURTLE_STACK` nested `[`.
+    StackOverflow,
+    /// A `]` without its `[`.
+    UnmatchedPop,
+    /// A `{` inside an open polygon.
+    NestedPolygon,
+    /// A `}` without its `{`.
+    UnmatchedPolygonEnd,
+    /// The string ended inside `{ }`.
+    UnclosedPolygon,
+    /// More than `MAX_POLYGON_VERTICES` vertices in one polygon.
+    TooManyVertices,
+    /// A coordinate beyond ±`COORDINATE_LIMIT`.
+    OutOfRange,
+}
+
+impl core::fmt::Display for TurtleError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            TurtleError::StackOverflow => write!(
+                f,
+                "capacity MAX_TURTLE_STACK = {MAX_TURTLE_STACK} exceeded (too many nested `[`)"
+            ),
+            TurtleError::UnmatchedPop => f.write_str("`]` without a matching `[`"),
+            TurtleError::NestedPolygon => f.write_str("`{` inside an open polygon"),
+            TurtleError::UnmatchedPolygonEnd => f.write_str("`}` without a matching `{`"),
+            TurtleError::UnclosedPolygon => f.write_str("the string ended inside `{ }`"),
+            TurtleError::TooManyVertices => write!(
+                f,
+                "capacity MAX_POLYGON_VERTICES = {MAX_POLYGON_VERTICES} exceeded"
+            ),
+            TurtleError::OutOfRange => write!(
+                f,
+                "the turtle left the drawable range ±COORDINATE_LIMIT = {COORDINATE_LIMIT}"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for TurtleError {}
+
+/// The turtle's state: position, orientation frame, width and colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct State<R: Real = Fx> {
+    /// Position.
+    pub position: Vector3<R>,
+    /// Heading H.
+    pub heading: Vector3<R>,
+    /// Left L.
+    pub left: Vector3<R>,
+    /// Up U = H × L.
+    pub up: Vector3<R>,
+    /// Segment width.
+    pub width: R,
+    /// Colour index.
+    pub colour: u16,
+}
+
+/// What one module drew.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Drawn<R: Real = Fx> {
+    /// Nothing.
+    Nothing,
+    /// A segment from `a` to `b`.
+    Segment {
+        /// Start.
+        a: Vector3<R>,
+        /// End.
+        b: Vector3<R>,
+        /// Width.
+        width: R,
+        /// Colour index.
+        colour: u16,
+    },
+    /// A polygon closed; its vertices are [`Turtle::polygon`].
+    Polygon {
+        /// Colour index.
+        colour: u16,
+    },
+}
+
+/// Lengths and angles the turtle uses for bare symbols.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params<R: Real = Fx> {
+    /// Length of a bare move.
+    pub step: R,
+    /// Turn angle δ.
+    pub delta: Angle,
+    /// Initial width.
+    pub width: R,
+    /// Width factor of a bare `!`.
+    pub thin: R,
+}
+
+/// The 3D turtle with a bounded stack.
+#[derive(Clone, Debug)]
+pub struct Turtle<R: Real = Fx> {
+    state: State<R>,
+    stack: Vec<State<R>, MAX_TURTLE_STACK>,
+    polygon: Vec<Vector3<R>, MAX_POLYGON_VERTICES>,
+    polygon_open: bool,
+    params: Params<R>,
+    cos_delta: R,
+    sin_delta: R,
+}
+
+/// Degrees as a binary angle, for any `deg` (wraps modulo a turn).
+///
+/// The same value as [`Angle::from_degrees_fx`], which overflows `i64` (a
+/// panic in debug builds) for |deg| ≳ 180°: the product is taken modulo
+/// 2⁶⁴, whose bits 32..63 are exactly the wanted angle modulo one turn.
+#[must_use]
+pub const fn degrees(deg: Fx) -> Angle {
+    /// 2³² / 360 as Q16, as in `fx::angle`.
+    const UNITS_PER_DEGREE_Q16: i64 = 781_874_935_307;
+    let units = (deg.to_bits() as i64)
+        .wrapping_mul(UNITS_PER_DEGREE_Q16)
+        .wrapping_add(1 << 31)
+        >> 32;
+    Angle(units as u32)
+}
+
+/// `(a, b) ← (a·c + b·s, b·c − a·s)`: the rotation of the plane (a, b) that
+/// turns a towards b.
+fn rotate<R: Real>(a: &mut Vector3<R>, b: &mut Vector3<R>, c: R, s: R) {
+    let (x, y) = (*a, *b);
+    *a = x * c + y * s;
+    *b = y * c - x * s;
+}
+
+impl Turtle<Fx> {
+    /// A fixed-point turtle with unit step and width, δ = 0 (`const`, for
+    /// a `static`; [`Turtle::new`] sets real parameters).
+    #[must_use]
+    pub const fn new_const() -> Turtle<Fx> {
+        let (o, l) = (Fx::ZERO, Fx::ONE);
+        Turtle {
+            state: State {
+                position: Vector3::new(o, o, o),
+                heading: Vector3::new(o, l, o),
+                left: Vector3::new(Fx::from_int(-1), o, o),
+                up: Vector3::new(o, o, l),
+                width: l,
+                colour: 0,
+            },
+            stack: Vec::new(),
+            polygon: Vec::new(),
+            polygon_open: false,
+            params: Params {
+                step: l,
+                delta: Angle::ZERO,
+                width: l,
+                thin: l,
+            },
+            cos_delta: l,
+            sin_delta: o,
+        }
+    }
+}
+
+impl<R: Real> Turtle<R> {
+    /// A turtle at the origin in the initial frame.
+    #[must_use]
+    pub fn new(params: Params<R>) -> Turtle<R> {
+        let mut t = Turtle {
+            state: State {
+                position: Vector3::zeros(),
+                heading: Vector3::y(),
+                left: -Vector3::x(),
+                up: Vector3::z(),
+                width: params.width,
+                colour: 0,
+            },
+            stack: Vec::new(),
+            polygon: Vec::new(),
+            polygon_open: false,
+            params,
+            cos_delta: R::cos(params.delta),
+            sin_delta: R::sin(params.delta),
+        };
+        t.reset(Vector3::zeros());
+        t
+    }
+
+    /// Back to the initial state at `origin`, with empty stacks.
+    pub fn reset(&mut self, origin: Vector3<R>) {
+        self.state = State {
+            position: origin,
+            heading: Vector3::y(),
+            left: -Vector3::x(),
+            up: Vector3::z(),
+            width: self.params.width,
+            colour: 0,
+        };
+        self.stack.clear();
+        self.polygon.clear();
+        self.polygon_open = false;
+    }
+
+    /// The current state.
+    #[must_use]
+    pub fn state(&self) -> &State<R> {
+        &self.state
+    }
+
+    /// The vertices of the polygon being (or last) recorded.
+    #[must_use]
+    pub fn polygon(&self) -> &[Vector3<R>] {
+        &self.polygon
+    }
+
+    /// The current `[` depth.
+    #[must_use]
+    pub fn depth(&self) -> usize {
+        self.stack.len()
+    }
+
+    /// Checks the end of a string: no polygon may be open.
+    ///
+    /// # Errors
+    /// [`TurtleError::UnclosedPolygon`].
+    pub fn finish(&self) -> Result<(), TurtleError> {
+        if self.polygon_open {
+            Err(TurtleError::UnclosedPolygon)
+        } else {
+            Ok(())
+        }
+    }
+
+    fn angle(&self, m: &Module) -> (R, R) {
+        match m.args().first() {
+            Some(&deg) => {
+                let a = degrees(deg);
+                (R::cos(a), R::sin(a))
+            }
+            None => (self.cos_delta, self.sin_delta),
+        }
+    }
+
+    fn add_vertex(&mut self) -> Result<(), TurtleError> {
+        let p = self.state.position;
+        if self.polygon.last() == Some(&p) {
+            return Ok(());
+        }
+        self.polygon
+            .push(p)
+            .map_err(|_| TurtleError::TooManyVertices)
+    }
+
+    fn advance(&mut self, m: &Module) -> Result<Vector3<R>, TurtleError> {
+        let length = m
+            .args()
+            .first()
+            .map_or(self.params.step, |&l| R::from_fx(l));
+        let from = self.state.position;
+        let to = from + self.state.heading * length;
+        let limit = R::from_int(COORDINATE_LIMIT);
+        if to.iter().any(|&x| x.abs() > limit) {
+            return Err(TurtleError::OutOfRange);
+        }
+        self.state.position = to;
+        Ok(from)
+    }
+
+    /// Pulls the frame back to orthonormal after a rotation: one Newton
+    /// step towards unit length for H, L made orthogonal to H and unit,
+    /// U = H × L. Without it the sin/cos rounding (≤ 2 LSB) scales the
+    /// frame by up to ~3·10⁻⁵ per turn, which compounds along a branch.
+    fn orthonormalise(&mut self) {
+        let s = &mut self.state;
+        let (three, half) = (R::from_int(3), R::from_ratio(1, 2));
+        let h = s.heading;
+        let h = h * ((three - h.dot(&h)) * half);
+        let l = s.left - h * h.dot(&s.left);
+        let l = l * ((three - l.dot(&l)) * half);
+        s.heading = h;
+        s.left = l;
+        s.up = h.cross(&l);
+    }
+
+    /// `$`: rolls about H so that L is horizontal (left unchanged when H is
+    /// within ~0.2° of vertical).
+    fn level(&mut self) {
+        let h = self.state.heading;
+        let (lx, lz) = (h.z, -h.x); // V × H with V = +y
+        let norm = (lx * lx + lz * lz).sqrt();
+        if norm < R::from_ratio(1, 256) {
+            return;
+        }
+        let l = Vector3::new(lx.div(norm), R::zero(), lz.div(norm));
+        self.state.left = l;
+        self.state.up = Vector3::new(h.y * l.z, h.z * l.x - h.x * l.z, -(h.y * l.x));
+    }
+
+    /// Interprets one module.
+    ///
+    /// # Errors
+    /// Stack overflow or underflow, polygon nesting or size, and leaving
+    /// the drawable range.
+    pub fn apply(&mut self, m: &Module) -> Result<Drawn<R>, TurtleError> {
+        let s = &mut self.state;
+        match m.symbol {
+            b'F' | b'G' => {
+                let a = self.advance(m)?;
+                if m.symbol == b'F' && self.polygon_open {
+                    self.add_vertex()?;
+                }
+                return Ok(Drawn::Segment {
+                    a,
+                    b: self.state.position,
+                    width: self.state.width,
+                    colour: self.state.colour,
+                });
+            }
+            b'f' | b'g' => {
+                self.advance(m)?;
+                if m.symbol == b'f' && self.polygon_open {
+                    self.add_vertex()?;
+                }
+            }
+            b'+' | b'-' | b'&' | b'^' | b'\\' | b'/' => {
+                let (c, sin) = self.angle(m);
+                let s = &mut self.state;
+                let sin = if matches!(m.symbol, b'-' | b'^' | b'/') {
+                    -sin
+                } else {
+                    sin
+                };
+                match m.symbol {
+                    b'+' | b'-' => rotate(&mut s.heading, &mut s.left, c, sin),
+                    b'&' | b'^' => rotate(&mut s.up, &mut s.heading, c, sin),
+                    _ => rotate(&mut s.left, &mut s.up, c, sin),
+                }
+                self.orthonormalise();
+            }
+            b'|' => {
+                s.heading = -s.heading;
+                s.left = -s.left;
+            }
+            b'$' => self.level(),
+            b'[' => {
+                let copy = *s;
+                self.stack
+                    .push(copy)
+                    .map_err(|_| TurtleError::StackOverflow)?;
+            }
+            b']' => self.state = self.stack.pop().ok_or(TurtleError::UnmatchedPop)?,
+            b'{' => {
+                if self.polygon_open {
+                    return Err(TurtleError::NestedPolygon);
+                }
+                self.polygon_open = true;
+                self.polygon.clear();
+                self.add_vertex()?;
+            }
+            b'}' => {
+                if !self.polygon_open {
+                    return Err(TurtleError::UnmatchedPolygonEnd);
+                }
+                self.polygon_open = false;
+                if self.polygon.len() > 1 && self.polygon.first() == self.polygon.last() {
+                    self.polygon.pop();
+                }
+                return Ok(Drawn::Polygon {
+                    colour: self.state.colour,
+                });
+            }
+            b'.' if self.polygon_open => self.add_vertex()?,
+            b'!' => {
+                s.width = match m.args().first() {
+                    Some(&w) => R::from_fx(w),
+                    None => s.width * self.params.thin,
+                }
+            }
+            b'\'' => {
+                s.colour = match m.args().first() {
+                    Some(&c) => c.floor_int().clamp(0, u16::MAX as i32) as u16,
+                    None => s.colour.saturating_add(1),
+                }
+            }
+            _ => {}
+        }
+        Ok(Drawn::Nothing)
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::float_arithmetic)]
+mod tests {
+    use super::*;
+
+    fn params<R: Real>(delta_deg: i32) -> Params<R> {
+        Params {
+            step: R::one(),
+            delta: Angle::from_degrees(delta_deg),
+            width: R::one(),
+            thin: R::from_ratio(1, 2),
+        }
+    }
+
+    fn run<R: Real>(text: &str, delta_deg: i32) -> (Turtle<R>, std::vec::Vec<Drawn<R>>) {
+        let mut t = Turtle::new(params::<R>(delta_deg));
+        let drawn = text
+            .bytes()
+            .map(|b| t.apply(&Module::bare(b)).unwrap())
+            .filter(|d| *d != Drawn::Nothing)
+            .collect();
+        (t, drawn)
+    }
+
+    fn v(x: i32, y: i32, z: i32) -> Vector3<Fx> {
+        Vector3::new(Fx::from_int(x), Fx::from_int(y), Fx::from_int(z))
+    }
+
+    fn ends(drawn: &[Drawn<Fx>]) -> std::vec::Vec<Vector3<Fx>> {
+        drawn
+            .iter()
+            .filter_map(|d| match d {
+                Drawn::Segment { b, .. } => Some(*b),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn turns_are_pinned() {
+        // + turns left (towards −x seen from +z), & pitches down (towards −z),
+        // \ rolls L towards U so a following + turns towards +z.
+        assert_eq!(ends(&run("F+F", 90).1), [v(0, 1, 0), v(-1, 1, 0)]);
+        assert_eq!(ends(&run("F-F", 90).1), [v(0, 1, 0), v(1, 1, 0)]);
+        assert_eq!(ends(&run("F&F", 90).1), [v(0, 1, 0), v(0, 1, -1)]);
+        assert_eq!(ends(&run("F^F", 90).1), [v(0, 1, 0), v(0, 1, 1)]);
+        assert_eq!(ends(&run("F\\+F", 90).1), [v(0, 1, 0), v(0, 1, 1)]);
+        assert_eq!(ends(&run("F/+F", 90).1), [v(0, 1, 0), v(0, 1, -1)]);
+        assert_eq!(ends(&run("F|F", 90).1), [v(0, 1, 0), v(0, 0, 0)]);
+        let (t, _) = run::<Fx>("+&\\", 90);
+        let s = t.state();
+        // H × L = U is kept by every rotation.
+        assert_eq!(s.heading.cross(&s.left), s.up);
+    }
+
+    #[test]
+    fn dollar_levels_the_left_axis() {
+        for text in ["&+\\\\$", "^^-/$", "+&&&\\$"] {
+            let (t, _) = run::<f64>(text, 30);
+            let s = t.state();
+            assert!(s.left.y.abs() < 1e-12, "{text}: L = {:?}", s.left);
+            assert!(s.up.y > 0.0, "{text}: U = {:?}", s.up);
+            assert!(
+                (s.heading.cross(&s.left) - s.up)
+                    .iter()
+                    .all(|x| x.abs() < 1e-12)
+            );
+            let (tf, _) = run::<Fx>(text, 30);
+            let sf = tf.state();
+            assert_eq!(sf.left.y, Fx::ZERO, "{text}");
+            assert!((sf.up.y.to_f64() - s.up.y).abs() < 1e-4);
+        }
+        // Vertical heading: $ leaves the frame alone.
+        assert_eq!(run::<Fx>("$", 30).0.state().left, -Vector3::x());
+    }
+
+    #[test]
+    fn width_colour_and_polygons() {
+        let (_, drawn) = run::<Fx>("F!F'F", 90);
+        let widths: std::vec::Vec<_> = drawn
+            .iter()
+            .filter_map(|d| match d {
+                Drawn::Segment { width, colour, .. } => Some((*width, *colour)),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(
+            widths,
+            [(Fx::ONE, 0), (Fx::HALF, 0), (Fx::HALF, 1)],
+            "! halves, ' counts"
+        );
+        // A unit square from f moves: 4 vertices, the closing one dropped.
+        let (t, drawn) = run::<Fx>("{f+f+f+f}", 90);
+        assert_eq!(drawn, [Drawn::Polygon { colour: 0 }]);
+        assert_eq!(
+            t.polygon(),
+            [v(0, 0, 0), v(0, 1, 0), v(-1, 1, 0), v(-1, 0, 0)]
+        );
+    }
+
+    #[test]
+    fn degrees_agree_with_fx_angle_and_wrap() {
+        for d in [-179, -90, -1, 0, 1, 22, 45, 90, 137, 179] {
+            let deg = Fx::from_int(d) + Fx::from_ratio(1, 7);
+            assert_eq!(degrees(deg), Angle::from_degrees_fx(deg), "{d}");
+        }
+        assert_eq!(degrees(Fx::from_int(270)), Angle::from_degrees(-90));
+        assert_eq!(degrees(Fx::from_int(-720)), Angle::ZERO);
+        assert_eq!(degrees(Fx::MAX), degrees(Fx::MAX - Fx::from_int(360)));
+    }
+
+    #[test]
+    fn stack_errors() {
+        let mut t = Turtle::new(params::<Fx>(90));
+        assert_eq!(t.apply(&Module::bare(b']')), Err(TurtleError::UnmatchedPop));
+        for _ in 0..MAX_TURTLE_STACK {
+            t.apply(&Module::bare(b'[')).unwrap();
+        }
+        assert_eq!(
+            t.apply(&Module::bare(b'[')),
+            Err(TurtleError::StackOverflow)
+        );
+        let mut t = Turtle::new(params::<Fx>(90));
+        t.apply(&Module::bare(b'{')).unwrap();
+        assert_eq!(t.finish(), Err(TurtleError::UnclosedPolygon));
+        assert_eq!(
+            t.apply(&Module::bare(b'{')),
+            Err(TurtleError::NestedPolygon)
+        );
+        let mut t = Turtle::new(params::<Fx>(90));
+        assert_eq!(
+            t.apply(&Module::bare(b'}')),
+            Err(TurtleError::UnmatchedPolygonEnd)
+        );
+        let mut far = Module::bare(b'F');
+        far.arity = 1;
+        far.params[0] = Fx::from_int(20_000);
+        assert_eq!(t.apply(&far), Err(TurtleError::OutOfRange));
+    }
+}

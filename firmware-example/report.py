@@ -1,0 +1,123 @@
+#!/usr/bin/env python3
+"""Writes firmware-example/REPORT.md (stdout) from a firmware-check work dir.
+
+Usage: report.py WORKDIR TARGET... — reads WORKDIR/TARGET.elf (sizes via
+binutils `size -A`) and WORKDIR/TARGET.log (the defmt lines that start with
+`report`, see src/main.rs). Called by scripts/firmware-check.sh.
+"""
+import os
+import re
+import subprocess
+import sys
+
+work, targets = sys.argv[1], sys.argv[2:]
+
+
+def sections(elf):
+    out = subprocess.run(["size", "-A", elf], check=True, capture_output=True, text=True).stdout
+    sizes = {}
+    for line in out.splitlines():
+        parts = line.split()
+        if len(parts) >= 2 and parts[0].startswith(".") and parts[1].isdigit():
+            sizes[parts[0]] = int(parts[1])
+    return sizes
+
+
+def kib(n):
+    return f"{n:,} B ({n / 1024:.1f} KiB)"
+
+
+def version(cmd):
+    try:
+        return subprocess.run(cmd, check=True, capture_output=True, text=True).stdout.splitlines()[0].strip()
+    except (OSError, subprocess.CalledProcessError, IndexError):
+        return "unknown"
+
+
+runs = {}
+for t in targets:
+    text = open(f"{work}/{t}.log", encoding="utf-8", errors="replace").read()
+    clock = re.search(r"report clock qemu_cpu_hz=(\d+) runner_bytes=(\d+)", text)
+    stack = re.search(r"report stack peak=(\d+) region=(\d+) static=(\d+)", text)
+    presets = [m.groupdict() for m in re.finditer(
+        r"report preset=(?P<name>\S+) seed=(?P<seed>\d+) frames=(?P<frames>\d+) "
+        r"bytes=(?P<bytes>\d+) digest=(?P<digest>[0-9a-f]+) systicks=(?P<ticks>\d+)", text)]
+    if not (clock and stack and presets):
+        sys.exit(f"report.py: {t}.log lacks report lines")
+    runs[t] = dict(hz=int(clock[1]), runner=int(clock[2]), peak=int(stack[1]),
+                   region=int(stack[2]), presets=presets, sizes=sections(f"{work}/{t}.elf"))
+
+main = runs[targets[0]]
+ns_per_tick = 10**9 // main["hz"]
+w = sys.stdout.write
+w("# Firmware size and cost report\n\n")
+w("Written by `scripts/firmware-check.sh` — do not edit; rerun the script and\n"
+  "commit the result, so that a change in size or cost shows in review.\n\n")
+w(f"- toolchain: `{version(['rustc', '--version'])}`, release profile (`opt-level = \"s\"`, fat LTO)\n")
+w(f"- emulator: `{version(['qemu-system-arm', '--version'])}`, machine `lm3s6965evb`\n")
+w("- board: TI LM3S6965 — 256 KiB flash, 64 KiB SRAM (the RAM budget of every target below)\n\n")
+
+w("## Size per target\n\n")
+w("Flash = `.vector_table` + `.text` + `.rodata` (+ the `.data` load image);\n"
+  "static RAM = `.data` + `.bss` + `.uninit`. Peak stack from stack painting\n"
+  "(`cortex-m-rt` feature `paint-stack`), measured after all presets ran in\n"
+  "QEMU (`thumbv7em` on `-cpu cortex-m4`, the others on `cortex-m3`).\n\n")
+w("| target | flash | of which .text | .rodata | static RAM | peak stack | RAM used |\n")
+w("|---|---:|---:|---:|---:|---:|---:|\n")
+for t in targets:
+    s = runs[t]["sizes"]
+    flash = s.get(".vector_table", 0) + s.get(".text", 0) + s.get(".rodata", 0) + s.get(".data", 0)
+    ram = s.get(".data", 0) + s.get(".bss", 0) + s.get(".uninit", 0)
+    used = ram + runs[t]["peak"]
+    w(f"| {t} | {kib(flash)} | {s.get('.text', 0):,} | {s.get('.rodata', 0):,} | {ram:,} B "
+      f"| {runs[t]['peak']:,} B | {used:,} B of 65,536 ({100 * used / 65536:.1f} %) |\n")
+w(f"\nThe preset runner (`morphogen::preset::Runner`, one `static`) takes {main['runner']:,} B.\n\n")
+
+w("## Cost per preset\n\n")
+w(f"SysTick deltas under `-icount shift=0`: QEMU advances 1 ns per instruction\n"
+  f"and models a {main['hz'] // 10**6} MHz core clock, so one tick ≈ {ns_per_tick}\n"
+  "instructions. The counts repeat exactly from run to run; they are a proxy\n"
+  "(QEMU does not model cycles; DWT CYCCNT reads 0).\n\n")
+header = "| preset | seed | records | bytes | digest |" + "".join(f" {t} ticks (≈ instr.) |" for t in targets)
+w(header + "\n|---|---:|---:|---:|---|" + "---:|" * len(targets) + "\n")
+for i, p in enumerate(main["presets"]):
+    row = f"| {p['name']} | {p['seed']} | {int(p['frames']):,} | {int(p['bytes']):,} | `{p['digest']}` |"
+    for t in targets:
+        q = runs[t]["presets"][i]
+        if q["name"] != p["name"] or q["digest"] != p["digest"]:
+            sys.exit(f"report.py: {t} disagrees with {targets[0]} on preset {p['name']}")
+        ticks = int(q["ticks"])
+        row += f" {ticks:,} (≈ {ticks * ns_per_tick / 1e6:.2f} M) |"
+    w(row + "\n")
+verifier = os.environ.get("VERIFY_COMMAND", "morphogen verify --stream")
+verifier = re.sub(r"^cargo run .*? -- ", "morphogen ", verifier)
+verifier = re.sub(r"^/\S*/", "", verifier)
+w("\nEvery target streamed the same bytes (same digests), and each capture\n"
+  f"passed `{verifier} CAPTURE`.\n\n")
+
+w("## Presets at reduced size, and host-only presets\n\n")
+w(f"The firmware runs every preset of the core's registry as built for it\n"
+  f"(`morphogen::preset::PRESETS` without the `host-capacity` feature):\n"
+  f"{len(main['presets'])} presets here, none skipped (an error fails the run).\n\n")
+fw_names = [p["name"] for p in main["presets"]]
+host = []
+try:
+    for line in open(f"{work}/host-presets.txt", encoding="utf-8"):
+        m = re.match(r"(\S+)\s+seed\s+\d+\s+(.*)", line.strip())
+        if m:
+            host.append((m[1], m[2]))
+except OSError:
+    pass
+if not host:
+    w("(`morphogen list` was not available: host-only presets not listed.)\n")
+else:
+    summaries = dict(host)
+    reduced = [n for n in fw_names if "mcu" in n.lower() or "MCU" in summaries.get(n, "")]
+    host_only = [(n, s) for n, s in host if n not in fw_names]
+    w("| preset | on the firmware | why |\n|---|---|---|\n")
+    for n in reduced:
+        w(f"| {n} | yes, reduced size, own fixture | {summaries.get(n, '')} |\n")
+    for n, s in host_only:
+        w(f"| {n} | no: host only (`host-capacity`) | its state exceeds the 64 KiB RAM; {s} |\n")
+    if not reduced and not host_only:
+        w("None: every host preset runs on the firmware at full size.\n")

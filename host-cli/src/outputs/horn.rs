@@ -1,0 +1,524 @@
+//! `ram-horn`, `ram-horn-animation`: one Wavefront OBJ per frame and PNG
+//! renders of the compound solid (horn paper, Sec. 7, Figs. 8–10).
+//!
+//! Each frame's rings become a closed triangle mesh: one group
+//! `g module_<i>` per module, two triangles between each pair of
+//! consecutive rings, a fan closing the tip (module 1's upper base) and one
+//! closing the base (the youngest module's active area). Modules meet on
+//! rings with identical coordinates (the kernel emits both). Triangles are
+//! counter-clockwise seen from outside (the orientation is read off the
+//! first rings, so any outline orientation works).
+//!
+//! `horn.png` is the last frame, flat-shaded with the monthly increments as
+//! alternating bands (crowded in winter: the annual rings); `years.png` shows
+//! the frames at the end of each year side by side, to the same scale.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use morphogen::stream::Record;
+use tiny_skia::{
+    Color, FillRule, FilterQuality, Paint, PathBuilder, Pixmap, PixmapPaint, Stroke, Transform,
+};
+
+use crate::fixture::write_atomic;
+
+/// A point in cm.
+pub type P3 = [f64; 3];
+
+/// One cross-section of a frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ring {
+    /// Module (1 = the tip).
+    pub module: u16,
+    /// Ring index within the module.
+    pub ring: u16,
+    /// Its points, cm.
+    pub points: Vec<P3>,
+}
+
+/// One frame of the horn.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Frame {
+    /// Frame index.
+    pub index: u32,
+    /// Global time, years.
+    pub years: f64,
+    /// The rings, module 1 first.
+    pub rings: Vec<Ring>,
+}
+
+fn fx(v: morphogen::fx::Fx) -> f64 {
+    f64::from(v.to_bits()) / 65_536.0
+}
+
+/// Groups a horn stream's records into frames.
+///
+/// # Errors
+/// When points arrive outside a ring, a ring is short of points, or frames
+/// do not balance.
+pub fn frames(records: &[Record]) -> Result<Vec<Frame>> {
+    let mut out = Vec::new();
+    let mut current: Option<Frame> = None;
+    let mut expected = 0usize;
+    for r in records {
+        match r {
+            Record::FrameStart { frame, time } => {
+                if current.is_some() {
+                    bail!("frame {frame} starts before the previous one ended");
+                }
+                current = Some(Frame {
+                    index: *frame,
+                    years: fx(*time),
+                    rings: Vec::new(),
+                });
+            }
+            Record::Ring {
+                module,
+                ring,
+                points,
+            } => {
+                let f = current.as_mut().context("a ring outside a frame")?;
+                if expected != 0 {
+                    bail!("frame {}: a ring is short of {expected} points", f.index);
+                }
+                expected = usize::from(*points);
+                f.rings.push(Ring {
+                    module: *module,
+                    ring: *ring,
+                    points: Vec::with_capacity(expected),
+                });
+            }
+            Record::Point { p } => {
+                let f = current.as_mut().context("a point outside a frame")?;
+                let ring = f.rings.last_mut().context("a point before any ring")?;
+                if expected == 0 {
+                    bail!("frame {}: more points than the ring announced", f.index);
+                }
+                ring.points.push([fx(p[0]), fx(p[1]), fx(p[2])]);
+                expected -= 1;
+            }
+            Record::FrameEnd { frame } => {
+                let f = current.take().context("a frame ends that never started")?;
+                if f.index != *frame || expected != 0 {
+                    bail!("frame {frame} ends unbalanced");
+                }
+                out.push(f);
+            }
+            _ => {}
+        }
+    }
+    if current.is_some() {
+        bail!("the stream ends inside a frame");
+    }
+    Ok(out)
+}
+
+/// A triangle by vertex indices, with its month (for the stripes); caps
+/// have `None`.
+pub type Triangle = ([usize; 3], Option<u32>);
+
+/// A frame as a triangle mesh.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Mesh {
+    /// Vertex positions, cm.
+    pub vertices: Vec<P3>,
+    /// Per module: the module and its triangles.
+    pub groups: Vec<(u16, Vec<Triangle>)>,
+}
+
+fn sub(a: P3, b: P3) -> P3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: P3, b: P3) -> P3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn dot(a: P3, b: P3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn centroid(points: &[P3]) -> P3 {
+    let n = points.len().max(1) as f64;
+    let s = points
+        .iter()
+        .fold([0.0; 3], |s, p| [s[0] + p[0], s[1] + p[1], s[2] + p[2]]);
+    [s[0] / n, s[1] / n, s[2] / n]
+}
+
+/// The mesh of `frame`; `rings_per_year` (J) maps ring indices to months.
+#[must_use]
+pub fn mesh(frame: &Frame, rings_per_year: u32) -> Mesh {
+    let mut m = Mesh::default();
+    let mut starts = Vec::with_capacity(frame.rings.len());
+    for r in &frame.rings {
+        starts.push(m.vertices.len());
+        m.vertices.extend_from_slice(&r.points);
+    }
+    // Orientation: is (A₀, A₁, B₀) outward on the first pair of rings?
+    let outward = frame
+        .rings
+        .windows(2)
+        .find(|w| w[0].module == w[1].module && w[0].points.len() >= 2)
+        .is_none_or(|w| {
+            let (a, b) = (&w[0].points, &w[1].points);
+            let n = cross(sub(a[1], a[0]), sub(b[0], a[0]));
+            dot(n, sub(a[0], centroid(a))) > 0.0
+        });
+    for (k, w) in frame.rings.windows(2).enumerate() {
+        if w[0].module != w[1].module || w[0].points.len() != w[1].points.len() {
+            continue;
+        }
+        if m.groups.last().is_none_or(|g| g.0 != w[0].module) {
+            m.groups.push((w[0].module, Vec::new()));
+        }
+        let month = u32::from(w[0].ring) * 12 / rings_per_year.max(1);
+        let (a, b, n) = (starts[k], starts[k + 1], w[0].points.len());
+        let group = &mut m.groups.last_mut().expect("pushed above").1;
+        for i in 0..n {
+            let j = (i + 1) % n;
+            let (t1, t2) = if outward {
+                ([a + i, a + j, b + i], [a + j, b + j, b + i])
+            } else {
+                ([a + i, b + i, a + j], [a + j, b + i, b + j])
+            };
+            group.push((t1, Some(month)));
+            group.push((t2, Some(month)));
+        }
+    }
+    // Caps: the tip and the skull end, each a fan from its centroid.
+    let last = frame.rings.len();
+    let caps = [
+        (0usize, 1usize),
+        (last.saturating_sub(1), last.saturating_sub(2)),
+    ];
+    for (cap, neighbour) in caps {
+        if last < 2 {
+            break;
+        }
+        let ring = &frame.rings[cap];
+        let c = centroid(&ring.points);
+        let away = sub(c, centroid(&frame.rings[neighbour].points));
+        let centre = m.vertices.len();
+        m.vertices.push(c);
+        let (s, n) = (starts[cap], ring.points.len());
+        let Some(group) = m.groups.iter_mut().find(|g| g.0 == ring.module) else {
+            continue;
+        };
+        for i in 0..n {
+            let j = (i + 1) % n;
+            let normal = cross(sub(ring.points[i], c), sub(ring.points[j], c));
+            let tri = if dot(normal, away) > 0.0 {
+                [centre, s + i, s + j]
+            } else {
+                [centre, s + j, s + i]
+            };
+            group.1.push((tri, None));
+        }
+    }
+    m
+}
+
+/// The OBJ text of a mesh.
+#[must_use]
+pub fn obj(mesh: &Mesh, title: &str) -> String {
+    let mut s = format!("# {title}\n# units: cm; skull frame (module k grows along +x)\n");
+    for v in &mesh.vertices {
+        let _ = writeln!(s, "v {:.5} {:.5} {:.5}", v[0], v[1], v[2]);
+    }
+    for (module, tris) in &mesh.groups {
+        let _ = writeln!(s, "g module_{module}");
+        for (t, _) in tris {
+            let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+    }
+    s
+}
+
+/// A view: rotation of the skull frame into screen axes (x right, y up,
+/// z towards the viewer).
+#[derive(Debug, Clone, Copy)]
+struct View {
+    rows: [P3; 3],
+}
+
+impl View {
+    /// Turned by `yaw` about the skull's y axis, then tilted by `pitch`
+    /// about the screen's x axis (radians).
+    fn new(yaw: f64, pitch: f64, roll: f64) -> View {
+        let (sy, cy) = yaw.sin_cos();
+        let (sp, cp) = pitch.sin_cos();
+        let (sr, cr) = roll.sin_cos();
+        let ry = [[cy, 0.0, sy], [0.0, 1.0, 0.0], [-sy, 0.0, cy]];
+        let rx = [[1.0, 0.0, 0.0], [0.0, cp, -sp], [0.0, sp, cp]];
+        let rz = [[cr, -sr, 0.0], [sr, cr, 0.0], [0.0, 0.0, 1.0]];
+        let mul = |a: [P3; 3], b: [P3; 3]| {
+            let mut m = [[0.0; 3]; 3];
+            for (i, row) in m.iter_mut().enumerate() {
+                for (j, v) in row.iter_mut().enumerate() {
+                    *v = (0..3).map(|k| a[i][k] * b[k][j]).sum();
+                }
+            }
+            m
+        };
+        View {
+            rows: mul(rz, mul(rx, ry)),
+        }
+    }
+
+    fn apply(&self, p: P3) -> P3 {
+        [
+            dot(self.rows[0], p),
+            dot(self.rows[1], p),
+            dot(self.rows[2], p),
+        ]
+    }
+}
+
+/// The camera used for every horn picture.
+fn camera() -> View {
+    View::new(-0.35, 0.45, -2.4)
+}
+
+/// Screen-space bounds (min x, min y, max x, max y) of a frame.
+fn bounds(view: &View, frame: &Frame) -> [f64; 4] {
+    let mut b = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
+    for p in frame.rings.iter().flat_map(|r| &r.points) {
+        let q = view.apply(*p);
+        b = [
+            b[0].min(q[0]),
+            b[1].min(q[1]),
+            b[2].max(q[0]),
+            b[3].max(q[1]),
+        ];
+    }
+    b
+}
+
+const HORN: [f64; 3] = [222.0, 204.0, 168.0];
+fn background() -> Color {
+    Color::from_rgba8(250, 249, 246, 255)
+}
+
+/// Draws `mesh` into `pixmap` in the box (x0, y0, scale) mapping screen cm
+/// to pixels with `origin` (screen cm) at the box's (x0, y0).
+fn draw(pixmap: &mut Pixmap, mesh: &Mesh, view: &View, origin: [f64; 2], at: [f32; 2], scale: f64) {
+    let light = {
+        let l = [-0.45, 0.6, 0.66];
+        let n = dot(l, l).sqrt();
+        [l[0] / n, l[1] / n, l[2] / n]
+    };
+    let screen: Vec<P3> = mesh.vertices.iter().map(|&p| view.apply(p)).collect();
+    let mut tris: Vec<(f64, [usize; 3], Option<u32>)> = mesh
+        .groups
+        .iter()
+        .flat_map(|g| g.1.iter())
+        .filter_map(|&(t, month)| {
+            let (a, b, c) = (screen[t[0]], screen[t[1]], screen[t[2]]);
+            let n = cross(sub(b, a), sub(c, a));
+            // Back faces of the closed surface are hidden.
+            (n[2] > 0.0).then(|| ((a[2] + b[2] + c[2]) / 3.0, t, month))
+        })
+        .collect();
+    tris.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let px = |p: P3| {
+        (
+            at[0] + ((p[0] - origin[0]) * scale) as f32,
+            at[1] - ((p[1] - origin[1]) * scale) as f32,
+        )
+    };
+    // No anti-aliasing per triangle (it would leave seams between them);
+    // pictures are drawn at twice their size and filtered down instead.
+    let mut paint = Paint {
+        anti_alias: false,
+        ..Paint::default()
+    };
+    let seam = Stroke {
+        width: 1.0,
+        ..Stroke::default()
+    };
+    for (_, t, month) in tris {
+        let (a, b, c) = (screen[t[0]], screen[t[1]], screen[t[2]]);
+        let n = cross(sub(b, a), sub(c, a));
+        let len = dot(n, n).sqrt().max(1e-12);
+        let lambert = (dot(n, light) / len).max(0.0);
+        let band = match month {
+            Some(m) if m % 2 == 1 => 0.86,
+            Some(_) => 1.0,
+            None => 0.8,
+        };
+        let k = (0.35 + 0.65 * lambert) * band;
+        let rgb = HORN.map(|v| (v * k).clamp(0.0, 255.0) as u8);
+        paint.set_color_rgba8(rgb[0], rgb[1], rgb[2], 255);
+        let mut pb = PathBuilder::new();
+        let (p0, p1, p2) = (px(a), px(b), px(c));
+        pb.move_to(p0.0, p0.1);
+        pb.line_to(p1.0, p1.1);
+        pb.line_to(p2.0, p2.1);
+        pb.close();
+        if let Some(path) = pb.finish() {
+            pixmap.fill_path(
+                &path,
+                &paint,
+                FillRule::Winding,
+                Transform::identity(),
+                None,
+            );
+            pixmap.stroke_path(&path, &paint, &seam, Transform::identity(), None);
+        }
+    }
+}
+
+/// Renders one frame alone, fitted to a `width × height` picture.
+fn render(frame: &Frame, j: u32, width: u32, height: u32) -> Result<Pixmap> {
+    let mut pixmap = Pixmap::new(width, height).context("picture size must be positive")?;
+    pixmap.fill(background());
+    let view = camera();
+    let b = bounds(&view, frame);
+    let margin = 0.06 * f64::from(width.min(height));
+    let scale = ((f64::from(width) - 2.0 * margin) / (b[2] - b[0]).max(1e-6))
+        .min((f64::from(height) - 2.0 * margin) / (b[3] - b[1]).max(1e-6));
+    let used = [(b[2] - b[0]) * scale, (b[3] - b[1]) * scale];
+    let at = [
+        ((f64::from(width) - used[0]) / 2.0) as f32,
+        (f64::from(height) - (f64::from(height) - used[1]) / 2.0) as f32,
+    ];
+    draw(&mut pixmap, &mesh(frame, j), &view, [b[0], b[1]], at, scale);
+    Ok(pixmap)
+}
+
+/// Renders the year-end frames side by side (4 per row) to one scale, the
+/// skull end of every horn at the same place in its cell.
+fn montage(frames: &[&Frame], j: u32, cell: u32) -> Result<Pixmap> {
+    let columns = frames.len().clamp(1, 4) as u32;
+    let rows = (frames.len() as u32).div_ceil(columns).max(1);
+    let mut pixmap = Pixmap::new(cell * columns, cell * rows).context("empty montage")?;
+    pixmap.fill(background());
+    let view = camera();
+    let Some(last) = frames.last() else {
+        return Ok(pixmap);
+    };
+    // The full-grown horn sets the scale; the skull origin sits where the
+    // full-grown horn's box puts it.
+    let b = bounds(&view, last);
+    let margin = 0.05 * f64::from(cell);
+    let scale = ((f64::from(cell) - 2.0 * margin) / (b[2] - b[0]).max(1e-6))
+        .min((f64::from(cell) - 2.0 * margin) / (b[3] - b[1]).max(1e-6));
+    for (n, frame) in frames.iter().enumerate() {
+        let (c, r) = (n as u32 % columns, n as u32 / columns);
+        let at = [
+            (f64::from(c * cell) + margin) as f32,
+            (f64::from((r + 1) * cell) - margin) as f32,
+        ];
+        draw(&mut pixmap, &mesh(frame, j), &view, [b[0], b[1]], at, scale);
+    }
+    Ok(pixmap)
+}
+
+/// Writes a picture drawn at twice its size, filtered down to half.
+fn save(pixmap: &Pixmap, path: &Path) -> Result<()> {
+    let mut half =
+        Pixmap::new(pixmap.width() / 2, pixmap.height() / 2).context("picture too small")?;
+    let paint = PixmapPaint {
+        quality: FilterQuality::Bicubic,
+        ..PixmapPaint::default()
+    };
+    half.draw_pixmap(
+        0,
+        0,
+        pixmap.as_ref(),
+        &paint,
+        Transform::from_scale(0.5, 0.5),
+        None,
+    );
+    let png = half.encode_png().context("cannot encode PNG")?;
+    write_atomic(path, &png)
+}
+
+/// Writes `frame_NNN.obj` for every frame, `horn.png` and `years.png`.
+///
+/// # Errors
+/// A malformed stream or a file that cannot be written.
+pub fn write(records: &[Record], dir: &Path, rings_per_module: u16) -> Result<Vec<PathBuf>> {
+    let frames = frames(records)?;
+    let j = u32::from(rings_per_module);
+    let mut written = Vec::new();
+    for f in &frames {
+        let path = dir.join(format!("frame_{:03}.obj", f.index));
+        let title = format!("morphogen horn, frame {} at t = {} years", f.index, f.years);
+        write_atomic(&path, obj(&mesh(f, j), &title).as_bytes())?;
+        written.push(path);
+    }
+    if let Some(last) = frames.last() {
+        let path = dir.join("horn.png");
+        save(&render(last, j, 2400, 1800)?, &path)?;
+        written.push(path);
+        let years: Vec<&Frame> = frames
+            .iter()
+            .filter(|f| (f.years - f.years.round()).abs() < 1e-6)
+            .collect();
+        let path = dir.join("years.png");
+        save(&montage(&years, j, 800)?, &path)?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use morphogen::preset::{self, Runner};
+
+    struct Collect(Vec<Record>);
+
+    impl morphogen::stream::Sink for Collect {
+        fn record(&mut self, r: &Record) -> Result<(), morphogen::stream::SinkError> {
+            self.0.push(r.clone());
+            Ok(())
+        }
+    }
+
+    fn records(name: &str) -> Vec<Record> {
+        let p = preset::find(name).unwrap();
+        let mut sink = Collect(Vec::new());
+        preset::run(p, 0, &mut Runner::new(), &mut sink, &mut |_| {}).unwrap();
+        sink.0
+    }
+
+    #[test]
+    fn meshes_are_closed_and_wound_outwards() {
+        let frames = frames(&records("ram-horn")).unwrap();
+        assert_eq!(frames.len(), 16);
+        for f in &frames {
+            let m = mesh(f, 24);
+            let modules = f.rings.last().unwrap().module;
+            assert_eq!(m.groups.len(), usize::from(modules));
+            // The signed volume of a closed outward mesh is positive, and
+            // every side triangle faces away from its ring's centre.
+            let mut volume = 0.0;
+            for (_, tris) in &m.groups {
+                for (t, _) in tris {
+                    let (a, b, c) = (m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
+                    volume += dot(a, cross(b, c)) / 6.0;
+                }
+            }
+            assert!(volume > 100.0, "frame {}: volume {volume} cm³", f.index);
+            let (a, b) = (&f.rings[0].points, &f.rings[1].points);
+            let n = cross(
+                sub(m.vertices[m.groups[0].1[0].0[1]], a[0]),
+                sub(m.vertices[m.groups[0].1[0].0[2]], a[0]),
+            );
+            assert!(dot(n, sub(a[0], centroid(a))) > 0.0 || b.is_empty());
+        }
+        let text = obj(&mesh(frames.last().unwrap(), 24), "t");
+        for i in 1..=8 {
+            assert!(text.contains(&format!("\ng module_{i}\n")));
+        }
+    }
+}

@@ -1,0 +1,456 @@
+//! L-system plants (`abop-*` presets and `run --grammar FILE`): a PNG
+//! (orthographic view along −z onto the x–y plane, y up, segments with
+//! their widths, polygons filled, drawn back to front), an OBJ (segments
+//! as square prisms of side `width`, polygons as faces) and a CSV of every
+//! segment. Pictures and meshes show the last frame; the CSV has them all.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, anyhow};
+use morphogen::fx::Fx;
+use morphogen::lsys::{Buffered, Derivation, LSystem, LsysError, Module, Streaming};
+use morphogen::sim::Simulation;
+use morphogen::stream::{Encoder, FORMAT_VERSION, Header, PresetName, Record, Sink, params_digest};
+use tiny_skia::{
+    Color, FillRule, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke, Transform,
+};
+
+use crate::exec::{Bytes, Run};
+use crate::fixture::write_atomic;
+
+/// The preset name in the header of a `run --grammar` stream.
+pub const GRAMMAR_PRESET: &str = "grammar";
+
+/// Modules per buffer when a context-sensitive grammar is derived on the
+/// host (2 × 2²¹ modules × 20 bytes = 80 MB at most).
+pub const HOST_BUFFER_MODULES: usize = 1 << 21;
+
+fn f(v: Fx) -> f64 {
+    f64::from(v.to_bits()) / 65_536.0
+}
+
+fn p3(p: &[Fx; 3]) -> [f64; 3] {
+    [f(p[0]), f(p[1]), f(p[2])]
+}
+
+/// A drawable item of a frame.
+#[derive(Debug, Clone)]
+enum Item {
+    Segment {
+        a: [f64; 3],
+        b: [f64; 3],
+        width: f64,
+        colour: u16,
+    },
+    Polygon {
+        points: Vec<[f64; 3]>,
+        colour: u16,
+    },
+}
+
+impl Item {
+    fn depth(&self) -> f64 {
+        match self {
+            Item::Segment { a, b, .. } => (a[2] + b[2]) / 2.0,
+            Item::Polygon { points, .. } => {
+                points.iter().map(|p| p[2]).sum::<f64>() / points.len().max(1) as f64
+            }
+        }
+    }
+}
+
+/// The items of the last frame.
+fn last_frame(records: &[Record]) -> Vec<Item> {
+    let start = records
+        .iter()
+        .rposition(|r| matches!(r, Record::FrameStart { .. }))
+        .map_or(0, |i| i + 1);
+    let mut items = Vec::new();
+    let mut it = records[start..].iter();
+    while let Some(r) = it.next() {
+        match r {
+            Record::Segment {
+                a,
+                b,
+                width,
+                colour,
+            } => items.push(Item::Segment {
+                a: p3(a),
+                b: p3(b),
+                width: f(*width),
+                colour: *colour,
+            }),
+            Record::Polygon { vertices, colour } => {
+                let points = it
+                    .by_ref()
+                    .take(usize::from(*vertices))
+                    .filter_map(|r| match r {
+                        Record::Point { p } => Some(p3(p)),
+                        _ => None,
+                    })
+                    .collect();
+                items.push(Item::Polygon {
+                    points,
+                    colour: *colour,
+                });
+            }
+            _ => {}
+        }
+    }
+    items
+}
+
+/// The colour of index `i`: a ramp from bark brown (0) through olive to
+/// leaf green (8) and yellow-green (12), constant beyond.
+#[must_use]
+pub fn palette(i: u16) -> [u8; 3] {
+    const STOPS: [(f64, [f64; 3]); 4] = [
+        (0.0, [101.0, 67.0, 33.0]),
+        (4.0, [110.0, 110.0, 40.0]),
+        (8.0, [50.0, 130.0, 45.0]),
+        (12.0, [150.0, 195.0, 70.0]),
+    ];
+    let x = f64::from(i.min(12));
+    let k = STOPS
+        .iter()
+        .rposition(|s| s.0 <= x)
+        .unwrap_or(0)
+        .min(STOPS.len() - 2);
+    let ((x0, c0), (x1, c1)) = (STOPS[k], STOPS[k + 1]);
+    let t = (x - x0) / (x1 - x0);
+    let mix = |j: usize| (c0[j] + (c1[j] - c0[j]) * t).round() as u8;
+    [mix(0), mix(1), mix(2)]
+}
+
+fn paint(colour: u16) -> Paint<'static> {
+    let [r, g, b] = palette(colour);
+    let mut paint = Paint::default();
+    paint.set_color(Color::from_rgba8(r, g, b, 255));
+    paint.anti_alias = true;
+    paint
+}
+
+/// Draws `items` to a `size`-pixel-wide PNG at `path`.
+fn png(items: &[Item], size: u32, path: &Path) -> Result<()> {
+    let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+    let mut extend = |p: &[f64; 3]| {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    };
+    for item in items {
+        match item {
+            Item::Segment { a, b, .. } => {
+                extend(a);
+                extend(b);
+            }
+            Item::Polygon { points, .. } => points.iter().for_each(&mut extend),
+        }
+    }
+    if lo[0] > hi[0] {
+        (lo, hi) = ([-1.0, -1.0], [1.0, 1.0]);
+    }
+    let margin = 20.0;
+    let span = [(hi[0] - lo[0]).max(1e-6), (hi[1] - lo[1]).max(1e-6)];
+    let scale = (f64::from(size) - 2.0 * margin) / span[0].max(span[1]);
+    let width = (span[0] * scale + 2.0 * margin).ceil() as u32;
+    let height = (span[1] * scale + 2.0 * margin).ceil() as u32;
+    let mut pixmap = Pixmap::new(width.max(1), height.max(1)).context("the picture has no size")?;
+    pixmap.fill(Color::from_rgba8(250, 250, 245, 255));
+    let px = |p: &[f64; 3]| {
+        (
+            (margin + (p[0] - lo[0]) * scale) as f32,
+            (margin + (hi[1] - p[1]) * scale) as f32,
+        )
+    };
+    let mut order: Vec<&Item> = items.iter().collect();
+    order.sort_by(|x, y| x.depth().total_cmp(&y.depth()));
+    for item in order {
+        match item {
+            Item::Segment {
+                a,
+                b,
+                width,
+                colour,
+            } => {
+                let mut pb = PathBuilder::new();
+                let (ax, ay) = px(a);
+                let (bx, by) = px(b);
+                pb.move_to(ax, ay);
+                pb.line_to(bx, by);
+                let Some(path) = pb.finish() else { continue };
+                let stroke = Stroke {
+                    width: ((width * scale) as f32).max(0.6),
+                    line_cap: LineCap::Round,
+                    line_join: LineJoin::Round,
+                    ..Stroke::default()
+                };
+                pixmap.stroke_path(&path, &paint(*colour), &stroke, Transform::identity(), None);
+            }
+            Item::Polygon { points, colour } => {
+                let mut pb = PathBuilder::new();
+                for (i, p) in points.iter().enumerate() {
+                    let (x, y) = px(p);
+                    if i == 0 {
+                        pb.move_to(x, y);
+                    } else {
+                        pb.line_to(x, y);
+                    }
+                }
+                pb.close();
+                let Some(path) = pb.finish() else { continue };
+                pixmap.fill_path(
+                    &path,
+                    &paint(*colour),
+                    FillRule::Winding,
+                    Transform::identity(),
+                    None,
+                );
+            }
+        }
+    }
+    let bytes = pixmap.encode_png().context("cannot encode PNG")?;
+    write_atomic(path, &bytes)
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn scaled(a: [f64; 3], s: f64) -> [f64; 3] {
+    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    if n == 0.0 {
+        return [0.0; 3];
+    }
+    [a[0] * s / n, a[1] * s / n, a[2] * s / n]
+}
+
+/// The OBJ text: every segment a square prism (4 side faces), every
+/// polygon one face.
+fn obj(items: &[Item]) -> String {
+    let mut out =
+        String::from("# morphogen L-system plant: segments as square prisms, polygons as faces\n");
+    let mut next = 1usize;
+    for item in items {
+        match item {
+            Item::Segment { a, b, width, .. } => {
+                let d = sub(*b, *a);
+                let helper = if d[0].abs() < d[1].abs().max(d[2].abs()) {
+                    [1.0, 0.0, 0.0]
+                } else {
+                    [0.0, 1.0, 0.0]
+                };
+                let r = width.max(1e-4) / 2.0;
+                let u = scaled(cross(d, helper), r);
+                let v = scaled(cross(d, u), r);
+                let corners = [
+                    [u[0] + v[0], u[1] + v[1], u[2] + v[2]],
+                    [v[0] - u[0], v[1] - u[1], v[2] - u[2]],
+                    [-u[0] - v[0], -u[1] - v[1], -u[2] - v[2]],
+                    [u[0] - v[0], u[1] - v[1], u[2] - v[2]],
+                ];
+                for end in [a, b] {
+                    for c in &corners {
+                        let _ = writeln!(
+                            out,
+                            "v {} {} {}",
+                            end[0] + c[0],
+                            end[1] + c[1],
+                            end[2] + c[2]
+                        );
+                    }
+                }
+                for k in 0..4 {
+                    let k1 = (k + 1) % 4;
+                    let _ = writeln!(
+                        out,
+                        "f {} {} {} {}",
+                        next + k,
+                        next + k1,
+                        next + 4 + k1,
+                        next + 4 + k
+                    );
+                }
+                next += 8;
+            }
+            Item::Polygon { points, .. } => {
+                if points.len() < 3 {
+                    continue;
+                }
+                for p in points {
+                    let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
+                }
+                out.push('f');
+                for k in 0..points.len() {
+                    let _ = write!(out, " {}", next + k);
+                }
+                out.push('\n');
+                next += points.len();
+            }
+        }
+    }
+    out
+}
+
+/// The CSV of every segment of every frame.
+fn csv(records: &[Record]) -> String {
+    let mut out = String::from("frame,ax,ay,az,bx,by,bz,width,colour\n");
+    let mut frame = 0u32;
+    for r in records {
+        match r {
+            Record::FrameStart { frame: k, .. } => frame = *k,
+            Record::Segment {
+                a,
+                b,
+                width,
+                colour,
+            } => {
+                let (a, b) = (p3(a), p3(b));
+                let _ = writeln!(
+                    out,
+                    "{frame},{},{},{},{},{},{},{},{colour}",
+                    a[0],
+                    a[1],
+                    a[2],
+                    b[0],
+                    b[1],
+                    b[2],
+                    f(*width)
+                );
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Writes `plant.png`, `plant.obj` and `segments.csv`.
+///
+/// # Errors
+/// When a file cannot be written.
+pub fn write(records: &[Record], dir: &Path) -> Result<Vec<PathBuf>> {
+    let items = last_frame(records);
+    let png_path = dir.join("plant.png");
+    png(&items, 1000, &png_path)?;
+    let obj_path = dir.join("plant.obj");
+    write_atomic(&obj_path, obj(&items).as_bytes())?;
+    let csv_path = dir.join("segments.csv");
+    write_atomic(&csv_path, csv(records).as_bytes())?;
+    Ok(vec![png_path, obj_path, csv_path])
+}
+
+/// Runs the grammar `text` (read from `file`, named in errors) with
+/// `seed`: streaming when context-free, otherwise buffered in two buffers
+/// of [`HOST_BUFFER_MODULES`].
+///
+/// # Errors
+/// A located parse error (`file:line:column: …`) or a run error.
+pub fn run_grammar(file: &Path, text: &str, seed: u64) -> Result<Run> {
+    let mut encoder = Encoder::new(Bytes::default());
+    let mut name = PresetName::new();
+    name.push_str(GRAMMAR_PRESET)
+        .map_err(|()| anyhow!("preset name too long"))?;
+    let header = Header {
+        version: FORMAT_VERSION,
+        preset: name,
+        seed,
+        params: params_digest(text),
+    };
+    encoder
+        .record(&Record::Header(header))
+        .map_err(|e| anyhow!("{e}"))?;
+    let located = |e: LsysError| match e {
+        LsysError::Parse(p) => anyhow!("{}:{}:{}: {}", file.display(), p.line, p.column, p.kind),
+        other => anyhow!("{}: {other}", file.display()),
+    };
+    let mut probe = morphogen::lsys::Grammar::new();
+    probe.parse(text).map_err(|e| located(e.into()))?;
+    if probe.is_context_sensitive() {
+        let mut a = vec![Module::default(); HOST_BUFFER_MODULES];
+        let mut b = vec![Module::default(); HOST_BUFFER_MODULES];
+        let mut sim = LSystem::with_derivation(Buffered::new(&mut a, &mut b));
+        drive(&mut sim, text, seed, &mut encoder).map_err(|e| {
+            anyhow!(
+                "{}: {e} (context-sensitive grammars are derived in two buffers of {HOST_BUFFER_MODULES} modules)",
+                file.display()
+            )
+        })?;
+    } else {
+        let mut sim = Box::new(LSystem::<Streaming>::new());
+        drive(&mut sim, text, seed, &mut encoder)
+            .map_err(|e| anyhow!("{}: {e}", file.display()))?;
+    }
+    let digest = encoder.digest();
+    let frames = encoder.frames();
+    Ok(Run {
+        stream: encoder.into_writer().0,
+        digest,
+        frames,
+    })
+}
+
+fn drive<D: Derivation>(
+    sim: &mut LSystem<D>,
+    text: &str,
+    seed: u64,
+    encoder: &mut Encoder<Bytes>,
+) -> Result<(), morphogen::Error> {
+    sim.load(text, seed)?;
+    loop {
+        if sim.step(encoder)?.finished() {
+            return Ok(());
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grammar_errors_name_the_file_line_and_column() {
+        let e = run_grammar(Path::new("my.lsys"), "n = 2\naxiom: F\nF -> F(1", 0).unwrap_err();
+        assert_eq!(e.to_string(), "my.lsys:3:9: expected `,` or `)`");
+    }
+
+    #[test]
+    fn context_sensitive_grammars_run_buffered_and_draw() {
+        let text = include_str!("../../../grammars/abop-context-1-31a.lsys");
+        let run = run_grammar(Path::new("ctx.lsys"), text, 0).unwrap();
+        let records: Vec<Record> = morphogen::stream::Decoder::new(&run.stream)
+            .filter_map(|d| d.result.ok())
+            .collect();
+        let segments = records
+            .iter()
+            .filter(|r| matches!(r, Record::Segment { .. }))
+            .count();
+        assert!(segments > 1000, "{segments}");
+        let dir = tempfile::tempdir().unwrap();
+        let written = write(&records, dir.path()).unwrap();
+        assert_eq!(written.len(), 3);
+        let obj = std::fs::read_to_string(dir.path().join("plant.obj")).unwrap();
+        assert_eq!(
+            obj.lines().filter(|l| l.starts_with("v ")).count(),
+            8 * segments
+        );
+        let csv = std::fs::read_to_string(dir.path().join("segments.csv")).unwrap();
+        assert_eq!(csv.lines().count(), segments + 1);
+    }
+
+    #[test]
+    fn palette_ramps_from_bark_to_leaf() {
+        assert_eq!(palette(0), [101, 67, 33]);
+        assert_eq!(palette(8), [50, 130, 45]);
+        assert_eq!(palette(12), palette(400));
+    }
+}

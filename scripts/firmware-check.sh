@@ -1,0 +1,173 @@
+#!/usr/bin/env bash
+# Firmware check (issue 3): builds firmware-example for thumbv7m, thumbv6m
+# and thumbv7em, runs each in QEMU's lm3s6965evb with `-icount shift=0`
+# (UART0 → capture file, defmt over semihosting → defmt-print), verifies every
+# capture bit for bit with `morphogen verify --stream`, checks that a flipped
+# bit is caught, and rewrites firmware-example/REPORT.md (sizes and costs).
+#
+# Usage: scripts/firmware-check.sh [--capture FILE] [--flip BYTE[:BIT]] [--no-report]
+#   --capture FILE    only verify FILE (e.g. a capture from real hardware)
+#   --flip BYTE[:BIT] where the negative check flips a bit (default: middle
+#                     of the capture, bit 0)
+#   --no-report       do not rewrite REPORT.md
+# Environment:
+#   MORPHOGEN_VERIFY  the verify command, given the capture as last argument
+#                     (default: cargo run --release -q -p morphogen-cli -- verify --stream)
+#   CARGO_TARGET_DIR  honoured (default: firmware-example/target)
+#   QEMU_TIMEOUT      seconds per QEMU run (default 600)
+#
+# Installs what is missing, and only that: rustup targets, qemu-system-arm
+# (apt-get), defmt-print (cargo install --locked), binutils' `size`.
+set -euo pipefail
+
+root="$(cd "$(dirname "$0")/.." && pwd)"
+fw="$root/firmware-example"
+capture_only=""
+flip=""
+write_report=1
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --capture) capture_only="$2"; shift 2 ;;
+    --flip) flip="$2"; shift 2 ;;
+    --no-report) write_report=0; shift ;;
+    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    *) echo "firmware-check: unknown argument $1" >&2; exit 2 ;;
+  esac
+done
+
+say() { printf '\n== %s\n' "$*"; }
+die() { printf 'firmware-check: FAIL: %s\n' "$*" >&2; exit 1; }
+
+# Default: the CLI's `verify --stream`, built from the workspace at the root.
+if [ -n "${MORPHOGEN_VERIFY:-}" ]; then
+  read -r -a verify_cmd <<<"$MORPHOGEN_VERIFY"
+else
+  verify_cmd=(cargo run --release -q --manifest-path "$root/Cargo.toml" -p morphogen-cli -- verify --stream)
+fi
+
+verify() { # verify CAPTURE LOG → exit status of the verifier
+  (cd "$root" && "${verify_cmd[@]}" "$1") >"$2" 2>&1
+}
+
+# A copy of $1 with one bit flipped at byte $2 (bit $3) written to $4.
+flip_bit() {
+  python3 - "$1" "$2" "$3" "$4" <<'PY'
+import sys
+src, at, bit, dst = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+data = bytearray(open(src, 'rb').read())
+if not 0 <= at < len(data):
+    sys.exit(f"--flip: byte {at} is outside the {len(data)}-byte capture")
+data[at] ^= 1 << bit
+open(dst, 'wb').write(bytes(data))
+PY
+}
+
+# Negative check: a flipped bit must fail verification, naming the preset
+# (when known) and a frame.
+negative_check() { # CAPTURE EXPECTED_PRESET(or empty) WORKDIR
+  local capture="$1" expected="$2" work="$3" at bit size
+  size=$(stat -c %s "$capture")
+  if [ -n "$flip" ]; then at="${flip%%:*}"; bit="${flip#*:}"; [ "$bit" = "$flip" ] && bit=0
+  else at=$((size / 2)); bit=0; fi
+  flip_bit "$capture" "$at" "$bit" "$work/flipped.bin"
+  say "negative check: bit $bit of byte $at flipped"
+  if verify "$work/flipped.bin" "$work/verify-flipped.log"; then
+    cat "$work/verify-flipped.log"
+    die "a capture with a flipped bit passed verification"
+  fi
+  cat "$work/verify-flipped.log"
+  if [ -n "$expected" ] && ! grep -q -- "$expected" "$work/verify-flipped.log"; then
+    die "the verifier failed but did not name preset $expected"
+  fi
+  grep -qi "frame" "$work/verify-flipped.log" || die "the verifier failed but did not name a frame"
+  echo "negative check: rejected as expected"
+}
+
+if [ -n "$capture_only" ]; then
+  work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+  say "verify $capture_only"
+  verify "$capture_only" "$work/verify.log" || { cat "$work/verify.log"; die "verification of $capture_only failed"; }
+  cat "$work/verify.log"
+  negative_check "$capture_only" "" "$work"
+  exit 0
+fi
+
+# ---- tools -----------------------------------------------------------------
+targets=(thumbv7m-none-eabi thumbv6m-none-eabi thumbv7em-none-eabihf)
+as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
+apt_updated=0
+apt_install() {
+  [ $apt_updated -eq 1 ] || { as_root apt-get update -qq; apt_updated=1; }
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@"
+}
+installed_targets="$(rustup target list --installed)"
+for t in "${targets[@]}"; do
+  grep -qx "$t" <<<"$installed_targets" || { say "rustup target add $t"; rustup target add "$t"; }
+done
+command -v qemu-system-arm >/dev/null || { say "installing qemu-system-arm"; apt_install qemu-system-arm; }
+command -v size >/dev/null || { say "installing binutils (size)"; apt_install binutils; }
+command -v python3 >/dev/null || { say "installing python3"; apt_install python3; }
+command -v defmt-print >/dev/null || { say "cargo install defmt-print --locked"; cargo install defmt-print --locked; }
+
+# ---- build -------------------------------------------------------------------
+tdir="${CARGO_TARGET_DIR:-$fw/target}"
+work="$tdir/firmware-check"
+rm -rf "$work"; mkdir -p "$work"
+cd "$fw"
+# The RTT variant (real hardware) first: it shares the ELF path of the
+# default thumbv7m build, which the loop below then rebuilds.
+say "build (rtt feature, thumbv7m-none-eabi)"
+cargo build --release --no-default-features --features rtt --target thumbv7m-none-eabi
+for t in "${targets[@]}"; do
+  say "build $t"
+  cargo build --release --target "$t"
+done
+
+# ---- run in QEMU and verify ----------------------------------------------------
+qemu_cpu() { case "$1" in thumbv7em-*) echo cortex-m4 ;; *) echo cortex-m3 ;; esac; }
+for t in "${targets[@]}"; do
+  elf="$tdir/$t/release/morphogen-firmware"
+  cp "$elf" "$work/$t.elf"
+  say "QEMU lm3s6965evb -cpu $(qemu_cpu "$t"): $t"
+  set +e
+  timeout "${QEMU_TIMEOUT:-600}" qemu-system-arm -machine lm3s6965evb -cpu "$(qemu_cpu "$t")" \
+    -display none -monitor none -parallel none \
+    -semihosting-config enable=on,target=native -icount shift=0 \
+    -serial "file:$work/$t.bin" -kernel "$elf" 2>"$work/$t.qemu.err" \
+    | defmt-print -e "$elf" >"$work/$t.log" 2>&1
+  status=("${PIPESTATUS[@]}")
+  set -e
+  cat "$work/$t.log"
+  [ "${status[0]}" -eq 0 ] || { cat "$work/$t.qemu.err" >&2; die "$t: QEMU exited ${status[0]} (firmware panic, fault, failed preset or timeout)"; }
+  grep -q "all .* presets streamed" "$work/$t.log" || die "$t: the firmware did not report completion"
+  say "verify $t capture ($(stat -c %s "$work/$t.bin") bytes)"
+  verify "$work/$t.bin" "$work/$t.verify.log" || { cat "$work/$t.verify.log"; die "$t: capture does not match the fixtures"; }
+  cat "$work/$t.verify.log"
+done
+
+# The flipped bit lands in the preset that owns the byte (from the firmware's
+# per-preset byte counts, in stream order).
+main_capture="$work/thumbv7m-none-eabi.bin"
+expected="$(python3 - "$work/thumbv7m-none-eabi.log" "$(stat -c %s "$main_capture")" "${flip%%:*}" <<'PY'
+import re, sys
+log, size, flip = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+at = int(flip) if flip else size // 2
+offset = 0
+for m in re.finditer(r"report preset=(\S+) .*?bytes=(\d+)", open(log).read()):
+    if offset <= at < offset + int(m.group(2)):
+        print(m.group(1)); break
+    offset += int(m.group(2))
+PY
+)"
+negative_check "$main_capture" "$expected" "$work"
+
+# ---- report ------------------------------------------------------------------
+if [ $write_report -eq 1 ]; then
+  # The host registry (with `host-capacity`), to name the host-only presets.
+  (cd "$root" && cargo run --release -q -p morphogen-cli -- list) >"$work/host-presets.txt" 2>/dev/null \
+    || rm -f "$work/host-presets.txt"
+  say "writing firmware-example/REPORT.md"
+  VERIFY_COMMAND="${verify_cmd[*]}" python3 "$fw/report.py" "$work" "${targets[@]}" >"$fw/REPORT.md"
+  cat "$fw/REPORT.md"
+fi
+say "firmware check passed"
