@@ -96,16 +96,21 @@ w("\nEvery target streamed the same bytes (same digests), and each capture\n"
   f"passed `{verifier} CAPTURE`.\n\n")
 
 w("## Presets at reduced size, and host-only presets\n\n")
-w(f"The firmware runs every preset of the core's registry as built for it\n"
-  f"(`morphogen::preset::PRESETS` without the `host-capacity` feature):\n"
+w(f"The firmware runs every preset of the core's registry\n"
+  f"(`morphogen::preset::PRESETS`; the core has no heap, and the big mosaics are\n"
+  f"host presets in `host-cli/src/host_presets.rs`):\n"
   f"{len(main['presets'])} presets here, none skipped (an error fails the run).\n\n")
 fw_names = [p["name"] for p in main["presets"]]
 host = []
+why = {}
 try:
     for line in open(f"{work}/host-presets.txt", encoding="utf-8"):
-        m = re.match(r"(\S+)\s+seed\s+\d+\s+(.*)", line.strip())
+        # `NAME  seed N  SUMMARY`, then `  (host only: WHY)` on host presets.
+        m = re.match(r"(\S+)\s+seed\s+\d+\s+(.*?)(?:\s+\((host only: .*)\))?$", line.strip())
         if m:
             host.append((m[1], m[2]))
+            if m[3]:
+                why[m[1]] = m[3][len("host only: "):]
 except OSError:
     pass
 if not host:
@@ -113,11 +118,12 @@ if not host:
 else:
     summaries = dict(host)
     reduced = [n for n in fw_names if "mcu" in n.lower() or "MCU" in summaries.get(n, "")]
-    host_only = [(n, s) for n, s in host if n not in fw_names]
+    host_only = [(n, s) for n, s in host if n not in fw_names or n in why]
     w("| preset | on the firmware | why |\n|---|---|---|\n")
     for n in reduced:
         w(f"| {n} | yes, reduced size, own fixture | {summaries.get(n, '')} |\n")
     for n, s in host_only:
-        w(f"| {n} | no: host only (`host-capacity`) | its state exceeds the 64 KiB RAM; {s} |\n")
+        reason = why.get(n, "its state exceeds the 64 KiB RAM")
+        w(f"| {n} | no: host only (`host-cli/src/host_presets.rs`) | {reason}; {s} |\n")
     if not reduced and not host_only:
         w("None: every host preset runs on the firmware at full size.\n")

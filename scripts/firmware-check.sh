@@ -163,7 +163,9 @@ negative_check "$main_capture" "$expected" "$work"
 
 # ---- report ------------------------------------------------------------------
 if [ $write_report -eq 1 ]; then
-  # The host registry (with `host-capacity`), to name the host-only presets.
+  # Every preset the host knows (core, then the host presets of
+  # host-cli/src/host_presets.rs, marked "host only"), to name the
+  # host-only presets.
   (cd "$root" && cargo run --release -q -p morphogen-cli -- list) >"$work/host-presets.txt" 2>/dev/null \
     || rm -f "$work/host-presets.txt"
   say "writing firmware-example/REPORT.md"

@@ -1,5 +1,7 @@
 //! Clonal mosaic costs (issue 6). Run with
-//! `cargo bench -p morphogen --features host-capacity --bench mosaic`.
+//! `cargo bench -p morphogen --bench mosaic`. The big mosaics are host
+//! presets (`host-cli/src/host_presets.rs`; the core has no heap): this
+//! bench runs them on its own `Vec`-backed store, as the host does.
 //!
 //! 1. `sansevieria` end to end on one core (the thesis's 25–30 minute run):
 //!    median of 5 wall-clock runs, with cell-relaxation steps per second.
@@ -13,11 +15,65 @@ use std::time::Instant;
 use criterion::{Criterion, criterion_group, criterion_main};
 use morphogen::mosaic::grid::Grid;
 use morphogen::mosaic::relaxation::{self, Forces};
-use morphogen::mosaic::store::{self, CellStore, VecStore};
+use morphogen::mosaic::store::{self, CellSlices, CellStore};
 use morphogen::mosaic::{MAX_TYPES, Mosaic, Params, presets};
-use morphogen::preset::{self, Runner};
+use morphogen::preset;
 use morphogen::sim::Simulation;
 use morphogen::stream::{ByteSink, Encoder, Record, Sink, SinkError};
+
+/// A cell store on the heap (the host's, `host-cli/src/host_presets.rs`).
+struct VecStore {
+    pos: Vec<[i32; 2]>,
+    kind: Vec<u8>,
+    next_division: Vec<u16>,
+    order: Vec<u32>,
+    push: Vec<[i32; 2]>,
+    bins: Vec<u32>,
+}
+
+impl VecStore {
+    fn new(cells: usize, bins: usize) -> VecStore {
+        VecStore {
+            pos: vec![[0; 2]; cells],
+            kind: vec![0; cells],
+            next_division: vec![0; cells],
+            order: vec![0; cells],
+            push: vec![[0; 2]; cells],
+            bins: vec![0; bins],
+        }
+    }
+
+    /// Sized like the host's store for `params`.
+    fn for_params(params: &Params) -> VecStore {
+        let cells = presets::host_capacity(params);
+        VecStore::new(cells, cells / 4 + 1)
+    }
+}
+
+impl CellStore for VecStore {
+    fn capacity(&self) -> usize {
+        self.pos.len()
+    }
+
+    fn slices(&mut self) -> CellSlices<'_> {
+        CellSlices {
+            pos: &mut self.pos,
+            kind: &mut self.kind,
+            next_division: &mut self.next_division,
+            order: &mut self.order,
+            push: &mut self.push,
+            bins: &mut self.bins,
+        }
+    }
+
+    fn positions(&self) -> &[[i32; 2]] {
+        &self.pos
+    }
+
+    fn kinds(&self) -> &[u8] {
+        &self.kind
+    }
+}
 
 /// Counts bytes like a file would.
 struct Bytes(u64);
@@ -39,8 +95,7 @@ impl Sink for Null {
 
 /// Cell-relaxation steps of one sansevieria run: Σ over relaxations of N.
 fn relaxation_steps(params: &'static Params) -> u64 {
-    let cells = presets::host_capacity(params);
-    let mut m = Mosaic::new(VecStore::new(cells, cells / 4 + 1));
+    let mut m = Mosaic::new(VecStore::for_params(params));
     m.start(params, 1).ok();
     let mut steps = 0u64;
     loop {
@@ -58,21 +113,24 @@ fn relaxation_steps(params: &'static Params) -> u64 {
 }
 
 fn end_to_end() {
-    let sansevieria = preset::find("sansevieria").expect("host-capacity registry");
+    let params = &presets::SANSEVIERIA;
+    let seed = 1; // the host preset's default
     let mut times = Vec::new();
     let mut bytes = 0;
     for _ in 0..5 {
         let mut encoder = Encoder::new(Bytes(0));
-        let mut runner = Runner::new();
         let t = Instant::now();
-        preset::run(
-            sansevieria,
-            sansevieria.default_seed,
-            &mut runner,
-            &mut encoder,
-            &mut |_| {},
-        )
-        .expect("runs");
+        // As the host runs it: header, then every step.
+        let mut m = Mosaic::new(VecStore::for_params(params));
+        m.start(params, seed).expect("valid");
+        encoder
+            .record(&preset::header(
+                "sansevieria",
+                seed,
+                morphogen::stream::params_digest(params),
+            ))
+            .expect("header");
+        while !m.step(&mut encoder).expect("runs").finished() {}
         times.push(t.elapsed().as_secs_f64());
         bytes = encoder.into_writer().0;
     }

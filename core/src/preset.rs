@@ -24,81 +24,83 @@ pub struct Preset {
 }
 
 /// Every built-in preset, in `morphogen list` order.
-pub static PRESETS: &[Preset] = &[Preset {
-    name: "growth-curve",
-    summary: "seasonal sigmoid growth f(t) of a horn module over one year, daily (horn paper Sec. 2, Fig. 7c)",
-    default_seed: 0,
-    start: |runner, _seed| {
-        *runner = Runner::GrowthCurve(GrowthCurve::new(growth_curve::PARAMS));
-        params_digest(&growth_curve::PARAMS)
+pub static PRESETS: &[Preset] = &[
+    Preset {
+        name: "growth-curve",
+        summary: "seasonal sigmoid growth f(t) of a horn module over one year, daily (horn paper Sec. 2, Fig. 7c)",
+        default_seed: 0,
+        start: |runner, _seed| {
+            *runner = Runner::GrowthCurve(GrowthCurve::new(growth_curve::PARAMS));
+            params_digest(&growth_curve::PARAMS)
+        },
     },
-},
-Preset {
-    name: "ram-horn",
-    summary: "ram horn of 8 modules placed by positioners (horn paper Table 1), every half year for 8 years",
-    default_seed: 0,
-    start: |runner, _seed| {
-        *runner = Runner::Horn(Horn::new(&horn::presets::RAM_HORN));
-        params_digest(&horn::presets::RAM_HORN)
+    Preset {
+        name: "ram-horn",
+        summary: "ram horn of 8 modules placed by positioners (horn paper Table 1), every half year for 8 years",
+        default_seed: 0,
+        start: |runner, _seed| {
+            *runner = Runner::Horn(Horn::new(&horn::presets::RAM_HORN));
+            params_digest(&horn::presets::RAM_HORN)
+        },
     },
-},
-Preset {
-    name: "ram-horn-animation",
-    summary: "the ram horn growing, monthly frames for 8 years, monthly rings (horn paper Sec. 7, Fig. 10)",
-    default_seed: 0,
-    start: |runner, _seed| {
-        *runner = Runner::Horn(Horn::new(&horn::presets::RAM_HORN_ANIMATION));
-        params_digest(&horn::presets::RAM_HORN_ANIMATION)
+    Preset {
+        name: "ram-horn-animation",
+        summary: "the ram horn growing, monthly frames for 8 years, monthly rings (horn paper Sec. 7, Fig. 10)",
+        default_seed: 0,
+        start: |runner, _seed| {
+            *runner = Runner::Horn(Horn::new(&horn::presets::RAM_HORN_ANIMATION));
+            params_digest(&horn::presets::RAM_HORN_ANIMATION)
+        },
     },
-},
-Preset {
-    name: "abop-shrub",
-    summary: "L-system: ABOP Fig. 1.25 shrub, n = 7, δ = 22.5°, 77 399 modules derived streaming (grammars/abop-shrub.lsys)",
-    default_seed: 0,
-    start: |runner, seed| start_lsystem(runner, lsys::presets::SHRUB, seed),
-},
-Preset {
-    name: "abop-2d-plant",
-    summary: "L-system: ABOP Fig. 1.24a bracketed 2D plant, n = 5, δ = 25.7° (grammars/abop-2d-plant.lsys)",
-    default_seed: 0,
-    start: |runner, seed| start_lsystem(runner, lsys::presets::PLANT_2D, seed),
-},
-Preset {
-    name: "abop-stochastic",
-    summary: "L-system: ABOP Fig. 1.27 stochastic plants, three side by side from seeds s, s+1, s+2 (grammars/abop-stochastic.lsys)",
-    default_seed: 1,
-    start: |runner, seed| start_lsystem(runner, lsys::presets::STOCHASTIC, seed),
-},
-Preset {
-    name: "abop-monopodial",
-    summary: "L-system: ABOP Fig. 2.6a parametric monopodial tree, n = 10 (grammars/abop-monopodial.lsys)",
-    default_seed: 0,
-    start: |runner, seed| start_lsystem(runner, lsys::presets::MONOPODIAL, seed),
-},
-Preset {
-    name: "croton-mcu",
-    summary: "MClone croton leaf sized for a 64 KB MCU: 180 cells growing to ~1 800 over 35 days, every day (thesis Fig. 4.1; runs on the firmware)",
-    default_seed: 1,
-    start: |runner, seed| start_mosaic_mcu(runner, &mosaics::CROTON_MCU, seed),
-},
-Preset {
-    name: "horse-growth",
-    summary: "quarter horse of 18 cylinders grown by its measured table, 0-60 months every 6 months (growth paper Table 1, Fig. 5)",
-    default_seed: 0,
-    start: |runner, _seed| start_body(runner, &body::presets::HORSE_GROWTH),
-},
-Preset {
-    name: "cow-growth",
-    summary: "Holstein of 18 cylinders grown by its measured table, 0-36 months every 3 months (growth paper Table 2, Fig. 6)",
-    default_seed: 0,
-    start: |runner, _seed| start_body(runner, &body::presets::COW_GROWTH),
-},
-Preset {
-    name: "horse-trot",
-    summary: "the horse trotting (12 frames per stride, diagonal pairs) while growing from 6 to 60 months (growth paper Sec. 7, Fig. 8)",
-    default_seed: 0,
-    start: |runner, _seed| start_body(runner, &body::presets::HORSE_TROT),
-}];
+    Preset {
+        name: "abop-shrub",
+        summary: "L-system: ABOP Fig. 1.25 shrub, n = 7, δ = 22.5°, 77 399 modules derived streaming (grammars/abop-shrub.lsys)",
+        default_seed: 0,
+        start: |runner, seed| start_lsystem(runner, lsys::presets::SHRUB, seed),
+    },
+    Preset {
+        name: "abop-2d-plant",
+        summary: "L-system: ABOP Fig. 1.24a bracketed 2D plant, n = 5, δ = 25.7° (grammars/abop-2d-plant.lsys)",
+        default_seed: 0,
+        start: |runner, seed| start_lsystem(runner, lsys::presets::PLANT_2D, seed),
+    },
+    Preset {
+        name: "abop-stochastic",
+        summary: "L-system: ABOP Fig. 1.27 stochastic plants, three side by side from seeds s, s+1, s+2 (grammars/abop-stochastic.lsys)",
+        default_seed: 1,
+        start: |runner, seed| start_lsystem(runner, lsys::presets::STOCHASTIC, seed),
+    },
+    Preset {
+        name: "abop-monopodial",
+        summary: "L-system: ABOP Fig. 2.6a parametric monopodial tree, n = 10 (grammars/abop-monopodial.lsys)",
+        default_seed: 0,
+        start: |runner, seed| start_lsystem(runner, lsys::presets::MONOPODIAL, seed),
+    },
+    Preset {
+        name: "croton-mcu",
+        summary: "MClone croton leaf sized for a 64 KB MCU: 180 cells growing to ~1 800 over 35 days, every day (thesis Fig. 4.1; runs on the firmware)",
+        default_seed: 1,
+        start: |runner, seed| start_mosaic_mcu(runner, &mosaics::CROTON_MCU, seed),
+    },
+    Preset {
+        name: "horse-growth",
+        summary: "quarter horse of 18 cylinders grown by its measured table, 0-60 months every 6 months (growth paper Table 1, Fig. 5)",
+        default_seed: 0,
+        start: |runner, _seed| start_body(runner, &body::presets::HORSE_GROWTH),
+    },
+    Preset {
+        name: "cow-growth",
+        summary: "Holstein of 18 cylinders grown by its measured table, 0-36 months every 3 months (growth paper Table 2, Fig. 6)",
+        default_seed: 0,
+        start: |runner, _seed| start_body(runner, &body::presets::COW_GROWTH),
+    },
+    Preset {
+        name: "horse-trot",
+        summary: "the horse trotting (12 frames per stride, diagonal pairs) while growing from 6 to 60 months (growth paper Sec. 7, Fig. 8)",
+        default_seed: 0,
+        start: |runner, _seed| start_body(runner, &body::presets::HORSE_TROT),
+    },
+];
 
 /// The preset called `name`.
 #[must_use]

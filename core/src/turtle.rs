@@ -158,22 +158,6 @@ pub struct Turtle<R: Real = Fx> {
     sin_delta: R,
 }
 
-/// Degrees as a binary angle, for any `deg` (wraps modulo a turn).
-///
-/// The same value as [`Angle::from_degrees_fx`], which overflows `i64` (a
-/// panic in debug builds) for |deg| ≳ 180°: the product is taken modulo
-/// 2⁶⁴, whose bits 32..63 are exactly the wanted angle modulo one turn.
-#[must_use]
-pub const fn degrees(deg: Fx) -> Angle {
-    /// 2³² / 360 as Q16, as in `fx::angle`.
-    const UNITS_PER_DEGREE_Q16: i64 = 781_874_935_307;
-    let units = (deg.to_bits() as i64)
-        .wrapping_mul(UNITS_PER_DEGREE_Q16)
-        .wrapping_add(1 << 31)
-        >> 32;
-    Angle(units as u32)
-}
-
 /// `(a, b) ← (a·c + b·s, b·c − a·s)`: the rotation of the plane (a, b) that
 /// turns a towards b.
 fn rotate<R: Real>(a: &mut Vector3<R>, b: &mut Vector3<R>, c: R, s: R) {
@@ -284,7 +268,7 @@ impl<R: Real> Turtle<R> {
     fn angle(&self, m: &Module) -> (R, R) {
         match m.args().first() {
             Some(&deg) => {
-                let a = degrees(deg);
+                let a = Angle::from_degrees_fx(deg);
                 (R::cos(a), R::sin(a))
             }
             None => (self.cos_delta, self.sin_delta),
@@ -536,17 +520,6 @@ mod tests {
             t.polygon(),
             [v(0, 0, 0), v(0, 1, 0), v(-1, 1, 0), v(-1, 0, 0)]
         );
-    }
-
-    #[test]
-    fn degrees_agree_with_fx_angle_and_wrap() {
-        for d in [-179, -90, -1, 0, 1, 22, 45, 90, 137, 179] {
-            let deg = Fx::from_int(d) + Fx::from_ratio(1, 7);
-            assert_eq!(degrees(deg), Angle::from_degrees_fx(deg), "{d}");
-        }
-        assert_eq!(degrees(Fx::from_int(270)), Angle::from_degrees(-90));
-        assert_eq!(degrees(Fx::from_int(-720)), Angle::ZERO);
-        assert_eq!(degrees(Fx::MAX), degrees(Fx::MAX - Fx::from_int(360)));
     }
 
     #[test]

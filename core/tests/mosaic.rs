@@ -1,7 +1,11 @@
 //! Cross-module checks of the clonal mosaic (issue 6): regularity after the
 //! initial relaxation, growth and mutation against an independent
 //! reference of the division process, and reproducibility.
-#![allow(clippy::float_arithmetic, clippy::unwrap_used, clippy::needless_range_loop)]
+#![allow(
+    clippy::float_arithmetic,
+    clippy::unwrap_used,
+    clippy::needless_range_loop
+)]
 
 use morphogen::fx::Fx;
 use morphogen::mosaic::params::{MAX_TYPES, NO_MUTATION};

@@ -6,7 +6,7 @@
 //! `croton-mcu` is the firmware-sized croton, in the core registry.
 
 use morphogen::mosaic::presets as mosaics;
-use morphogen::mosaic::store::{CellSlices, CellStore};
+use morphogen::mosaic::store::{CELL_BYTES, CellSlices, CellStore};
 use morphogen::mosaic::{Mosaic, Params};
 use morphogen::preset;
 use morphogen::sim::{Progress, Simulation};
@@ -97,9 +97,11 @@ impl HostPreset {
     /// it there).
     #[must_use]
     pub fn host_only_note(&self) -> String {
+        let cells = self.capacity();
+        let bytes = cells * CELL_BYTES + (cells / 4 + 1) * 4;
         format!(
-            "host only: {} cells exceed an MCU; croton-mcu is the firmware size",
-            self.capacity()
+            "host only: a {cells}-cell store ({:.1} MB) exceeds an MCU; croton-mcu is the firmware size",
+            bytes as f64 / 1e6
         )
     }
 
@@ -124,11 +126,7 @@ impl HostPreset {
     ) -> Result<(), morphogen::Error> {
         let mut mosaic = self.mosaic();
         mosaic.start(self.params, seed)?;
-        sink.record(&preset::header(
-            self.name,
-            seed,
-            params_digest(self.params),
-        ))?;
+        sink.record(&preset::header(self.name, seed, params_digest(self.params)))?;
         loop {
             let p = mosaic.step(sink)?;
             progress(p);

@@ -47,7 +47,12 @@ enum Command {
         out: Option<PathBuf>,
         /// With a body preset: grow this OBJ mesh instead of the built-in
         /// body (needs --cylinders; format: docs/body.md).
-        #[arg(long, value_name = "FILE", requires = "cylinders", conflicts_with = "grammar")]
+        #[arg(
+            long,
+            value_name = "FILE",
+            requires = "cylinders",
+            conflicts_with = "grammar"
+        )]
         mesh: Option<PathBuf>,
         /// The cylinder file for --mesh (docs/body.md).
         #[arg(long, value_name = "FILE", requires = "mesh")]
@@ -320,7 +325,10 @@ fn verify_capture(file: &Path, fixtures: &Path) -> Result<Outcome> {
     }
     println!("{} stream(s) in {}", parts.len(), file.display());
     if !missing.is_empty() {
-        bail!("the capture holds streams without a fixture: {}", missing.join(", "));
+        bail!(
+            "the capture holds streams without a fixture: {}",
+            missing.join(", ")
+        );
     }
     Ok(outcome)
 }

@@ -43,9 +43,23 @@ fn fixture_copy(tmp: &Path) -> PathBuf {
 fn list_names_every_preset() {
     let o = morphogen(&["list"]);
     assert!(o.status.success());
-    for p in morphogen::preset::PRESETS {
-        assert!(text(&o).contains(p.name), "{} missing from list", p.name);
+    for p in exec::all() {
+        assert!(
+            text(&o).contains(p.name()),
+            "{} missing from list",
+            p.name()
+        );
     }
+    // The big mosaics are host presets, marked as such; croton-mcu is not.
+    let line = |name: &str| {
+        text(&o)
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(name))
+            .unwrap_or_else(|| panic!("{name} missing from list"))
+            .to_string()
+    };
+    assert!(line("sansevieria").contains("(host only: "));
+    assert!(!line("croton-mcu").contains("(host only: "));
 }
 
 #[test]

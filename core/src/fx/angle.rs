@@ -58,10 +58,15 @@ impl Angle {
         Angle(q as u32)
     }
 
-    /// Degrees given as a fixed-point number (e.g. read from a grammar).
+    /// Degrees given as a fixed-point number (e.g. read from a grammar), any
+    /// magnitude: the product is taken modulo 2⁶⁴, whose bits 32..63 are
+    /// exactly the angle modulo one turn, rounded.
     #[must_use]
     pub const fn from_degrees_fx(deg: Fx) -> Angle {
-        let units = (deg.to_bits() as i64 * UNITS_PER_DEGREE_Q16 + (1 << 31)) >> 32;
+        let units = (deg.to_bits() as i64)
+            .wrapping_mul(UNITS_PER_DEGREE_Q16)
+            .wrapping_add(1 << 31)
+            >> 32;
         Angle(units as u32)
     }
 
@@ -152,6 +157,23 @@ mod tests {
         assert_eq!(Angle::from_radians_fx(Fx::PI), Angle(2_147_479_307)); // Fx::PI is π rounded to Q16
         assert_eq!(Angle::QUARTER.to_degrees_fx(), Fx::from_int(90));
         assert_eq!(Angle::from_degrees(-30).to_degrees_fx(), Fx::from_int(-30));
+    }
+
+    #[test]
+    fn degrees_of_any_magnitude_wrap() {
+        assert_eq!(
+            Angle::from_degrees_fx(Fx::from_int(270)),
+            Angle::from_degrees(-90)
+        );
+        assert_eq!(Angle::from_degrees_fx(Fx::from_int(-720)), Angle::ZERO);
+        assert_eq!(
+            Angle::from_degrees_fx(Fx::MAX),
+            Angle::from_degrees_fx(Fx::MAX - Fx::from_int(360))
+        );
+        // Far from zero the rounded degree constant costs up to one unit.
+        let far =
+            Angle::from_degrees_fx(Fx::MIN) - Angle::from_degrees_fx(Fx::MIN + Fx::from_int(720));
+        assert!(far.signed().abs() <= 1, "{far:?}");
     }
 
     #[test]

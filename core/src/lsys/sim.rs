@@ -39,7 +39,7 @@ fn turtle_params(g: &Grammar) -> Params<Fx> {
     let s = g.settings();
     Params {
         step: s.step,
-        delta: crate::turtle::degrees(s.delta),
+        delta: crate::fx::Angle::from_degrees_fx(s.delta),
         width: s.width,
         thin: s.thin,
     }

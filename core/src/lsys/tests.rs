@@ -286,13 +286,13 @@ fn fixed_point_shrub_tracks_the_f64_reference() {
     let s = g.settings();
     let mut fx = Turtle::<Fx>::new(Params {
         step: s.step,
-        delta: crate::turtle::degrees(s.delta),
+        delta: crate::fx::Angle::from_degrees_fx(s.delta),
         width: s.width,
         thin: s.thin,
     });
     let mut reference = Turtle::<f64>::new(Params {
         step: 1.0,
-        delta: crate::turtle::degrees(s.delta),
+        delta: crate::fx::Angle::from_degrees_fx(s.delta),
         width: s.width.to_f64(),
         thin: s.thin.to_f64(),
     });

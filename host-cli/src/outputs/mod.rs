@@ -25,7 +25,10 @@ pub fn write(preset: &str, records: &[Record], dir: &Path) -> Result<Vec<PathBuf
         "horse-growth" | "cow-growth" | "horse-trot" => body::write_preset(preset, records, dir),
         "ram-horn" => horn::write(records, dir, RAM_HORN.rings_per_module),
         "ram-horn-animation" => horn::write(records, dir, RAM_HORN_ANIMATION.rings_per_module),
-        name if morphogen::lsys::presets::ALL.iter().any(|(n, _)| *n == name) => {
+        name if morphogen::lsys::presets::ALL
+            .iter()
+            .any(|(n, _)| *n == name) =>
+        {
             plant::write(records, dir)
         }
         name => match morphogen::mosaic::presets::by_name(name) {

@@ -333,7 +333,8 @@ mod tests {
 
     #[test]
     fn pbm_round_trips_and_rejects_garbage() {
-        static BITS: [u8; 4] = [0b1010_0000, 0b0100_0000, 0, 0b1000_0000];
+        // Rows of 9 bits take 2 bytes each; the 7 padding bits stay clear.
+        static BITS: [u8; 4] = [0b1010_0000, 0b1000_0000, 0, 0b1000_0000];
         let mask = Mask {
             width: 9,
             height: 2,
