@@ -14,13 +14,23 @@
 //! ```
 //! use morphogen::mosaic::{Mosaic, presets, store::ArrayStore};
 //! use morphogen::sim::Simulation;
-//! use morphogen::stream::Digest;
+//! use morphogen::stream::{Record, Sink, SinkError};
+//!
+//! /// Counts cell records.
+//! struct Cells(usize);
+//! impl Sink for Cells {
+//!     fn record(&mut self, r: &Record) -> Result<(), SinkError> {
+//!         self.0 += usize::from(matches!(r, Record::Cell { .. }));
+//!         Ok(())
+//!     }
+//! }
 //!
 //! let mut m = Mosaic::new(ArrayStore::<2048, 513>::EMPTY);
 //! m.start(&presets::CROTON_MCU, 7).unwrap();
-//! let mut sink = Digest::new();
+//! let mut sink = Cells(0);
 //! while !m.step(&mut sink).unwrap().finished() {}
 //! assert!(m.len() > presets::CROTON_MCU.initial_cells as usize * 5);
+//! assert!(sink.0 > m.len());
 //! ```
 
 pub mod control;
