@@ -14,12 +14,10 @@ use morphogen::body::{
 };
 use morphogen::fx::{Angle, Fx};
 use morphogen::sim::Simulation;
-use morphogen::stream::{
-    Decoder, Encoder, FORMAT_VERSION, Header, PresetName, Record, Sink, params_digest,
-};
+use morphogen::stream::{Encoder, Sink, params_digest};
 
-use crate::exec::{Bytes, Run};
-use crate::{Outcome, fixture, jsonl, outputs};
+use crate::exec::{self, Bytes, Run};
+use crate::{Outcome, outputs};
 
 /// Capacity of a user body (cylinders); the built-in ones use 24.
 pub const USER_CYLINDERS: usize = 64;
@@ -376,19 +374,12 @@ pub fn run(
         morphogen::body::binding_summary::<USER_CYLINDERS>(&model, base.table).map_err(locate)?;
     let seed = seed.unwrap_or(0);
     let mut encoder = Encoder::new(Bytes::default());
-    let mut name = PresetName::new();
-    for c in preset.chars() {
-        if name.push(c).is_err() {
-            break;
-        }
-    }
     encoder
-        .record(&Record::Header(Header {
-            version: FORMAT_VERSION,
-            preset: name,
+        .record(&morphogen::preset::header(
+            preset,
             seed,
-            params: params_digest(&params),
-        }))
+            params_digest(&params),
+        ))
         .map_err(|e| anyhow!("{e}"))?;
     let mut body = Box::new(Body::<'_, USER_CYLINDERS>::new());
     body.start(&params);
@@ -407,17 +398,9 @@ pub fn run(
         .file_stem()
         .map_or_else(|| "mesh".into(), |s| s.to_string_lossy().into_owned());
     let dir = out.unwrap_or_else(|| Path::new("out").join(format!("{preset}-{stem}")));
-    fs::create_dir_all(&dir)
-        .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-    let stream_path = dir.join("stream.bin");
-    fixture::write_atomic(&stream_path, &run.stream)?;
-    let jsonl_path = dir.join("records.jsonl");
-    fixture::write_atomic(&jsonl_path, jsonl::stream(&run.stream).as_bytes())?;
-    let records: Vec<_> = Decoder::new(&run.stream)
-        .filter_map(|d| d.result.ok())
-        .collect();
-    let mut written = vec![stream_path, jsonl_path];
-    written.extend(outputs::body::write(preset, &records, &dir, Some(binding))?);
+    let written = exec::write_outputs(&dir, &run, |records, dir| {
+        outputs::body::write(preset, records, dir, Some(binding))
+    })?;
     println!(
         "{preset} on {mesh_name} + {cyl_name}: {} vertices, {} triangles, {} cylinders; {} vertices in no cylinder follow the nearest",
         obj.vertices.len(),

@@ -3,13 +3,15 @@
 //! ([`morphogen::preset::PRESETS`], also run by the firmware) followed by
 //! the host-only ones ([`HOST_PRESETS`]).
 
+use std::fs;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use anyhow::{Result, anyhow};
+use anyhow::{Context, Result, anyhow};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use morphogen::preset::{self, Preset, Runner};
 use morphogen::sim::Progress;
-use morphogen::stream::{ByteSink, Encoder, SinkError};
+use morphogen::stream::{ByteSink, Decoder, Encoder, Record, SinkError};
 
 use crate::host_presets::{HOST_PRESETS, HostPreset};
 
@@ -141,4 +143,29 @@ pub fn find(name: &str) -> Result<PresetRef> {
         let known: Vec<&str> = all().map(PresetRef::name).collect();
         anyhow!("unknown preset '{name}' (known: {})", known.join(", "))
     })
+}
+
+/// Writes a finished run into `dir` (created if missing): `stream.bin`,
+/// `records.jsonl`, then the files `model` draws from the decoded records.
+/// Returns every path written, in order.
+///
+/// # Errors
+/// When the folder cannot be created or a file cannot be written.
+pub fn write_outputs(
+    dir: &Path,
+    run: &Run,
+    model: impl FnOnce(&[Record], &Path) -> Result<Vec<PathBuf>>,
+) -> Result<Vec<PathBuf>> {
+    fs::create_dir_all(dir)
+        .with_context(|| format!("cannot create output folder {}", dir.display()))?;
+    let stream_path = dir.join("stream.bin");
+    crate::fixture::write_atomic(&stream_path, &run.stream)?;
+    let jsonl_path = dir.join("records.jsonl");
+    crate::fixture::write_atomic(&jsonl_path, crate::jsonl::stream(&run.stream).as_bytes())?;
+    let records: Vec<Record> = Decoder::new(&run.stream)
+        .filter_map(|d| d.result.ok())
+        .collect();
+    let mut written = vec![stream_path, jsonl_path];
+    written.extend(model(&records, dir)?);
+    Ok(written)
 }

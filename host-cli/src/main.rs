@@ -193,20 +193,15 @@ fn run(name: &str, seed: Option<u64>, out: Option<PathBuf>, rig: Option<&str>) -
     fs::create_dir_all(&dir)
         .with_context(|| format!("cannot create output folder {}", dir.display()))?;
     let run = exec::run(preset, seed, true)?;
-    let stream_path = dir.join("stream.bin");
-    fixture::write_atomic(&stream_path, &run.stream)?;
-    let jsonl_path = dir.join("records.jsonl");
-    fixture::write_atomic(&jsonl_path, jsonl::stream(&run.stream).as_bytes())?;
-    let records: Vec<_> = Decoder::new(&run.stream)
-        .filter_map(|d| d.result.ok())
-        .collect();
-    let mut written = vec![stream_path, jsonl_path];
-    written.extend(outputs::write(preset.name(), &records, &dir)?);
-    if let Some((w, h)) = rig {
-        let path = dir.join(format!("rig-{w}x{h}.png"));
-        morphogen_cli::rig::render_rig_png(&records, w, h, &path)?;
-        written.push(path);
-    }
+    let written = exec::write_outputs(&dir, &run, |records, dir| {
+        let mut files = outputs::write(preset.name(), records, dir)?;
+        if let Some((w, h)) = rig {
+            let path = dir.join(format!("rig-{w}x{h}.png"));
+            morphogen_cli::rig::render_rig_png(records, w, h, &path)?;
+            files.push(path);
+        }
+        Ok(files)
+    })?;
     println!(
         "{} seed {}: {} frames, {} bytes, digest {:016x}",
         preset.name(),
@@ -230,17 +225,7 @@ fn run_grammar(file: &Path, seed: Option<u64>, out: Option<PathBuf>) -> Result<O
         .map_or_else(|| "grammar".into(), |s| s.to_string_lossy().into_owned());
     let run = outputs::plant::run_grammar(file, &text, seed)?;
     let dir = out.unwrap_or_else(|| Path::new("out").join(&stem));
-    fs::create_dir_all(&dir)
-        .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-    let stream_path = dir.join("stream.bin");
-    fixture::write_atomic(&stream_path, &run.stream)?;
-    let jsonl_path = dir.join("records.jsonl");
-    fixture::write_atomic(&jsonl_path, jsonl::stream(&run.stream).as_bytes())?;
-    let records: Vec<_> = Decoder::new(&run.stream)
-        .filter_map(|d| d.result.ok())
-        .collect();
-    let mut written = vec![stream_path, jsonl_path];
-    written.extend(outputs::plant::write(&records, &dir)?);
+    let written = exec::write_outputs(&dir, &run, outputs::plant::write)?;
     println!(
         "{} seed {}: {} frames, {} bytes, digest {:016x}",
         file.display(),

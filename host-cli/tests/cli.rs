@@ -80,9 +80,27 @@ fn run_writes_stream_jsonl_and_model_files_and_decode_reproduces_jsonl() {
 
 #[test]
 fn verify_passes_on_the_workspace_fixtures() {
-    let o = morphogen(&["verify"]);
+    // One preset per model, unoptimised; scripts/check.sh verifies all of
+    // them with a release build.
+    let probes = [
+        "growth-curve",
+        "ram-horn",
+        "abop-shrub",
+        "horse-growth",
+        "croton-mcu",
+        "philodendron",
+    ];
+    let mut args = vec!["verify"];
+    args.extend(probes);
+    let o = morphogen(&args);
     assert!(o.status.success(), "{}", text(&o));
-    assert!(text(&o).contains("ok        growth-curve"));
+    for p in probes {
+        assert!(
+            text(&o).contains(&format!("ok        {p} ")),
+            "{p}: {}",
+            text(&o)
+        );
+    }
 }
 
 #[test]
