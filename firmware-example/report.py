@@ -44,7 +44,9 @@ for t in targets:
         r"bytes=(?P<bytes>\d+) digest=(?P<digest>[0-9a-f]+) systicks=(?P<ticks>\d+)", text)]
     if not (clock and stack and presets):
         sys.exit(f"report.py: {t}.log lacks report lines")
-    runs[t] = dict(hz=int(clock[1]), runner=int(clock[2]), peak=int(stack[1]),
+    state = re.search(r"report state (.*)", text)
+    models = dict(kv.split("=") for kv in state[1].split()) if state else {}
+    runs[t] = dict(hz=int(clock[1]), runner=int(clock[2]), peak=int(stack[1]), models=models,
                    region=int(stack[2]), presets=presets, sizes=sections(f"{work}/{t}.elf"))
 
 main = runs[targets[0]]
@@ -71,7 +73,14 @@ for t in targets:
     used = ram + runs[t]["peak"]
     w(f"| {t} | {kib(flash)} | {s.get('.text', 0):,} | {s.get('.rodata', 0):,} | {ram:,} B "
       f"| {runs[t]['peak']:,} B | {used:,} B of 65,536 ({100 * used / 65536:.1f} %) |\n")
-w(f"\nThe preset runner (`morphogen::preset::Runner`, one `static`) takes {main['runner']:,} B.\n\n")
+w(f"\nThe preset runner (`morphogen::preset::Runner`, one `static`) takes {main['runner']:,} B.\n")
+if main["models"]:
+    w("It holds one model at a time; each model's state (`size_of`, the RAM a\n"
+      "preset of that model needs beyond the firmware's baseline, besides stack):\n\n"
+      "| model | state |\n|---|---:|\n")
+    for model, size in main["models"].items():
+        w(f"| {model} | {int(size):,} B |\n")
+w("\n")
 
 w("## Cost per preset\n\n")
 w(f"SysTick deltas under `-icount shift=0`: QEMU advances 1 ns per instruction\n"

@@ -73,6 +73,15 @@ fn main() -> ! {
         board::QEMU_CPU_HZ,
         core::mem::size_of::<Runner>()
     );
+    // Each model's share of the Runner: what it needs beyond the baseline.
+    defmt::info!(
+        "report state growth-curve={=usize} horn={=usize} lsystem={=usize} body={=usize} mosaic={=usize}",
+        core::mem::size_of::<morphogen::growth_curve::GrowthCurve>(),
+        core::mem::size_of::<morphogen::horn::Horn>(),
+        core::mem::size_of::<morphogen::lsys::LSystem>(),
+        core::mem::size_of::<morphogen::body::Body<'static>>(),
+        core::mem::size_of::<morphogen::mosaic::Mosaic<morphogen::mosaic::presets::McuStore>>()
+    );
 
     let mut failed = 0u32;
     for preset in PRESETS {
