@@ -5,6 +5,7 @@ use crate::horn::HornError;
 use crate::lsys::LsysError;
 use crate::mosaic::MosaicError;
 use crate::rng::RngError;
+use crate::shrinkwrap::ShrinkwrapError;
 use crate::stream::SinkError;
 
 /// Anything a simulation run can fail with. Every limit names itself.
@@ -33,6 +34,8 @@ pub enum Error {
     Lsys(LsysError),
     /// A body model, its growth table or its mesh is unusable.
     Body(BodyError),
+    /// A shrinkwrap run cannot start.
+    Shrinkwrap(ShrinkwrapError),
 }
 
 impl core::fmt::Display for Error {
@@ -48,6 +51,7 @@ impl core::fmt::Display for Error {
             Error::Mosaic(e) => write!(f, "mosaic: {e}"),
             Error::Lsys(e) => write!(f, "L-system: {e}"),
             Error::Body(e) => write!(f, "body: {e}"),
+            Error::Shrinkwrap(e) => write!(f, "shrinkwrap: {e}"),
         }
     }
 }

@@ -122,13 +122,13 @@ impl<R: Real> Rigid<R> {
 }
 
 /// The dot product of two fixed-point vectors in a wide accumulator: the
-/// exact sum of products as Q32 bits (no rounding, no overflow).
+/// exact sum of products as Q32 bits (no rounding; it saturates only
+/// beyond ±2⁶³, i.e. for components near the I16F16 limits).
 #[must_use]
 pub fn dot_wide(a: &Vector3<Fx>, b: &Vector3<Fx>) -> i64 {
-    a.iter()
-        .zip(b.iter())
-        .map(|(x, y)| x.to_bits() as i64 * y.to_bits() as i64)
-        .sum()
+    a.iter().zip(b.iter()).fold(0i64, |acc, (x, y)| {
+        acc.saturating_add(x.to_bits() as i64 * y.to_bits() as i64)
+    })
 }
 
 /// The Euclidean length of a fixed-point vector, from a wide accumulator

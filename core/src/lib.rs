@@ -28,6 +28,7 @@
 #![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
 pub mod body;
+pub mod bones;
 mod error;
 pub mod fx;
 pub mod geom;
@@ -40,6 +41,7 @@ pub mod preset;
 #[cfg(feature = "rig")]
 pub mod rig;
 pub mod rng;
+pub mod shrinkwrap;
 pub mod sim;
 pub mod stream;
 pub mod turtle;

@@ -3,6 +3,7 @@
 
 use crate::Error;
 use crate::body::{self, Body, BodyParams};
+use crate::bones::{self, Bones, BonesParams};
 use crate::growth_curve::{self, GrowthCurve};
 use crate::horn::{self, Horn};
 use crate::lsys::{self, LSystem};
@@ -100,6 +101,24 @@ pub static PRESETS: &[Preset] = &[
         default_seed: 0,
         start: |runner, _seed| start_body(runner, &body::presets::HORSE_TROT),
     },
+    Preset {
+        name: "long-bone",
+        summary: "bone: an L-system shaft with two epiphyses after 12 steps, shrinkwrapped at V0 = 3.4 (bones paper Fig. 1; grammars/long-bone.lsys)",
+        default_seed: 0,
+        start: |runner, seed| start_bones(runner, &bones::presets::LONG_BONE, seed),
+    },
+    Preset {
+        name: "long-bone-random",
+        summary: "bone: the same rules with chance in them, three bones from seeds s, s+1, s+2 (bones paper Fig. 3; grammars/long-bone-random.lsys)",
+        default_seed: 1,
+        start: |runner, seed| start_bones(runner, &bones::presets::LONG_BONE_RANDOM, seed),
+    },
+    Preset {
+        name: "bone-growth",
+        summary: "bone: the long bone wrapped after each of its 12 L-system steps (bones paper Fig. 2)",
+        default_seed: 0,
+        start: |runner, seed| start_bones(runner, &bones::presets::BONE_GROWTH, seed),
+    },
 ];
 
 /// The preset called `name`.
@@ -148,6 +167,8 @@ pub enum Runner {
     LSystem(LSystem),
     /// The body presets (`horse-growth`, `cow-growth`, `horse-trot`).
     Body(Body<'static>),
+    /// The bone presets (`long-bone`, `long-bone-random`, `bone-growth`).
+    Bones(Bones<{ bones::presets::MCU_VERTICES }, { bones::presets::MCU_TRIANGLES }>),
 }
 
 impl Runner {
@@ -179,6 +200,7 @@ impl Runner {
             Runner::Mosaic(sim) => sim.step(sink),
             Runner::LSystem(sim) => sim.step(sink),
             Runner::Body(sim) => sim.step(sink),
+            Runner::Bones(sim) => sim.step(sink),
         }
     }
 }
@@ -242,6 +264,23 @@ fn start_body(runner: &mut Runner, params: &'static BodyParams<'static>) -> u64 
     }
     if let Runner::Body(sim) = runner {
         sim.start(params); // an error is reported by the first step
+    }
+    params_digest(params)
+}
+
+/// An empty bone simulation, written into the runner in place (its mesh
+/// buffers are uninitialised capacity, so no 48 KB temporary on a small
+/// stack).
+const EMPTY_BONES: Bones<{ bones::presets::MCU_VERTICES }, { bones::presets::MCU_TRIANGLES }> =
+    Bones::new();
+
+/// Starts a bone in `runner`, in place.
+fn start_bones(runner: &mut Runner, params: &'static BonesParams, seed: u64) -> u64 {
+    if !matches!(runner, Runner::Bones(_)) {
+        *runner = Runner::Bones(EMPTY_BONES);
+    }
+    if let Runner::Bones(sim) = runner {
+        let _ = sim.start(params, seed); // an error is reported by the first step
     }
     params_digest(params)
 }

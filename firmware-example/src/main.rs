@@ -75,12 +75,18 @@ fn main() -> ! {
     );
     // Each model's share of the Runner: what it needs beyond the baseline.
     defmt::info!(
-        "report state growth-curve={=usize} horn={=usize} lsystem={=usize} body={=usize} mosaic={=usize}",
+        "report state growth-curve={=usize} horn={=usize} lsystem={=usize} body={=usize} mosaic={=usize} bones={=usize}",
         core::mem::size_of::<morphogen::growth_curve::GrowthCurve>(),
         core::mem::size_of::<morphogen::horn::Horn>(),
         core::mem::size_of::<morphogen::lsys::LSystem>(),
         core::mem::size_of::<morphogen::body::Body<'static>>(),
-        core::mem::size_of::<morphogen::mosaic::Mosaic<morphogen::mosaic::presets::McuStore>>()
+        core::mem::size_of::<morphogen::mosaic::Mosaic<morphogen::mosaic::presets::McuStore>>(),
+        core::mem::size_of::<
+            morphogen::bones::Bones<
+                { morphogen::bones::presets::MCU_VERTICES },
+                { morphogen::bones::presets::MCU_TRIANGLES },
+            >,
+        >()
     );
 
     let mut failed = 0u32;

@@ -15,6 +15,7 @@ const PROBES: &[&str] = &[
     "abop-shrub",
     "croton-mcu",
     "horse-growth",
+    "long-bone",
 ];
 
 #[test]

@@ -6,10 +6,11 @@
 use core::fmt::Debug;
 use core::ops::Neg;
 
-use nalgebra::{ClosedAddAssign, ClosedMulAssign, ClosedSubAssign, Scalar};
+use nalgebra::{ClosedAddAssign, ClosedMulAssign, ClosedSubAssign, Scalar, Vector3};
 use num_traits::{One, Zero};
 
 use super::{Angle, Fx, func};
+use crate::geom::{dot_wide, length};
 
 /// A real number type a kernel computes with.
 ///
@@ -57,6 +58,18 @@ pub trait Real:
     fn atan2(y: Self, x: Self) -> Angle;
     /// `a · self` for an angle `a` taken as signed (see [`Angle::scale`]).
     fn scale_angle(self, a: Angle) -> Angle;
+
+    /// An accumulator for sums of many terms: exact Q16 bits in an `i64`
+    /// for [`Fx`] (rounded once, by [`Real::narrow`]), `f64` for `f64`.
+    type Wide: Copy + Default;
+    /// `acc + x` in the accumulator.
+    fn widen(acc: Self::Wide, x: Self) -> Self::Wide;
+    /// The accumulated sum (saturating for [`Fx`]).
+    fn narrow(acc: Self::Wide) -> Self;
+    /// `a · b` from a wide accumulator (rounded once for [`Fx`]).
+    fn dot(a: &Vector3<Self>, b: &Vector3<Self>) -> Self;
+    /// `‖v‖` from a wide accumulator (exactly rounded for [`Fx`]).
+    fn norm(v: &Vector3<Self>) -> Self;
 }
 
 impl Real for Fx {
@@ -101,6 +114,22 @@ impl Real for Fx {
     }
     fn scale_angle(self, a: Angle) -> Angle {
         a.scale(self)
+    }
+
+    type Wide = i64;
+    fn widen(acc: i64, x: Fx) -> i64 {
+        acc.saturating_add(x.to_bits() as i64)
+    }
+    fn narrow(acc: i64) -> Fx {
+        Fx::from_bits(acc.clamp(i32::MIN as i64, i32::MAX as i64) as i32)
+    }
+    fn dot(a: &Vector3<Fx>, b: &Vector3<Fx>) -> Fx {
+        // Q32 to Q16, rounding half up.
+        let q16 = dot_wide(a, b).saturating_add(1 << 15) >> 16;
+        Fx::from_bits(q16.clamp(i32::MIN as i64, i32::MAX as i64) as i32)
+    }
+    fn norm(v: &Vector3<Fx>) -> Fx {
+        length(v)
     }
 }
 
@@ -158,5 +187,19 @@ impl Real for f64 {
     }
     fn scale_angle(self, a: Angle) -> Angle {
         Angle(libm::round(a.signed() as f64 * self) as i64 as u32)
+    }
+
+    type Wide = f64;
+    fn widen(acc: f64, x: f64) -> f64 {
+        acc + x
+    }
+    fn narrow(acc: f64) -> f64 {
+        acc
+    }
+    fn dot(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+        a.x * b.x + a.y * b.y + a.z * b.z
+    }
+    fn norm(v: &Vector3<f64>) -> f64 {
+        libm::sqrt(Self::dot(v, v))
     }
 }

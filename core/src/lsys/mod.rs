@@ -44,6 +44,7 @@ mod tests;
 pub use derive::{Buffered, Derivation, Streaming, stream_id};
 pub use grammar::{Grammar, Settings};
 pub use sim::{LSystem, MODULES_PER_STEP};
+pub(crate) use sim::turtle_params;
 
 use crate::fx::Fx;
 use crate::turtle::TurtleError;

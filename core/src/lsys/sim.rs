@@ -35,7 +35,7 @@ pub struct LSystem<D: Derivation = Streaming> {
     failed: Option<Error>,
 }
 
-fn turtle_params(g: &Grammar) -> Params<Fx> {
+pub(crate) fn turtle_params(g: &Grammar) -> Params<Fx> {
     let s = g.settings();
     Params {
         step: s.step,

@@ -66,13 +66,11 @@ pub fn frames(records: &[Record]) -> Vec<Frame> {
     out
 }
 
-/// The OBJ text of a frame.
+/// The OBJ text of a frame, headed by the comment `header` and named
+/// `object`.
 #[must_use]
-pub fn obj(frame: &Frame, title: &str) -> String {
-    let mut s = format!(
-        "# {title} frame {}, age {:.2} months\no body\n",
-        frame.index, frame.age
-    );
+pub fn obj(frame: &Frame, header: &str, object: &str) -> String {
+    let mut s = format!("# {header}\no {object}\n");
     for v in &frame.vertices {
         let _ = writeln!(s, "v {:.5} {:.5} {:.5}", v[0], v[1], v[2]);
     }
@@ -83,7 +81,7 @@ pub fn obj(frame: &Frame, title: &str) -> String {
 }
 
 /// Side-view bounds (x, y) over frames, with a margin.
-fn bounds(frames: &[&Frame]) -> (f64, f64, f64, f64) {
+pub(crate) fn bounds(frames: &[&Frame]) -> (f64, f64, f64, f64) {
     let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, 0.0f64, f64::MIN);
     for f in frames {
         for v in &f.vertices {
@@ -112,7 +110,7 @@ fn colour(title: &str) -> [f32; 3] {
 /// Draws `frame` seen from its left side (+z), orthographic, painter's
 /// order far to near, Lambert-shaded, into `pixmap` where model point
 /// (x, y) lands at `(ox + s·x, oy − s·y)`.
-fn draw(pixmap: &mut Pixmap, frame: &Frame, base: [f32; 3], s: f32, ox: f32, oy: f32) {
+pub(crate) fn draw(pixmap: &mut Pixmap, frame: &Frame, base: [f32; 3], s: f32, ox: f32, oy: f32) {
     let light = {
         let l = [-0.35f64, 0.65, 0.68];
         let n = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt();
@@ -189,13 +187,13 @@ fn ground(pixmap: &mut Pixmap, y: f32) {
     }
 }
 
-fn canvas(width: u32, height: u32) -> Result<Pixmap> {
+pub(crate) fn canvas(width: u32, height: u32) -> Result<Pixmap> {
     let mut p = Pixmap::new(width, height).context("picture size must be positive")?;
     p.fill(Color::from_rgba8(246, 244, 238, 255));
     Ok(p)
 }
 
-fn save(pixmap: &Pixmap, path: &Path) -> Result<()> {
+pub(crate) fn save(pixmap: &Pixmap, path: &Path) -> Result<()> {
     let png = pixmap.encode_png().context("cannot encode PNG")?;
     write_atomic(path, &png)
 }
@@ -266,7 +264,8 @@ pub fn write(
             fb.3 - fb.2
         );
         let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
-        write_atomic(&obj_path, obj(f, title).as_bytes())?;
+        let header = format!("{title} frame {}, age {:.2} months", f.index, f.age);
+        write_atomic(&obj_path, obj(f, &header, "body").as_bytes())?;
         let png_path = dir.join(format!("side_{:03}.png", f.index));
         save(&side_view(f, title, b, 640)?, &png_path)?;
         written.push(obj_path);

@@ -8,6 +8,7 @@ use morphogen::horn::presets::{RAM_HORN, RAM_HORN_ANIMATION};
 use morphogen::stream::Record;
 
 pub mod body;
+pub mod bones;
 pub mod curve;
 pub mod horn;
 pub mod mosaic;
@@ -31,9 +32,14 @@ pub fn write(preset: &str, records: &[Record], dir: &Path) -> Result<Vec<PathBuf
         {
             plant::write(records, dir)
         }
-        name => match morphogen::mosaic::presets::by_name(name) {
-            Some(params) => mosaic::write(params, records, dir),
-            None => Ok(Vec::new()),
-        },
+        name => {
+            if let Some(params) = morphogen::bones::presets::find(name) {
+                bones::write(name, params, records, dir)
+            } else if let Some(params) = morphogen::mosaic::presets::by_name(name) {
+                mosaic::write(params, records, dir)
+            } else {
+                Ok(Vec::new())
+            }
+        }
     }
 }

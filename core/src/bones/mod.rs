@@ -1,0 +1,50 @@
+//! Bones (seed `003_…`, Slovak): an L-system skeleton of points and
+//! segments, wrapped by [`crate::shrinkwrap`] in a closed triangle mesh on
+//! the iso-surface V(r) = V0 of V(r) = Σ ρ_i / |r − R_i|.
+//!
+//! - [`Grower`] derives a bone grammar and draws its skeleton: `F` is a
+//!   segment of weight = the turtle's width, `O(ρ)` a point of weight ρ.
+//! - [`Bones`] is the simulation: one wrapped frame per skeleton, for the
+//!   final step, every step (the paper's Fig. 2) or several seeds (Fig. 3).
+//! - [`presets`]: `long-bone`, `long-bone-random`, `bone-growth`.
+
+pub mod presets;
+mod sim;
+mod skeleton;
+
+#[cfg(test)]
+#[allow(clippy::float_arithmetic)]
+mod tests;
+
+use serde::Serialize;
+
+use crate::shrinkwrap::WrapParams;
+
+pub use sim::Bones;
+pub use skeleton::{Grower, MAX_ELEMENTS, MAX_SKELETON_MODULES, Skeleton};
+
+/// Which skeletons a run wraps, one frame each.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Frames {
+    /// The skeleton after the grammar's `n` steps.
+    Final,
+    /// The skeleton after every step from `first` to `n` (Fig. 2).
+    EveryStep {
+        /// The first step shown.
+        first: u8,
+    },
+    /// The skeleton after `n` steps from seeds s, s + 1, … (Fig. 3).
+    Seeds(u8),
+}
+
+/// A bone run's parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct BonesParams {
+    /// The skeleton's grammar (`docs/lsystems.md`, with `O(ρ)`).
+    pub grammar: &'static str,
+    /// The shrinkwrap parameters.
+    pub wrap: WrapParams,
+    /// Which skeletons are wrapped.
+    pub frames: Frames,
+}

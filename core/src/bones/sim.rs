@@ -1,0 +1,168 @@
+//! The bone simulation: grow the skeleton, wrap it, stream the frame.
+//!
+//! A frame is one wrapped bone: `FrameStart` (time = derivation steps), a
+//! `Segment` per skeleton element (a point has `a == b`; width = ρ), the
+//! `MeshVertex`es and the `Triangle`s (counter-clockwise seen from
+//! outside), `FrameEnd`. Each [`Simulation::step`] runs one shrinkwrap
+//! iteration; progress counts finished frames.
+
+use nalgebra::Vector3;
+
+use crate::Error;
+use crate::fx::Fx;
+use crate::shrinkwrap::{Phase, Shrinkwrap};
+use crate::sim::{Progress, Simulation};
+use crate::stream::{Record, Sink};
+
+use super::skeleton::{Grower, Skeleton};
+use super::{BonesParams, Frames};
+
+/// A bone simulation with a mesh of at most `V` vertices and `T`
+/// triangles.
+#[derive(Debug)]
+pub struct Bones<const V: usize, const T: usize> {
+    grower: Grower,
+    skeleton: Skeleton,
+    wrap: Shrinkwrap<Fx, V, T>,
+    params: Option<&'static BonesParams>,
+    seed: u64,
+    frame: u32,
+    wrapping: bool,
+    failed: Option<Error>,
+}
+
+impl<const V: usize, const T: usize> Bones<V, T> {
+    /// An idle simulation (`const`, for a `static`).
+    #[must_use]
+    pub const fn new() -> Bones<V, T> {
+        Bones {
+            grower: Grower::new(),
+            skeleton: Skeleton::new(),
+            wrap: Shrinkwrap::new(Fx::ZERO),
+            params: None,
+            seed: 0,
+            frame: 0,
+            wrapping: false,
+            failed: None,
+        }
+    }
+
+    /// Starts `params` with `seed`; an error is also returned by the first
+    /// step.
+    ///
+    /// # Errors
+    /// The grammar's parse error.
+    pub fn start(&mut self, params: &'static BonesParams, seed: u64) -> Result<(), Error> {
+        self.params = Some(params);
+        self.seed = seed;
+        self.frame = 0;
+        self.wrapping = false;
+        self.failed = self.grower.load(params.grammar).err().map(Error::from);
+        self.failed.map_or(Ok(()), Err)
+    }
+
+    /// The current skeleton.
+    #[must_use]
+    pub fn skeleton(&self) -> &Skeleton {
+        &self.skeleton
+    }
+
+    /// The shrinkwrap run.
+    #[must_use]
+    pub fn wrap(&self) -> &Shrinkwrap<Fx, V, T> {
+        &self.wrap
+    }
+
+    fn frames(&self) -> u32 {
+        let n = self.grower.grammar().settings().steps;
+        match self.params.map(|p| p.frames) {
+            None => 0,
+            Some(Frames::Final) => 1,
+            Some(Frames::EveryStep { first }) => n.saturating_sub(first) as u32 + 1,
+            Some(Frames::Seeds(count)) => count as u32,
+        }
+    }
+
+    /// Derivation steps and seed of frame `k`.
+    fn frame_setup(&self, k: u32) -> (u8, u64) {
+        let n = self.grower.grammar().settings().steps;
+        match self.params.map(|p| p.frames) {
+            Some(Frames::EveryStep { first }) => (first.saturating_add(k as u8), self.seed),
+            Some(Frames::Seeds(_)) => (n, self.seed.wrapping_add(k as u64)),
+            _ => (n, self.seed),
+        }
+    }
+
+    fn advance(&mut self, params: &'static BonesParams, sink: &mut dyn Sink) -> Result<(), Error> {
+        if !self.wrapping {
+            let (steps, seed) = self.frame_setup(self.frame);
+            self.grower.grow(steps, seed, &mut self.skeleton)?;
+            self.wrap.start(&self.skeleton, &params.wrap)?;
+            self.wrapping = true;
+            return Ok(());
+        }
+        if self.wrap.iterate(&self.skeleton)? == Phase::Done {
+            self.emit(sink)?;
+            self.wrapping = false;
+            self.frame += 1;
+        }
+        Ok(())
+    }
+
+    fn emit(&self, sink: &mut dyn Sink) -> Result<(), Error> {
+        let (steps, _) = self.frame_setup(self.frame);
+        sink.record(&Record::FrameStart {
+            frame: self.frame,
+            time: Fx::from_int(steps as i32),
+        })?;
+        for e in &self.skeleton {
+            sink.record(&Record::Segment {
+                a: e.a,
+                b: e.b,
+                width: e.weight,
+                colour: 0,
+            })?;
+        }
+        let mesh = self.wrap.mesh();
+        for (id, p) in mesh.vertices().iter().enumerate() {
+            let p: &Vector3<Fx> = p;
+            sink.record(&Record::MeshVertex {
+                id: id as u32,
+                p: [p.x, p.y, p.z],
+            })?;
+        }
+        for t in mesh.triangles() {
+            sink.record(&Record::Triangle {
+                v: t.map(u32::from),
+            })?;
+        }
+        sink.record(&Record::FrameEnd { frame: self.frame })?;
+        Ok(())
+    }
+}
+
+impl<const V: usize, const T: usize> Default for Bones<V, T> {
+    fn default() -> Self {
+        Bones::new()
+    }
+}
+
+impl<const V: usize, const T: usize> Simulation for Bones<V, T> {
+    fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
+        if let Some(e) = self.failed {
+            return Err(e);
+        }
+        let params = self.params.ok_or(Error::NotStarted)?;
+        let total = self.frames();
+        if self.frame < total
+            && let Err(e) = self.advance(params, sink)
+        {
+            self.failed = Some(e);
+            return Err(e);
+        }
+        Ok(Progress {
+            done: self.frame.min(total),
+            total,
+        })
+    }
+}

@@ -1,0 +1,104 @@
+//! The bone skeleton (seed `003_…`, Sec. 2–4): the elements an L-system's
+//! turtle draws. `F` draws a segment element whose weight ρ is the
+//! turtle's width; `O(ρ)` puts a point element at the turtle (`O` alone:
+//! ρ = the width); every other symbol means what it means for plants
+//! (`docs/lsystems.md`).
+
+use heapless::Vec;
+use nalgebra::Vector3;
+
+use crate::Error;
+use crate::fx::Fx;
+use crate::lsys::{Derivation, Grammar, LsysError, Streaming, turtle_params};
+use crate::shrinkwrap::Element;
+use crate::turtle::{Drawn, Turtle};
+
+/// Skeleton elements of one bone.
+pub const MAX_ELEMENTS: usize = 64;
+/// Modules of one derived skeleton string (so that a grammar that grows
+/// without drawing still ends).
+pub const MAX_SKELETON_MODULES: u32 = 8192;
+
+/// The elements of one bone.
+pub type Skeleton = Vec<Element<Fx>, MAX_ELEMENTS>;
+
+/// A bone grammar with the derivation and the turtle that draw it.
+#[derive(Debug)]
+pub struct Grower {
+    grammar: Grammar,
+    derivation: Streaming,
+    turtle: Turtle<Fx>,
+}
+
+impl Grower {
+    /// An empty grower (`const`, for a `static`).
+    #[must_use]
+    pub const fn new() -> Grower {
+        Grower {
+            grammar: Grammar::new(),
+            derivation: Streaming::new(),
+            turtle: Turtle::new_const(),
+        }
+    }
+
+    /// Parses `text` in place.
+    ///
+    /// # Errors
+    /// The parse error.
+    pub fn load(&mut self, text: &str) -> Result<(), LsysError> {
+        self.grammar.parse(text)?;
+        self.turtle = Turtle::new(turtle_params(&self.grammar));
+        Ok(())
+    }
+
+    /// The parsed grammar.
+    #[must_use]
+    pub fn grammar(&self) -> &Grammar {
+        &self.grammar
+    }
+
+    /// Derives `steps` steps with `seed` and draws the skeleton into `out`.
+    ///
+    /// # Errors
+    /// A derivation or turtle error, or [`MAX_ELEMENTS`] or
+    /// [`MAX_SKELETON_MODULES`] exceeded.
+    pub fn grow(&mut self, steps: u8, seed: u64, out: &mut Skeleton) -> Result<(), Error> {
+        out.clear();
+        self.derivation.restart(&self.grammar, steps, seed)?;
+        self.turtle.reset(Vector3::zeros());
+        let full = || Error::Capacity {
+            limit: "MAX_ELEMENTS",
+            capacity: MAX_ELEMENTS as u32,
+        };
+        let mut modules = 0u32;
+        while let Some(m) = self.derivation.next_module(&self.grammar)? {
+            modules += 1;
+            if modules > MAX_SKELETON_MODULES {
+                return Err(Error::Capacity {
+                    limit: "MAX_SKELETON_MODULES",
+                    capacity: MAX_SKELETON_MODULES,
+                });
+            }
+            if m.symbol == b'O' {
+                let s = self.turtle.state();
+                let weight = m.args().first().copied().unwrap_or(s.width);
+                out.push(Element::point(s.position, weight))
+                    .map_err(|_| full())?;
+                continue;
+            }
+            let drawn = self.turtle.apply(&m).map_err(LsysError::from)?;
+            if let (b'F', Drawn::Segment { a, b, width, .. }) = (m.symbol, drawn) {
+                out.push(Element::segment(a, b, width))
+                    .map_err(|_| full())?;
+            }
+        }
+        self.turtle.finish().map_err(LsysError::from)?;
+        Ok(())
+    }
+}
+
+impl Default for Grower {
+    fn default() -> Self {
+        Grower::new()
+    }
+}

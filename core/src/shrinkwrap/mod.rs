@@ -1,0 +1,65 @@
+//! Shrinkwrap (seed `003_…`, Sec. 5–6): an adaptive triangle mesh pulled
+//! onto the iso-surface V(r) = V0 of a skeleton's field
+//! V(r) = Σ ρ_i / |r − R_i|, from a sphere around the skeleton inwards.
+//!
+//! - [`field`] evaluates V and ∇V (wide accumulators in fixed point);
+//! - [`Mesh`] is the closed triangle mesh: a UV sphere, refined by edge
+//!   splits only, so it stays a genus-0 2-manifold by construction;
+//! - [`Shrinkwrap`] is the iteration: raise V0 by ΔV, move every vertex,
+//!   split every edge whose midpoint is off by more than 5 %.
+//!
+//! All of it is generic over [`crate::fx::Real`]: the `f64` instance is
+//! the reference the fixed-point one is measured against.
+
+mod field;
+mod mesh;
+mod wrap;
+
+pub use field::{Element, field};
+pub use mesh::{Mesh, VertexId};
+pub use wrap::{Phase, SPLIT_TOLERANCE, Shrinkwrap, WrapParams, worst_level_error};
+
+#[cfg(test)]
+pub(crate) use mesh::tests::{assert_closed_genus_0, signed_volume};
+
+/// An error of a shrinkwrap run's set-up.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum ShrinkwrapError {
+    /// The initial sphere needs m a positive multiple of 4 and p odd.
+    Sphere {
+        /// m.
+        meridians: u8,
+        /// p.
+        parallels: u8,
+    },
+    /// The target level and its step must be positive.
+    Level,
+    /// There is nothing to wrap.
+    NoSkeleton,
+}
+
+impl core::fmt::Display for ShrinkwrapError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ShrinkwrapError::Sphere {
+                meridians,
+                parallels,
+            } => write!(
+                f,
+                "initial sphere: {meridians} meridians must be a positive multiple of 4 and {parallels} parallels odd"
+            ),
+            ShrinkwrapError::Level => {
+                f.write_str("the target level V0 and its step ΔV must be positive")
+            }
+            ShrinkwrapError::NoSkeleton => f.write_str("the skeleton has no elements"),
+        }
+    }
+}
+
+impl From<ShrinkwrapError> for crate::Error {
+    fn from(e: ShrinkwrapError) -> crate::Error {
+        crate::Error::Shrinkwrap(e)
+    }
+}

@@ -1,0 +1,313 @@
+//! The shrinkwrap iteration (seed `003_…`, Sec. 5–6), with two corrections
+//! that make it converge in fixed point:
+//!
+//! - a vertex moves towards the new level V0 from where it *is*:
+//!   r ← r + (V0 − V(r))·∇V/(∇V·∇V), which is the paper's eq. (12),
+//!   ΔV·∇V/(∇V·∇V), when V(r) is exactly the old level, but does not
+//!   accumulate the first-order error step after step;
+//! - a move is at most a tenth of the initial radius, so a vertex where ∇V
+//!   nearly vanishes cannot jump across the skeleton.
+//!
+//! The run ends after the level reaches the target: a few passes of the
+//! same move at the target, each followed by a split pass, until no edge is
+//! split. The iteration count is capped ([`WrapParams::max_iterations`]),
+//! and so is the mesh; both are errors naming the limit.
+
+use heapless::Vec;
+use nalgebra::Vector3;
+use serde::Serialize;
+
+use crate::Error;
+use crate::fx::{Fx, Real};
+
+use super::ShrinkwrapError;
+use super::field::{Element, field};
+use super::mesh::{Mesh, VertexId};
+
+/// The shrinkwrap parameters of a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct WrapParams {
+    /// m: meridians of the initial sphere, a multiple of 4.
+    pub meridians: u8,
+    /// p: parallels of the initial sphere, odd.
+    pub parallels: u8,
+    /// V_target: the final level V0.
+    pub target: Fx,
+    /// ΔV: the level step of one iteration.
+    pub step: Fx,
+    /// The most level steps and final passes together.
+    pub max_iterations: u16,
+}
+
+/// |V − V0| / V0 beyond which an edge midpoint is split (Sec. 5: 5 %).
+pub const SPLIT_TOLERANCE: Fx = Fx::from_ratio(1, 20);
+/// Passes at the target level without a split that end the run.
+const FINAL_PASSES: u8 = 4;
+/// Newton moves that put a new midpoint vertex on the surface.
+const MIDPOINT_MOVES: u8 = 3;
+/// Newton moves, at most, that take the initial sphere to the mean level.
+const MEAN_MOVES: u8 = 16;
+
+/// Where a run is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Phase {
+    /// Not started.
+    Idle,
+    /// Raising the level by ΔV per iteration.
+    Rising,
+    /// At the target: settling and splitting until no edge is split.
+    Settling {
+        /// Passes left.
+        passes: u8,
+    },
+    /// Finished: every vertex is on the target surface.
+    Done,
+}
+
+/// A shrinkwrap run around a skeleton of elements, with a mesh of at most
+/// `V` vertices and `T` triangles.
+#[derive(Debug)]
+pub struct Shrinkwrap<R: Real, const V: usize, const T: usize> {
+    mesh: Mesh<R, V, T>,
+    level: R,
+    target: R,
+    step: R,
+    max_move: R,
+    iterations: u16,
+    max_iterations: u16,
+    phase: Phase,
+    /// Per vertex: whether it is on the current level (within
+    /// [`SPLIT_TOLERANCE`]) after the last move.
+    on_level: Vec<bool, V>,
+}
+
+/// The centroid of the element ends and the largest distance of an end
+/// from it.
+fn bounds<R: Real>(elements: &[Element<R>]) -> (Vector3<R>, R) {
+    let mut sum = [R::Wide::default(); 3];
+    for e in elements {
+        for p in [e.a, e.b] {
+            for k in 0..3 {
+                sum[k] = R::widen(sum[k], p[k]);
+            }
+        }
+    }
+    let n = R::from_int(2 * elements.len() as i32);
+    let centre = Vector3::from(sum.map(|s| R::narrow(s).div(n)));
+    let mut far = R::zero();
+    for e in elements {
+        for p in [e.a, e.b] {
+            let d = R::norm(&(Vector3::from(p) - centre));
+            if d > far {
+                far = d;
+            }
+        }
+    }
+    (centre, far)
+}
+
+/// r moved towards the level `level` along ∇V, by at most `max_move`.
+fn toward<R: Real>(elements: &[Element<R>], r: &Vector3<R>, level: R, max_move: R) -> Vector3<R> {
+    let (v, g) = field(elements, r);
+    let norm = R::norm(&g);
+    if norm <= R::zero() {
+        return *r;
+    }
+    let unit = g.map(|c| c.div(norm));
+    let mut distance = (level - v).div(norm);
+    if distance > max_move {
+        distance = max_move;
+    } else if distance < -max_move {
+        distance = -max_move;
+    }
+    r + unit * distance
+}
+
+/// Whether V at `r` is off `level` by more than [`SPLIT_TOLERANCE`].
+fn off<R: Real>(elements: &[Element<R>], r: &Vector3<R>, level: R) -> bool {
+    let (v, _) = field(elements, r);
+    (v - level).abs() > level * R::from_fx(SPLIT_TOLERANCE)
+}
+
+impl<R: Real, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
+    /// An idle run (`const`, for a `static`).
+    #[must_use]
+    pub const fn new(zero: R) -> Shrinkwrap<R, V, T> {
+        Shrinkwrap {
+            mesh: Mesh::new(),
+            level: zero,
+            target: zero,
+            step: zero,
+            max_move: zero,
+            iterations: 0,
+            max_iterations: 0,
+            phase: Phase::Idle,
+            on_level: Vec::new(),
+        }
+    }
+
+    /// The mesh.
+    #[must_use]
+    pub fn mesh(&self) -> &Mesh<R, V, T> {
+        &self.mesh
+    }
+
+    /// The current level V0.
+    #[must_use]
+    pub fn level(&self) -> R {
+        self.level
+    }
+
+    /// Iterations so far.
+    #[must_use]
+    pub fn iterations(&self) -> u16 {
+        self.iterations
+    }
+
+    /// Where the run is.
+    #[must_use]
+    pub fn phase(&self) -> Phase {
+        self.phase
+    }
+
+    /// Starts a run: the sphere around the skeleton's centroid with radius
+    /// 1.3 × its farthest point, every vertex moved to the mean V.
+    ///
+    /// # Errors
+    /// No elements, a non-positive target or step, a bad sphere, or a
+    /// capacity.
+    pub fn start(&mut self, elements: &[Element<R>], params: &WrapParams) -> Result<(), Error> {
+        self.phase = Phase::Idle;
+        if elements.is_empty() {
+            return Err(ShrinkwrapError::NoSkeleton.into());
+        }
+        if params.target <= Fx::ZERO || params.step <= Fx::ZERO {
+            return Err(ShrinkwrapError::Level.into());
+        }
+        let (centre, far) = bounds(elements);
+        // A skeleton of one point: the sphere of that point alone.
+        let far = if far > R::zero() {
+            far
+        } else {
+            elements[0].weight.div(R::from_fx(params.target))
+        };
+        let radius = far * R::from_ratio(13, 10);
+        self.mesh
+            .sphere(centre, radius, params.meridians, params.parallels)?;
+        self.target = R::from_fx(params.target);
+        self.step = R::from_fx(params.step);
+        self.max_move = radius * R::from_ratio(1, 10);
+        self.iterations = 0;
+        self.max_iterations = params.max_iterations;
+        let mut sum = R::Wide::default();
+        for r in self.mesh.vertices() {
+            sum = R::widen(sum, field(elements, r).0);
+        }
+        let mean = R::narrow(sum).div(R::from_int(self.mesh.vertices().len() as i32));
+        self.level = if mean < self.target {
+            mean
+        } else {
+            self.target
+        };
+        for _ in 0..MEAN_MOVES {
+            if self.move_all(elements) == 0 {
+                break;
+            }
+        }
+        self.phase = Phase::Rising;
+        Ok(())
+    }
+
+    /// Moves every vertex towards the level; returns how many are not on
+    /// it afterwards.
+    fn move_all(&mut self, elements: &[Element<R>]) -> usize {
+        let (level, max_move) = (self.level, self.max_move);
+        self.on_level.clear();
+        for r in self.mesh.vertices_mut() {
+            *r = toward(elements, r, level, max_move);
+            // As many flags as vertices: this cannot fail.
+            let _ = self.on_level.push(!off(elements, r, level));
+        }
+        self.on_level.iter().filter(|&&on| !on).count()
+    }
+
+    /// One iteration: raise the level by ΔV (or, at the target, settle),
+    /// move every vertex, split the edges whose midpoint is off.
+    ///
+    /// # Errors
+    /// [`WrapParams::max_iterations`] or a mesh capacity exceeded.
+    pub fn iterate(&mut self, elements: &[Element<R>]) -> Result<Phase, Error> {
+        match self.phase {
+            Phase::Idle | Phase::Done => return Ok(self.phase),
+            Phase::Rising | Phase::Settling { .. } => {}
+        }
+        if self.iterations >= self.max_iterations {
+            return Err(Error::Capacity {
+                limit: "shrinkwrap iterations (WrapParams::max_iterations)",
+                capacity: self.max_iterations as u32,
+            });
+        }
+        self.iterations += 1;
+        if self.phase == Phase::Rising {
+            self.level += self.step;
+            if self.level >= self.target {
+                self.level = self.target;
+                self.phase = Phase::Settling {
+                    passes: FINAL_PASSES,
+                };
+            }
+        }
+        self.move_all(elements);
+        let (level, max_move) = (self.level, self.max_move);
+        let on_level = &self.on_level;
+        let split = self.mesh.refine(|a, pa, b, pb| {
+            // An edge off the surface because its ends are is left to the
+            // moves; only one whose ends are on it is split.
+            let settled = |v: VertexId| on_level.get(v as usize).copied().unwrap_or(false);
+            if !settled(a) || !settled(b) {
+                return None;
+            }
+            let mid = (pa + pb) * R::from_ratio(1, 2);
+            off(elements, &mid, level).then(|| {
+                let mut r = mid;
+                for _ in 0..MIDPOINT_MOVES {
+                    r = toward(elements, &r, level, max_move);
+                }
+                r
+            })
+        })?;
+        if let Phase::Settling { passes } = self.phase {
+            self.phase = if split == 0 || passes <= 1 {
+                Phase::Done
+            } else {
+                Phase::Settling { passes: passes - 1 }
+            };
+        }
+        Ok(self.phase)
+    }
+
+    /// Runs [`Shrinkwrap::start`] and iterates to the end.
+    ///
+    /// # Errors
+    /// As [`Shrinkwrap::start`] and [`Shrinkwrap::iterate`].
+    pub fn run(&mut self, elements: &[Element<R>], params: &WrapParams) -> Result<(), Error> {
+        self.start(elements, params)?;
+        while self.iterate(elements)? != Phase::Done {}
+        Ok(())
+    }
+}
+
+/// The largest |V(r) − V0| / V0 over `points` (a quality measure).
+#[must_use]
+pub fn worst_level_error<R: Real>(elements: &[Element<R>], points: &[Vector3<R>], level: R) -> R {
+    let mut worst = R::zero();
+    for r in points {
+        let e = (field(elements, r).0 - level).abs().div(level);
+        if e > worst {
+            worst = e;
+        }
+    }
+    worst
+}
