@@ -196,6 +196,37 @@ impl Turtle<Fx> {
     }
 }
 
+impl Turtle<Fx> {
+    /// A turtle whose bytes are all zero (no frame, zero parameters), so
+    /// that a runner slot holding one is written in place by a memset;
+    /// [`Turtle::new`] one before use.
+    pub(crate) const fn zeroed() -> Turtle<Fx> {
+        let o = Fx::ZERO;
+        let zero = Vector3::new(o, o, o);
+        Turtle {
+            state: State {
+                position: zero,
+                heading: zero,
+                left: zero,
+                up: zero,
+                width: o,
+                colour: 0,
+            },
+            stack: Vec::new(),
+            polygon: Vec::new(),
+            polygon_open: false,
+            params: Params {
+                step: o,
+                delta: Angle::ZERO,
+                width: o,
+                thin: o,
+            },
+            cos_delta: o,
+            sin_delta: o,
+        }
+    }
+}
+
 impl<R: Real> Turtle<R> {
     /// A turtle at the origin in the initial frame.
     #[must_use]

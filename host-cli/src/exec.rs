@@ -1,7 +1,8 @@
 //! Running a preset into an in-memory stream, with a progress bar on runs
 //! longer than a second. The presets are the core's registry
 //! ([`morphogen::preset::PRESETS`], also run by the firmware) followed by
-//! the host-only ones ([`HOST_PRESETS`]).
+//! the host-only ones ([`HOST_PRESETS`]); [`with_mask`] gives a mosaic
+//! preset a user's mask.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -9,6 +10,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use morphogen::mosaic::{Params, presets as mosaics};
 use morphogen::preset::{self, Preset, Runner};
 use morphogen::sim::Progress;
 use morphogen::stream::{ByteSink, Decoder, Encoder, Record, SinkError};
@@ -20,7 +22,8 @@ use crate::host_presets::{HOST_PRESETS, HostPreset};
 pub enum PresetRef {
     /// A core preset (`morphogen::preset::PRESETS`; runs on the firmware).
     Core(&'static Preset),
-    /// A host-only preset ([`HOST_PRESETS`]).
+    /// A mosaic run on the host: a host-only preset ([`HOST_PRESETS`]), or
+    /// any mosaic preset with a user's mask ([`with_mask`]).
     Host(&'static HostPreset),
 }
 
@@ -60,6 +63,47 @@ impl PresetRef {
             PresetRef::Host(p) => Some(p),
         }
     }
+
+    /// The mosaic parameters, if this is a mosaic (MClone) preset.
+    #[must_use]
+    pub fn mosaic(self) -> Option<&'static Params> {
+        match self {
+            PresetRef::Core(p) => mosaics::by_name(p.name),
+            PresetRef::Host(p) => Some(p.params),
+        }
+    }
+}
+
+/// The mosaic `preset` with its mask replaced by the mask file `file`
+/// (PBM or PNG, [`read_mask`](crate::outputs::mosaic::read_mask)): a host
+/// preset of the same name and seed whose header's parameter digest is that
+/// of the changed parameters. Leaks the parameters: one per run.
+///
+/// # Errors
+/// When `preset` is not a mosaic, or the file is not a usable mask.
+pub fn with_mask(preset: PresetRef, file: &Path) -> Result<PresetRef> {
+    let params = preset.mosaic().ok_or_else(|| {
+        let mosaics: Vec<&str> = all()
+            .filter(|p| p.mosaic().is_some())
+            .map(PresetRef::name)
+            .collect();
+        anyhow!(
+            "--mask needs a mosaic preset, and '{}' is not one (mosaics: {})",
+            preset.name(),
+            mosaics.join(", ")
+        )
+    })?;
+    let mask = crate::outputs::mosaic::read_mask(file)?;
+    let params = Box::leak(Box::new(Params {
+        mask: Some(mask),
+        ..*params
+    }));
+    Ok(PresetRef::Host(Box::leak(Box::new(HostPreset {
+        name: preset.name(),
+        summary: preset.summary(),
+        default_seed: preset.default_seed(),
+        params,
+    }))))
 }
 
 /// Every preset: the core's, then the host-only ones.

@@ -73,7 +73,8 @@ impl CellStore for VecStore {
     }
 }
 
-/// A host-only preset: a big mosaic.
+/// A mosaic run on the host: a big one, or any with a user's mask
+/// ([`crate::exec::with_mask`]).
 #[derive(Debug)]
 pub struct HostPreset {
     /// The name used on the command line and in stream headers.

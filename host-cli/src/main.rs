@@ -61,6 +61,12 @@ enum Command {
         /// (LED matrix, OLED) shows it, drawn by the core's rig renderer.
         #[arg(long, value_name = "WxH")]
         rig: Option<String>,
+        /// With a mosaic preset: where F cells may start instead of the
+        /// preset's mask, a PBM (P1/P4) or PNG stretched over the whole
+        /// domain (the control cylinder); white allows F (in a PNG: luminance
+        /// and alpha both ≥ 50 %).
+        #[arg(long, value_name = "FILE", conflicts_with_all = ["grammar", "mesh"])]
+        mask: Option<PathBuf>,
     },
     /// Re-run presets and compare their streams with the golden fixtures,
     /// or check a device capture with --stream.
@@ -154,8 +160,9 @@ fn dispatch(command: Command) -> Result<Outcome> {
             seed,
             out,
             rig,
+            mask,
             ..
-        } => run(&preset, seed, out, rig.as_deref()),
+        } => run(&preset, seed, out, rig.as_deref(), mask.as_deref()),
         Command::Run {
             preset: None,
             grammar: None,
@@ -185,16 +192,30 @@ fn dispatch(command: Command) -> Result<Outcome> {
     }
 }
 
-fn run(name: &str, seed: Option<u64>, out: Option<PathBuf>, rig: Option<&str>) -> Result<Outcome> {
+fn run(
+    name: &str,
+    seed: Option<u64>,
+    out: Option<PathBuf>,
+    rig: Option<&str>,
+    mask: Option<&Path>,
+) -> Result<Outcome> {
     let rig = rig.map(morphogen_cli::rig::parse_rig_size).transpose()?;
     let preset = exec::find(name)?;
+    let preset = match mask {
+        Some(file) => exec::with_mask(preset, file)?,
+        None => preset,
+    };
     let seed = seed.unwrap_or(preset.default_seed());
     let dir = out.unwrap_or_else(|| Path::new("out").join(preset.name()));
     fs::create_dir_all(&dir)
         .with_context(|| format!("cannot create output folder {}", dir.display()))?;
     let run = exec::run(preset, seed, true)?;
     let written = exec::write_outputs(&dir, &run, |records, dir| {
-        let mut files = outputs::write(preset.name(), records, dir)?;
+        // With a user's mask, the name no longer gives the parameters.
+        let mut files = match (mask, preset.mosaic()) {
+            (Some(_), Some(params)) => outputs::mosaic::write(params, records, dir)?,
+            _ => outputs::write(preset.name(), records, dir)?,
+        };
         if let Some((w, h)) = rig {
             let path = dir.join(format!("rig-{w}x{h}.png"));
             morphogen_cli::rig::render_rig_png(records, w, h, &path)?;

@@ -4,7 +4,10 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use morphogen::stream::{Decoder, Record, params_digest};
+use morphogen_cli::outputs::mosaic;
 use morphogen_cli::{exec, fixture, verify};
+use tiny_skia::{ColorU8, Pixmap};
 
 fn morphogen(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_morphogen"))
@@ -268,4 +271,169 @@ fn bless_writes_what_verify_accepts() {
         .unwrap()
         .collect();
     assert_eq!(leftovers.len(), 2, "temporary files left behind");
+}
+
+/// The records of a stream.
+fn records(stream: &[u8]) -> Vec<Record> {
+    Decoder::new(stream).filter_map(|d| d.result.ok()).collect()
+}
+
+/// F (type 1) cells on the last day of a mosaic stream.
+fn last_day_f_cells(stream: &[u8]) -> usize {
+    let days = mosaic::days(&records(stream));
+    let last = days.last().expect("a mosaic streams days");
+    last.cells.iter().filter(|c| c.1 == 1).count()
+}
+
+#[test]
+fn an_all_black_mask_starts_no_f_cells() {
+    let tmp = tempfile::tempdir().unwrap();
+    let black = tmp.path().join("black.pbm");
+    fs::write(&black, "P1\n3 2\n1 1 1\n1 1 1\n").unwrap();
+    let out = tmp.path().join("out");
+    let o = morphogen(&[
+        "run",
+        "croton-mcu",
+        "--mask",
+        black.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let csv = fs::read_to_string(out.join("cells_day35.csv")).unwrap();
+    let kinds: Vec<&str> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap())
+        .collect();
+    assert!(kinds.len() > 1000, "{} cells", kinds.len());
+    assert!(
+        kinds.iter().all(|k| *k == "0"),
+        "F cells under a black mask"
+    );
+    assert_eq!(
+        fs::read_to_string(out.join("mask.pbm")).unwrap(),
+        mosaic::write_pbm(&mosaic::read_mask(&black).unwrap())
+    );
+    let builtin = exec::run(exec::find("croton-mcu").unwrap(), 1, false).unwrap();
+    assert!(last_day_f_cells(&builtin.stream) > 100);
+}
+
+#[test]
+fn a_png_mask_runs_like_the_same_pbm_mask() {
+    let tmp = tempfile::tempdir().unwrap();
+    // 5 × 4: white where 3 divides x + 2y; in the PNG, white and black
+    // each in two colours either side of the 50 % thresholds.
+    let white = |x: u32, y: u32| (x + 2 * y).is_multiple_of(3);
+    let mut pbm = String::from("P1\n5 4\n");
+    let mut png = Pixmap::new(5, 4).unwrap();
+    for y in 0..4 {
+        for x in 0..5 {
+            pbm.push_str(if white(x, y) { "0 " } else { "1 " });
+            let [r, g, b, a] = match (white(x, y), x % 2) {
+                (true, 0) => [0, 255, 0, 255],
+                (true, _) => [200, 200, 200, 200],
+                (false, 0) => [255, 0, 0, 255],
+                (false, _) => [255, 255, 255, 100],
+            };
+            png.pixels_mut()[(y * 5 + x) as usize] = ColorU8::from_rgba(r, g, b, a).premultiply();
+        }
+    }
+    let (pbm_path, png_path) = (tmp.path().join("m.pbm"), tmp.path().join("m.png"));
+    fs::write(&pbm_path, pbm).unwrap();
+    png.save_png(&png_path).unwrap();
+    let croton = exec::find("croton-mcu").unwrap();
+    let run = |path: &Path| exec::run(exec::with_mask(croton, path).unwrap(), 1, false).unwrap();
+    let (from_pbm, from_png) = (run(&pbm_path), run(&png_path));
+    assert_eq!(from_pbm.stream, from_png.stream);
+    // The mask takes effect, and the header's digest is of the new params.
+    let builtin = exec::run(croton, 1, false).unwrap();
+    assert!(last_day_f_cells(&from_png.stream) < last_day_f_cells(&builtin.stream) / 2);
+    let masked = exec::with_mask(croton, &png_path)
+        .unwrap()
+        .mosaic()
+        .unwrap();
+    let Some(Record::Header(h)) = records(&from_png.stream).first().cloned() else {
+        panic!("no header");
+    };
+    assert_eq!(
+        (h.preset.as_str(), h.params),
+        ("croton-mcu", params_digest(masked))
+    );
+    assert_ne!(h.params, params_digest(croton.mosaic().unwrap()));
+    // A host preset takes a mask too, its other parameters kept.
+    let watermelon = exec::find("watermelon").unwrap();
+    let with = exec::with_mask(watermelon, &png_path).unwrap();
+    assert_eq!(with.name(), "watermelon");
+    assert_eq!(with.mosaic().unwrap().mask, masked.mask);
+    assert_eq!(
+        with.mosaic().unwrap().domain,
+        watermelon.mosaic().unwrap().domain
+    );
+}
+
+#[test]
+fn mask_errors_exit_2_naming_the_problem() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = |name: &str, bytes: &[u8]| {
+        let path = tmp.path().join(name);
+        fs::write(&path, bytes).unwrap();
+        path.display().to_string()
+    };
+    let good = file("good.pbm", b"P1\n1 1\n0\n");
+    let wide_png = tmp.path().join("wide.png");
+    Pixmap::new(70_000, 1).unwrap().save_png(&wide_png).unwrap();
+    let cases = [
+        (
+            "growth-curve",
+            good.clone(),
+            "--mask needs a mosaic preset, and 'growth-curve' is not one",
+        ),
+        (
+            "croton-mcu",
+            tmp.path().join("absent.pbm").display().to_string(),
+            "cannot read mask",
+        ),
+        (
+            "croton-mcu",
+            file("bad.pbm", b"P1\n2 2\n0 1 2 0"),
+            "PBM: pixel 2: '2' is not 0 or 1",
+        ),
+        (
+            "croton-mcu",
+            file("short.pbm", b"P4\n9 2\n\x00"),
+            "raster needs 4 bytes",
+        ),
+        (
+            "croton-mcu",
+            file("bad.png", b"\x89PNG\r\n\x1a\ngarbage"),
+            "PNG: cannot decode",
+        ),
+        (
+            "croton-mcu",
+            file("huge.pbm", b"P1\n70000 1\n"),
+            "'70000' is not a number in 1..=65535",
+        ),
+        (
+            "croton-mcu",
+            wide_png.display().to_string(),
+            "a mask side is at most 65535 pixels",
+        ),
+    ];
+    for (preset, mask, message) in cases {
+        let o = morphogen(&[
+            "run",
+            preset,
+            "--mask",
+            &mask,
+            "--out",
+            tmp.path().to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{mask}: {}", text(&o));
+        assert!(text(&o).contains(message), "{mask}: {}", text(&o));
+        assert!(!text(&o).contains("panicked"), "{mask}: {}", text(&o));
+    }
+    let o = morphogen(&["run", "--grammar", &good, "--mask", &good]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("cannot be used with"), "{}", text(&o));
 }

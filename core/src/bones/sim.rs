@@ -6,6 +6,7 @@
 //! outside), `FrameEnd`. Each [`Simulation::step`] runs one shrinkwrap
 //! iteration; progress counts finished frames.
 
+use heapless::Vec;
 use nalgebra::Vector3;
 
 use crate::Error;
@@ -21,14 +22,17 @@ use super::{BonesParams, Frames};
 /// triangles.
 #[derive(Debug)]
 pub struct Bones<const V: usize, const T: usize> {
+    frame: u32,
+    wrapping: bool,
+    seed: u64,
+    params: Option<&'static BonesParams>,
     grower: Grower,
     skeleton: Skeleton,
     wrap: Shrinkwrap<Fx, V, T>,
-    params: Option<&'static BonesParams>,
-    seed: u64,
-    frame: u32,
-    wrapping: bool,
-    failed: Option<Error>,
+    /// The error that stopped the run, if any (a `Vec`, not an `Option`,
+    /// so that an idle simulation is all zero bytes: a runner slot is then
+    /// written in place by a memset, without a 48 KB temporary).
+    failed: Vec<Error, 1>,
 }
 
 impl<const V: usize, const T: usize> Bones<V, T> {
@@ -43,7 +47,7 @@ impl<const V: usize, const T: usize> Bones<V, T> {
             seed: 0,
             frame: 0,
             wrapping: false,
-            failed: None,
+            failed: Vec::new(),
         }
     }
 
@@ -57,8 +61,12 @@ impl<const V: usize, const T: usize> Bones<V, T> {
         self.seed = seed;
         self.frame = 0;
         self.wrapping = false;
-        self.failed = self.grower.load(params.grammar).err().map(Error::from);
-        self.failed.map_or(Ok(()), Err)
+        self.failed.clear();
+        if let Err(e) = self.grower.load(params.grammar) {
+            let _ = self.failed.push(e.into()); // capacity 1, just cleared
+            return Err(e.into());
+        }
+        Ok(())
     }
 
     /// The current skeleton.
@@ -149,7 +157,7 @@ impl<const V: usize, const T: usize> Default for Bones<V, T> {
 
 impl<const V: usize, const T: usize> Simulation for Bones<V, T> {
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
-        if let Some(e) = self.failed {
+        if let Some(&e) = self.failed.first() {
             return Err(e);
         }
         let params = self.params.ok_or(Error::NotStarted)?;
@@ -157,7 +165,7 @@ impl<const V: usize, const T: usize> Simulation for Bones<V, T> {
         if self.frame < total
             && let Err(e) = self.advance(params, sink)
         {
-            self.failed = Some(e);
+            let _ = self.failed.push(e); // empty: an error ends the run
             return Err(e);
         }
         Ok(Progress {

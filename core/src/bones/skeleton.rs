@@ -31,13 +31,14 @@ pub struct Grower {
 }
 
 impl Grower {
-    /// An empty grower (`const`, for a `static`).
+    /// An empty grower (`const`, for a `static`; all zero bytes, so that
+    /// it is written in place).
     #[must_use]
     pub const fn new() -> Grower {
         Grower {
-            grammar: Grammar::new(),
+            grammar: Grammar::zeroed(),
             derivation: Streaming::new(),
-            turtle: Turtle::new_const(),
+            turtle: Turtle::zeroed(),
         }
     }
 

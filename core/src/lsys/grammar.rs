@@ -139,6 +139,31 @@ impl Grammar {
         }
     }
 
+    /// An empty grammar whose bytes are all zero (settings too), so that a
+    /// runner slot holding one is written in place by a memset; parse a
+    /// grammar before using it.
+    pub(crate) const fn zeroed() -> Grammar {
+        Grammar {
+            productions: Vec::new(),
+            contexts: Vec::new(),
+            templates: Vec::new(),
+            code: Vec::new(),
+            literals: Vec::new(),
+            axiom: Span { start: 0, len: 0 },
+            ignored: [0; 4],
+            settings: Settings {
+                steps: 0,
+                delta: Fx::ZERO,
+                step: Fx::ZERO,
+                width: Fx::ZERO,
+                thin: Fx::ZERO,
+                plants: 0,
+                spacing: Fx::ZERO,
+                animate: false,
+            },
+        }
+    }
+
     /// The settings.
     #[must_use]
     pub fn settings(&self) -> &Settings {

@@ -43,8 +43,8 @@ mod tests;
 
 pub use derive::{Buffered, Derivation, Streaming, stream_id};
 pub use grammar::{Grammar, Settings};
-pub use sim::{LSystem, MODULES_PER_STEP};
 pub(crate) use sim::turtle_params;
+pub use sim::{LSystem, MODULES_PER_STEP};
 
 use crate::fx::Fx;
 use crate::turtle::TurtleError;

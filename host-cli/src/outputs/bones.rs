@@ -82,7 +82,11 @@ pub fn write(
     let width = 360u32;
     let s = f64::from(width) / (b.1 - b.0);
     let height = ((b.3 - b.2) * s).ceil().max(1.0) as u32;
-    let mut strip = canvas(width * frames.len().max(1) as u32, height)?;
+    // The strip: at most 1 440 pixels wide, panels of 120 to 360.
+    let count = frames.len().max(1) as u32;
+    let panel = (1440 / count).clamp(120, width);
+    let ps = f64::from(panel) / (b.1 - b.0);
+    let mut strip = canvas(panel * count, ((b.3 - b.2) * ps).ceil().max(1.0) as u32)?;
     for (k, (f, skeleton)) in frames.iter().zip(&skeletons).enumerate() {
         let _ = writeln!(
             summary,
@@ -103,14 +107,11 @@ pub fn write(
         draw(&mut one, f, BONE, s as f32, ox, oy);
         let png_path = dir.join(format!("bone_{:03}.png", f.index));
         save(&one, &png_path)?;
-        draw(
-            &mut strip,
-            f,
-            BONE,
-            s as f32,
-            ox + (width as usize * k) as f32,
-            oy,
+        let (ox, oy) = (
+            (f64::from(panel) * k as f64 - b.0 * ps) as f32,
+            (b.3 * ps) as f32,
         );
+        draw(&mut strip, f, BONE, ps as f32, ox, oy);
         written.push(obj_path);
         written.push(png_path);
     }

@@ -3,9 +3,11 @@
 //! (`day_NN.png`: every pixel takes the colour of the type of its nearest
 //! cell, distances periodic where the domain wraps, the cylinder unrolled
 //! with u to the right and v down); `mosaic.png` is the last day; the
-//! control mask, if any, as `mask.pbm`. [`read_pbm`] reads a PBM mask.
+//! control mask, if any, as `mask.pbm`. [`read_mask`] reads a user's mask
+//! (PBM or PNG).
 
 use std::fmt::Write as _;
+use std::fs;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
@@ -231,9 +233,73 @@ pub fn write_pbm(mask: &Mask) -> String {
     s
 }
 
+/// Reads the mask file `path`, a PNG (by its signature; see [`read_png`])
+/// or else a PBM ([`read_pbm`]), into a [`Mask`] whose bits are leaked:
+/// one mask per run.
+///
+/// # Errors
+/// An unreadable or malformed file, or a side beyond the [`Mask`] limit.
+pub fn read_mask(path: &Path) -> Result<Mask> {
+    let bytes = fs::read(path).with_context(|| format!("cannot read mask {}", path.display()))?;
+    let (width, height, bits) = if bytes.starts_with(PNG_SIGNATURE) {
+        read_png(&bytes)
+    } else {
+        read_pbm(&bytes)
+    }
+    .with_context(|| format!("mask {}", path.display()))?;
+    Ok(Mask {
+        width,
+        height,
+        bits: bits.leak(),
+    })
+}
+
+/// The first bytes of every PNG file.
+const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
+
+/// The core [`Mask`]'s limit, named in errors.
+const SIDE_LIMIT: &str = "a mask side is at most 65535 pixels (the core Mask's u16)";
+
+/// Reads a PNG mask into the core's packed rows, like [`read_pbm`]: a pixel
+/// is white (allowed) when its alpha and its luminance (Rec. 709 weights of
+/// the stored R, G, B) are both at least 50 %.
+///
+/// # Errors
+/// An undecodable PNG, or a side beyond 65 535 pixels (the [`Mask`]'s `u16`).
+pub fn read_png(bytes: &[u8]) -> Result<(u16, u16, Vec<u8>)> {
+    let be32 = |at: usize| {
+        bytes
+            .get(at..at + 4)
+            .and_then(|b| b.try_into().ok())
+            .map(u32::from_be_bytes)
+    };
+    // The sizes in IHDR (the first chunk), checked before decoding
+    // allocates the whole image.
+    if let (Some(b"IHDR"), Some(w), Some(h)) = (bytes.get(12..16), be32(16), be32(20))
+        && w.max(h) > u32::from(u16::MAX)
+    {
+        bail!("PNG: {w}×{h} pixels: {SIDE_LIMIT}");
+    }
+    let pixmap = Pixmap::decode_png(bytes).context("PNG: cannot decode")?;
+    let side = |v: u32| u16::try_from(v).with_context(|| format!("PNG: {v} pixels: {SIDE_LIMIT}"));
+    let (width, height) = (side(pixmap.width())?, side(pixmap.height())?);
+    let stride = Mask::stride(width);
+    let mut bits = vec![0u8; stride * usize::from(height)];
+    for (i, p) in pixmap.pixels().iter().enumerate() {
+        let c = p.demultiply();
+        // 10 000·Y, Y = 0.2126 R + 0.7152 G + 0.0722 B; 50 % of 255 is 127.5.
+        let luma =
+            2126 * u32::from(c.red()) + 7152 * u32::from(c.green()) + 722 * u32::from(c.blue());
+        if 2 * luma >= 2_550_000 && 2 * u32::from(c.alpha()) >= 255 {
+            let (x, y) = (i % usize::from(width), i / usize::from(width));
+            bits[y * stride + x / 8] |= 0x80 >> (x % 8);
+        }
+    }
+    Ok((width, height, bits))
+}
+
 /// Reads a PBM mask (plain P1 or raw P4) into the core's packed rows
-/// (1 = white = allowed): `(width, height, bits)`. Leak the bits
-/// (`Vec::leak`) to build a [`Mask`] for a run.
+/// (1 = white = allowed): `(width, height, bits)`.
 ///
 /// # Errors
 /// A malformed file, with what is wrong and where.
@@ -265,7 +331,7 @@ pub fn read_pbm(bytes: &[u8]) -> Result<(u16, u16, Vec<u8>)> {
     let dim = |t: String, what: &str| -> Result<u16> {
         match t.parse::<u16>() {
             Ok(v) if v > 0 => Ok(v),
-            _ => bail!("PBM: {what} '{t}' is not a number in 1..=65535"),
+            _ => bail!("PBM: {what} '{t}' is not a number in 1..=65535: {SIDE_LIMIT}"),
         }
     };
     let width = dim(token(bytes)?, "width")?;
@@ -359,5 +425,58 @@ mod tests {
                 .contains("raster needs 4 bytes")
         );
         assert!(read_pbm(b"P3\n1 1\n").is_err());
+    }
+
+    #[test]
+    fn png_pixels_are_white_from_half_luminance_and_half_alpha() {
+        // One row of 9 pixels: (R, G, B, A) and whether it allows F.
+        let row: [([u8; 4], bool); 9] = [
+            ([255, 255, 255, 255], true),
+            ([0, 0, 0, 255], false),
+            ([128, 128, 128, 255], true),  // Y = 50.2 %
+            ([127, 127, 127, 255], false), // Y = 49.8 %
+            ([0, 255, 0, 255], true),      // Y = 71.5 %
+            ([255, 0, 0, 255], false),     // Y = 21.3 %
+            ([255, 255, 255, 128], true),  // A = 50.2 %
+            ([255, 255, 255, 127], false), // A = 49.8 %
+            ([255, 255, 255, 0], false),
+        ];
+        let mut pixmap = Pixmap::new(9, 2).unwrap();
+        for (p, ([r, g, b, a], _)) in pixmap.pixels_mut().iter_mut().zip(&row) {
+            *p = ColorU8::from_rgba(*r, *g, *b, *a).premultiply();
+        }
+        let (width, height, bits) = read_png(&pixmap.encode_png().unwrap()).unwrap();
+        assert_eq!((width, height), (9, 2));
+        let mask = Mask {
+            width,
+            height,
+            bits: bits.leak(),
+        };
+        assert!(mask.is_valid());
+        let allowed: Vec<bool> = (0..9).map(|x| mask.pixel(x, 0)).collect();
+        let expected: Vec<bool> = row.iter().map(|(_, white)| *white).collect();
+        assert_eq!(allowed, expected);
+        // Row 1 is transparent black: nothing allowed, padding clear.
+        assert_eq!(&mask.bits[2..], &[0, 0]);
+        assert!(
+            read_png(b"\x89PNG\r\n\x1a\nnot really")
+                .unwrap_err()
+                .to_string()
+                .contains("PNG: cannot decode")
+        );
+        let wide = Pixmap::new(70_000, 1).unwrap().encode_png().unwrap();
+        assert!(
+            read_png(&wide)
+                .unwrap_err()
+                .to_string()
+                .contains("at most 65535")
+        );
+        // A huge size is refused from the header, before any decoding.
+        let mut huge = wide[..16].to_vec();
+        huge.extend(100_000u32.to_be_bytes().repeat(2));
+        assert_eq!(
+            read_png(&huge).unwrap_err().to_string(),
+            format!("PNG: 100000×100000 pixels: {SIDE_LIMIT}")
+        );
     }
 }
