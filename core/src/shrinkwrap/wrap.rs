@@ -1,12 +1,16 @@
-//! The shrinkwrap iteration (seed `003_…`, Sec. 5–6), with two corrections
-//! that make it converge in fixed point:
+//! The shrinkwrap iteration (seed `003_…`, Sec. 5–6), with three
+//! corrections that make it converge in fixed point:
 //!
 //! - a vertex moves towards the new level V0 from where it *is*:
 //!   r ← r + (V0 − V(r))·∇V/(∇V·∇V), which is the paper's eq. (12),
 //!   ΔV·∇V/(∇V·∇V), when V(r) is exactly the old level, but does not
 //!   accumulate the first-order error step after step;
 //! - a move is at most a tenth of the initial radius, so a vertex where ∇V
-//!   nearly vanishes cannot jump across the skeleton.
+//!   nearly vanishes cannot jump across the skeleton;
+//! - only an edge whose two ends are on the level is split: while vertices
+//!   still lag behind a rising level, splitting their edges would only add
+//!   vertices where the surface is not yet (it filled a 1 200-vertex mesh
+//!   with a single rod).
 //!
 //! The run ends after the level reaches the target: a few passes of the
 //! same move at the target, each followed by a split pass, until no edge is
