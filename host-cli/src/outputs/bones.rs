@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 use morphogen::bones::BonesParams;
 use morphogen::fx::{Fx, Real};
-use morphogen::shrinkwrap::{Element, field};
+use morphogen::shrinkwrap::{Element, worst_level_error};
 use morphogen::stream::Record;
 use nalgebra::Vector3;
 
@@ -38,6 +38,11 @@ fn skeletons(records: &[Record]) -> Vec<Vec<Element<f64>>> {
     out
 }
 
+/// A frame's vertices as vectors.
+fn points(frame: &Frame) -> Vec<Vector3<f64>> {
+    frame.vertices.iter().map(|v| Vector3::from(*v)).collect()
+}
+
 /// V − E + F of a frame's mesh.
 fn euler(frame: &Frame) -> i64 {
     let mut edges: Vec<(u32, u32)> = frame
@@ -48,15 +53,6 @@ fn euler(frame: &Frame) -> i64 {
     edges.sort_unstable();
     edges.dedup();
     frame.vertices.len() as i64 - edges.len() as i64 + frame.triangles.len() as i64
-}
-
-/// The largest |V − V0| / V0 over a frame's vertices.
-fn worst_error(frame: &Frame, skeleton: &[Element<f64>], level: f64) -> f64 {
-    frame
-        .vertices
-        .iter()
-        .map(|v| ((field(skeleton, &Vector3::from(*v)).0 - level) / level).abs())
-        .fold(0.0, f64::max)
 }
 
 /// Writes `frame_NNN.obj`, `bone_NNN.png`, `bones.png` and `summary.txt`.
@@ -97,7 +93,7 @@ pub fn write(
             f.vertices.len(),
             f.triangles.len(),
             euler(f),
-            worst_error(f, skeleton, level)
+            worst_level_error(skeleton, &points(f), level)
         );
         let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
         let header = format!("{preset} frame {}, {} L-system steps", f.index, f.age);
