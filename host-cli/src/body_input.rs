@@ -334,15 +334,31 @@ fn cylinder_of(e: &morphogen::Error) -> Option<Label> {
 /// Unreadable or malformed files, a preset that is not a body preset, or a
 /// model the core refuses — each located in its file.
 pub fn run(
-    preset: &str,
+    scenario: &morphogen_scenario::Scenario,
     seed: Option<u64>,
     out: Option<PathBuf>,
     mesh_path: &Path,
     cylinders_path: &Path,
 ) -> Result<Outcome> {
-    let base = morphogen::body::presets::find(preset).ok_or_else(|| {
-        anyhow!("--mesh/--cylinders need a body preset (horse-growth, cow-growth, horse-trot), not '{preset}'")
-    })?;
+    scenario.with_preset(|p| match p.model {
+        morphogen::preset::Model::Body(base) => {
+            run_body(p.name, base, seed.unwrap_or(p.default_seed), out, mesh_path, cylinders_path)
+        }
+        _ => bail!(
+            "--mesh/--cylinders need a body scenario (horse-growth, cow-growth, horse-trot, or a [body] file), not '{}'",
+            p.name
+        ),
+    })
+}
+
+fn run_body(
+    preset: &str,
+    base: &BodyParams<'_>,
+    seed: u64,
+    out: Option<PathBuf>,
+    mesh_path: &Path,
+    cylinders_path: &Path,
+) -> Result<Outcome> {
     let mesh_text = fs::read_to_string(mesh_path)
         .with_context(|| format!("cannot read mesh {}", mesh_path.display()))?;
     let cyl_text = fs::read_to_string(cylinders_path)
@@ -372,7 +388,6 @@ pub fn run(
     };
     let binding =
         morphogen::body::binding_summary::<USER_CYLINDERS>(&model, base.table).map_err(locate)?;
-    let seed = seed.unwrap_or(0);
     let mut encoder = Encoder::new(Bytes::default());
     encoder
         .record(&morphogen::preset::header(
@@ -382,7 +397,7 @@ pub fn run(
         ))
         .map_err(|e| anyhow!("{e}"))?;
     let mut body = Box::new(Body::<'_, USER_CYLINDERS>::new());
-    body.start(&params);
+    body.start(&params).map_err(locate)?;
     loop {
         let p = body.step(&mut encoder).map_err(locate)?;
         if p.finished() {

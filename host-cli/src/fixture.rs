@@ -4,14 +4,16 @@
 
 use std::collections::BTreeMap;
 use std::fs;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use morphogen::stream::{Decoder, Record};
 use serde::{Deserialize, Serialize};
 
-use crate::exec::{PresetRef, Run};
+use morphogen_scenario::Scenario;
+
+use crate::atomic::write_atomic;
+use crate::exec::Run;
 
 /// The stream file inside a fixture folder.
 pub const STREAM_FILE: &str = "stream.bin";
@@ -50,22 +52,31 @@ pub struct Fixture {
     pub stream: Vec<u8>,
 }
 
-/// The folder of `preset`'s fixture.
+/// The scenario file inside a fixture folder of a scenario that is not a
+/// built-in preset (self-contained: `verify` re-runs it from there).
+pub const SCENARIO_FILE: &str = "scenario.toml";
+
+/// The folder of `name`'s fixture. Names are checked scenario names (no
+/// `/`, no leading `.`), so this never leaves `fixtures`.
 #[must_use]
-pub fn dir(fixtures: &Path, preset: &str) -> PathBuf {
-    fixtures.join(preset)
+pub fn dir(fixtures: &Path, name: &str) -> PathBuf {
+    fixtures.join(name)
 }
 
-/// Reads `preset`'s fixture.
+/// Reads `name`'s fixture and checks it against its own summary (size and
+/// digest), so that a corrupt fixture is never taken for a regression.
 ///
 /// # Errors
-/// A missing or unreadable file, or a summary that is not valid TOML of
-/// the expected shape; each names the file.
-pub fn load(fixtures: &Path, preset: &str) -> Result<Fixture> {
-    let dir = dir(fixtures, preset);
+/// A name that is not a scenario name, a missing or unreadable file, a
+/// summary that is not valid TOML of the expected shape, or a stream that
+/// does not match its summary ("fixture corrupt"); each names the file.
+pub fn load(fixtures: &Path, name: &str) -> Result<Fixture> {
+    morphogen_scenario::check::name(name)
+        .map_err(|e| anyhow::anyhow!("'{}' is not a fixture name: {}", name.escape_debug(), e.message))?;
+    let dir = dir(fixtures, name);
     if !dir.is_dir() {
         bail!(
-            "no fixture for preset '{preset}' at {} (create it with `morphogen bless {preset}`)",
+            "no fixture for '{name}' at {} (create it with `morphogen bless {name}`)",
             dir.display()
         );
     }
@@ -73,10 +84,10 @@ pub fn load(fixtures: &Path, preset: &str) -> Result<Fixture> {
     let text = fs::read_to_string(&summary_path)
         .with_context(|| format!("cannot read {}", summary_path.display()))?;
     let summary: Summary = toml::from_str(&text)
-        .with_context(|| format!("{} is not a valid fixture summary", summary_path.display()))?;
-    if summary.preset != preset {
+        .with_context(|| format!("fixture corrupt: {} is not a valid fixture summary", summary_path.display()))?;
+    if summary.preset != name {
         bail!(
-            "{} names preset '{}', but lives in the folder of '{preset}'",
+            "fixture corrupt: {} names '{}', but lives in the folder of '{name}'",
             summary_path.display(),
             summary.preset
         );
@@ -84,12 +95,57 @@ pub fn load(fixtures: &Path, preset: &str) -> Result<Fixture> {
     let stream_path = dir.join(STREAM_FILE);
     let stream =
         fs::read(&stream_path).with_context(|| format!("cannot read {}", stream_path.display()))?;
+    let digest = format!("{:016x}", morphogen::stream::StreamDigest::of(&stream));
+    if stream.len() as u64 != summary.bytes || digest != summary.stream_digest {
+        bail!(
+            "fixture corrupt: {} has {} bytes with digest {digest}, its summary says {} bytes with digest {} (re-bless it if the summary is right about nothing else)",
+            stream_path.display(),
+            stream.len(),
+            summary.bytes,
+            summary.stream_digest
+        );
+    }
     Ok(Fixture { summary, stream })
 }
 
-/// The summary of a run of `preset`.
+/// The scenario a fixture was made from: its `scenario.toml`, or else the
+/// built-in preset of its name.
+///
+/// # Errors
+/// Neither exists, or the scenario file is invalid.
+pub fn scenario(fixtures: &Path, name: &str) -> Result<Scenario> {
+    let path = dir(fixtures, name).join(SCENARIO_FILE);
+    if path.is_file() {
+        let text = fs::read_to_string(&path)
+            .with_context(|| format!("cannot read {}", path.display()))?;
+        return Ok(Scenario::from_text(&path.display().to_string(), &text)?);
+    }
+    morphogen_scenario::builtin(name).ok_or_else(|| {
+        anyhow::anyhow!(
+            "fixture '{name}' has no {SCENARIO_FILE} and is not a built-in preset"
+        )
+    })
+}
+
+/// The names of every fixture folder in `fixtures`, sorted.
+///
+/// # Errors
+/// When the folder cannot be read.
+pub fn names(fixtures: &Path) -> Result<Vec<String>> {
+    let mut names: Vec<String> = fs::read_dir(fixtures)
+        .with_context(|| format!("cannot read the fixtures folder {}", fixtures.display()))?
+        .filter_map(|e| e.ok())
+        .filter(|e| e.path().join(SUMMARY_FILE).is_file())
+        .filter_map(|e| e.file_name().into_string().ok())
+        .filter(|n| !n.starts_with('.'))
+        .collect();
+    names.sort();
+    Ok(names)
+}
+
+/// The summary of a run of `scenario`.
 #[must_use]
-pub fn summarise(preset: PresetRef, seed: u64, run: &Run) -> Summary {
+pub fn summarise(scenario: &Scenario, seed: u64, run: &Run) -> Summary {
     let mut records = BTreeMap::new();
     let mut params = 0;
     let mut version = 0;
@@ -103,9 +159,9 @@ pub fn summarise(preset: PresetRef, seed: u64, run: &Run) -> Summary {
         }
     }
     Summary {
-        preset: preset.name().to_string(),
+        preset: scenario.name().to_string(),
         seed,
-        description: preset.summary().to_string(),
+        description: scenario.summary().to_string(),
         format_version: version,
         params_digest: format!("{params:016x}"),
         stream_digest: format!("{:016x}", run.digest),
@@ -115,47 +171,21 @@ pub fn summarise(preset: PresetRef, seed: u64, run: &Run) -> Summary {
     }
 }
 
-/// Writes `preset`'s fixture from `run`, each file atomically.
+/// Writes `scenario`'s fixture from `run`, each file atomically; a
+/// scenario that is not a built-in preset goes in as `scenario.toml`.
 ///
 /// # Errors
 /// When the folder cannot be created or a file cannot be written; nothing
 /// is left half-written.
-pub fn bless(fixtures: &Path, summary: &Summary, run: &Run) -> Result<PathBuf> {
+pub fn bless(fixtures: &Path, scenario: &Scenario, summary: &Summary, run: &Run) -> Result<PathBuf> {
     let dir = dir(fixtures, &summary.preset);
     fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let text = toml::to_string(summary).context("cannot render the summary")?;
+    if !scenario.is_builtin() {
+        write_atomic(&dir.join(SCENARIO_FILE), scenario.self_contained().as_bytes())?;
+    }
     write_atomic(&dir.join(STREAM_FILE), &run.stream)?;
     write_atomic(&dir.join(SUMMARY_FILE), text.as_bytes())?;
     Ok(dir)
 }
 
-/// Writes `bytes` to a temporary file in `path`'s folder, then renames it.
-///
-/// # Errors
-/// When the folder is not writable or the rename fails.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let folder = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".morphogen-")
-        .tempfile_in(folder)
-        .with_context(|| format!("cannot write in {}", folder.display()))?;
-    tmp.write_all(bytes)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    tmp.as_file()
-        .sync_all()
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    // tempfile creates files 0600; outputs and fixtures are ordinary files.
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        tmp.as_file()
-            .set_permissions(fs::Permissions::from_mode(0o644))
-            .with_context(|| format!("cannot write {}", path.display()))?;
-    }
-    tmp.persist(path)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    Ok(())
-}

@@ -1,16 +1,17 @@
-//! The host side of Morphogen: running presets into streams, decoding,
+//! The host side of Morphogen: running scenarios into streams, decoding,
 //! drawing and exporting them, and checking them against golden fixtures.
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+pub mod atomic;
 pub mod body_input;
 pub mod capture;
 pub mod exec;
 pub mod fixture;
-pub mod host_presets;
 pub mod jsonl;
 pub mod outputs;
 pub mod rig;
+pub mod sweep;
 pub mod verify;
 
 /// How a command ended, mapped to the process exit code.

@@ -7,13 +7,17 @@ use std::process::ExitCode;
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use morphogen::stream::Decoder;
-use morphogen_cli::{Outcome, capture, exec, fixture, jsonl, outputs, verify};
+use morphogen_cli::{Outcome, atomic, capture, exec, fixture, jsonl, outputs, sweep, verify};
+use morphogen_scenario::Scenario;
 
 /// The workspace's fixtures folder, the default for `verify` and `bless`.
 const WORKSPACE_FIXTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures");
 
 /// Deterministic growth simulations: horns, bodies, plants, bones and cell
 /// mosaics, bit-identical on a workstation and a microcontroller.
+///
+/// Every run is a scenario: a built-in preset (`morphogen list`, `morphogen
+/// show NAME`) or a scenario file of your own (TOML, docs/scenarios.md).
 ///
 /// Exit codes: 0 success, 1 a stream differs from its fixture, 2 bad input
 /// or usage.
@@ -28,24 +32,36 @@ struct Cli {
 enum Command {
     /// List the built-in presets, one per line: name, default seed, summary.
     List,
-    /// Run a preset and write its stream, its records as JSON Lines and the
-    /// model's own files (PNG, OBJ, CSV).
+    /// Print a built-in preset's scenario file, self-contained (grammars and
+    /// masks inline): the way to start your own (`morphogen show ram-horn >
+    /// my-horn.toml`).
+    Show {
+        /// The preset's name.
+        preset: String,
+    },
+    /// Run a preset or a scenario file and write its stream, its records as
+    /// JSON Lines and the model's own files (PNG, OBJ, CSV).
     Run {
-        /// The preset's name (see `morphogen list`); omit it (or say
-        /// `custom`) with --grammar.
+        /// A preset's name (see `morphogen list`) or a scenario file
+        /// (`*.toml`); omit it with --grammar.
         #[arg(required_unless_present = "grammar")]
-        preset: Option<String>,
+        target: Option<String>,
+        /// Change a parameter: a dotted key of the scenario file and a value
+        /// (`--set mosaic.days=20`, `--set horn.modules[0].bend=80`);
+        /// repeatable.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
         /// Run an L-system grammar file instead of a preset (format:
         /// docs/lsystems.md); writes plant.png, plant.obj, segments.csv.
         #[arg(long, value_name = "FILE")]
         grammar: Option<PathBuf>,
-        /// The seed (default: the preset's own, the one fixtures use).
+        /// The seed (default: the scenario's own, the one fixtures use).
         #[arg(long)]
         seed: Option<u64>,
-        /// The output folder (default: out/<preset>).
+        /// The output folder (default: out/<name>).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// With a body preset: grow this OBJ mesh instead of the built-in
+        /// With a body scenario: grow this OBJ mesh instead of the built-in
         /// body (needs --cylinders; format: docs/body.md).
         #[arg(
             long,
@@ -61,38 +77,46 @@ enum Command {
         /// (LED matrix, OLED) shows it, drawn by the core's rig renderer.
         #[arg(long, value_name = "WxH")]
         rig: Option<String>,
-        /// With a mosaic preset: where F cells may start instead of the
-        /// preset's mask, a PBM (P1/P4) or PNG stretched over the whole
-        /// domain (the control cylinder); white allows F (in a PNG: luminance
-        /// and alpha both ≥ 50 %).
+        /// With a mosaic: where F cells may start instead of the scenario's
+        /// mask, a PBM (P1/P4) or PNG stretched over the whole domain; white
+        /// allows F (in a PNG: luminance and alpha both ≥ 50 %).
         #[arg(long, value_name = "FILE", conflicts_with_all = ["grammar", "mesh"])]
         mask: Option<PathBuf>,
     },
-    /// Re-run presets and compare their streams with the golden fixtures,
+    /// Re-run scenarios and compare their streams with the golden fixtures,
     /// or check a device capture with --stream.
     Verify {
-        /// Presets to verify (default: all).
-        presets: Vec<String>,
+        /// Presets or scenario files to verify (default: every fixture in
+        /// the fixtures folder, built-in or not).
+        targets: Vec<String>,
         /// The fixtures folder.
         #[arg(long, default_value = WORKSPACE_FIXTURES)]
         fixtures: PathBuf,
         /// A capture from a device (one or more streams back to back, each
         /// starting with its header) to check instead of re-running.
-        #[arg(long, conflicts_with = "presets")]
+        #[arg(long, conflicts_with = "targets")]
         stream: Option<PathBuf>,
     },
-    /// Write the golden fixtures of presets (the only writer of fixtures).
+    /// Write the golden fixtures of presets or scenario files (the only
+    /// writer of fixtures). A scenario file's fixture keeps a
+    /// self-contained copy of it, so `verify` re-runs it from there.
     Bless {
-        /// Presets to bless.
+        /// Presets or scenario files to bless.
         #[arg(required = true)]
-        presets: Vec<String>,
+        targets: Vec<String>,
+        /// Change a parameter (as `run --set`); repeatable.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
         /// The fixtures folder.
         #[arg(long, default_value = WORKSPACE_FIXTURES)]
         fixtures: PathBuf,
-        /// The seed (default: the preset's own).
+        /// The seed (default: the scenario's own).
         #[arg(long)]
         seed: Option<u64>,
     },
+    /// Run every combination of parameter values (on all cores) and
+    /// tabulate the results in DIR/sweep.csv, one folder per run.
+    Sweep(sweep::Args),
     /// Decode a stream file into JSON Lines (the same as `records.jsonl`).
     Decode {
         /// The stream file.
@@ -115,107 +139,121 @@ fn main() -> ExitCode {
     }
 }
 
+fn sets(sets: &[String]) -> Result<Vec<(String, String)>> {
+    sets.iter().map(|s| exec::parse_set(s)).collect()
+}
+
 fn dispatch(command: Command) -> Result<Outcome> {
     match command {
         Command::List => {
-            let width = exec::all().map(|p| p.name().len()).max().unwrap_or(0);
-            for p in exec::all() {
-                let note = p
-                    .host()
-                    .map(|h| format!("  ({})", h.host_only_note()))
-                    .unwrap_or_default();
+            let all = morphogen_scenario::builtins();
+            let width = all.iter().map(|s| s.name().len()).max().unwrap_or(0);
+            for s in &all {
+                let note = s.with_preset(|p| {
+                    if p.model.fits_mcu() {
+                        String::new()
+                    } else {
+                        "  (host only: too many cells for an MCU)".to_string()
+                    }
+                });
                 println!(
                     "{:width$}  seed {:<4} {}{note}",
-                    p.name(),
-                    p.default_seed(),
-                    p.summary()
+                    s.name(),
+                    s.seed(),
+                    s.summary()
                 );
             }
             Ok(Outcome::Ok)
         }
+        Command::Show { preset } => {
+            let scenario = exec::find(&preset, &[])?;
+            print!("{}", scenario.self_contained());
+            Ok(Outcome::Ok)
+        }
         Command::Run {
-            preset,
+            target,
             grammar: Some(file),
             seed,
             out,
             ..
-        } => match preset.as_deref() {
+        } => match target.as_deref() {
             None | Some("custom") => run_grammar(&file, seed, out),
             Some(other) => bail!(
                 "--grammar runs a grammar file: give no preset name (got '{other}'), or `custom`"
             ),
         },
         Command::Run {
-            preset: Some(preset),
+            target: Some(target),
+            sets: set_args,
             grammar: None,
             seed,
             out,
-            mesh: Some(mesh),
-            cylinders: Some(cylinders),
-            ..
-        } => morphogen_cli::body_input::run(&preset, seed, out, &mesh, &cylinders),
-        Command::Run {
-            preset: Some(preset),
-            grammar: None,
-            seed,
-            out,
+            mesh,
+            cylinders,
             rig,
             mask,
-            ..
-        } => run(&preset, seed, out, rig.as_deref(), mask.as_deref()),
-        Command::Run {
-            preset: None,
-            grammar: None,
-            ..
         } => {
-            bail!("give a preset name (see `morphogen list`) or --grammar FILE")
+            let mut sets = sets(&set_args)?;
+            if let Some(file) = &mask {
+                sets.push(("mosaic.mask".into(), mask_inline(file)?));
+            }
+            let scenario = exec::find(&target, &sets)?;
+            match (mesh, cylinders) {
+                (Some(mesh), Some(cylinders)) => {
+                    morphogen_cli::body_input::run(&scenario, seed, out, &mesh, &cylinders)
+                }
+                _ => run(&scenario, seed, out, rig.as_deref()),
+            }
+        }
+        Command::Run { target: None, .. } => {
+            bail!("give a preset name (see `morphogen list`), a scenario file, or --grammar FILE")
         }
         Command::Verify {
-            presets,
             fixtures,
             stream: Some(file),
-        } => {
-            debug_assert!(presets.is_empty());
-            verify_capture(&file, &fixtures)
-        }
+            ..
+        } => verify_capture(&file, &fixtures),
         Command::Verify {
-            presets,
+            targets,
             fixtures,
             stream: None,
-        } => verify_presets(presets, &fixtures),
+        } => verify_targets(targets, &fixtures),
         Command::Bless {
-            presets,
+            targets,
+            sets: set_args,
             fixtures,
             seed,
-        } => bless(&presets, &fixtures, seed),
+        } => bless(&targets, &sets(&set_args)?, &fixtures, seed),
+        Command::Sweep(args) => sweep::run(&args),
         Command::Decode { file, out } => decode(&file, out.as_deref()),
     }
 }
 
-fn run(
-    name: &str,
-    seed: Option<u64>,
-    out: Option<PathBuf>,
-    rig: Option<&str>,
-    mask: Option<&Path>,
-) -> Result<Outcome> {
+/// A mask file as the inline value of `mosaic.mask` (a PBM text).
+fn mask_inline(file: &Path) -> Result<String> {
+    let bytes = morphogen_scenario::read_limited(file)
+        .map_err(|e| anyhow::anyhow!("cannot read mask {}: {e}", file.display()))?;
+    let (width, height, bits) = morphogen_scenario::mask::read(&bytes)
+        .map_err(|e| anyhow::anyhow!("mask {}: {e}", file.display()))?;
+    let pbm = morphogen_scenario::mask::to_pbm(&morphogen::mosaic::Mask {
+        width,
+        height,
+        bits: &bits,
+    });
+    let mut inline = toml_edit::InlineTable::new();
+    inline.insert("text", pbm.into());
+    Ok(inline.to_string())
+}
+
+fn run(scenario: &Scenario, seed: Option<u64>, out: Option<PathBuf>, rig: Option<&str>) -> Result<Outcome> {
     let rig = rig.map(morphogen_cli::rig::parse_rig_size).transpose()?;
-    let preset = exec::find(name)?;
-    let preset = match mask {
-        Some(file) => exec::with_mask(preset, file)?,
-        None => preset,
-    };
-    let seed = seed.unwrap_or(preset.default_seed());
-    let dir = out.unwrap_or_else(|| Path::new("out").join(preset.name()));
+    let seed = seed.unwrap_or(scenario.seed());
+    let dir = out.unwrap_or_else(|| Path::new("out").join(scenario.name()));
     fs::create_dir_all(&dir)
         .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-    let run = exec::run(preset, seed, true)?;
+    let run = exec::run(scenario, seed, true)?;
     let written = exec::write_outputs(&dir, &run, |records, dir| {
-        // With a user's mask, the name no longer gives the parameters.
-        let mut files = match (mask, preset.mosaic()) {
-            (Some(_), Some(params)) => outputs::mosaic::write(params, records, dir)?,
-            _ => outputs::write(preset.name(), records, dir)?,
-        };
+        let mut files = scenario.with_preset(|p| outputs::write(p, records, dir))?;
         if let Some((w, h)) = rig {
             let path = dir.join(format!("rig-{w}x{h}.png"));
             morphogen_cli::rig::render_rig_png(records, w, h, &path)?;
@@ -225,7 +263,7 @@ fn run(
     })?;
     println!(
         "{} seed {}: {} frames, {} bytes, digest {:016x}",
-        preset.name(),
+        scenario.name(),
         seed,
         run.frames,
         run.stream.len(),
@@ -261,26 +299,34 @@ fn run_grammar(file: &Path, seed: Option<u64>, out: Option<PathBuf>) -> Result<O
     Ok(Outcome::Ok)
 }
 
-fn verify_presets(names: Vec<String>, fixtures: &Path) -> Result<Outcome> {
-    let names: Vec<String> = if names.is_empty() {
-        exec::all().map(|p| p.name().to_string()).collect()
+fn verify_targets(targets: Vec<String>, fixtures: &Path) -> Result<Outcome> {
+    let scenarios: Vec<Scenario> = if targets.is_empty() {
+        fixture::names(fixtures)?
+            .iter()
+            .map(|name| fixture::scenario(fixtures, name))
+            .collect::<Result<_>>()?
     } else {
-        names
+        targets
+            .iter()
+            .map(|t| exec::find(t, &[]))
+            .collect::<Result<_>>()?
     };
+    if scenarios.is_empty() {
+        bail!("no fixtures in {}", fixtures.display());
+    }
     let mut outcome = Outcome::Ok;
-    for name in names {
-        let preset = exec::find(&name)?;
-        let fixture = fixture::load(fixtures, preset.name())?;
-        let run = exec::run(preset, fixture.summary.seed, true)?;
+    for scenario in scenarios {
+        let fixture = fixture::load(fixtures, scenario.name())?;
+        let run = exec::run(&scenario, fixture.summary.seed, true)?;
         match verify::compare(&fixture.stream, &run.stream) {
             None => println!(
                 "ok        {} ({} frames, digest {:016x})",
-                preset.name(),
+                scenario.name(),
                 run.frames,
                 run.digest
             ),
             Some(diff) => {
-                println!("MISMATCH  {}: {diff}", preset.name());
+                println!("MISMATCH  {}: {diff}", scenario.name());
                 outcome = Outcome::Mismatch;
             }
         }
@@ -307,23 +353,24 @@ fn verify_capture(file: &Path, fixtures: &Path) -> Result<Outcome> {
             outcome = Outcome::Mismatch;
             continue;
         };
-        let fixture = match fixture::load(fixtures, header.preset.as_str()) {
+        let name = header.preset.as_str();
+        let fixture = match fixture::load(fixtures, name) {
             Ok(fixture) => fixture,
             Err(e) => {
-                println!("ERROR     {}: {e:#}", header.preset);
-                missing.push(header.preset.to_string());
+                println!("ERROR     {}: {e:#}", name.escape_debug());
+                missing.push(name.escape_debug().to_string());
                 continue;
             }
         };
         match verify::compare(&fixture.stream, actual) {
             None => println!(
-                "ok        {} (bytes {}..{} of the capture)",
-                header.preset, part.range.start, part.range.end
+                "ok        {name} (bytes {}..{} of the capture)",
+                part.range.start, part.range.end
             ),
             Some(diff) => {
                 println!(
-                    "MISMATCH  {} (capture bytes {}..): {diff}",
-                    header.preset, part.range.start
+                    "MISMATCH  {name} (capture bytes {}..): {diff}",
+                    part.range.start
                 );
                 outcome = Outcome::Mismatch;
             }
@@ -332,23 +379,28 @@ fn verify_capture(file: &Path, fixtures: &Path) -> Result<Outcome> {
     println!("{} stream(s) in {}", parts.len(), file.display());
     if !missing.is_empty() {
         bail!(
-            "the capture holds streams without a fixture: {}",
+            "the capture holds streams without a usable fixture: {}",
             missing.join(", ")
         );
     }
     Ok(outcome)
 }
 
-fn bless(names: &[String], fixtures: &Path, seed: Option<u64>) -> Result<Outcome> {
-    for name in names {
-        let preset = exec::find(name)?;
-        let seed = seed.unwrap_or(preset.default_seed());
-        let run = exec::run(preset, seed, true)?;
-        let summary = fixture::summarise(preset, seed, &run);
-        let dir = fixture::bless(fixtures, &summary, &run)?;
+fn bless(
+    targets: &[String],
+    sets: &[(String, String)],
+    fixtures: &Path,
+    seed: Option<u64>,
+) -> Result<Outcome> {
+    for target in targets {
+        let scenario = exec::find(target, sets)?;
+        let seed = seed.unwrap_or(scenario.seed());
+        let run = exec::run(&scenario, seed, true)?;
+        let summary = fixture::summarise(&scenario, seed, &run);
+        let dir = fixture::bless(fixtures, &scenario, &summary, &run)?;
         println!(
             "blessed   {} seed {seed}: {} frames, digest {:016x} -> {}",
-            preset.name(),
+            scenario.name(),
             run.frames,
             run.digest,
             dir.display()
@@ -361,7 +413,7 @@ fn decode(file: &Path, out: Option<&Path>) -> Result<Outcome> {
     let bytes = fs::read(file).with_context(|| format!("cannot read {}", file.display()))?;
     let text = jsonl::stream(&bytes);
     match out {
-        Some(path) => fixture::write_atomic(path, text.as_bytes())?,
+        Some(path) => atomic::write_atomic(path, text.as_bytes())?,
         None => print!("{text}"),
     }
     let corrupt = Decoder::new(&bytes).filter(|d| d.result.is_err()).count();

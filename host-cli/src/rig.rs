@@ -69,7 +69,7 @@ impl Framebuffer {
             *dst = tiny_skia::ColorU8::from_rgba(c.r(), c.g(), c.b(), 255).premultiply();
         }
         let png = pixmap.encode_png().context("encoding the rig PNG")?;
-        crate::fixture::write_atomic(path, &png)
+        crate::atomic::write_atomic(path, &png)
     }
 }
 

@@ -43,7 +43,6 @@ mod error;
 pub mod gait;
 mod label;
 pub mod mesh;
-pub mod presets;
 pub mod quadruped;
 pub mod sim;
 pub mod skeleton;

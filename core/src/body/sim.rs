@@ -86,9 +86,12 @@ impl<'a, const C: usize> Body<'a, C> {
         }
     }
 
-    /// Loads `params` in place; an invalid model or table makes the first
-    /// [`Simulation::step`] fail with the reason.
-    pub fn start(&mut self, params: &'a BodyParams<'a>) {
+    /// Loads `params` in place.
+    ///
+    /// # Errors
+    /// An invalid model or table; the first [`Simulation::step`] fails with
+    /// it too.
+    pub fn start(&mut self, params: &'a BodyParams<'a>) -> Result<(), Error> {
         self.params = Some(params);
         self.frame = 0;
         self.unbound = 0;
@@ -98,6 +101,7 @@ impl<'a, const C: usize> Body<'a, C> {
             } else {
                 self.skeleton.load(params.model, params.table).err()
             };
+        self.failure.map_or(Ok(()), Err)
     }
 
     /// Vertices in no cylinder, following the nearest (counted in frame 0).

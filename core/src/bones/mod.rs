@@ -8,7 +8,6 @@
 //!   final step, every step (the paper's Fig. 2) or several seeds (Fig. 3).
 //! - [`presets`]: `long-bone`, `long-bone-random`, `bone-growth`.
 
-pub mod presets;
 mod sim;
 mod skeleton;
 
@@ -21,6 +20,12 @@ use serde::Serialize;
 use crate::shrinkwrap::WrapParams;
 
 pub use sim::Bones;
+
+/// Mesh vertices of a bone run on the MCU (the [`Runner`](crate::preset::Runner)'s
+/// capacity): sized to the firmware's RAM.
+pub const MCU_VERTICES: usize = 1200;
+/// Mesh triangles: 2·V − 4, a closed genus-0 mesh's count.
+pub const MCU_TRIANGLES: usize = 2 * MCU_VERTICES - 4;
 pub use skeleton::{Grower, MAX_ELEMENTS, MAX_SKELETON_MODULES, Skeleton};
 
 /// Which skeletons a run wraps, one frame each.
@@ -40,9 +45,9 @@ pub enum Frames {
 
 /// A bone run's parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-pub struct BonesParams {
+pub struct BonesParams<'a> {
     /// The skeleton's grammar (`docs/lsystems.md`, with `O(ρ)`).
-    pub grammar: &'static str,
+    pub grammar: &'a str,
     /// The shrinkwrap parameters.
     pub wrap: WrapParams,
     /// Which skeletons are wrapped.

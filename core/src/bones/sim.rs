@@ -21,11 +21,11 @@ use super::{BonesParams, Frames};
 /// A bone simulation with a mesh of at most `V` vertices and `T`
 /// triangles.
 #[derive(Debug)]
-pub struct Bones<const V: usize, const T: usize> {
+pub struct Bones<'a, const V: usize, const T: usize> {
     frame: u32,
     wrapping: bool,
     seed: u64,
-    params: Option<&'static BonesParams>,
+    params: Option<&'a BonesParams<'a>>,
     grower: Grower,
     skeleton: Skeleton,
     wrap: Shrinkwrap<Fx, V, T>,
@@ -35,10 +35,10 @@ pub struct Bones<const V: usize, const T: usize> {
     failed: Vec<Error, 1>,
 }
 
-impl<const V: usize, const T: usize> Bones<V, T> {
+impl<'a, const V: usize, const T: usize> Bones<'a, V, T> {
     /// An idle simulation (`const`, for a `static`).
     #[must_use]
-    pub const fn new() -> Bones<V, T> {
+    pub const fn new() -> Bones<'a, V, T> {
         Bones {
             grower: Grower::new(),
             skeleton: Skeleton::new(),
@@ -56,7 +56,7 @@ impl<const V: usize, const T: usize> Bones<V, T> {
     ///
     /// # Errors
     /// The grammar's parse error.
-    pub fn start(&mut self, params: &'static BonesParams, seed: u64) -> Result<(), Error> {
+    pub fn start(&mut self, params: &'a BonesParams<'a>, seed: u64) -> Result<(), Error> {
         self.params = Some(params);
         self.seed = seed;
         self.frame = 0;
@@ -101,7 +101,7 @@ impl<const V: usize, const T: usize> Bones<V, T> {
         }
     }
 
-    fn advance(&mut self, params: &'static BonesParams, sink: &mut dyn Sink) -> Result<(), Error> {
+    fn advance(&mut self, params: &'a BonesParams<'a>, sink: &mut dyn Sink) -> Result<(), Error> {
         if !self.wrapping {
             let (steps, seed) = self.frame_setup(self.frame);
             self.grower.grow(steps, seed, &mut self.skeleton)?;
@@ -149,13 +149,13 @@ impl<const V: usize, const T: usize> Bones<V, T> {
     }
 }
 
-impl<const V: usize, const T: usize> Default for Bones<V, T> {
+impl<const V: usize, const T: usize> Default for Bones<'_, V, T> {
     fn default() -> Self {
         Bones::new()
     }
 }
 
-impl<const V: usize, const T: usize> Simulation for Bones<V, T> {
+impl<const V: usize, const T: usize> Simulation for Bones<'_, V, T> {
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
         if let Some(&e) = self.failed.first() {
             return Err(e);

@@ -1,21 +1,61 @@
-//! Bones against the paper: every vertex on the iso-surface, a closed
-//! genus-0 mesh wound outwards, the fixed-point wrap against the f64 one.
-
-use std::sync::OnceLock;
+//! Bones against the paper: every wrapped mesh a closed genus-0 manifold
+//! wound outwards, and the skeleton's limits. The built-in scenarios'
+//! other checks (the iso-surface, the f64 reference, the stream) are in
+//! `core/tests/bones.rs`.
 
 use nalgebra::Vector3;
 
-use super::presets::{self, MCU_TRIANGLES, MCU_VERTICES};
 use super::*;
 use crate::Error;
 use crate::fx::{Fx, Real};
-use crate::preset::{self, Runner};
-use crate::shrinkwrap::{
-    Element, Shrinkwrap, ShrinkwrapError, assert_closed_genus_0, signed_volume, worst_level_error,
-};
-use crate::stream::{Record, Sink, SinkError};
+use crate::shrinkwrap::{Shrinkwrap, assert_closed_genus_0, signed_volume};
 
 type McuWrap = Shrinkwrap<Fx, MCU_VERTICES, MCU_TRIANGLES>;
+
+/// A long bone's skeleton rules (deterministic), as the `long-bone` and
+/// `bone-growth` scenarios read them.
+const LONG_BONE_GRAMMAR: &str = include_str!("../../../grammars/long-bone.lsys");
+/// The same rules with chance in them (`long-bone-random`).
+const LONG_BONE_RANDOM_GRAMMAR: &str = include_str!("../../../grammars/long-bone-random.lsys");
+
+/// The shrinkwrap of the built-in bone scenarios: a sphere of 24 × 11
+/// vertices, V0 = 3.4 reached in steps of 0.15.
+const WRAP: WrapParams = WrapParams {
+    meridians: 24,
+    parallels: 11,
+    target: Fx::from_ratio(17, 5),
+    step: Fx::from_ratio(3, 20),
+    max_iterations: 64,
+};
+
+/// The built-in bone scenarios' parameters (`scenarios/long-bone.toml`,
+/// `long-bone-random.toml`, `bone-growth.toml`).
+static PRESETS: [(&str, BonesParams<'static>); 3] = [
+    (
+        "long-bone",
+        BonesParams {
+            grammar: LONG_BONE_GRAMMAR,
+            wrap: WRAP,
+            frames: Frames::Final,
+        },
+    ),
+    (
+        "long-bone-random",
+        BonesParams {
+            grammar: LONG_BONE_RANDOM_GRAMMAR,
+            wrap: WRAP,
+            frames: Frames::Seeds(3),
+        },
+    ),
+    (
+        "bone-growth",
+        BonesParams {
+            grammar: LONG_BONE_GRAMMAR,
+            wrap: WRAP,
+            frames: Frames::EveryStep { first: 1 },
+        },
+    ),
+];
 
 /// The skeleton of every frame of `params` (steps, seed) from `seed`.
 fn skeletons(params: &BonesParams, seed: u64) -> std::vec::Vec<Skeleton> {
@@ -37,188 +77,28 @@ fn skeletons(params: &BonesParams, seed: u64) -> std::vec::Vec<Skeleton> {
         .collect()
 }
 
-fn wrap_fx(s: &Skeleton, params: &BonesParams) -> Box<McuWrap> {
-    let mut w = Box::new(McuWrap::new(Fx::ZERO));
-    w.run(s, &params.wrap).unwrap();
-    w
-}
-
-/// One wrapped preset frame, fixed point and f64.
-struct Wrapped {
-    name: &'static str,
-    frame: usize,
-    target: Fx,
-    skeleton: Skeleton,
-    fx: Box<McuWrap>,
-    f64: Box<Shrinkwrap<f64, MCU_VERTICES, MCU_TRIANGLES>>,
-}
-
-/// Every frame of every preset (seed 1), wrapped once for all tests.
-fn wrapped() -> &'static [Wrapped] {
-    static ALL: OnceLock<std::vec::Vec<Wrapped>> = OnceLock::new();
-    ALL.get_or_init(|| {
-        let mut out = std::vec::Vec::new();
-        for (name, p) in presets::ALL {
-            for (frame, skeleton) in skeletons(p, 1).into_iter().enumerate() {
-                let fx = wrap_fx(&skeleton, p);
-                let sf: std::vec::Vec<Element<f64>> =
-                    skeleton.iter().map(|e| e.convert(f64::from_fx)).collect();
-                let mut f64 = Box::new(Shrinkwrap::new(0.0));
-                f64.run(&sf, &p.wrap).unwrap();
-                out.push(Wrapped {
-                    name,
-                    frame,
-                    target: p.wrap.target,
-                    skeleton,
-                    fx,
-                    f64,
-                });
-            }
-        }
-        out
-    })
-}
-
-#[test]
-fn every_vertex_of_every_preset_frame_is_within_5_percent_of_v0() {
-    for w in wrapped() {
-        let worst = worst_level_error(&w.skeleton, w.fx.mesh().vertices(), w.target);
-        assert!(
-            worst.to_f64() <= 0.05,
-            "{} frame {}: {}",
-            w.name,
-            w.frame,
-            worst.to_f64()
-        );
-    }
-}
-
 #[test]
 fn every_preset_mesh_is_a_closed_genus_0_manifold_wound_outwards() {
-    for w in wrapped() {
-        let m = w.fx.mesh();
-        let edges = assert_closed_genus_0(m.vertices().len(), m.triangles());
-        assert_eq!(
-            3 * m.triangles().len(),
-            2 * edges,
-            "{} frame {}",
-            w.name,
-            w.frame
-        );
-        let v: std::vec::Vec<Vector3<f64>> =
-            m.vertices().iter().map(|v| v.map(f64::from_fx)).collect();
-        assert!(
-            signed_volume(&v, m.triangles()) > 0.0,
-            "{} frame {}",
-            w.name,
-            w.frame
-        );
-    }
-}
-
-/// The fixed-point wrap follows the f64 wrap of the same skeleton. An edge
-/// whose midpoint is within rounding of the 5 % threshold may be split in
-/// one and not the other, so: vertex counts within 2 %; the topologies
-/// agree in at least two thirds of the frames (11 of 16 here), and there
-/// every vertex is within 0.1 % of the bone's length (8.6) of its twin
-/// (measured: 0.0004); and every fixed-point vertex on the exact
-/// (f64) iso-surface within 0.5 % of V0 (measured: 0.18 %).
-#[test]
-fn fixed_point_wrap_matches_the_f64_reference() {
-    let (mut same, mut worst_distance, mut worst_level) = (0, 0.0f64, 0.0f64);
-    for w in wrapped() {
-        let (a, b) = (w.fx.mesh(), w.f64.mesh());
-        let (na, nb) = (a.vertices().len() as f64, b.vertices().len() as f64);
-        assert!(
-            (na - nb).abs() <= 0.02 * nb,
-            "{} frame {}: {na} vs {nb} vertices",
-            w.name,
-            w.frame
-        );
-        if a.triangles() == b.triangles() {
-            same += 1;
-            for (p, q) in a.vertices().iter().zip(b.vertices()) {
-                worst_distance =
-                    worst_distance.max(<f64 as Real>::norm(&(p.map(f64::from_fx) - q)));
-            }
+    // Every frame of every preset (seed 1).
+    for (name, p) in &PRESETS {
+        for (frame, skeleton) in skeletons(p, 1).into_iter().enumerate() {
+            let mut w = Box::new(McuWrap::new(Fx::ZERO));
+            w.run(&skeleton, &p.wrap).unwrap();
+            let m = w.mesh();
+            let edges = assert_closed_genus_0(m.vertices().len(), m.triangles());
+            assert_eq!(
+                3 * m.triangles().len(),
+                2 * edges,
+                "{name} frame {frame}"
+            );
+            let v: std::vec::Vec<Vector3<f64>> =
+                m.vertices().iter().map(|v| v.map(f64::from_fx)).collect();
+            assert!(
+                signed_volume(&v, m.triangles()) > 0.0,
+                "{name} frame {frame}"
+            );
         }
-        let sf: std::vec::Vec<Element<f64>> =
-            w.skeleton.iter().map(|e| e.convert(f64::from_fx)).collect();
-        let points: std::vec::Vec<Vector3<f64>> =
-            a.vertices().iter().map(|v| v.map(f64::from_fx)).collect();
-        worst_level = worst_level.max(worst_level_error(&sf, &points, f64::from_fx(w.target)));
     }
-    println!(
-        "{same} of {} frames split alike; largest vertex distance {worst_distance:.6}; largest exact |V − V0|/V0 {worst_level:.6}",
-        wrapped().len()
-    );
-    assert!(
-        same * 3 >= wrapped().len() * 2,
-        "{same} of {}",
-        wrapped().len()
-    );
-    assert!(worst_distance <= 0.001 * 8.6, "{worst_distance}");
-    assert!(worst_level <= 0.005, "{worst_level}");
-}
-
-#[test]
-fn bone_growth_wraps_every_step_and_the_bone_grows() {
-    let s = skeletons(&presets::BONE_GROWTH, 0);
-    assert_eq!(s.len(), 12);
-    // One segment until the growth plates close, then shaft + 2 × 5.
-    assert_eq!(
-        s.iter().map(|s| s.len()).collect::<std::vec::Vec<_>>(),
-        [1, 1, 1, 11, 11, 11, 11, 11, 11, 11, 11, 11]
-    );
-    let length = |s: &Skeleton| s.iter().map(|e| e.a[1].max(e.b[1])).fold(Fx::MIN, Fx::max);
-    assert!(s.windows(2).all(|w| length(&w[1]) > length(&w[0])));
-}
-
-#[test]
-fn random_bones_differ_by_seed_and_repeat_by_seed() {
-    let a = skeletons(&presets::LONG_BONE_RANDOM, 1);
-    assert_ne!(a[0], a[1]);
-    assert_ne!(a[1], a[2]);
-    assert_eq!(a, skeletons(&presets::LONG_BONE_RANDOM, 1));
-}
-
-#[test]
-fn limits_are_errors_naming_them() {
-    let s = &skeletons(&presets::LONG_BONE, 0)[0];
-    let mut small = Box::new(Shrinkwrap::<Fx, 300, 600>::new(Fx::ZERO));
-    let e = small.run(s, &presets::WRAP).unwrap_err();
-    assert!(
-        matches!(e, Error::Capacity { limit, .. } if limit.contains("vertices")),
-        "{e:?}"
-    );
-    let mut few = presets::WRAP;
-    few.max_iterations = 5;
-    let e = wrap_fx_err(s, &few);
-    assert!(matches!(e, Error::Capacity { limit, capacity: 5 } if limit.contains("iterations")));
-    let mut bad = presets::WRAP;
-    bad.parallels = 8;
-    assert_eq!(
-        wrap_fx_err(s, &bad),
-        Error::Shrinkwrap(ShrinkwrapError::Sphere {
-            meridians: 24,
-            parallels: 8
-        })
-    );
-    bad = presets::WRAP;
-    bad.step = Fx::ZERO;
-    assert_eq!(
-        wrap_fx_err(s, &bad),
-        Error::Shrinkwrap(ShrinkwrapError::Level)
-    );
-    assert_eq!(
-        wrap_fx_err(&Skeleton::new(), &presets::WRAP),
-        Error::Shrinkwrap(ShrinkwrapError::NoSkeleton)
-    );
-}
-
-fn wrap_fx_err(s: &Skeleton, params: &crate::shrinkwrap::WrapParams) -> Error {
-    let mut w = Box::new(McuWrap::new(Fx::ZERO));
-    w.run(s, params).unwrap_err()
 }
 
 #[test]
@@ -242,47 +122,4 @@ fn a_grammar_that_never_draws_ends_with_a_named_limit() {
             ..
         }
     ));
-}
-
-/// Collects records.
-#[derive(Default)]
-struct Records(std::vec::Vec<Record>);
-
-impl Sink for Records {
-    fn record(&mut self, r: &Record) -> Result<(), SinkError> {
-        self.0.push(r.clone());
-        Ok(())
-    }
-}
-
-#[test]
-fn the_stream_holds_the_skeleton_then_the_mesh_of_each_frame() {
-    let preset = preset::find("long-bone-random").unwrap();
-    let mut runner = Box::new(Runner::new());
-    let mut out = Records::default();
-    preset::run(preset, 1, &mut runner, &mut out, &mut |_| {}).unwrap();
-    let skeletons = skeletons(&presets::LONG_BONE_RANDOM, 1);
-    let starts: std::vec::Vec<usize> = out
-        .0
-        .iter()
-        .enumerate()
-        .filter(|(_, r)| matches!(r, Record::FrameStart { .. }))
-        .map(|(i, _)| i)
-        .collect();
-    assert_eq!(starts.len(), 3);
-    for (k, &i) in starts.iter().enumerate() {
-        let w = wrap_fx(&skeletons[k], &presets::LONG_BONE_RANDOM);
-        let (nv, nt) = (w.mesh().vertices().len(), w.mesh().triangles().len());
-        let frame = &out.0[i + 1..i + 1 + skeletons[k].len() + nv + nt + 1];
-        assert!(
-            frame[..skeletons[k].len()]
-                .iter()
-                .all(|r| matches!(r, Record::Segment { .. }))
-        );
-        assert!(matches!(
-            frame[skeletons[k].len()],
-            Record::MeshVertex { id: 0, .. }
-        ));
-        assert!(matches!(frame.last(), Some(Record::FrameEnd { .. })));
-    }
 }

@@ -47,7 +47,7 @@ pub enum Emit<R: Real> {
 /// The horn kernel over a scalar `R`.
 #[derive(Clone, Debug)]
 pub struct HornKernel<'a, R: Real> {
-    params: &'a HornParams,
+    params: &'a HornParams<'a>,
     outline: Outline<R>,
     /// `upper[i]` = W_i·P_i(τ_i): module i's upper base in the skull frame,
     /// which is also module i−1's frame W_{i−1} (0-based indices).
@@ -61,7 +61,7 @@ impl<'a, R: Real> HornKernel<'a, R> {
     ///
     /// # Errors
     /// See [`HornParams::validate`] and [`Outline::resample`].
-    pub fn new(params: &'a HornParams) -> Result<Self, Error> {
+    pub fn new(params: &'a HornParams<'a>) -> Result<Self, Error> {
         params.validate()?;
         Ok(HornKernel {
             params,
@@ -76,7 +76,7 @@ impl<'a, R: Real> HornKernel<'a, R> {
 
     /// The parameters.
     #[must_use]
-    pub fn params(&self) -> &'a HornParams {
+    pub fn params(&self) -> &'a HornParams<'a> {
         self.params
     }
 

@@ -34,7 +34,6 @@ pub mod kernel;
 pub mod outline;
 pub mod params;
 pub mod positioner;
-pub mod presets;
 mod sim;
 
 pub use clock::{LocalTime, Moment};

@@ -27,13 +27,13 @@ pub struct Module {
 
 /// Everything that defines a horn run.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct HornParams {
+pub struct HornParams<'a> {
     /// Modules E_1 … E_k, oldest (the tip) first.
-    pub modules: &'static [Module],
+    pub modules: &'a [Module],
     /// The cross-section at scale 1 (= L_1(T)): a closed polyline (the last
     /// vertex joins the first) of (y, z) in cm, counter-clockwise seen from
     /// +x; resampled to `ring_points` points of equal spacing.
-    pub outline: &'static [[Fx; 2]],
+    pub outline: &'a [[Fx; 2]],
     /// Points per cross-section (per ring).
     pub ring_points: u16,
     /// J: cross-sections per module, at θ_j = j·T/J, j = 0 … J.
@@ -48,7 +48,7 @@ pub struct HornParams {
     pub years: u16,
 }
 
-impl HornParams {
+impl HornParams<'_> {
     /// Number of frames of the run.
     #[must_use]
     pub const fn frames(&self) -> u32 {

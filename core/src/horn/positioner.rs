@@ -56,7 +56,22 @@ impl Growth<'_> {
 mod tests {
     use super::*;
     use crate::fx::Fx;
-    use crate::horn::presets::TABLE_1;
+
+    /// One row of the horn paper's Table 1: scales in %, angles in
+    /// degrees, path radius 20 cm (Sec. 6).
+    const fn row(positioner: i32, base: i32, bend: i32, twist: i32) -> Module {
+        Module {
+            positioner_scale: Fx::from_ratio(positioner, 100),
+            base_scale: Fx::from_ratio(base, 100),
+            bend: Angle::from_degrees(bend),
+            twist: Angle::from_degrees(twist),
+            path_radius: Fx::from_int(20),
+        }
+    }
+
+    /// Modules E_1 … E_3 of Table 1 (the ram horn's data is the
+    /// `ram-horn` scenario; these rows are all the tests need).
+    static TABLE_1: [Module; 3] = [row(30, 100, 75, 30), row(100, 137, 83, 33), row(137, 150, 59, 24)];
 
     fn norm(v: Vector3<f64>) -> f64 {
         v.dot(&v).sqrt()

@@ -13,18 +13,18 @@ use crate::stream::{Record, Sink};
 /// A running horn: the fixed-point kernel and the frame counter. A few
 /// hundred bytes plus the outline (see [`super::MAX_RING_POINTS`]).
 #[derive(Clone, Debug)]
-pub struct Horn {
+pub struct Horn<'a> {
     /// The kernel, or why the parameters were refused (reported by the
     /// first `step`).
-    kernel: Result<HornKernel<'static, Fx>, Error>,
+    kernel: Result<HornKernel<'a, Fx>, Error>,
     frame: u32,
 }
 
-impl Horn {
+impl<'a> Horn<'a> {
     /// A run over `params`; invalid parameters make the first
     /// [`Simulation::step`] fail with the reason.
     #[must_use]
-    pub fn new(params: &'static HornParams) -> Horn {
+    pub fn new(params: &'a HornParams<'a>) -> Horn<'a> {
         Horn {
             kernel: HornKernel::new(params),
             frame: 0,
@@ -32,7 +32,17 @@ impl Horn {
     }
 }
 
-impl Simulation for Horn {
+impl Horn<'_> {
+    /// Why the parameters were refused, if they were.
+    ///
+    /// # Errors
+    /// The first [`Simulation::step`]'s error for invalid parameters.
+    pub fn check(&self) -> Result<(), Error> {
+        self.kernel.as_ref().map(|_| ()).map_err(|e| *e)
+    }
+}
+
+impl Simulation for Horn<'_> {
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
         let kernel = self.kernel.as_mut().map_err(|e| *e)?;
         let params = kernel.params();

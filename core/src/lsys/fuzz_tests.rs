@@ -8,7 +8,7 @@
 use std::string::String;
 use std::vec::Vec;
 
-use super::presets::ALL;
+use super::tests::ALL;
 use super::*;
 use crate::rng::KeyedRng;
 use crate::sim::Simulation;

@@ -33,7 +33,6 @@ mod derive;
 mod expr;
 mod grammar;
 mod parse;
-pub mod presets;
 mod sim;
 
 #[cfg(test)]

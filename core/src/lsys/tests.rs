@@ -6,12 +6,29 @@ use std::string::String;
 use std::vec;
 use std::vec::Vec;
 
-use super::presets::{ALL, MONOPODIAL, PLANT_2D, SHRUB, STOCHASTIC};
 use super::*;
 use crate::fx::Real;
 use crate::sim::Simulation;
 use crate::stream::{Record, Sink, SinkError};
 use crate::turtle::{Drawn, Params, Turtle};
+
+/// ABOP Fig. 1.25, the three-dimensional shrub (n = 7, δ = 22.5°).
+const SHRUB: &str = include_str!("../../../grammars/abop-shrub.lsys");
+/// ABOP Fig. 1.24a, a 2D bracketed plant (n = 5, δ = 25.7°).
+const PLANT_2D: &str = include_str!("../../../grammars/abop-2d-plant.lsys");
+/// ABOP Fig. 1.27, three stochastic plants from three seeds.
+const STOCHASTIC: &str = include_str!("../../../grammars/abop-stochastic.lsys");
+/// ABOP Fig. 2.6a, the parametric monopodial tree (n = 10).
+const MONOPODIAL: &str = include_str!("../../../grammars/abop-monopodial.lsys");
+
+/// The grammars of the built-in L-system scenarios (`scenarios/abop-*.toml`
+/// read these files), with their scenario names.
+pub(super) const ALL: [(&str, &str); 4] = [
+    ("abop-shrub", SHRUB),
+    ("abop-2d-plant", PLANT_2D),
+    ("abop-stochastic", STOCHASTIC),
+    ("abop-monopodial", MONOPODIAL),
+];
 
 fn grammar(text: &str) -> Grammar {
     let mut g = Grammar::new();

@@ -14,16 +14,16 @@ use crate::fx::{Fx, Real};
 /// layout of a raw PBM, but here **1 = white = allowed**).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Mask {
+pub struct Mask<'a> {
     /// Pixels per row.
     pub width: u16,
     /// Rows.
     pub height: u16,
     /// `height × ⌈width/8⌉` bytes.
-    pub bits: &'static [u8],
+    pub bits: &'a [u8],
 }
 
-impl Mask {
+impl Mask<'_> {
     /// Bytes per packed row.
     #[must_use]
     pub const fn stride(width: u16) -> usize {
@@ -78,9 +78,9 @@ pub struct ControlVector {
 /// Anisotropy: control vectors, the RBF width and the weight `w_a`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Anisotropy {
+pub struct Anisotropy<'a> {
     /// The control vectors (at most [`MAX_CONTROL_VECTORS`]).
-    pub vectors: &'static [ControlVector],
+    pub vectors: &'a [ControlVector],
     /// Width σ of the inverse multiquadric φ(d) = 1/√(1 + (d/σ)²).
     pub width: Fx,
     /// The blend weight w_a ∈ [0, 1].

@@ -38,7 +38,6 @@ pub mod division;
 pub mod domain;
 pub mod grid;
 pub mod params;
-pub mod presets;
 pub mod relaxation;
 pub mod store;
 
@@ -118,11 +117,70 @@ pub fn validate(params: &Params) -> Result<(), MosaicError> {
     Ok(())
 }
 
+/// The inline store of the MCU presets: 2 048 cells, 512 grid bins, 24 B
+/// per cell (49 156 B).
+pub type McuStore = store::ArrayStore<2048, 513>;
+
+/// The capacity (cells) of a host preset's store: comfortably above the
+/// final count of its runs (checked over seeds by the tests); a run that
+/// outgrows it stops with [`Error::Capacity`](crate::Error::Capacity). The
+/// core has no heap: the big mosaics are host presets, run by the host CLI
+/// on a `Vec`-backed
+/// [`CellStore`] of this many cells and
+/// `cells / 4 + 1` bin offsets.
+#[must_use]
+pub fn host_capacity(params: &Params) -> usize {
+    // The largest growth of any type over the run, ×1.5 margin: a type
+    // with D_T divides about days/D_T times (plus Poisson spread).
+    let days = u32::from(params.days);
+    let growth = params
+        .types
+        .iter()
+        .map(|t| {
+            let generations =
+                (days + u32::from(t.division_days) / 2) / u32::from(t.division_days).max(1) + 1;
+            1u64 << generations.min(20)
+        })
+        .max()
+        .unwrap_or(1);
+    (u64::from(params.initial_cells) * growth).min(1 << 24) as usize
+}
+
+/// The expected peak number of cells of a run of `params`: the initial
+/// cells grown by the fastest type's mean doubling (2^(days / D_T)),
+/// rounded up. Whether a mosaic fits an MCU's inline store is decided by
+/// it ([`crate::preset::Model::fits_mcu`]); a run that outgrows its store
+/// anyway stops with [`Error::Capacity`](crate::Error::Capacity).
+#[must_use]
+pub fn expected_peak_cells(params: &Params) -> u64 {
+    let days = u64::from(params.days);
+    // 2^(days/D) as Q16 through the integer part and a table of 2^(k/16).
+    const FRACTION_Q16: [u64; 16] = [
+        65536, 68438, 71468, 74632, 77936, 81386, 84990, 88752, 92682, 96785, 101070, 105545,
+        110218, 115098, 120194, 125515,
+    ];
+    let growth_q16 = params
+        .types
+        .iter()
+        .map(|t| {
+            let d = u64::from(t.division_days.max(1));
+            // days/D in sixteenths, rounded up.
+            let sixteenths = (days * 16).div_ceil(d);
+            let whole = (sixteenths / 16).min(24);
+            FRACTION_Q16[(sixteenths % 16) as usize] << whole
+        })
+        .max()
+        .unwrap_or(1 << 16);
+    u64::from(params.initial_cells)
+        .saturating_mul(growth_q16)
+        .div_ceil(1 << 16)
+}
+
 /// A running mosaic over the cell store `S`.
 #[derive(Debug)]
-pub struct Mosaic<S: CellStore> {
+pub struct Mosaic<'a, S: CellStore> {
     store: S,
-    params: Option<&'static Params>,
+    params: Option<&'a Params<'a>>,
     seed: u64,
     cells: u32,
     day: u16,
@@ -136,9 +194,9 @@ pub struct Mosaic<S: CellStore> {
     pending: Option<Error>,
 }
 
-impl<S: CellStore> Mosaic<S> {
+impl<'a, S: CellStore> Mosaic<'a, S> {
     /// A mosaic over `store`, not yet started.
-    pub const fn new(store: S) -> Mosaic<S> {
+    pub const fn new(store: S) -> Mosaic<'a, S> {
         Mosaic {
             store,
             params: None,
@@ -159,14 +217,14 @@ impl<S: CellStore> Mosaic<S> {
     /// # Errors
     /// Invalid parameters, or more initial cells than the store holds; the
     /// error is also kept and returned by the next [`Simulation::step`].
-    pub fn start(&mut self, params: &'static Params, seed: u64) -> Result<(), Error> {
+    pub fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
         self.params = None;
         let result = self.try_start(params, seed);
         self.pending = result.err();
         result
     }
 
-    fn try_start(&mut self, params: &'static Params, seed: u64) -> Result<(), Error> {
+    fn try_start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
         validate(params)?;
         if params.initial_cells as usize > self.store.capacity() {
             return Err(Error::Capacity {
@@ -236,7 +294,7 @@ impl<S: CellStore> Mosaic<S> {
         self.day
     }
 
-    fn params(&self) -> Result<&'static Params, Error> {
+    fn params(&self) -> Result<&'a Params<'a>, Error> {
         self.params.ok_or(Error::NotStarted)
     }
 
@@ -370,7 +428,7 @@ impl<S: CellStore> Mosaic<S> {
     }
 }
 
-impl<S: CellStore> Simulation for Mosaic<S> {
+impl<S: CellStore> Simulation for Mosaic<'_, S> {
     /// Step 0 places and relaxes the initial cells; step d ≥ 1 simulates
     /// day d. A step streams its day if [`Params::frames`] selects it.
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {

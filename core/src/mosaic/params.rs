@@ -25,14 +25,14 @@ pub struct CellType {
 /// Which days become frames of the stream.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Frames {
+pub enum Frames<'a> {
     /// Day 0 (after the initial relaxation) and every day after.
     EveryDay,
     /// Only these days (0 = after the initial relaxation).
-    Days(&'static [u16]),
+    Days(&'a [u16]),
 }
 
-impl Frames {
+impl Frames<'_> {
     /// Whether day `day` of a run of `days` days is a frame.
     #[must_use]
     pub fn includes(&self, day: u16) -> bool {
@@ -49,13 +49,13 @@ impl Frames {
 /// allow start as type 0 (thesis Sec. 3.2.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Params {
+pub struct Params<'a> {
     /// The surface.
     pub domain: Domain,
     /// C_i: cells spread uniformly at random on day 0.
     pub initial_cells: u32,
     /// The cell types (1 to [`MAX_TYPES`]).
-    pub types: &'static [CellType],
+    pub types: &'a [CellType],
     /// α for each pair of types (symmetric, in [0, 1]); 1 − α scales the
     /// repulsion.
     pub adhesion: [[Fx; MAX_TYPES]; MAX_TYPES],
@@ -74,11 +74,11 @@ pub struct Params {
     /// Days simulated after the initial relaxation.
     pub days: u16,
     /// Where foreground cells may start, if anywhere restricted.
-    pub mask: Option<Mask>,
+    pub mask: Option<Mask<'a>>,
     /// The anisotropy field and its weight w_a, if any.
-    pub anisotropy: Option<Anisotropy>,
+    pub anisotropy: Option<Anisotropy<'a>>,
     /// Which days are streamed.
-    pub frames: Frames,
+    pub frames: Frames<'a>,
 }
 
 /// w_d of the original MClone code (DESIGN.md).

@@ -59,6 +59,9 @@ pub struct ArrayStore<const N: usize, const G: usize> {
 }
 
 impl<const N: usize, const G: usize> ArrayStore<N, G> {
+    /// The cells it holds.
+    pub const CAPACITY: usize = N;
+
     /// An empty store (all zeros, `const` so that it can be written in place).
     pub const EMPTY: Self = ArrayStore {
         pos: [[0; 2]; N],

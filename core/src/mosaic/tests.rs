@@ -1,36 +1,57 @@
-//! Unit tests of the mosaic stepper (cross-crate ones are in
-//! `core/tests/mosaic.rs`).
+//! Unit tests of the mosaic stepper (cross-crate ones, and those of the
+//! built-in scenarios, are in `core/tests/mosaic.rs`).
 
 use super::*;
-use crate::stream::SinkError;
+use params::{NO_MUTATION, ORIGINAL_PUSH_WEIGHT, pair_table};
 use store::ArrayStore;
 
-/// Counts records.
-#[derive(Default)]
-struct Count {
-    cells: u32,
-    frames: u32,
-}
+/// The two cell types of the croton (thesis Fig. 4.1): green background,
+/// yellow foreground, both dividing every 10 days.
+static CROTON_TYPES: [CellType; 2] = [
+    CellType {
+        colour: [40, 105, 45],
+        division_days: 10,
+        initial_probability: Fx::from_ratio(7, 10),
+    },
+    CellType {
+        colour: [236, 200, 48],
+        division_days: 10,
+        initial_probability: Fx::from_ratio(3, 10),
+    },
+];
 
-impl Sink for Count {
-    fn record(&mut self, r: &Record) -> Result<(), SinkError> {
-        match r {
-            Record::Cell { .. } => self.cells += 1,
-            Record::FrameEnd { .. } => self.frames += 1,
-            _ => {}
-        }
-        Ok(())
+/// The `croton-mcu` scenario's parameters with `initial_cells` cells and
+/// no days (a periodic 15 × 12, α_BB .8, α_FF .5, α_FB 0, w_r 1).
+fn croton_mcu_day_0(initial_cells: u32) -> Params<'static> {
+    Params {
+        domain: Domain::periodic(Fx::from_int(15), Fx::from_int(12)),
+        initial_cells,
+        types: &CROTON_TYPES,
+        adhesion: pair_table(
+            [
+                Fx::from_ratio(8, 10),
+                Fx::from_ratio(5, 10),
+                Fx::ZERO,
+                Fx::ZERO,
+            ],
+            Fx::ZERO,
+        ),
+        mutation: NO_MUTATION,
+        radius_weight: Fx::ONE,
+        push_weight: ORIGINAL_PUSH_WEIGHT,
+        initial_relaxations: 40,
+        daily_relaxations: 8,
+        days: 0,
+        mask: None,
+        anisotropy: None,
+        frames: Frames::EveryDay,
     }
 }
 
 #[test]
 fn grid_and_naive_relaxation_agree_bit_for_bit() {
     let mut a = Mosaic::new(ArrayStore::<512, 129>::EMPTY);
-    let params: &'static Params = Box::leak(Box::new(Params {
-        initial_cells: 300,
-        days: 0,
-        ..presets::CROTON_MCU
-    }));
+    let params = &croton_mcu_day_0(300);
     a.start(params, 3).unwrap();
     a.place(params).unwrap();
     a.update_radius(params);
@@ -61,41 +82,4 @@ fn grid_and_naive_relaxation_agree_bit_for_bit() {
         c.place(params).unwrap();
         c.positions()[0]
     });
-}
-
-#[test]
-fn croton_mcu_runs_and_streams_every_day() {
-    let mut m = Mosaic::new(presets::McuStore::EMPTY);
-    m.start(&presets::CROTON_MCU, 1).unwrap();
-    let mut sink = Count::default();
-    while !m.step(&mut sink).unwrap().finished() {}
-    assert_eq!(sink.frames, 36);
-    assert!((1_200..2_048).contains(&m.len()), "{}", m.len());
-    // Every division is recorded; no mutation in croton.
-    let d = m.divisions();
-    assert_eq!(d[0][0] + d[1][1] + 180, m.len() as u32);
-    assert_eq!(d[0][1] + d[1][0], 0);
-}
-
-#[test]
-fn a_full_store_is_an_error_naming_the_limit() {
-    let mut m = Mosaic::new(ArrayStore::<200, 51>::EMPTY);
-    m.start(&presets::CROTON_MCU, 1).unwrap();
-    let mut sink = Count::default();
-    let e = loop {
-        match m.step(&mut sink) {
-            Ok(p) => assert!(!p.finished(), "should have overflowed"),
-            Err(e) => break e,
-        }
-    };
-    assert_eq!(
-        e,
-        Error::Capacity {
-            limit: CELL_LIMIT,
-            capacity: 200
-        }
-    );
-    let mut small = Mosaic::new(ArrayStore::<100, 26>::EMPTY);
-    assert!(small.start(&presets::CROTON_MCU, 1).is_err());
-    assert!(small.step(&mut sink).is_err());
 }

@@ -12,7 +12,7 @@ use morphogen::body::BindingSummary;
 use morphogen::stream::Record;
 use tiny_skia::{Color, FillRule, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
-use crate::fixture::write_atomic;
+use crate::atomic::write_atomic;
 
 /// One decoded frame of a body stream.
 #[derive(Debug, Default, Clone)]
@@ -295,14 +295,3 @@ pub fn write(
     Ok(written)
 }
 
-/// `write` for a built-in body preset, with its binding counts.
-///
-/// # Errors
-/// When a file cannot be written.
-pub fn write_preset(preset: &str, records: &[Record], dir: &Path) -> Result<Vec<PathBuf>> {
-    let binding = morphogen::body::presets::find(preset).and_then(|p| {
-        morphogen::body::binding_summary::<{ morphogen::body::MAX_CYLINDERS }>(p.model, p.table)
-            .ok()
-    });
-    write(preset, records, dir, binding)
-}

@@ -15,7 +15,7 @@ use morphogen::stream::Record;
 use nalgebra::Vector3;
 
 use super::body::{Frame, bounds, canvas, draw, frames, obj, save};
-use crate::fixture::write_atomic;
+use crate::atomic::write_atomic;
 
 /// Bone colour.
 const BONE: [f32; 3] = [0.89, 0.86, 0.78];

@@ -10,7 +10,7 @@ use morphogen::growth_curve::{SERIES_DAILY, SERIES_GROWTH};
 use morphogen::stream::Record;
 
 use super::plot::{Plot, rgb};
-use crate::fixture::write_atomic;
+use crate::atomic::write_atomic;
 
 /// First day of each month in a non-leap year.
 const MONTH_STARTS: [f64; 12] = [

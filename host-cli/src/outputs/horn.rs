@@ -22,7 +22,7 @@ use tiny_skia::{
     Color, FillRule, FilterQuality, Paint, PathBuilder, Pixmap, PixmapPaint, Stroke, Transform,
 };
 
-use crate::fixture::write_atomic;
+use crate::atomic::write_atomic;
 
 /// A point in cm.
 pub type P3 = [f64; 3];

@@ -1,10 +1,11 @@
 //! The model's natural files written by `morphogen run`: pictures, meshes,
-//! tables. Each model has a module; [`write`] picks it by preset.
+//! tables. Each model has a module; [`write`] picks it by the preset's
+//! model.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
-use morphogen::horn::presets::{RAM_HORN, RAM_HORN_ANIMATION};
+use morphogen::preset::{Model, Preset};
 use morphogen::stream::Record;
 
 pub mod body;
@@ -20,26 +21,20 @@ pub mod plot;
 ///
 /// # Errors
 /// When a file cannot be written.
-pub fn write(preset: &str, records: &[Record], dir: &Path) -> Result<Vec<PathBuf>> {
-    match preset {
-        "growth-curve" => curve::write(records, dir),
-        "horse-growth" | "cow-growth" | "horse-trot" => body::write_preset(preset, records, dir),
-        "ram-horn" => horn::write(records, dir, RAM_HORN.rings_per_module),
-        "ram-horn-animation" => horn::write(records, dir, RAM_HORN_ANIMATION.rings_per_module),
-        name if morphogen::lsys::presets::ALL
-            .iter()
-            .any(|(n, _)| *n == name) =>
-        {
-            plant::write(records, dir)
+pub fn write(preset: &Preset<'_>, records: &[Record], dir: &Path) -> Result<Vec<PathBuf>> {
+    match preset.model {
+        Model::GrowthCurve(_) => curve::write(records, dir),
+        Model::Horn(p) => horn::write(records, dir, p.rings_per_module),
+        Model::LSystem(_) => plant::write(records, dir),
+        Model::Body(p) => {
+            let binding = morphogen::body::binding_summary::<{ morphogen::body::MAX_CYLINDERS }>(
+                p.model, p.table,
+            )
+            .ok();
+            body::write(preset.name, records, dir, binding)
         }
-        name => {
-            if let Some(params) = morphogen::bones::presets::find(name) {
-                bones::write(name, params, records, dir)
-            } else if let Some(params) = morphogen::mosaic::presets::by_name(name) {
-                mosaic::write(params, records, dir)
-            } else {
-                Ok(Vec::new())
-            }
-        }
+        Model::Bones(p) => bones::write(preset.name, p, records, dir),
+        Model::Mosaic(p) => mosaic::write(p, records, dir),
+        _ => Ok(Vec::new()),
     }
 }

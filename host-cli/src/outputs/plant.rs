@@ -17,7 +17,7 @@ use tiny_skia::{
 };
 
 use crate::exec::{Bytes, Run};
-use crate::fixture::write_atomic;
+use crate::atomic::write_atomic;
 
 /// The preset name in the header of a `run --grammar` stream.
 pub const GRAMMAR_PRESET: &str = "grammar";

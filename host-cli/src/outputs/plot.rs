@@ -5,7 +5,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
-use crate::fixture::write_atomic;
+use crate::atomic::write_atomic;
 
 /// A plot area mapping data coordinates to pixels, y up.
 #[derive(Debug)]

@@ -1,0 +1,852 @@
+//! Validation at the door: a [`schema::File`] is checked once into the
+//! core's types ([`Checked`]); every value out of range is an [`Invalid`]
+//! naming its key and what is allowed. After this nothing saturates.
+
+use morphogen::body::gait::Channel as CoreChannel;
+use morphogen::body::table::Column as CoreColumn;
+use morphogen::body::gait::Gait as CoreGait;
+use morphogen::body::{BodyModel, BodyParams, GrowthTable, Interpolation, Label};
+use morphogen::bones::{BonesParams, Frames as BoneFramesCore};
+use morphogen::fx::{Angle, Fx};
+use morphogen::growth::Sigmoid as CoreSigmoid;
+use morphogen::growth_curve;
+use morphogen::horn::{HornParams, MAX_MODULES, MAX_RING_POINTS, Module};
+use morphogen::mosaic::{
+    self, Anisotropy as CoreAnisotropy, CellType as CoreCellType, ControlVector as CoreVector,
+    Domain as CoreDomain, Frames as DayFramesCore, MAX_TYPES, Mask, Params as MosaicParams,
+};
+use morphogen::preset::{Model, Preset};
+use morphogen::shrinkwrap::WrapParams;
+use morphogen::stream::PresetName;
+
+use crate::mask;
+use crate::schema::{self, BoneFrames, DayFrames, File, Include};
+
+/// A value that is not allowed, with the dotted key it came from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Invalid {
+    /// The dotted key (`mosaic.types[1].division_days`).
+    pub key: String,
+    /// What is wrong, with what is allowed.
+    pub message: String,
+}
+
+type Result<T> = std::result::Result<T, Invalid>;
+
+fn invalid<T>(key: impl Into<String>, message: impl Into<String>) -> Result<T> {
+    Err(Invalid {
+        key: key.into(),
+        message: message.into(),
+    })
+}
+
+/// Reads the file an [`Include`] names.
+pub trait Files {
+    /// The bytes of `path` (relative to the scenario file).
+    ///
+    /// # Errors
+    /// Why it cannot be read.
+    fn read(&self, path: &str) -> std::result::Result<Vec<u8>, String>;
+}
+
+/// A built-in body model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BuiltinBody {
+    /// The quarter horse.
+    Horse,
+    /// The Holstein.
+    Cow,
+}
+
+impl BuiltinBody {
+    /// Its name in a scenario.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            BuiltinBody::Horse => "horse",
+            BuiltinBody::Cow => "cow",
+        }
+    }
+
+    /// The core's model.
+    #[must_use]
+    pub fn model(self) -> &'static BodyModel<'static> {
+        match self {
+            BuiltinBody::Horse => &morphogen::body::quadruped::HORSE,
+            BuiltinBody::Cow => &morphogen::body::quadruped::COW,
+        }
+    }
+}
+
+/// A checked model, owning every table its core parameters borrow.
+#[derive(Debug, Clone)]
+pub enum Checked {
+    /// `[curve]`.
+    Curve(growth_curve::Params),
+    /// `[horn]`: the parameters besides the two tables, and the tables.
+    Horn {
+        /// Every scalar (its slices are empty here).
+        params: HornParams<'static>,
+        /// Table 1.
+        modules: Vec<Module>,
+        /// The outline.
+        outline: Vec<[Fx; 2]>,
+    },
+    /// `[lsystem]`: the grammar text.
+    LSystem(String),
+    /// `[mosaic]`.
+    Mosaic {
+        /// Every scalar (its slices are empty here).
+        params: MosaicParams<'static>,
+        /// The cell types.
+        types: Vec<CoreCellType>,
+        /// The frame days, if listed.
+        days: Option<Vec<u16>>,
+        /// The mask (width, height, packed rows).
+        mask: Option<(u16, u16, Vec<u8>)>,
+        /// The anisotropy's weight and width, and its vectors.
+        anisotropy: Option<(Fx, Fx, Vec<CoreVector>)>,
+    },
+    /// `[body]`.
+    Body {
+        /// The body.
+        model: BuiltinBody,
+        /// Frames, first and last age, frames per stride.
+        frames: u16,
+        /// Age of the first frame.
+        first_age: Fx,
+        /// Age of the last frame.
+        last_age: Fx,
+        /// Frames per stride (1 without a gait).
+        frames_per_stride: u16,
+        /// The table's unit.
+        unit: String,
+        /// The table's interpolation.
+        interpolation: Interpolation,
+        /// Ages.
+        ages: Vec<Fx>,
+        /// Columns: name and values.
+        columns: Vec<(Label, Vec<Fx>)>,
+        /// Gait channels: cylinder, shift, degrees.
+        gait: Option<Vec<(Label, u8, Vec<i16>)>>,
+    },
+    /// `[bones]`.
+    Bones {
+        /// The grammar text.
+        grammar: String,
+        /// The wrap.
+        wrap: WrapParams,
+        /// The frames.
+        frames: BoneFramesCore,
+    },
+}
+
+impl Checked {
+    /// Calls `f` with the core's [`Preset`] of these parameters (they
+    /// borrow from `self`, so they live for the call).
+    pub fn with_preset<R>(
+        &self,
+        name: &str,
+        summary: &str,
+        seed: u64,
+        f: impl FnOnce(&Preset<'_>) -> R,
+    ) -> R {
+        let preset = |model| Preset {
+            name,
+            summary,
+            default_seed: seed,
+            model,
+        };
+        match self {
+            Checked::Curve(p) => f(&preset(Model::GrowthCurve(*p))),
+            Checked::Horn {
+                params,
+                modules,
+                outline,
+            } => {
+                let params = HornParams {
+                    modules,
+                    outline,
+                    ..*params
+                };
+                f(&preset(Model::Horn(&params)))
+            }
+            Checked::LSystem(grammar) => f(&preset(Model::LSystem(grammar))),
+            Checked::Mosaic {
+                params,
+                types,
+                days,
+                mask,
+                anisotropy,
+            } => {
+                let params = MosaicParams {
+                    types,
+                    frames: days
+                        .as_deref()
+                        .map_or(DayFramesCore::EveryDay, DayFramesCore::Days),
+                    mask: mask.as_ref().map(|(width, height, bits)| Mask {
+                        width: *width,
+                        height: *height,
+                        bits,
+                    }),
+                    anisotropy: anisotropy
+                        .as_ref()
+                        .map(|(weight, width, vectors)| CoreAnisotropy {
+                            vectors,
+                            width: *width,
+                            weight: *weight,
+                        }),
+                    ..*params
+                };
+                f(&preset(Model::Mosaic(&params)))
+            }
+            Checked::Body {
+                model,
+                frames,
+                first_age,
+                last_age,
+                frames_per_stride,
+                unit,
+                interpolation,
+                ages,
+                columns,
+                gait,
+            } => {
+                let columns: Vec<CoreColumn<'_>> = columns
+                    .iter()
+                    .map(|(name, values)| CoreColumn {
+                        name: *name,
+                        values,
+                    })
+                    .collect();
+                let table = GrowthTable {
+                    unit,
+                    ages,
+                    columns: &columns,
+                    interpolation: *interpolation,
+                };
+                let channels: Vec<CoreChannel<'_>> = gait
+                    .iter()
+                    .flatten()
+                    .map(|(cylinder, shift, degrees)| CoreChannel {
+                        cylinder: *cylinder,
+                        shift: *shift,
+                        degrees,
+                    })
+                    .collect();
+                let core_gait = CoreGait {
+                    channels: &channels,
+                };
+                let params = BodyParams {
+                    model: model.model(),
+                    table: &table,
+                    frames: *frames,
+                    first_age: *first_age,
+                    last_age: *last_age,
+                    gait: gait.as_ref().map(|_| &core_gait),
+                    frames_per_stride: *frames_per_stride,
+                };
+                f(&preset(Model::Body(&params)))
+            }
+            Checked::Bones {
+                grammar,
+                wrap,
+                frames,
+            } => {
+                let params = BonesParams {
+                    grammar,
+                    wrap: *wrap,
+                    frames: *frames,
+                };
+                f(&preset(Model::Bones(&params)))
+            }
+        }
+    }
+}
+
+/// The longest name a stream header holds.
+pub const NAME_BYTES: usize = 32;
+
+/// Checks a scenario's name: 1 to [`NAME_BYTES`] bytes of lower-case
+/// letters, digits, `-`, `_` and `.` (not starting with `.`), so that a
+/// name is never a path.
+///
+/// # Errors
+/// What is wrong with it.
+pub fn name(name: &str) -> Result<()> {
+    let ok = !name.is_empty()
+        && name.len() <= NAME_BYTES.min(PresetName::new().capacity())
+        && !name.starts_with('.')
+        && name
+            .bytes()
+            .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b"-_.".contains(&b));
+    if ok {
+        Ok(())
+    } else {
+        invalid(
+            "name",
+            format!(
+                "{name:?} is not a name (allowed: 1 to {NAME_BYTES} of a-z 0-9 - _ ., not starting with .)"
+            ),
+        )
+    }
+}
+
+/// Checks `file` into the core's types, reading included files through
+/// `files`.
+///
+/// # Errors
+/// The first value out of range, naming its key.
+pub fn check(file: &File, files: &dyn Files) -> Result<Checked> {
+    name(&file.name)?;
+    let given: Vec<&str> = [
+        ("curve", file.curve.is_some()),
+        ("horn", file.horn.is_some()),
+        ("lsystem", file.lsystem.is_some()),
+        ("mosaic", file.mosaic.is_some()),
+        ("body", file.body.is_some()),
+        ("bones", file.bones.is_some()),
+    ]
+    .iter()
+    .filter(|(_, on)| *on)
+    .map(|(n, _)| *n)
+    .collect();
+    if given.len() != 1 {
+        return invalid(
+            "",
+            format!(
+                "a scenario has exactly one model table, this one has {} (allowed: [curve], [horn], [lsystem], [mosaic], [body], [bones])",
+                if given.is_empty() {
+                    "none".to_string()
+                } else {
+                    given.join(", ")
+                }
+            ),
+        );
+    }
+    if let Some(c) = &file.curve {
+        return curve(c);
+    }
+    if let Some(h) = &file.horn {
+        return horn(h);
+    }
+    if let Some(l) = &file.lsystem {
+        return Ok(Checked::LSystem(text(&l.grammar, "lsystem.grammar", files)?));
+    }
+    if let Some(m) = &file.mosaic {
+        return mosaic(m, files);
+    }
+    if let Some(b) = &file.body {
+        return body(b);
+    }
+    match &file.bones {
+        Some(b) => bones(b, files),
+        None => invalid("", "no model table"),
+    }
+}
+
+// ----------------------------------------------------------------- units
+
+/// A real number as 16.16 fixed point, rounded to nearest, within
+/// `lo..=hi`.
+fn fx(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
+    if !v.is_finite() || v < lo || v > hi {
+        return invalid(key, format!("{v} is out of range (allowed: {lo} to {hi})"));
+    }
+    // |v| < 32768, so v·65536 is exact in f64 and fits an i32 once rounded.
+    Ok(Fx::from_bits((v * 65536.0).round() as i32))
+}
+
+/// A percentage as a ratio in 16.16.
+fn percent(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
+    if !v.is_finite() || v < lo || v > hi {
+        return invalid(key, format!("{v} % is out of range (allowed: {lo} to {hi} %)"));
+    }
+    Ok(Fx::from_bits((v * 65536.0 / 100.0).round() as i32))
+}
+
+/// Degrees as a binary angle: whole degrees exactly as the core's
+/// `Angle::from_degrees`, others rounded to the nearest unit.
+fn degrees(key: &str, v: f64) -> Result<Angle> {
+    if !v.is_finite() || v.abs() > 3600.0 {
+        return invalid(key, format!("{v}° is out of range (allowed: -3600 to 3600)"));
+    }
+    if v.fract() == 0.0 {
+        return Ok(Angle::from_degrees(v as i32));
+    }
+    let turns = v / 360.0;
+    let units = (turns * 4_294_967_296.0).round().rem_euclid(4_294_967_296.0);
+    Ok(Angle(units as u32))
+}
+
+/// A whole number within `lo..=hi`.
+fn int<T: TryFrom<i64>>(key: &str, v: i64, lo: i64, hi: i64) -> Result<T> {
+    if v < lo || v > hi {
+        return invalid(key, format!("{v} is out of range (allowed: {lo} to {hi})"));
+    }
+    T::try_from(v).or_else(|_| invalid(key, format!("{v} is out of range")))
+}
+
+fn text(include: &Include, key: &str, files: &dyn Files) -> Result<String> {
+    match include {
+        Include::Inline { text } => Ok(text.clone()),
+        Include::Path(path) => {
+            let bytes = files
+                .read(path)
+                .or_else(|e| invalid(key, format!("cannot read {path}: {e}")))?;
+            String::from_utf8(bytes).or_else(|e| {
+                invalid(
+                    key,
+                    format!(
+                        "{path} is not UTF-8 text (first bad byte at offset {})",
+                        e.utf8_error().valid_up_to()
+                    ),
+                )
+            })
+        }
+    }
+}
+
+// ---------------------------------------------------------------- models
+
+fn sigmoid(key: &str, s: &schema::Sigmoid, span: Option<Fx>) -> Result<CoreSigmoid> {
+    let span = match (span, s.span) {
+        (Some(fixed), None) => fixed,
+        (Some(_), Some(_)) => {
+            return invalid(
+                format!("{key}.span"),
+                "a horn module's span is its delay T: remove span (allowed: centre, width)",
+            );
+        }
+        (None, Some(v)) => fx(&format!("{key}.span"), v, 1.0, 32767.0)?,
+        (None, None) => return invalid(format!("{key}.span"), "missing (days, 1 to 32767)"),
+    };
+    Ok(CoreSigmoid {
+        centre: fx(&format!("{key}.centre"), s.centre, -32767.0, 32767.0)?,
+        width: fx(&format!("{key}.width"), s.width, 0.01, 32767.0)?,
+        span,
+    })
+}
+
+fn curve(c: &schema::Curve) -> Result<Checked> {
+    Ok(Checked::Curve(growth_curve::Params {
+        growth: sigmoid("curve.growth", &c.growth, None)?,
+        days: int("curve.days", c.days, 1, 32767)?,
+    }))
+}
+
+fn horn(h: &schema::Horn) -> Result<Checked> {
+    let delay_days: u16 = int("horn.delay_days", h.delay_days, 1, 32767)?;
+    let growth = sigmoid(
+        "horn.growth",
+        &h.growth,
+        Some(Fx::from_int(i32::from(delay_days))),
+    )?;
+    if h.modules.is_empty() || h.modules.len() > MAX_MODULES {
+        return invalid(
+            "horn.modules",
+            format!(
+                "{} modules (allowed: 1 to {MAX_MODULES}, horn::MAX_MODULES)",
+                h.modules.len()
+            ),
+        );
+    }
+    let mut modules = Vec::with_capacity(h.modules.len());
+    for (i, m) in h.modules.iter().enumerate() {
+        let key = |f: &str| format!("horn.modules[{i}].{f}");
+        modules.push(Module {
+            positioner_scale: percent(&key("positioner_scale"), m.positioner_scale, 0.01, 10000.0)?,
+            base_scale: percent(&key("base_scale"), m.base_scale, 0.01, 10000.0)?,
+            bend: degrees(&key("bend"), m.bend)?,
+            twist: degrees(&key("twist"), m.twist)?,
+            path_radius: fx(&key("path_radius"), m.path_radius, 0.01, 32767.0)?,
+        });
+    }
+    for i in 1..modules.len() {
+        if modules[i].positioner_scale != modules[i - 1].base_scale {
+            return invalid(
+                format!("horn.modules[{i}].positioner_scale"),
+                format!(
+                    "must equal the base_scale of module {} ({} %) so the horn is continuous (paper Sec. 6)",
+                    i,
+                    h.modules[i - 1].base_scale
+                ),
+            );
+        }
+    }
+    if h.outline.len() < 3 || h.outline.len() > 1024 {
+        return invalid(
+            "horn.outline",
+            format!("{} points (allowed: 3 to 1024)", h.outline.len()),
+        );
+    }
+    let outline = h
+        .outline
+        .iter()
+        .enumerate()
+        .map(|(i, [y, z])| {
+            let key = format!("horn.outline[{i}]");
+            Ok([fx(&key, *y, -1000.0, 1000.0)?, fx(&key, *z, -1000.0, 1000.0)?])
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let years: u16 = int("horn.years", h.years, 1, modules.len() as i64)?;
+    let params = HornParams {
+        modules: &[],
+        outline: &[],
+        ring_points: int(
+            "horn.ring_points",
+            h.ring_points,
+            3,
+            MAX_RING_POINTS as i64,
+        )?,
+        rings_per_module: int("horn.rings_per_module", h.rings_per_module, 1, 1024)?,
+        delay_days,
+        growth,
+        frames_per_year: int("horn.frames_per_year", h.frames_per_year, 1, 365)?,
+        years,
+    };
+    Ok(Checked::Horn {
+        params,
+        modules,
+        outline,
+    })
+}
+
+fn matrix(key: &str, rows: &[Vec<f64>], n: usize) -> Result<[[Fx; MAX_TYPES]; MAX_TYPES]> {
+    if rows.len() != n || rows.iter().any(|r| r.len() != n) {
+        return invalid(
+            key,
+            format!("must be {n} rows of {n} numbers, one per pair of types (allowed: 0 to 1)"),
+        );
+    }
+    let mut t = [[Fx::ZERO; MAX_TYPES]; MAX_TYPES];
+    for (i, row) in rows.iter().enumerate() {
+        for (j, v) in row.iter().enumerate() {
+            t[i][j] = fx(&format!("{key}[{i}][{j}]"), *v, 0.0, 1.0)?;
+        }
+    }
+    Ok(t)
+}
+
+fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
+    let size = [
+        fx("mosaic.domain.size[0]", m.domain.size[0], 1.0, 16384.0)?,
+        fx("mosaic.domain.size[1]", m.domain.size[1], 1.0, 16384.0)?,
+    ];
+    let n = m.types.len();
+    if n == 0 || n > MAX_TYPES {
+        return invalid(
+            "mosaic.types",
+            format!("{n} types (allowed: 1 to {MAX_TYPES}, mosaic::MAX_TYPES)"),
+        );
+    }
+    let mut types = Vec::with_capacity(n);
+    for (i, t) in m.types.iter().enumerate() {
+        let key = |f: &str| format!("mosaic.types[{i}].{f}");
+        let mut colour = [0u8; 3];
+        for (c, v) in colour.iter_mut().zip(t.colour) {
+            *c = int(&key("colour"), v, 0, 255)?;
+        }
+        types.push(CoreCellType {
+            colour,
+            division_days: int(&key("division_days"), t.division_days, 1, 1024)?,
+            initial_probability: fx(
+                &key("initial_probability"),
+                t.initial_probability,
+                0.0,
+                1.0,
+            )?,
+        });
+    }
+    let adhesion = matrix("mosaic.adhesion", &m.adhesion, n)?;
+    for i in 0..n {
+        for j in 0..n {
+            if adhesion[i][j] != adhesion[j][i] {
+                return invalid(
+                    format!("mosaic.adhesion[{i}][{j}]"),
+                    "adhesion is symmetric: α[i][j] must equal α[j][i]",
+                );
+            }
+        }
+    }
+    let mutation = match &m.mutation {
+        Some(rows) => matrix("mosaic.mutation", rows, n)?,
+        None => [[Fx::ZERO; MAX_TYPES]; MAX_TYPES],
+    };
+    let days: u16 = int("mosaic.days", m.days, 0, 4096)?;
+    let frame_days = match &m.frames {
+        DayFrames::Keyword(k) if k == "every-day" => None,
+        DayFrames::Keyword(k) => {
+            return invalid(
+                "mosaic.frames",
+                format!("{k:?} (allowed: \"every-day\" or a list of days)"),
+            );
+        }
+        DayFrames::Days(list) => {
+            let mut out = Vec::with_capacity(list.len());
+            for (i, d) in list.iter().enumerate() {
+                let d: u16 = int(&format!("mosaic.frames[{i}]"), *d, 0, i64::from(days))?;
+                if out.last().is_some_and(|&p| p >= d) {
+                    return invalid(
+                        format!("mosaic.frames[{i}]"),
+                        "days must increase (allowed: 0 to mosaic.days, increasing)",
+                    );
+                }
+                out.push(d);
+            }
+            Some(out)
+        }
+    };
+    let mask = match &m.mask {
+        None => None,
+        Some(include) => {
+            let bytes = match include {
+                Include::Path(path) => files
+                    .read(path)
+                    .or_else(|e| invalid("mosaic.mask", format!("cannot read {path}: {e}")))?,
+                Include::Inline { text } => text.clone().into_bytes(),
+            };
+            Some(mask::read(&bytes).or_else(|e| invalid("mosaic.mask", e))?)
+        }
+    };
+    let anisotropy = match &m.anisotropy {
+        None => None,
+        Some(a) => {
+            if a.vectors.len() > mosaic::control::MAX_CONTROL_VECTORS {
+                return invalid(
+                    "mosaic.anisotropy.vectors",
+                    format!(
+                        "{} vectors (allowed: 0 to {}, mosaic::control::MAX_CONTROL_VECTORS)",
+                        a.vectors.len(),
+                        mosaic::control::MAX_CONTROL_VECTORS
+                    ),
+                );
+            }
+            let vectors = a
+                .vectors
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    let key = |f: &str| format!("mosaic.anisotropy.vectors[{i}].{f}");
+                    Ok(CoreVector {
+                        at: [
+                            fx(&key("at"), v.at[0], 0.0, 16384.0)?,
+                            fx(&key("at"), v.at[1], 0.0, 16384.0)?,
+                        ],
+                        v: [
+                            fx(&key("v"), v.v[0], -1.0, 1.0)?,
+                            fx(&key("v"), v.v[1], -1.0, 1.0)?,
+                        ],
+                    })
+                })
+                .collect::<Result<Vec<_>>>()?;
+            Some((
+                fx("mosaic.anisotropy.weight", a.weight, 0.0, 1.0)?,
+                fx("mosaic.anisotropy.width", a.width, 0.01, 16384.0)?,
+                vectors,
+            ))
+        }
+    };
+    let params = MosaicParams {
+        domain: CoreDomain {
+            size,
+            periodic: m.domain.periodic,
+        },
+        initial_cells: int("mosaic.initial_cells", m.initial_cells, 1, 1 << 24)?,
+        types: &[],
+        adhesion,
+        mutation,
+        radius_weight: fx("mosaic.radius_weight", m.radius_weight, 0.01, 16.0)?,
+        push_weight: fx("mosaic.push_weight", m.push_weight, 0.0, 1.0)?,
+        initial_relaxations: int("mosaic.initial_relaxations", m.initial_relaxations, 0, 10000)?,
+        daily_relaxations: int("mosaic.daily_relaxations", m.daily_relaxations, 0, 10000)?,
+        days,
+        mask: None,
+        anisotropy: None,
+        frames: DayFramesCore::EveryDay,
+    };
+    Ok(Checked::Mosaic {
+        params,
+        types,
+        days: frame_days,
+        mask,
+        anisotropy,
+    })
+}
+
+fn label(key: &str, name: &str) -> Result<Label> {
+    Label::try_new(name).ok_or_else(|| Invalid {
+        key: key.into(),
+        message: format!(
+            "{name:?} is longer than {} bytes (body::LABEL_BYTES)",
+            morphogen::body::LABEL_BYTES
+        ),
+    })
+}
+
+fn body(b: &schema::Body) -> Result<Checked> {
+    let model = match b.model.as_str() {
+        "horse" => BuiltinBody::Horse,
+        "cow" => BuiltinBody::Cow,
+        other => {
+            return invalid(
+                "body.model",
+                format!("{other:?} is not a built-in body (allowed: \"horse\", \"cow\")"),
+            );
+        }
+    };
+    let t = &b.table;
+    let interpolation = match t.interpolation.as_str() {
+        "linear" => Interpolation::Linear,
+        "monotone-cubic" => Interpolation::MonotoneCubic,
+        other => {
+            return invalid(
+                "body.table.interpolation",
+                format!("{other:?} (allowed: \"linear\", \"monotone-cubic\")"),
+            );
+        }
+    };
+    if t.ages.is_empty() || t.ages.len() > 64 {
+        return invalid(
+            "body.table.ages",
+            format!("{} ages (allowed: 1 to 64)", t.ages.len()),
+        );
+    }
+    let mut ages = Vec::with_capacity(t.ages.len());
+    for (i, a) in t.ages.iter().enumerate() {
+        let age = fx(&format!("body.table.ages[{i}]"), *a, 0.0, 1200.0)?;
+        if ages.last().is_some_and(|&p| p >= age) {
+            return invalid(format!("body.table.ages[{i}]"), "ages must increase");
+        }
+        ages.push(age);
+    }
+    let mut columns = Vec::with_capacity(t.columns.len());
+    for (i, c) in t.columns.iter().enumerate() {
+        let key = format!("body.table.columns[{i}]");
+        if c.values.len() != ages.len() {
+            return invalid(
+                format!("{key}.values"),
+                format!(
+                    "{} values for {} ages (allowed: one per age)",
+                    c.values.len(),
+                    ages.len()
+                ),
+            );
+        }
+        let values = c
+            .values
+            .iter()
+            .enumerate()
+            .map(|(j, v)| fx(&format!("{key}.values[{j}]"), *v, 0.0001, 30000.0))
+            .collect::<Result<Vec<_>>>()?;
+        columns.push((label(&format!("{key}.name"), &c.name)?, values));
+    }
+    let frames: u16 = int("body.frames", b.frames, 1, 10000)?;
+    let (frames_per_stride, gait) = match &b.gait {
+        None => (1, None),
+        Some(g) => {
+            let mut channels = Vec::with_capacity(g.channels.len());
+            for (i, c) in g.channels.iter().enumerate() {
+                let key = |f: &str| format!("body.gait.channels[{i}].{f}");
+                if c.degrees.is_empty() || c.degrees.len() > 1024 {
+                    return invalid(key("degrees"), "1 to 1024 samples");
+                }
+                let degrees = c
+                    .degrees
+                    .iter()
+                    .map(|d| int(&key("degrees"), *d, -360, 360))
+                    .collect::<Result<Vec<i16>>>()?;
+                channels.push((
+                    label(&key("cylinder"), &c.cylinder)?,
+                    int(&key("shift"), c.shift, 0, 255)?,
+                    degrees,
+                ));
+            }
+            (
+                int("body.gait.frames_per_stride", g.frames_per_stride, 1, 1000)?,
+                Some(channels),
+            )
+        }
+    };
+    let checked = Checked::Body {
+        model,
+        frames,
+        first_age: fx("body.first_age", b.first_age, 0.0, 1200.0)?,
+        last_age: fx("body.last_age", b.last_age, 0.0, 1200.0)?,
+        frames_per_stride,
+        unit: t.unit.clone(),
+        interpolation,
+        ages,
+        columns,
+        gait,
+    };
+    // The model reads its columns by position: check the table against it.
+    checked.with_preset("check", "", 0, |p| match p.model {
+        Model::Body(params) => {
+            params.table.validate().map_err(|e| Invalid {
+                key: "body.table".into(),
+                message: e.to_string(),
+            })?;
+            morphogen::body::Skeleton::<Fx, { morphogen::body::MAX_CYLINDERS }>::new()
+                .load(params.model, params.table)
+                .map_err(|e| Invalid {
+                key: "body.table.columns".into(),
+                message: format!("{e} (the {} model needs its columns in order)", model.name()),
+            })
+        }
+        _ => Ok(()),
+    })?;
+    Ok(checked)
+}
+
+fn bones(b: &schema::Bones, files: &dyn Files) -> Result<Checked> {
+    let grammar = text(&b.grammar, "bones.grammar", files)?;
+    let frames = match &b.frames {
+        BoneFrames::Keyword(k) if k == "final" => BoneFramesCore::Final,
+        BoneFrames::Keyword(k) => {
+            return invalid(
+                "bones.frames",
+                format!("{k:?} (allowed: \"final\", {{ every_step_from = K }}, {{ seeds = N }})"),
+            );
+        }
+        BoneFrames::Table(t) => match (t.every_step_from, t.seeds) {
+            (Some(first), None) => BoneFramesCore::EveryStep {
+                first: int("bones.frames.every_step_from", first, 0, 255)?,
+            },
+            (None, Some(n)) => BoneFramesCore::Seeds(int("bones.frames.seeds", n, 1, 255)?),
+            _ => {
+                return invalid(
+                    "bones.frames",
+                    "give one of every_step_from = K or seeds = N",
+                );
+            }
+        },
+    };
+    let w = &b.wrap;
+    let meridians: u8 = int("bones.wrap.meridians", w.meridians, 4, 252)?;
+    if meridians % 4 != 0 {
+        return invalid(
+            "bones.wrap.meridians",
+            format!("{meridians} is not a multiple of 4 (allowed: 4, 8, … 252)"),
+        );
+    }
+    let parallels: u8 = int("bones.wrap.parallels", w.parallels, 1, 255)?;
+    if parallels % 2 == 0 {
+        return invalid(
+            "bones.wrap.parallels",
+            format!("{parallels} is even (allowed: odd, 1 to 255)"),
+        );
+    }
+    let wrap = WrapParams {
+        meridians,
+        parallels,
+        target: fx("bones.wrap.target", w.target, 0.01, 1000.0)?,
+        step: fx("bones.wrap.step", w.step, 0.0001, 1000.0)?,
+        max_iterations: int("bones.wrap.max_iterations", w.max_iterations, 1, 65535)?,
+    };
+    Ok(Checked::Bones {
+        grammar,
+        wrap,
+        frames,
+    })
+}

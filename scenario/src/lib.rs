@@ -1,0 +1,566 @@
+//! Scenario files: a model and every one of its parameters, a seed and the
+//! frames to emit, in TOML (`docs/scenarios.md`). A scenario is read and
+//! checked once, at the door, into the core's types; an out-of-range,
+//! mistyped or unknown value is an [`Error`] that names the file, the line
+//! and the key, with what is allowed.
+//!
+//! The built-in presets are the scenario files in `scenarios/`, embedded
+//! here with the grammars and masks they name ([`builtins`]); the firmware
+//! turns the same files into `static` presets at build time
+//! ([`codegen`]).
+//!
+//! ```
+//! let horn = morphogen_scenario::builtin("ram-horn").unwrap();
+//! let mut changed = horn.clone_with_sets(&[("horn.years".into(), "4".into())]).unwrap();
+//! assert_eq!(changed.file().horn.as_ref().unwrap().years, 4);
+//! let bad = horn.clone_with_sets(&[("horn.years".into(), "40".into())]).unwrap_err();
+//! assert_eq!(bad.to_string(), "--set horn.years=40: horn.years: 40 is out of range (allowed: 1 to 8)");
+//! # changed = changed;
+//! ```
+#![forbid(unsafe_code)]
+#![deny(missing_docs, missing_debug_implementations)]
+
+pub mod check;
+pub mod codegen;
+pub mod mask;
+pub mod run;
+pub mod schema;
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use morphogen::preset::Preset;
+
+pub use check::{Checked, Files, Invalid};
+
+/// The embedded files: `scenarios/*.toml`, `scenarios/masks/*`,
+/// `grammars/*`.
+mod embedded {
+    include!(concat!(env!("OUT_DIR"), "/embedded.rs"));
+}
+
+/// The most bytes a scenario file (or a file it names) may have.
+pub const MAX_FILE_BYTES: u64 = 16 << 20;
+
+/// Why a scenario cannot be used: where, which key, what is wrong.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Error {
+    /// The file (or `built-in NAME`).
+    pub origin: String,
+    /// Where the value is: a line of the file, or a `--set`.
+    pub place: Place,
+    /// The dotted key (empty for the file as a whole).
+    pub key: String,
+    /// What is wrong, with what is allowed.
+    pub message: String,
+}
+
+/// Where a bad value came from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Place {
+    /// A line of the file (from 1).
+    Line(usize),
+    /// A `--set KEY=VALUE` on the command line.
+    Set(String),
+    /// The file as a whole.
+    File,
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.place {
+            Place::Line(line) => write!(f, "{}:{line}: ", self.origin)?,
+            Place::Set(set) => write!(f, "--set {set}: ")?,
+            Place::File => write!(f, "{}: ", self.origin)?,
+        }
+        if !self.key.is_empty() {
+            write!(f, "{}: ", self.key)?;
+        }
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// Files named by a scenario on disk, relative to its folder.
+#[derive(Debug)]
+struct Folder(PathBuf);
+
+impl Files for Folder {
+    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
+        read_limited(&self.0.join(path))
+    }
+}
+
+/// Files named by a built-in scenario: the embedded ones.
+#[derive(Debug)]
+struct Embedded(&'static str);
+
+impl Files for Embedded {
+    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
+        let mut parts: Vec<&str> = self.0.rsplit_once('/').map_or(vec![], |(d, _)| vec![d]);
+        for seg in path.split('/') {
+            match seg {
+                "." | "" => {}
+                ".." => {
+                    parts.pop();
+                }
+                s => parts.push(s),
+            }
+        }
+        let key = parts.join("/");
+        embedded::FILES
+            .iter()
+            .find(|(p, _)| *p == key)
+            .map(|(_, bytes)| bytes.to_vec())
+            .ok_or_else(|| format!("no built-in file {key}"))
+    }
+}
+
+/// No included files (for a scenario whose includes are all inline).
+#[derive(Debug)]
+struct NoFiles;
+
+impl Files for NoFiles {
+    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
+        Err(format!("{path}: this scenario can name no files"))
+    }
+}
+
+/// Reads a file of at most [`MAX_FILE_BYTES`], checking the size first.
+///
+/// # Errors
+/// Why it cannot be read, or that it is too big.
+pub fn read_limited(path: &Path) -> Result<Vec<u8>, String> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let mut bytes = Vec::new();
+    file.take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| e.to_string())?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(format!(
+            "more than {MAX_FILE_BYTES} bytes (scenario::MAX_FILE_BYTES)"
+        ));
+    }
+    Ok(bytes)
+}
+
+/// A read and checked scenario.
+#[derive(Debug, Clone)]
+pub struct Scenario {
+    origin: String,
+    /// The text as given, before any `--set`.
+    text: String,
+    sets: Vec<(String, String)>,
+    file: schema::File,
+    checked: Checked,
+    /// Where named files are found: a folder, or the embedded files of
+    /// this built-in.
+    base: Base,
+}
+
+#[derive(Debug, Clone)]
+enum Base {
+    Folder(PathBuf),
+    Embedded(&'static str),
+    None,
+}
+
+impl Base {
+    fn files(&self) -> Box<dyn Files> {
+        match self {
+            Base::Folder(p) => Box::new(Folder(p.clone())),
+            Base::Embedded(key) => Box::new(Embedded(key)),
+            Base::None => Box::new(NoFiles),
+        }
+    }
+}
+
+impl Scenario {
+    /// Reads the scenario file `path` and applies `sets` (dotted keys).
+    ///
+    /// # Errors
+    /// An unreadable file, or the first bad value with its line and key.
+    pub fn load(path: &Path, sets: &[(String, String)]) -> Result<Scenario, Error> {
+        let origin = path.display().to_string();
+        let bytes = read_limited(path).map_err(|message| Error {
+            origin: origin.clone(),
+            place: Place::File,
+            key: String::new(),
+            message: format!("cannot read: {message}"),
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| Error {
+            origin: origin.clone(),
+            place: Place::File,
+            key: String::new(),
+            message: format!(
+                "not UTF-8 text (first bad byte at offset {})",
+                e.utf8_error().valid_up_to()
+            ),
+        })?;
+        let folder = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."))
+            .to_path_buf();
+        Scenario::parse(&origin, &text, Base::Folder(folder), sets)
+    }
+
+    /// Reads a scenario from `text` whose includes are all inline (as
+    /// [`Scenario::self_contained`] writes it).
+    ///
+    /// # Errors
+    /// The first bad value with its line and key.
+    pub fn from_text(origin: &str, text: &str) -> Result<Scenario, Error> {
+        Scenario::parse(origin, text, Base::None, &[])
+    }
+
+    fn parse(
+        origin: &str,
+        text: &str,
+        base: Base,
+        sets: &[(String, String)],
+    ) -> Result<Scenario, Error> {
+        let err = |place, key: &str, message: String| Error {
+            origin: origin.to_string(),
+            place,
+            key: key.to_string(),
+            message,
+        };
+        let original = toml_edit::Document::parse(text).map_err(|e| {
+            let line = e.span().map_or(1, |s| line_of(text, s.start));
+            err(Place::Line(line), "", format!("not TOML: {}", e.message()))
+        })?;
+        let mut doc: toml_edit::DocumentMut = text
+            .parse()
+            .map_err(|e: toml_edit::TomlError| err(Place::File, "", e.message().to_string()))?;
+        for (key, value) in sets {
+            set(&mut doc, key, value)
+                .map_err(|m| err(Place::Set(format!("{key}={value}")), key, m))?;
+        }
+        let edited = doc.to_string();
+        let locate = |key: &str| -> Place {
+            if let Some((k, v)) = sets
+                .iter()
+                .rev()
+                .find(|(k, _)| key == k || key.starts_with(&format!("{k}.")) || k.starts_with(key) && !key.is_empty())
+            {
+                return Place::Set(format!("{k}={v}"));
+            }
+            match span_of(&original, key) {
+                Some(at) => Place::Line(line_of(text, at)),
+                None => Place::File,
+            }
+        };
+        let de = toml::Deserializer::parse(&edited)
+            .map_err(|e| err(Place::File, "", e.message().to_string()))?;
+        let file: schema::File = serde_path_to_error::deserialize(de).map_err(|e| {
+            let key = e.path().to_string();
+            let key = if key == "." { String::new() } else { key };
+            let (key, message) = explain(&key, e.inner().message());
+            err(locate(&key), &key, message)
+        })?;
+        let files = base.files();
+        let checked = check::check(&file, files.as_ref())
+            .map_err(|Invalid { key, message }| err(locate(&key), &key, message))?;
+        Ok(Scenario {
+            origin: origin.to_string(),
+            text: text.to_string(),
+            sets: sets.to_vec(),
+            file,
+            checked,
+            base,
+        })
+    }
+
+    /// The same scenario with more `sets` applied after its own.
+    ///
+    /// # Errors
+    /// The first bad value.
+    pub fn clone_with_sets(&self, sets: &[(String, String)]) -> Result<Scenario, Error> {
+        let mut all = self.sets.clone();
+        all.extend_from_slice(sets);
+        Scenario::parse(&self.origin, &self.text, self.base.clone(), &all)
+    }
+
+    /// Whether this is a built-in preset exactly as shipped (no `--set`).
+    #[must_use]
+    pub fn is_builtin(&self) -> bool {
+        matches!(self.base, Base::Embedded(_)) && self.sets.is_empty()
+    }
+
+    /// The file as read (after `--set`s).
+    #[must_use]
+    pub fn file(&self) -> &schema::File {
+        &self.file
+    }
+
+    /// Its name (the stream header's).
+    #[must_use]
+    pub fn name(&self) -> &str {
+        &self.file.name
+    }
+
+    /// Its one-line summary.
+    #[must_use]
+    pub fn summary(&self) -> &str {
+        &self.file.summary
+    }
+
+    /// Its default seed.
+    #[must_use]
+    pub fn seed(&self) -> u64 {
+        self.file.seed
+    }
+
+    /// Where it was read from.
+    #[must_use]
+    pub fn origin(&self) -> &str {
+        &self.origin
+    }
+
+    /// The checked model.
+    #[must_use]
+    pub fn checked(&self) -> &Checked {
+        &self.checked
+    }
+
+    /// Calls `f` with the core's [`Preset`] of this scenario.
+    pub fn with_preset<R>(&self, f: impl FnOnce(&Preset<'_>) -> R) -> R {
+        self.checked
+            .with_preset(self.name(), self.summary(), self.seed(), f)
+    }
+
+    /// The text as given (comments and all), before any `--set`.
+    #[must_use]
+    pub fn text(&self) -> &str {
+        &self.text
+    }
+
+    /// The scenario as one file: the text with the `--set`s applied and
+    /// every named file (grammar, mask) inline, so that it runs anywhere.
+    #[must_use]
+    pub fn self_contained(&self) -> String {
+        let mut doc: toml_edit::DocumentMut = match self.text.parse() {
+            Ok(doc) => doc,
+            Err(_) => return self.text.clone(),
+        };
+        for (key, value) in &self.sets {
+            let _ = set(&mut doc, key, value); // applied once already
+        }
+        let files = self.base.files();
+        for key in ["lsystem.grammar", "bones.grammar", "mosaic.mask"] {
+            let (table, field) = key.split_once('.').unwrap_or(("", key));
+            let Some(item) = doc.get_mut(table).and_then(|t| t.get_mut(field)) else {
+                continue;
+            };
+            let Some(path) = item.as_str().map(str::to_string) else {
+                continue;
+            };
+            let Ok(bytes) = files.read(&path) else {
+                continue;
+            };
+            let text = match (key, mask::read(&bytes)) {
+                ("mosaic.mask", Ok((width, height, bits))) => mask::to_pbm(&morphogen::mosaic::Mask {
+                    width,
+                    height,
+                    bits: &bits,
+                }),
+                _ => String::from_utf8_lossy(&bytes).into_owned(),
+            };
+            let mut inline = toml_edit::InlineTable::new();
+            inline.insert("text", text.into());
+            *item = toml_edit::value(inline);
+        }
+        doc.to_string()
+    }
+}
+
+/// What the user sees for a serde error at `key`: unknown keys get a
+/// did-you-mean.
+fn explain(key: &str, message: &str) -> (String, String) {
+    let Some(rest) = message.strip_prefix("unknown field `") else {
+        return (key.to_string(), message.to_string());
+    };
+    let (field, rest) = rest.split_once('`').unwrap_or((rest, ""));
+    let expected: Vec<&str> = rest.split('`').skip(1).step_by(2).collect();
+    let full = if key.is_empty() {
+        field.to_string()
+    } else if key.ends_with(field) {
+        key.to_string()
+    } else {
+        format!("{key}.{field}")
+    };
+    let best = expected
+        .iter()
+        .map(|e| (strsim::damerau_levenshtein(field, e), *e))
+        .min();
+    let hint = match best {
+        Some((d, e)) if d <= 2.max(field.len() / 3) => format!(" (did you mean `{e}`?)"),
+        _ => String::new(),
+    };
+    (
+        full,
+        format!(
+            "unknown key{hint} (allowed: {})",
+            expected.join(", ")
+        ),
+    )
+}
+
+/// Sets the dotted `key` (segments may carry `[i]`) to `value`, read as a
+/// TOML value or else as a string.
+fn set(doc: &mut toml_edit::DocumentMut, key: &str, value: &str) -> Result<(), String> {
+    let parsed: toml_edit::Value = value
+        .parse()
+        .unwrap_or_else(|_| toml_edit::Value::from(value));
+    let mut item = doc.as_item_mut();
+    let segments: Vec<&str> = key.split('.').collect();
+    for (n, seg) in segments.iter().enumerate() {
+        let (name, index) = match seg.split_once('[') {
+            Some((name, rest)) => {
+                let i = rest
+                    .strip_suffix(']')
+                    .and_then(|i| i.parse::<usize>().ok())
+                    .ok_or_else(|| format!("{seg}: an index is [N]"))?;
+                (name, Some(i))
+            }
+            None => (*seg, None),
+        };
+        if name.is_empty() {
+            return Err("an empty key".into());
+        }
+        let last = n + 1 == segments.len() && index.is_none();
+        if last {
+            let table = item
+                .as_table_like_mut()
+                .ok_or_else(|| format!("{name}: its parent is not a table"))?;
+            let kept = table.get(name).and_then(|i| i.as_value()).map(|v| v.decor().clone());
+            let mut v = parsed;
+            if let Some(decor) = kept {
+                *v.decor_mut() = decor;
+            }
+            table.insert(name, toml_edit::Item::Value(v));
+            return Ok(());
+        }
+        item = item
+            .get_mut(name)
+            .filter(|i| !i.is_none())
+            .ok_or_else(|| format!("no table {name} in the scenario"))?;
+        if let Some(i) = index {
+            if n + 1 == segments.len() {
+                let array = item
+                    .as_array_mut()
+                    .ok_or_else(|| format!("{name} is not a list"))?;
+                let len = array.len();
+                let slot = array
+                    .get_mut(i)
+                    .ok_or_else(|| format!("{name}[{i}]: the list has {len} items"))?;
+                *slot = parsed;
+                return Ok(());
+            }
+            item = item
+                .get_mut(i)
+                .ok_or_else(|| format!("{name}[{i}]: no such item"))?;
+        }
+    }
+    Err("an empty key".into())
+}
+
+/// The byte offset of the value at the dotted `key` in `doc` (or of its
+/// nearest enclosing item).
+fn span_of(doc: &toml_edit::Document<&str>, key: &str) -> Option<usize> {
+    let mut item = doc.as_item();
+    let mut best = None;
+    for seg in key.split('.').filter(|s| !s.is_empty()) {
+        let (name, indices) = match seg.find('[') {
+            Some(at) => (&seg[..at], &seg[at..]),
+            None => (seg, ""),
+        };
+        let table = item.as_table_like()?;
+        let (k, next) = table.get_key_value(name)?;
+        best = k.span().map(|s| s.start).or(best);
+        item = next;
+        if let Some(at) = item.span().map(|s| s.start) {
+            best = Some(at);
+        }
+        for i in indices
+            .split(['[', ']'])
+            .filter(|s| !s.is_empty())
+            .filter_map(|i| i.parse::<usize>().ok())
+        {
+            match item.get(i) {
+                Some(next) => {
+                    item = next;
+                    if let Some(at) = item.span().map(|s| s.start) {
+                        best = Some(at);
+                    }
+                }
+                None => return best,
+            }
+        }
+    }
+    best
+}
+
+fn line_of(text: &str, at: usize) -> usize {
+    text.as_bytes()[..at.min(text.len())]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+        + 1
+}
+
+/// Every built-in scenario, in `morphogen list` order: by model (curve,
+/// horn, L-system, body, bones, mosaic), then by file name.
+///
+/// # Panics
+/// When a built-in file is invalid (a test checks that none is).
+#[must_use]
+pub fn builtins() -> Vec<Scenario> {
+    let mut all: Vec<Scenario> = embedded::FILES
+        .iter()
+        .filter(|(p, _)| p.starts_with("scenarios/") && p.ends_with(".toml"))
+        .map(|(path, bytes)| {
+            let text = String::from_utf8_lossy(bytes);
+            let name = path
+                .trim_start_matches("scenarios/")
+                .trim_end_matches(".toml");
+            match Scenario::parse(&format!("built-in {name}"), &text, Base::Embedded(path), &[]) {
+                Ok(s) => s,
+                Err(e) => panic!("built-in scenario {path}: {e}"),
+            }
+        })
+        .collect();
+    all.sort_by_key(|s| (model_order(s.checked()), s.origin.clone()));
+    all
+}
+
+fn model_order(c: &Checked) -> u8 {
+    match c {
+        Checked::Curve(_) => 0,
+        Checked::Horn { .. } => 1,
+        Checked::LSystem(_) => 2,
+        Checked::Body { .. } => 3,
+        Checked::Bones { .. } => 4,
+        Checked::Mosaic { .. } => 5,
+    }
+}
+
+/// The built-in scenario called `name`.
+#[must_use]
+pub fn builtin(name: &str) -> Option<Scenario> {
+    builtins().into_iter().find(|s| s.name() == name)
+}
+
+/// The built-in whose name is closest to `name`, for a did-you-mean.
+#[must_use]
+pub fn closest_builtin(name: &str) -> Option<String> {
+    builtins()
+        .iter()
+        .map(|s| (strsim::damerau_levenshtein(name, s.name()), s.name().to_string()))
+        .filter(|(d, _)| *d <= 3)
+        .min()
+        .map(|(_, n)| n)
+}

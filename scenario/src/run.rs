@@ -1,0 +1,89 @@
+//! Running a [`Preset`] on a computer: every model in the core's
+//! [`Runner`] (the MCU's fixed capacity), except mosaics, whose cells go in
+//! a [`VecStore`] sized for the run. Both use the core's one run loop
+//! ([`morphogen::preset::drive`]), so the stream is the same bytes the
+//! firmware writes.
+
+use morphogen::mosaic::store::{CellSlices, CellStore};
+use morphogen::mosaic::{Mosaic, host_capacity};
+use morphogen::preset::{self, Model, Preset, Runner};
+use morphogen::sim::Progress;
+use morphogen::stream::Sink;
+
+/// A cell store on the heap, its capacity chosen at run time.
+#[derive(Debug, Default)]
+pub struct VecStore {
+    pos: Vec<[i32; 2]>,
+    kind: Vec<u8>,
+    next_division: Vec<u16>,
+    order: Vec<u32>,
+    push: Vec<[i32; 2]>,
+    bins: Vec<u32>,
+}
+
+impl VecStore {
+    /// A store of `cells` cells and `cells / 4 + 1` grid bin offsets.
+    #[must_use]
+    pub fn new(cells: usize) -> VecStore {
+        let bins = cells / 4 + 1;
+        VecStore {
+            pos: vec![[0; 2]; cells],
+            kind: vec![0; cells],
+            next_division: vec![0; cells],
+            order: vec![0; cells],
+            push: vec![[0; 2]; cells],
+            bins: vec![0; bins],
+        }
+    }
+}
+
+impl CellStore for VecStore {
+    fn capacity(&self) -> usize {
+        self.pos.len()
+    }
+
+    fn slices(&mut self) -> CellSlices<'_> {
+        CellSlices {
+            pos: &mut self.pos,
+            kind: &mut self.kind,
+            next_division: &mut self.next_division,
+            order: &mut self.order,
+            push: &mut self.push,
+            bins: &mut self.bins,
+        }
+    }
+
+    fn positions(&self) -> &[[i32; 2]] {
+        &self.pos
+    }
+
+    fn kinds(&self) -> &[u8] {
+        &self.kind
+    }
+}
+
+/// Runs `preset` with `seed` into `sink`: header, then every step.
+///
+/// # Errors
+/// The model's refusal of its parameters (naming the limit or parameter),
+/// then the first error of a step or of the sink.
+pub fn run(
+    preset: &Preset<'_>,
+    seed: u64,
+    sink: &mut dyn Sink,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<(), morphogen::Error> {
+    let header = preset::header(preset.name, seed, preset.model.params_digest());
+    match preset.model {
+        Model::Mosaic(params) => {
+            let mut mosaic = Mosaic::new(VecStore::new(host_capacity(params)));
+            mosaic.start(params, seed)?;
+            preset::drive(&mut mosaic, &header, sink, progress)
+        }
+        model => {
+            let mut runner = Box::new(Runner::new());
+            runner.start(&model, seed)?;
+            preset::drive(runner.as_mut(), &header, sink, progress)
+        }
+    }
+}
