@@ -56,13 +56,50 @@ pub fn find(target: &str, sets: &[(String, String)]) -> Result<Scenario> {
         let hint = morphogen_scenario::closest_builtin(target)
             .map(|n| format!("did you mean '{n}'? "))
             .unwrap_or_default();
-        anyhow!("unknown preset '{target}' ({hint}see `morphogen list`; a scenario file ends in .toml)")
+        anyhow!(
+            "unknown preset '{target}' ({hint}see `morphogen list`; a scenario file ends in .toml)"
+        )
     })?;
     if sets.is_empty() {
         Ok(builtin)
     } else {
         Ok(builtin.clone_with_sets(sets)?)
     }
+}
+
+/// `scenario` with its mosaic mask replaced by the mask file `file` (a PBM
+/// or a PNG, read and checked first, then set inline).
+///
+/// # Errors
+/// When `scenario` is not a mosaic, or the file is not a usable mask.
+pub fn with_mask(scenario: &Scenario, file: &Path) -> Result<Scenario> {
+    if !matches!(
+        scenario.checked(),
+        morphogen_scenario::Checked::Mosaic { .. }
+    ) {
+        let mosaics: Vec<String> = morphogen_scenario::builtins()
+            .iter()
+            .filter(|s| matches!(s.checked(), morphogen_scenario::Checked::Mosaic { .. }))
+            .map(|s| s.name().to_string())
+            .collect();
+        anyhow::bail!(
+            "--mask needs a mosaic preset, and '{}' is not one (mosaics: {})",
+            scenario.name(),
+            mosaics.join(", ")
+        );
+    }
+    let bytes = morphogen_scenario::read_limited(file)
+        .map_err(|e| anyhow!("cannot read mask {}: {e}", file.display()))?;
+    let (width, height, bits) = morphogen_scenario::mask::read(&bytes)
+        .map_err(|e| anyhow!("mask {}: {e}", file.display()))?;
+    let pbm = morphogen_scenario::mask::to_pbm(&morphogen::mosaic::Mask {
+        width,
+        height,
+        bits: &bits,
+    });
+    let mut inline = toml_edit::InlineTable::new();
+    inline.insert("text", pbm.into());
+    Ok(scenario.clone_with_sets(&[("mosaic.mask".into(), inline.to_string())])?)
 }
 
 /// Parses `KEY=VALUE`.

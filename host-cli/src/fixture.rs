@@ -71,8 +71,13 @@ pub fn dir(fixtures: &Path, name: &str) -> PathBuf {
 /// summary that is not valid TOML of the expected shape, or a stream that
 /// does not match its summary ("fixture corrupt"); each names the file.
 pub fn load(fixtures: &Path, name: &str) -> Result<Fixture> {
-    morphogen_scenario::check::name(name)
-        .map_err(|e| anyhow::anyhow!("'{}' is not a fixture name: {}", name.escape_debug(), e.message))?;
+    morphogen_scenario::check::name(name).map_err(|e| {
+        anyhow::anyhow!(
+            "'{}' is not a fixture name: {}",
+            name.escape_debug(),
+            e.message
+        )
+    })?;
     let dir = dir(fixtures, name);
     if !dir.is_dir() {
         bail!(
@@ -83,8 +88,12 @@ pub fn load(fixtures: &Path, name: &str) -> Result<Fixture> {
     let summary_path = dir.join(SUMMARY_FILE);
     let text = fs::read_to_string(&summary_path)
         .with_context(|| format!("cannot read {}", summary_path.display()))?;
-    let summary: Summary = toml::from_str(&text)
-        .with_context(|| format!("fixture corrupt: {} is not a valid fixture summary", summary_path.display()))?;
+    let summary: Summary = toml::from_str(&text).with_context(|| {
+        format!(
+            "fixture corrupt: {} is not a valid fixture summary",
+            summary_path.display()
+        )
+    })?;
     if summary.preset != name {
         bail!(
             "fixture corrupt: {} names '{}', but lives in the folder of '{name}'",
@@ -116,14 +125,12 @@ pub fn load(fixtures: &Path, name: &str) -> Result<Fixture> {
 pub fn scenario(fixtures: &Path, name: &str) -> Result<Scenario> {
     let path = dir(fixtures, name).join(SCENARIO_FILE);
     if path.is_file() {
-        let text = fs::read_to_string(&path)
-            .with_context(|| format!("cannot read {}", path.display()))?;
+        let text =
+            fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
         return Ok(Scenario::from_text(&path.display().to_string(), &text)?);
     }
     morphogen_scenario::builtin(name).ok_or_else(|| {
-        anyhow::anyhow!(
-            "fixture '{name}' has no {SCENARIO_FILE} and is not a built-in preset"
-        )
+        anyhow::anyhow!("fixture '{name}' has no {SCENARIO_FILE} and is not a built-in preset")
     })
 }
 
@@ -177,15 +184,22 @@ pub fn summarise(scenario: &Scenario, seed: u64, run: &Run) -> Summary {
 /// # Errors
 /// When the folder cannot be created or a file cannot be written; nothing
 /// is left half-written.
-pub fn bless(fixtures: &Path, scenario: &Scenario, summary: &Summary, run: &Run) -> Result<PathBuf> {
+pub fn bless(
+    fixtures: &Path,
+    scenario: &Scenario,
+    summary: &Summary,
+    run: &Run,
+) -> Result<PathBuf> {
     let dir = dir(fixtures, &summary.preset);
     fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let text = toml::to_string(summary).context("cannot render the summary")?;
     if !scenario.is_builtin() {
-        write_atomic(&dir.join(SCENARIO_FILE), scenario.self_contained().as_bytes())?;
+        write_atomic(
+            &dir.join(SCENARIO_FILE),
+            scenario.self_contained().as_bytes(),
+        )?;
     }
     write_atomic(&dir.join(STREAM_FILE), &run.stream)?;
     write_atomic(&dir.join(SUMMARY_FILE), text.as_bytes())?;
     Ok(dir)
 }
-

@@ -193,11 +193,11 @@ fn dispatch(command: Command) -> Result<Outcome> {
             rig,
             mask,
         } => {
-            let mut sets = sets(&set_args)?;
-            if let Some(file) = &mask {
-                sets.push(("mosaic.mask".into(), mask_inline(file)?));
-            }
-            let scenario = exec::find(&target, &sets)?;
+            let scenario = exec::find(&target, &sets(&set_args)?)?;
+            let scenario = match &mask {
+                Some(file) => exec::with_mask(&scenario, file)?,
+                None => scenario,
+            };
             match (mesh, cylinders) {
                 (Some(mesh), Some(cylinders)) => {
                     morphogen_cli::body_input::run(&scenario, seed, out, &mesh, &cylinders)
@@ -229,23 +229,12 @@ fn dispatch(command: Command) -> Result<Outcome> {
     }
 }
 
-/// A mask file as the inline value of `mosaic.mask` (a PBM text).
-fn mask_inline(file: &Path) -> Result<String> {
-    let bytes = morphogen_scenario::read_limited(file)
-        .map_err(|e| anyhow::anyhow!("cannot read mask {}: {e}", file.display()))?;
-    let (width, height, bits) = morphogen_scenario::mask::read(&bytes)
-        .map_err(|e| anyhow::anyhow!("mask {}: {e}", file.display()))?;
-    let pbm = morphogen_scenario::mask::to_pbm(&morphogen::mosaic::Mask {
-        width,
-        height,
-        bits: &bits,
-    });
-    let mut inline = toml_edit::InlineTable::new();
-    inline.insert("text", pbm.into());
-    Ok(inline.to_string())
-}
-
-fn run(scenario: &Scenario, seed: Option<u64>, out: Option<PathBuf>, rig: Option<&str>) -> Result<Outcome> {
+fn run(
+    scenario: &Scenario,
+    seed: Option<u64>,
+    out: Option<PathBuf>,
+    rig: Option<&str>,
+) -> Result<Outcome> {
     let rig = rig.map(morphogen_cli::rig::parse_rig_size).transpose()?;
     let seed = seed.unwrap_or(scenario.seed());
     let dir = out.unwrap_or_else(|| Path::new("out").join(scenario.name()));

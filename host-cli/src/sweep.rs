@@ -127,7 +127,12 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
         .try_fold(1usize, |n, a| n.checked_mul(a.values.len()))
         .filter(|&n| n <= MAX_RUNS)
         .ok_or_else(|| anyhow!("more than {MAX_RUNS} combinations (sweep::MAX_RUNS)"))?;
-    let (index, count) = args.shard.as_deref().map(shard).transpose()?.unwrap_or((1, 1));
+    let (index, count) = args
+        .shard
+        .as_deref()
+        .map(shard)
+        .transpose()?
+        .unwrap_or((1, 1));
     let base = exec::find(target, &[])?;
     let combos: Vec<(usize, Vec<(String, String)>)> = (0..total)
         .filter(|k| k % count == index - 1)
@@ -144,8 +149,11 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
         .collect();
     // Check every combination before running any.
     for (_, chosen) in &combos {
-        let sets: Vec<(String, String)> =
-            chosen.iter().filter(|(k, _)| k != "seed").cloned().collect();
+        let sets: Vec<(String, String)> = chosen
+            .iter()
+            .filter(|(k, _)| k != "seed")
+            .cloned()
+            .collect();
         base.clone_with_sets(&sets)?;
     }
     fs::create_dir_all(&args.out)
@@ -193,7 +201,7 @@ fn header(axes: &[Axis]) -> String {
     }
     h.push_str(",seed,frames,bytes,stream_digest");
     for k in KINDS {
-        let _ = write!(h, ",{k}s");
+        let _ = write!(h, ",n_{k}");
     }
     h.push_str(",last_frame_cells_by_type\n");
     h
@@ -213,7 +221,11 @@ fn one_run(
     chosen: &[(String, String)],
     out: &Path,
 ) -> Result<String> {
-    let sets: Vec<(String, String)> = chosen.iter().filter(|(k, _)| k != "seed").cloned().collect();
+    let sets: Vec<(String, String)> = chosen
+        .iter()
+        .filter(|(k, _)| k != "seed")
+        .cloned()
+        .collect();
     let scenario = base.clone_with_sets(&sets)?;
     let seed = match chosen.iter().find(|(k, _)| k == "seed") {
         Some((_, v)) => v
@@ -225,7 +237,10 @@ fn one_run(
     let dir = out.join(format!("run-{k:05}"));
     fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     write_atomic(&dir.join("stream.bin"), &run.stream)?;
-    write_atomic(&dir.join("scenario.toml"), scenario.self_contained().as_bytes())?;
+    write_atomic(
+        &dir.join("scenario.toml"),
+        scenario.self_contained().as_bytes(),
+    )?;
     let mut counts: BTreeMap<&str, u64> = BTreeMap::new();
     let mut last_cells: BTreeMap<u8, u64> = BTreeMap::new();
     for d in Decoder::new(&run.stream) {
@@ -272,7 +287,10 @@ fn merge(dirs: &[PathBuf], out: &Path) -> Result<crate::Outcome> {
         match &header {
             None => header = Some(h.to_string()),
             Some(first) if first != h => {
-                bail!("{}: its columns differ from the first table's", path.display())
+                bail!(
+                    "{}: its columns differ from the first table's",
+                    path.display()
+                )
             }
             Some(_) => {}
         }

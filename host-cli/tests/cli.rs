@@ -4,7 +4,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use morphogen::stream::{Decoder, Record, params_digest};
+use morphogen::stream::{Decoder, Record};
 use morphogen_cli::outputs::mosaic;
 use morphogen_cli::{exec, fixture, verify};
 use tiny_skia::{ColorU8, Pixmap};
@@ -46,7 +46,7 @@ fn fixture_copy(tmp: &Path) -> PathBuf {
 fn list_names_every_preset() {
     let o = morphogen(&["list"]);
     assert!(o.status.success());
-    for p in exec::all() {
+    for p in morphogen_scenario::builtins() {
         assert!(
             text(&o).contains(p.name()),
             "{} missing from list",
@@ -112,8 +112,8 @@ fn flipping_any_byte_of_a_fixture_is_a_mismatch_naming_the_record() {
     let fixtures = fixture_copy(tmp.path());
     let stream_path = fixtures.join("growth-curve/stream.bin");
     let clean = fs::read(&stream_path).unwrap();
-    let preset = exec::find("growth-curve").unwrap();
-    let run = exec::run(preset, 0, false).unwrap();
+    let preset = exec::find("growth-curve", &[]).unwrap();
+    let run = exec::run(&preset, 0, false).unwrap();
     assert_eq!(run.stream, clean);
     // Every byte, in process: the comparison names a record at or before it.
     for i in 0..clean.len() {
@@ -127,11 +127,44 @@ fn flipping_any_byte_of_a_fixture_is_a_mismatch_naming_the_record() {
             diff.offset
         );
     }
-    // A sample through the binary: exit 1 and the record named.
+    // A sample through the binary: exit 1 and the record named. The
+    // fixture's summary is made to match the flipped stream (a fixture of
+    // other code); a stream that does not match its own summary is a
+    // corrupt fixture instead (exit 2).
+    let summary_path = fixtures.join("growth-curve/summary.toml");
+    let summary = fs::read_to_string(&summary_path).unwrap();
     for i in [0, 1, 17, clean.len() / 2, clean.len() - 2, clean.len() - 1] {
         let mut flipped = clean.clone();
         flipped[i] ^= 0x80;
         fs::write(&stream_path, &flipped).unwrap();
+        fs::write(&summary_path, &summary).unwrap();
+        let corrupt = morphogen(&[
+            "verify",
+            "growth-curve",
+            "--fixtures",
+            fixtures.to_str().unwrap(),
+        ]);
+        assert_eq!(
+            corrupt.status.code(),
+            Some(2),
+            "flip at {i}: {}",
+            text(&corrupt)
+        );
+        assert!(
+            text(&corrupt).contains("fixture corrupt"),
+            "{}",
+            text(&corrupt)
+        );
+        let digest = format!("{:016x}", morphogen::stream::StreamDigest::of(&flipped));
+        let old = summary
+            .lines()
+            .find(|l| l.starts_with("stream_digest"))
+            .unwrap();
+        fs::write(
+            &summary_path,
+            summary.replace(old, &format!("stream_digest = \"{digest}\"")),
+        )
+        .unwrap();
         let o = morphogen(&[
             "verify",
             "growth-curve",
@@ -205,7 +238,7 @@ fn bad_input_exits_2_with_a_message_and_no_backtrace() {
                 "--fixtures".into(),
                 t.join("absent").display().to_string(),
             ],
-            "no fixture for preset",
+            "cannot read the fixtures folder",
         ),
         (
             vec![
@@ -313,9 +346,9 @@ fn an_all_black_mask_starts_no_f_cells() {
     );
     assert_eq!(
         fs::read_to_string(out.join("mask.pbm")).unwrap(),
-        mosaic::write_pbm(&mosaic::read_mask(&black).unwrap())
+        "P1\n# morphogen mosaic mask: white (0) allows foreground cells\n3 2\n1 1 1\n1 1 1\n"
     );
-    let builtin = exec::run(exec::find("croton-mcu").unwrap(), 1, false).unwrap();
+    let builtin = exec::run(&exec::find("croton-mcu", &[]).unwrap(), 1, false).unwrap();
     assert!(last_day_f_cells(&builtin.stream) > 100);
 }
 
@@ -342,34 +375,33 @@ fn a_png_mask_runs_like_the_same_pbm_mask() {
     let (pbm_path, png_path) = (tmp.path().join("m.pbm"), tmp.path().join("m.png"));
     fs::write(&pbm_path, pbm).unwrap();
     png.save_png(&png_path).unwrap();
-    let croton = exec::find("croton-mcu").unwrap();
-    let run = |path: &Path| exec::run(exec::with_mask(croton, path).unwrap(), 1, false).unwrap();
+    let croton = exec::find("croton-mcu", &[]).unwrap();
+    let run = |path: &Path| exec::run(&exec::with_mask(&croton, path).unwrap(), 1, false).unwrap();
     let (from_pbm, from_png) = (run(&pbm_path), run(&png_path));
     assert_eq!(from_pbm.stream, from_png.stream);
     // The mask takes effect, and the header's digest is of the new params.
-    let builtin = exec::run(croton, 1, false).unwrap();
+    let builtin = exec::run(&croton, 1, false).unwrap();
     assert!(last_day_f_cells(&from_png.stream) < last_day_f_cells(&builtin.stream) / 2);
-    let masked = exec::with_mask(croton, &png_path)
-        .unwrap()
-        .mosaic()
-        .unwrap();
+    let masked = exec::with_mask(&croton, &png_path).unwrap();
+    let digest = |s: &morphogen_scenario::Scenario| s.with_preset(|p| p.model.params_digest());
     let Some(Record::Header(h)) = records(&from_png.stream).first().cloned() else {
         panic!("no header");
     };
     assert_eq!(
         (h.preset.as_str(), h.params),
-        ("croton-mcu", params_digest(masked))
+        ("croton-mcu", digest(&masked))
     );
-    assert_ne!(h.params, params_digest(croton.mosaic().unwrap()));
-    // A host preset takes a mask too, its other parameters kept.
-    let watermelon = exec::find("watermelon").unwrap();
-    let with = exec::with_mask(watermelon, &png_path).unwrap();
+    assert_ne!(h.params, digest(&croton));
+    // Another mosaic takes a mask too, its other parameters kept.
+    let mosaic = |s: &morphogen_scenario::Scenario| match s.checked() {
+        morphogen_scenario::Checked::Mosaic { params, mask, .. } => (params.domain, mask.clone()),
+        _ => panic!("not a mosaic"),
+    };
+    let watermelon = exec::find("watermelon", &[]).unwrap();
+    let with = exec::with_mask(&watermelon, &png_path).unwrap();
     assert_eq!(with.name(), "watermelon");
-    assert_eq!(with.mosaic().unwrap().mask, masked.mask);
-    assert_eq!(
-        with.mosaic().unwrap().domain,
-        watermelon.mosaic().unwrap().domain
-    );
+    assert_eq!(mosaic(&with).1, mosaic(&masked).1);
+    assert_eq!(mosaic(&with).0, mosaic(&watermelon).0);
 }
 
 #[test]
@@ -397,7 +429,7 @@ fn mask_errors_exit_2_naming_the_problem() {
         (
             "croton-mcu",
             file("bad.pbm", b"P1\n2 2\n0 1 2 0"),
-            "PBM: pixel 2: '2' is not 0 or 1",
+            "PBM: pixel 2 (byte 11): 2 is not 0 or 1",
         ),
         (
             "croton-mcu",
@@ -412,12 +444,12 @@ fn mask_errors_exit_2_naming_the_problem() {
         (
             "croton-mcu",
             file("huge.pbm", b"P1\n70000 1\n"),
-            "'70000' is not a number in 1..=65535",
+            "70000×1 pixels (allowed: sides of 1 to at most 65535)",
         ),
         (
             "croton-mcu",
             wide_png.display().to_string(),
-            "a mask side is at most 65535 pixels",
+            "70000×1 pixels (allowed: sides of 1 to at most 65535)",
         ),
     ];
     for (preset, mask, message) in cases {

@@ -3,8 +3,8 @@
 //! naming its key and what is allowed. After this nothing saturates.
 
 use morphogen::body::gait::Channel as CoreChannel;
-use morphogen::body::table::Column as CoreColumn;
 use morphogen::body::gait::Gait as CoreGait;
+use morphogen::body::table::Column as CoreColumn;
 use morphogen::body::{BodyModel, BodyParams, GrowthTable, Interpolation, Label};
 use morphogen::bones::{BonesParams, Frames as BoneFramesCore};
 use morphogen::fx::{Angle, Fx};
@@ -189,13 +189,13 @@ impl Checked {
                         height: *height,
                         bits,
                     }),
-                    anisotropy: anisotropy
-                        .as_ref()
-                        .map(|(weight, width, vectors)| CoreAnisotropy {
+                    anisotropy: anisotropy.as_ref().map(|(weight, width, vectors)| {
+                        CoreAnisotropy {
                             vectors,
                             width: *width,
                             weight: *weight,
-                        }),
+                        }
+                    }),
                     ..*params
                 };
                 f(&preset(Model::Mosaic(&params)))
@@ -331,7 +331,11 @@ pub fn check(file: &File, files: &dyn Files) -> Result<Checked> {
         return horn(h);
     }
     if let Some(l) = &file.lsystem {
-        return Ok(Checked::LSystem(text(&l.grammar, "lsystem.grammar", files)?));
+        return Ok(Checked::LSystem(text(
+            &l.grammar,
+            "lsystem.grammar",
+            files,
+        )?));
     }
     if let Some(m) = &file.mosaic {
         return mosaic(m, files);
@@ -360,7 +364,10 @@ fn fx(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
 /// A percentage as a ratio in 16.16.
 fn percent(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
     if !v.is_finite() || v < lo || v > hi {
-        return invalid(key, format!("{v} % is out of range (allowed: {lo} to {hi} %)"));
+        return invalid(
+            key,
+            format!("{v} % is out of range (allowed: {lo} to {hi} %)"),
+        );
     }
     Ok(Fx::from_bits((v * 65536.0 / 100.0).round() as i32))
 }
@@ -369,13 +376,18 @@ fn percent(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
 /// `Angle::from_degrees`, others rounded to the nearest unit.
 fn degrees(key: &str, v: f64) -> Result<Angle> {
     if !v.is_finite() || v.abs() > 3600.0 {
-        return invalid(key, format!("{v}° is out of range (allowed: -3600 to 3600)"));
+        return invalid(
+            key,
+            format!("{v}° is out of range (allowed: -3600 to 3600)"),
+        );
     }
     if v.fract() == 0.0 {
         return Ok(Angle::from_degrees(v as i32));
     }
     let turns = v / 360.0;
-    let units = (turns * 4_294_967_296.0).round().rem_euclid(4_294_967_296.0);
+    let units = (turns * 4_294_967_296.0)
+        .round()
+        .rem_euclid(4_294_967_296.0);
     Ok(Angle(units as u32))
 }
 
@@ -486,19 +498,17 @@ fn horn(h: &schema::Horn) -> Result<Checked> {
         .enumerate()
         .map(|(i, [y, z])| {
             let key = format!("horn.outline[{i}]");
-            Ok([fx(&key, *y, -1000.0, 1000.0)?, fx(&key, *z, -1000.0, 1000.0)?])
+            Ok([
+                fx(&key, *y, -1000.0, 1000.0)?,
+                fx(&key, *z, -1000.0, 1000.0)?,
+            ])
         })
         .collect::<Result<Vec<_>>>()?;
     let years: u16 = int("horn.years", h.years, 1, modules.len() as i64)?;
     let params = HornParams {
         modules: &[],
         outline: &[],
-        ring_points: int(
-            "horn.ring_points",
-            h.ring_points,
-            3,
-            MAX_RING_POINTS as i64,
-        )?,
+        ring_points: int("horn.ring_points", h.ring_points, 3, MAX_RING_POINTS as i64)?,
         rings_per_module: int("horn.rings_per_module", h.rings_per_module, 1, 1024)?,
         delay_days,
         growth,
@@ -550,12 +560,7 @@ fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
         types.push(CoreCellType {
             colour,
             division_days: int(&key("division_days"), t.division_days, 1, 1024)?,
-            initial_probability: fx(
-                &key("initial_probability"),
-                t.initial_probability,
-                0.0,
-                1.0,
-            )?,
+            initial_probability: fx(&key("initial_probability"), t.initial_probability, 0.0, 1.0)?,
         });
     }
     let adhesion = matrix("mosaic.adhesion", &m.adhesion, n)?;
@@ -658,7 +663,12 @@ fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
         mutation,
         radius_weight: fx("mosaic.radius_weight", m.radius_weight, 0.01, 16.0)?,
         push_weight: fx("mosaic.push_weight", m.push_weight, 0.0, 1.0)?,
-        initial_relaxations: int("mosaic.initial_relaxations", m.initial_relaxations, 0, 10000)?,
+        initial_relaxations: int(
+            "mosaic.initial_relaxations",
+            m.initial_relaxations,
+            0,
+            10000,
+        )?,
         daily_relaxations: int("mosaic.daily_relaxations", m.daily_relaxations, 0, 10000)?,
         days,
         mask: None,
@@ -790,9 +800,12 @@ fn body(b: &schema::Body) -> Result<Checked> {
             morphogen::body::Skeleton::<Fx, { morphogen::body::MAX_CYLINDERS }>::new()
                 .load(params.model, params.table)
                 .map_err(|e| Invalid {
-                key: "body.table.columns".into(),
-                message: format!("{e} (the {} model needs its columns in order)", model.name()),
-            })
+                    key: "body.table.columns".into(),
+                    message: format!(
+                        "{e} (the {} model needs its columns in order)",
+                        model.name()
+                    ),
+                })
         }
         _ => Ok(()),
     })?;

@@ -122,7 +122,8 @@ fn horn(p: &HornParams<'_>) -> String {
 }
 
 fn mosaic(p: &MosaicParams<'_>) -> String {
-    let matrix = |t: &[[Fx; mosaic::MAX_TYPES]; mosaic::MAX_TYPES]| list(t, |row| list(row, |v| fx(*v)));
+    let matrix =
+        |t: &[[Fx; mosaic::MAX_TYPES]; mosaic::MAX_TYPES]| list(t, |row| list(row, |v| fx(*v)));
     format!(
         "mosaic::Params {{ domain: Domain {{ size: {}, periodic: {:?} }}, initial_cells: {}, types: &{}, adhesion: {}, mutation: {}, radius_weight: {}, push_weight: {}, initial_relaxations: {}, daily_relaxations: {}, days: {}, mask: {}, anisotropy: {}, frames: {} }}",
         list(&p.domain.size, |v| fx(*v)),

@@ -241,11 +241,11 @@ impl Scenario {
         }
         let edited = doc.to_string();
         let locate = |key: &str| -> Place {
-            if let Some((k, v)) = sets
-                .iter()
-                .rev()
-                .find(|(k, _)| key == k || key.starts_with(&format!("{k}.")) || k.starts_with(key) && !key.is_empty())
-            {
+            if let Some((k, v)) = sets.iter().rev().find(|(k, _)| {
+                key == k
+                    || key.starts_with(&format!("{k}."))
+                    || k.starts_with(key) && !key.is_empty()
+            }) {
                 return Place::Set(format!("{k}={v}"));
             }
             match span_of(&original, key) {
@@ -362,11 +362,13 @@ impl Scenario {
                 continue;
             };
             let text = match (key, mask::read(&bytes)) {
-                ("mosaic.mask", Ok((width, height, bits))) => mask::to_pbm(&morphogen::mosaic::Mask {
-                    width,
-                    height,
-                    bits: &bits,
-                }),
+                ("mosaic.mask", Ok((width, height, bits))) => {
+                    mask::to_pbm(&morphogen::mosaic::Mask {
+                        width,
+                        height,
+                        bits: &bits,
+                    })
+                }
                 _ => String::from_utf8_lossy(&bytes).into_owned(),
             };
             let mut inline = toml_edit::InlineTable::new();
@@ -402,10 +404,7 @@ fn explain(key: &str, message: &str) -> (String, String) {
     };
     (
         full,
-        format!(
-            "unknown key{hint} (allowed: {})",
-            expected.join(", ")
-        ),
+        format!("unknown key{hint} (allowed: {})", expected.join(", ")),
     )
 }
 
@@ -436,7 +435,10 @@ fn set(doc: &mut toml_edit::DocumentMut, key: &str, value: &str) -> Result<(), S
             let table = item
                 .as_table_like_mut()
                 .ok_or_else(|| format!("{name}: its parent is not a table"))?;
-            let kept = table.get(name).and_then(|i| i.as_value()).map(|v| v.decor().clone());
+            let kept = table
+                .get(name)
+                .and_then(|i| i.as_value())
+                .map(|v| v.decor().clone());
             let mut v = parsed;
             if let Some(decor) = kept {
                 *v.decor_mut() = decor;
@@ -527,7 +529,12 @@ pub fn builtins() -> Vec<Scenario> {
             let name = path
                 .trim_start_matches("scenarios/")
                 .trim_end_matches(".toml");
-            match Scenario::parse(&format!("built-in {name}"), &text, Base::Embedded(path), &[]) {
+            match Scenario::parse(
+                &format!("built-in {name}"),
+                &text,
+                Base::Embedded(path),
+                &[],
+            ) {
                 Ok(s) => s,
                 Err(e) => panic!("built-in scenario {path}: {e}"),
             }
@@ -559,7 +566,12 @@ pub fn builtin(name: &str) -> Option<Scenario> {
 pub fn closest_builtin(name: &str) -> Option<String> {
     builtins()
         .iter()
-        .map(|s| (strsim::damerau_levenshtein(name, s.name()), s.name().to_string()))
+        .map(|s| {
+            (
+                strsim::damerau_levenshtein(name, s.name()),
+                s.name().to_string(),
+            )
+        })
         .filter(|(d, _)| *d <= 3)
         .min()
         .map(|(_, n)| n)

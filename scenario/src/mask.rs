@@ -57,11 +57,7 @@ fn read_png(bytes: &[u8]) -> Result<(u16, u16, Vec<u8>), String> {
         _ => return Err("PNG: cannot decode: no IHDR chunk".into()),
     }
     let pixmap = tiny_skia::Pixmap::decode_png(bytes).map_err(|e| format!("PNG: {e}"))?;
-    let (width, height) = size_check(
-        u64::from(pixmap.width()),
-        u64::from(pixmap.height()),
-        "PNG",
-    )?;
+    let (width, height) = size_check(u64::from(pixmap.width()), u64::from(pixmap.height()), "PNG")?;
     let stride = Mask::stride(width);
     let mut bits = vec![0u8; stride * usize::from(height)];
     for (i, p) in pixmap.pixels().iter().enumerate() {
@@ -125,7 +121,12 @@ fn read_pbm(bytes: &[u8]) -> Result<(u16, u16, Vec<u8>), String> {
     let magic = token()?;
     let magic = match magic {
         b"P1" | b"P4" => magic[1],
-        other => return Err(format!("PBM: magic '{}' is neither P1 nor P4", shown(other))),
+        other => {
+            return Err(format!(
+                "PBM: magic '{}' is neither P1 nor P4",
+                shown(other)
+            ));
+        }
     };
     let dim = |t: &[u8], what: &str| -> Result<u64, String> {
         std::str::from_utf8(t)
@@ -234,7 +235,11 @@ mod tests {
         let long = format!("P1 {} 1\n0", "9".repeat(1_000_000));
         let e = read(long.as_bytes()).unwrap_err();
         assert!(e.len() < 120, "{e}");
-        assert!(read(b"P4 8 8\n\x00").unwrap_err().contains("raster needs 8 bytes"));
+        assert!(
+            read(b"P4 8 8\n\x00")
+                .unwrap_err()
+                .contains("raster needs 8 bytes")
+        );
         assert!(read(b"\x89PNG\r\n\x1a\n").unwrap_err().contains("IHDR"));
     }
 

@@ -52,12 +52,8 @@ fn release_build_writes_the_same_bytes_as_debug() {
             .unwrap();
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let release = std::fs::read(out.join("stream.bin")).unwrap();
-        let debug = exec::run(
-            exec::find(name).unwrap(),
-            exec::find(name).unwrap().default_seed(),
-            false,
-        )
-        .unwrap();
+        let scenario = exec::find(name, &[]).unwrap();
+        let debug = exec::run(&scenario, scenario.seed(), false).unwrap();
         assert_eq!(release.len(), debug.stream.len(), "{name}: lengths differ");
         assert!(
             release == debug.stream,

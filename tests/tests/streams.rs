@@ -7,8 +7,8 @@ use morphogen_cli::{exec, fixture, jsonl};
 #[test]
 fn every_fixture_decodes_cleanly_starts_with_its_header_and_balances_frames() {
     let fixtures = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
-    for preset in exec::all() {
-        let name = preset.name();
+    for scenario in morphogen_scenario::builtins() {
+        let name = scenario.name();
         let fx = fixture::load(&fixtures, name).unwrap_or_else(|e| panic!("{e:#}"));
         let records: Vec<Record> = Decoder::new(&fx.stream)
             .map(|d| d.result.unwrap())
@@ -38,7 +38,7 @@ fn every_fixture_decodes_cleanly_starts_with_its_header_and_balances_frames() {
 
 #[test]
 fn growth_curve_is_seasonal_end_to_end() {
-    let run = exec::run(exec::find("growth-curve").unwrap(), 0, false).unwrap();
+    let run = exec::run(&exec::find("growth-curve", &[]).unwrap(), 0, false).unwrap();
     let daily: Vec<(i32, i32)> = Decoder::new(&run.stream)
         .filter_map(|d| match d.result {
             Ok(Record::Sample { series: 1, x, y }) => Some((x.floor_int(), y.to_bits())),

@@ -294,4 +294,3 @@ pub fn write(
     written.push(path);
     Ok(written)
 }
-

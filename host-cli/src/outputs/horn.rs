@@ -473,7 +473,6 @@ pub fn write(records: &[Record], dir: &Path, rings_per_module: u16) -> Result<Ve
 #[cfg(test)]
 mod tests {
     use super::*;
-    use morphogen::preset::{self, Runner};
 
     struct Collect(Vec<Record>);
 
@@ -485,9 +484,11 @@ mod tests {
     }
 
     fn records(name: &str) -> Vec<Record> {
-        let p = preset::find(name).unwrap();
+        let scenario = morphogen_scenario::builtin(name).unwrap();
         let mut sink = Collect(Vec::new());
-        preset::run(p, 0, &mut Runner::new(), &mut sink, &mut |_| {}).unwrap();
+        scenario
+            .with_preset(|p| morphogen_scenario::run::run(p, 0, &mut sink, &mut |_| {}))
+            .unwrap();
         sink.0
     }
 

@@ -16,8 +16,8 @@ use tiny_skia::{
     Color, FillRule, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke, Transform,
 };
 
-use crate::exec::{Bytes, Run};
 use crate::atomic::write_atomic;
+use crate::exec::{Bytes, Run};
 
 /// The preset name in the header of a `run --grammar` stream.
 pub const GRAMMAR_PRESET: &str = "grammar";

@@ -1,0 +1,269 @@
+//! Scenario files end to end (issue 13): every preset's `show` output runs
+//! to its fixture's bytes, every documented parameter reaches the digest, a
+//! user's scenario is blessed and verified, and sweeps do not depend on the
+//! thread count or on sharding.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use morphogen_scenario::Scenario;
+
+fn morphogen(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_morphogen"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run morphogen")
+}
+
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures")
+}
+
+/// Every numeric or boolean leaf of a TOML value, as dotted keys with
+/// indices, with its value.
+fn leaves(prefix: &str, v: &toml::Value, out: &mut Vec<(String, toml::Value)>) {
+    match v {
+        toml::Value::Table(t) => {
+            for (k, v) in t {
+                let key = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                leaves(&key, v, out);
+            }
+        }
+        toml::Value::Array(a) => {
+            for (i, v) in a.iter().enumerate() {
+                leaves(&format!("{prefix}[{i}]"), v, out);
+            }
+        }
+        toml::Value::Integer(_) | toml::Value::Float(_) | toml::Value::Boolean(_) => {
+            out.push((prefix.to_string(), v.clone()));
+        }
+        _ => {}
+    }
+}
+
+/// Candidate changes of one value, tried in order until one is valid.
+fn changes(v: &toml::Value) -> Vec<String> {
+    match v {
+        toml::Value::Integer(i) => vec![
+            (i + 1).to_string(),
+            (i - 1).to_string(),
+            (i + 4).to_string(),
+        ],
+        toml::Value::Float(f) => vec![
+            format!("{:?}", f * 1.0625 + 0.0625),
+            format!("{:?}", f * 0.9375),
+            format!("{:?}", f - 0.0625),
+        ],
+        toml::Value::Boolean(b) => vec![(!b).to_string()],
+        _ => vec![],
+    }
+}
+
+#[test]
+fn every_documented_parameter_changes_the_digest() {
+    let mut checked = 0;
+    for s in morphogen_scenario::builtins() {
+        let digest = |s: &Scenario| s.with_preset(|p| p.model.params_digest());
+        let base = digest(&s);
+        let table: toml::Value = toml::from_str(&s.self_contained()).unwrap();
+        let mut all = Vec::new();
+        leaves("", &table, &mut all);
+        for (key, value) in all.iter().filter(|(k, _)| k != "seed") {
+            let Some(changed) = changes(value)
+                .into_iter()
+                .find_map(|v| s.clone_with_sets(&[(key.clone(), v)]).ok())
+            else {
+                continue; // no valid neighbour (e.g. a lone odd count)
+            };
+            assert_ne!(
+                digest(&changed),
+                base,
+                "{}: changing {key} keeps the digest",
+                s.name()
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 400, "only {checked} parameters were changed");
+}
+
+#[test]
+fn built_in_scenario_files_are_named_after_their_presets() {
+    for s in morphogen_scenario::builtins() {
+        assert_eq!(s.origin(), format!("built-in {}", s.name()));
+        assert!(
+            fixtures().join(s.name()).join("stream.bin").is_file(),
+            "{}",
+            s.name()
+        );
+    }
+}
+
+#[test]
+fn show_then_run_gives_the_fixture_for_small_presets() {
+    // The big mosaics are checked the same way by scripts/check.sh with the
+    // release build (`morphogen verify` runs the embedded scenario files).
+    let tmp = tempfile::tempdir().unwrap();
+    for name in [
+        "growth-curve",
+        "abop-2d-plant",
+        "croton-mcu",
+        "long-bone",
+        "cow-growth",
+    ] {
+        let shown = morphogen(&["show", name], tmp.path());
+        assert!(shown.status.success());
+        let file = tmp.path().join(format!("{name}.toml"));
+        std::fs::write(&file, &shown.stdout).unwrap();
+        let o = morphogen(&["run", file.to_str().unwrap(), "--out", "o"], tmp.path());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let ours = std::fs::read(tmp.path().join("o/stream.bin")).unwrap();
+        let golden = std::fs::read(fixtures().join(name).join("stream.bin")).unwrap();
+        assert!(
+            ours == golden,
+            "{name}: show | run differs from the fixture"
+        );
+    }
+}
+
+#[test]
+fn a_user_scenario_is_blessed_verified_and_guarded() {
+    let tmp = tempfile::tempdir().unwrap();
+    let shown = morphogen(&["show", "growth-curve"], tmp.path());
+    let text = String::from_utf8(shown.stdout)
+        .unwrap()
+        .replace("name = \"growth-curve\"", "name = \"my-curve\"")
+        .replace("width = 22", "width = 30");
+    std::fs::write(tmp.path().join("my.toml"), &text).unwrap();
+    let fx = tmp.path().join("fx");
+    let fxs = fx.to_str().unwrap();
+    let o = morphogen(&["bless", "my.toml", "--fixtures", fxs], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(fx.join("my-curve/scenario.toml").is_file());
+    // verify by file, and verify --fixtures re-runs every fixture there
+    // from its own scenario.toml.
+    for args in [
+        vec!["verify", "my.toml", "--fixtures", fxs],
+        vec!["verify", "--fixtures", fxs],
+    ] {
+        let o = morphogen(&args, tmp.path());
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stdout)
+        );
+    }
+    // A changed parameter is a mismatch (exit 1).
+    let o = morphogen(&["verify", "--fixtures", fxs], tmp.path());
+    assert!(String::from_utf8_lossy(&o.stdout).contains("ok        my-curve"));
+    let changed = text.replace("width = 30", "width = 31");
+    std::fs::write(tmp.path().join("my.toml"), &changed).unwrap();
+    let o = morphogen(&["verify", "my.toml", "--fixtures", fxs], tmp.path());
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    // A flipped byte in the fixture is a corrupt fixture (exit 2).
+    let stream = fx.join("my-curve/stream.bin");
+    let mut bytes = std::fs::read(&stream).unwrap();
+    bytes[40] ^= 1;
+    std::fs::write(&stream, &bytes).unwrap();
+    let o = morphogen(&["verify", "--fixtures", fxs], tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("fixture corrupt"));
+    // A bad value exits 2 naming the file, the line and the key.
+    let bad = text.replace("days = 365", "days = -4");
+    std::fs::write(tmp.path().join("bad.toml"), &bad).unwrap();
+    let line = bad
+        .lines()
+        .position(|l| l.starts_with("days = -4"))
+        .unwrap()
+        + 1;
+    let o = morphogen(&["run", "bad.toml"], tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr).trim(),
+        format!("error: bad.toml:{line}: curve.days: -4 is out of range (allowed: 1 to 32767)")
+    );
+}
+
+#[test]
+fn sweeps_do_not_depend_on_threads_or_shards() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sweep = |extra: &[&str]| {
+        let mut args = vec![
+            "sweep",
+            "growth-curve",
+            "--set",
+            "curve.days=100,200",
+            "--set",
+            "curve.growth.width=10,22",
+            "--set",
+            "seed=1..2",
+        ];
+        args.extend_from_slice(extra);
+        let o = morphogen(&args, tmp.path());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    sweep(&["--out", "one", "--jobs", "1"]);
+    sweep(&["--out", "two", "--jobs", "2"]);
+    sweep(&["--out", "a", "--shard", "1/2"]);
+    sweep(&["--out", "b", "--shard", "2/2"]);
+    let o = morphogen(
+        &["sweep", "--merge", "a", "b", "--out", "merged"],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let read = |d: &str| std::fs::read_to_string(tmp.path().join(d).join("sweep.csv")).unwrap();
+    let one = read("one");
+    assert_eq!(one.lines().count(), 9, "{one}");
+    assert_eq!(one, read("two"));
+    assert_eq!(one, read("merged"));
+    assert_ne!(read("a"), one);
+}
+
+#[test]
+fn every_example_in_the_scenario_docs_runs() {
+    let docs =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/scenarios.md"))
+            .unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    // The bones example names its grammar relative to docs/.
+    std::fs::create_dir_all(tmp.path().join("docs")).unwrap();
+    std::fs::create_dir_all(tmp.path().join("grammars")).unwrap();
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../grammars/long-bone.lsys"),
+        tmp.path().join("grammars/long-bone.lsys"),
+    )
+    .unwrap();
+    let blocks: Vec<&str> = docs
+        .split("```toml\n")
+        .skip(1)
+        .map(|b| b.split("```").next().unwrap())
+        .collect();
+    let mut models = std::collections::BTreeSet::new();
+    for (i, block) in blocks.iter().enumerate() {
+        let file = tmp.path().join(format!("docs/example-{i}.toml"));
+        std::fs::write(&file, block).unwrap();
+        let s = Scenario::load(&file, &[]).unwrap_or_else(|e| panic!("example {i}: {e}"));
+        models.insert(format!("{:?}", std::mem::discriminant(s.checked())));
+        let o = morphogen(
+            &["run", file.to_str().unwrap(), "--out", &format!("o{i}")],
+            tmp.path(),
+        );
+        assert!(
+            o.status.success(),
+            "example {i}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    assert_eq!(models.len(), 6, "one example per model");
+}
