@@ -37,7 +37,7 @@ use heapless::Vec;
 use nalgebra::Vector3;
 
 use crate::fx::{Angle, Fx, Real};
-use crate::lsys::Module;
+use crate::lsys::module::Module;
 
 /// Depth of the `[` stack.
 pub const MAX_TURTLE_STACK: usize = 16;

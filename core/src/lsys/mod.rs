@@ -32,6 +32,7 @@
 mod derive;
 mod expr;
 mod grammar;
+pub mod module;
 mod parse;
 mod sim;
 
@@ -42,10 +43,10 @@ mod tests;
 
 pub use derive::{Buffered, Derivation, Streaming, stream_id};
 pub use grammar::{Grammar, Settings};
+pub use module::{MAX_PARAMS, Module};
 pub(crate) use sim::turtle_params;
 pub use sim::{LSystem, MODULES_PER_STEP};
 
-use crate::fx::Fx;
 use crate::turtle::TurtleError;
 
 /// Productions per grammar.
@@ -58,8 +59,6 @@ pub const MAX_CONTEXT_MODULES: usize = 32;
 pub const MAX_CODE: usize = 1024;
 /// Distinct numeric literals in expressions.
 pub const MAX_LITERALS: usize = 64;
-/// Parameters of one module.
-pub const MAX_PARAMS: usize = 4;
 /// Formal parameters of one production (contexts and predecessor).
 pub const MAX_FORMALS: usize = 8;
 /// Named constants and settings.
@@ -72,36 +71,6 @@ pub const MAX_EXPR_STACK: usize = 16;
 pub const MAX_NESTING: usize = 16;
 /// Derivation steps `n`.
 pub const MAX_STEPS: usize = 32;
-
-/// A module: a symbol and its actual parameters (`F(2.5)`, `+`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Module {
-    /// The symbol, a printable ASCII byte.
-    pub symbol: u8,
-    /// How many of `params` are used.
-    pub arity: u8,
-    /// The parameter values; those past `arity` are zero.
-    pub params: [Fx; MAX_PARAMS],
-}
-
-impl Module {
-    /// A module without parameters.
-    #[must_use]
-    pub const fn bare(symbol: u8) -> Module {
-        Module {
-            symbol,
-            arity: 0,
-            params: [Fx::ZERO; MAX_PARAMS],
-        }
-    }
-
-    /// The parameters in use.
-    #[must_use]
-    pub fn args(&self) -> &[Fx] {
-        self.params.get(..self.arity as usize).unwrap_or(&[])
-    }
-}
 
 /// Where a grammar is wrong: 1-based line and column (in characters).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
