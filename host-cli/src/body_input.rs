@@ -416,21 +416,21 @@ fn run_body(
     let written = exec::write_outputs(&dir, &run, |records, dir| {
         outputs::body::write(preset, records, dir, Some(binding))
     })?;
-    println!(
+    crate::say!(
         "{preset} on {mesh_name} + {cyl_name}: {} vertices, {} triangles, {} cylinders; {} vertices in no cylinder follow the nearest",
         obj.vertices.len(),
         obj.triangles.len(),
         file.cylinders.len(),
         binding.unbound
-    );
-    println!(
+    )?;
+    crate::say!(
         "{} frames, {} bytes, digest {:016x}",
         run.frames,
         run.stream.len(),
         run.digest
-    );
+    )?;
     for path in written {
-        println!("  wrote {}", path.display());
+        crate::say!("  wrote {}", path.display())?;
     }
     Ok(Outcome::Ok)
 }

@@ -11,6 +11,7 @@ pub mod fixture;
 pub mod jsonl;
 pub mod outputs;
 pub mod rig;
+pub mod stdout;
 pub mod sweep;
 pub mod verify;
 

@@ -7,7 +7,8 @@ use std::process::ExitCode;
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use morphogen::stream::Decoder;
-use morphogen_cli::{Outcome, atomic, capture, exec, fixture, jsonl, outputs, sweep, verify};
+use morphogen_cli::stdout::StdoutError;
+use morphogen_cli::{Outcome, atomic, capture, exec, fixture, jsonl, outputs, say, sweep, verify};
 use morphogen_scenario::Scenario;
 
 /// The workspace's fixtures folder, the default for `verify` and `bless`.
@@ -132,10 +133,13 @@ fn main() -> ExitCode {
     match dispatch(cli.command) {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,
         Ok(Outcome::Mismatch) => ExitCode::from(1),
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            ExitCode::from(2)
-        }
+        Err(e) => match e.downcast_ref::<StdoutError>() {
+            Some(closed) if closed.is_closed_pipe() => ExitCode::SUCCESS,
+            _ => {
+                eprintln!("error: {e:#}");
+                ExitCode::from(2)
+            }
+        },
     }
 }
 
@@ -156,18 +160,18 @@ fn dispatch(command: Command) -> Result<Outcome> {
                         "  (host only: too many cells for an MCU)".to_string()
                     }
                 });
-                println!(
+                say!(
                     "{:width$}  seed {:<4} {}{note}",
                     s.name(),
                     s.seed(),
                     s.summary()
-                );
+                )?;
             }
             Ok(Outcome::Ok)
         }
         Command::Show { preset } => {
             let scenario = exec::find(&preset, &[])?;
-            print!("{}", scenario.self_contained());
+            morphogen_cli::stdout::text(&scenario.self_contained())?;
             Ok(Outcome::Ok)
         }
         Command::Run {
@@ -250,16 +254,16 @@ fn run(
         }
         Ok(files)
     })?;
-    println!(
+    say!(
         "{} seed {}: {} frames, {} bytes, digest {:016x}",
         scenario.name(),
         seed,
         run.frames,
         run.stream.len(),
         run.digest
-    );
+    )?;
     for path in written {
-        println!("  wrote {}", path.display());
+        say!("  wrote {}", path.display())?;
     }
     Ok(Outcome::Ok)
 }
@@ -274,16 +278,16 @@ fn run_grammar(file: &Path, seed: Option<u64>, out: Option<PathBuf>) -> Result<O
     let run = outputs::plant::run_grammar(file, &text, seed)?;
     let dir = out.unwrap_or_else(|| Path::new("out").join(&stem));
     let written = exec::write_outputs(&dir, &run, outputs::plant::write)?;
-    println!(
+    say!(
         "{} seed {}: {} frames, {} bytes, digest {:016x}",
         file.display(),
         seed,
         run.frames,
         run.stream.len(),
         run.digest
-    );
+    )?;
     for path in written {
-        println!("  wrote {}", path.display());
+        say!("  wrote {}", path.display())?;
     }
     Ok(Outcome::Ok)
 }
@@ -308,14 +312,14 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path) -> Result<Outcome> {
         let fixture = fixture::load(fixtures, scenario.name())?;
         let run = exec::run(&scenario, fixture.summary.seed, true)?;
         match verify::compare(&fixture.stream, &run.stream) {
-            None => println!(
+            None => say!(
                 "ok        {} ({} frames, digest {:016x})",
                 scenario.name(),
                 run.frames,
                 run.digest
-            ),
+            )?,
             Some(diff) => {
-                println!("MISMATCH  {}: {diff}", scenario.name());
+                say!("MISMATCH  {}: {diff}", scenario.name())?;
                 outcome = Outcome::Mismatch;
             }
         }
@@ -335,10 +339,10 @@ fn verify_capture(file: &Path, fixtures: &Path) -> Result<Outcome> {
     for part in &parts {
         let actual = &bytes[part.range.clone()];
         let Some(header) = &part.header else {
-            println!(
+            say!(
                 "MISMATCH  {} bytes before the first readable header (at byte 0)",
                 actual.len()
-            );
+            )?;
             outcome = Outcome::Mismatch;
             continue;
         };
@@ -346,26 +350,27 @@ fn verify_capture(file: &Path, fixtures: &Path) -> Result<Outcome> {
         let fixture = match fixture::load(fixtures, name) {
             Ok(fixture) => fixture,
             Err(e) => {
-                println!("ERROR     {}: {e:#}", name.escape_debug());
+                say!("ERROR     {}: {e:#}", name.escape_debug())?;
                 missing.push(name.escape_debug().to_string());
                 continue;
             }
         };
         match verify::compare(&fixture.stream, actual) {
-            None => println!(
+            None => say!(
                 "ok        {name} (bytes {}..{} of the capture)",
-                part.range.start, part.range.end
-            ),
+                part.range.start,
+                part.range.end
+            )?,
             Some(diff) => {
-                println!(
+                say!(
                     "MISMATCH  {name} (capture bytes {}..): {diff}",
                     part.range.start
-                );
+                )?;
                 outcome = Outcome::Mismatch;
             }
         }
     }
-    println!("{} stream(s) in {}", parts.len(), file.display());
+    say!("{} stream(s) in {}", parts.len(), file.display())?;
     if !missing.is_empty() {
         bail!(
             "the capture holds streams without a usable fixture: {}",
@@ -387,13 +392,13 @@ fn bless(
         let run = exec::run(&scenario, seed, true)?;
         let summary = fixture::summarise(&scenario, seed, &run);
         let dir = fixture::bless(fixtures, &scenario, &summary, &run)?;
-        println!(
+        say!(
             "blessed   {} seed {seed}: {} frames, digest {:016x} -> {}",
             scenario.name(),
             run.frames,
             run.digest,
             dir.display()
-        );
+        )?;
     }
     Ok(Outcome::Ok)
 }
@@ -403,7 +408,7 @@ fn decode(file: &Path, out: Option<&Path>) -> Result<Outcome> {
     let text = jsonl::stream(&bytes);
     match out {
         Some(path) => atomic::write_atomic(path, text.as_bytes())?,
-        None => print!("{text}"),
+        None => morphogen_cli::stdout::text(&text)?,
     }
     let corrupt = Decoder::new(&bytes).filter(|d| d.result.is_err()).count();
     if corrupt > 0 {

@@ -173,11 +173,11 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
         table.push_str(&row?);
     }
     write_atomic(&args.out.join(TABLE), table.as_bytes())?;
-    println!(
+    crate::say!(
         "{} of {total} runs (shard {index}/{count}) -> {}",
         combos.len(),
         args.out.join(TABLE).display()
-    );
+    )?;
     Ok(crate::Outcome::Ok)
 }
 
@@ -321,6 +321,6 @@ fn merge(dirs: &[PathBuf], out: &Path) -> Result<crate::Outcome> {
     }
     fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     write_atomic(&out.join(TABLE), table.as_bytes())?;
-    println!("{} runs -> {}", rows.len(), out.join(TABLE).display());
+    crate::say!("{} runs -> {}", rows.len(), out.join(TABLE).display())?;
     Ok(crate::Outcome::Ok)
 }

@@ -469,3 +469,46 @@ fn mask_errors_exit_2_naming_the_problem() {
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(text(&o).contains("cannot be used with"), "{}", text(&o));
 }
+
+#[test]
+fn a_closed_pipe_ends_quietly_and_a_full_disk_is_exit_2() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let shrub = workspace_fixtures().join("abop-shrub/stream.bin");
+    for args in [
+        vec!["decode", shrub.to_str().unwrap()],
+        vec!["list"],
+        vec!["show", "ram-horn"],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_morphogen"))
+            .args(&args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut first = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut first)
+            .unwrap();
+        assert!(!first.is_empty());
+        // The reader is gone: the rest of the output meets a closed pipe.
+        let o = child.wait_with_output().unwrap();
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", text(&o));
+        assert!(!text(&o).contains("panicked"), "{args:?}: {}", text(&o));
+    }
+    if Path::new("/dev/full").exists() {
+        for args in [vec!["list"], vec!["decode", shrub.to_str().unwrap()]] {
+            let o = Command::new(env!("CARGO_BIN_EXE_morphogen"))
+                .args(&args)
+                .stdout(fs::File::create("/dev/full").unwrap())
+                .output()
+                .unwrap();
+            assert_eq!(o.status.code(), Some(2), "{args:?}");
+            assert!(
+                text(&o).contains("cannot write to standard output"),
+                "{args:?}: {}",
+                text(&o)
+            );
+        }
+    }
+}
