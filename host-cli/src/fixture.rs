@@ -178,7 +178,7 @@ pub fn summarise(scenario: &Scenario, seed: u64, run: &Run) -> Summary {
     }
 }
 
-/// Writes `scenario`'s fixture from `run`, each file atomically; a
+/// Writes `scenario`'s fixture from `run`, the folder as a whole; a
 /// scenario that is not a built-in preset goes in as `scenario.toml`.
 ///
 /// # Errors
@@ -191,15 +191,68 @@ pub fn bless(
     run: &Run,
 ) -> Result<PathBuf> {
     let dir = dir(fixtures, &summary.preset);
-    fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    fs::create_dir_all(fixtures)
+        .with_context(|| format!("cannot create {}", fixtures.display()))?;
+    clean_leftovers(fixtures);
     let text = toml::to_string(summary).context("cannot render the summary")?;
+    // The whole fixture is written into a hidden folder beside it, then
+    // swapped in: a reader sees the old fixture or the new one, never a
+    // mix. Hidden folders are never read as fixtures (names cannot start
+    // with a dot) and the next bless removes any a kill left behind.
+    let staging = tempfile::Builder::new()
+        .prefix(STAGING_PREFIX)
+        .tempdir_in(fixtures)
+        .with_context(|| format!("cannot write in {}", fixtures.display()))?;
     if !scenario.is_builtin() {
         write_atomic(
-            &dir.join(SCENARIO_FILE),
+            &staging.path().join(SCENARIO_FILE),
             scenario.self_contained().as_bytes(),
         )?;
     }
-    write_atomic(&dir.join(STREAM_FILE), &run.stream)?;
-    write_atomic(&dir.join(SUMMARY_FILE), text.as_bytes())?;
+    write_atomic(&staging.path().join(STREAM_FILE), &run.stream)?;
+    write_atomic(&staging.path().join(SUMMARY_FILE), text.as_bytes())?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        fs::set_permissions(staging.path(), fs::Permissions::from_mode(0o755))
+            .with_context(|| format!("cannot write in {}", fixtures.display()))?;
+    }
+    let staged = staging.keep();
+    if dir.exists() {
+        let old = tempfile::Builder::new()
+            .prefix(STAGING_PREFIX)
+            .tempdir_in(fixtures)
+            .with_context(|| format!("cannot write in {}", fixtures.display()))?
+            .keep();
+        fs::rename(&dir, old.join("fixture"))
+            .with_context(|| format!("cannot replace {}", dir.display()))?;
+        fs::rename(&staged, &dir).with_context(|| format!("cannot replace {}", dir.display()))?;
+        let _ = fs::remove_dir_all(&old);
+    } else {
+        fs::rename(&staged, &dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    }
     Ok(dir)
+}
+
+/// The prefix of the hidden folders `bless` stages fixtures in.
+const STAGING_PREFIX: &str = ".morphogen-bless-";
+
+/// Removes staging folders that an interrupted `bless` left behind (those
+/// untouched for a minute: a `bless` running beside this one keeps its own).
+fn clean_leftovers(fixtures: &Path) {
+    let Ok(entries) = fs::read_dir(fixtures) else {
+        return;
+    };
+    let stale = |e: &fs::DirEntry| {
+        e.metadata()
+            .and_then(|m| m.modified())
+            .ok()
+            .and_then(|t| t.elapsed().ok())
+            .is_some_and(|age| age.as_secs() > 60)
+    };
+    for e in entries.flatten() {
+        if e.file_name().to_string_lossy().starts_with(STAGING_PREFIX) && stale(&e) {
+            let _ = fs::remove_dir_all(e.path());
+        }
+    }
 }

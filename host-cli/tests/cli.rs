@@ -512,3 +512,35 @@ fn a_closed_pipe_ends_quietly_and_a_full_disk_is_exit_2() {
         }
     }
 }
+
+#[test]
+fn bless_replaces_a_fixture_whole_and_cleans_what_a_kill_left() {
+    let tmp = tempfile::tempdir().unwrap();
+    let fixtures = tmp.path().join("fx");
+    let fx = fixtures.to_str().unwrap();
+    // What a bless killed mid-way leaves: a hidden staging folder with a
+    // half fixture in it, untouched for a while.
+    let stale = fixtures.join(".morphogen-bless-killed");
+    fs::create_dir_all(&stale).unwrap();
+    fs::write(stale.join("stream.bin"), b"half").unwrap();
+    let old = std::time::SystemTime::now() - std::time::Duration::from_secs(3600);
+    fs::File::open(&stale).unwrap().set_modified(old).unwrap();
+    // Never read as a fixture.
+    let o = morphogen(&["verify", "--fixtures", fx]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("no fixtures in"), "{}", text(&o));
+    for seed in ["3", "4"] {
+        let o = morphogen(&["bless", "growth-curve", "--seed", seed, "--fixtures", fx]);
+        assert!(o.status.success(), "{}", text(&o));
+    }
+    let mut entries: Vec<String> = fs::read_dir(&fixtures)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    entries.sort();
+    assert_eq!(entries, ["growth-curve"], "leftovers beside the fixture");
+    let summary = fs::read_to_string(fixtures.join("growth-curve/summary.toml")).unwrap();
+    assert!(summary.contains("seed = 4"), "{summary}");
+    let o = morphogen(&["verify", "--fixtures", fx]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+}
