@@ -331,7 +331,7 @@ pub fn check(file: &File, files: &dyn Files) -> Result<Checked> {
         return horn(h);
     }
     if let Some(l) = &file.lsystem {
-        return Ok(Checked::LSystem(text(
+        return Ok(Checked::LSystem(grammar(
             &l.grammar,
             "lsystem.grammar",
             files,
@@ -417,6 +417,21 @@ fn text(include: &Include, key: &str, files: &dyn Files) -> Result<String> {
             })
         }
     }
+}
+
+/// A grammar's text, parsed once here so that a mistake in it is named by
+/// its own file, line and column.
+fn grammar(include: &Include, key: &str, files: &dyn Files) -> Result<String> {
+    let text = text(include, key, files)?;
+    let mut grammar = Box::new(morphogen::lsys::Grammar::new());
+    if let Err(e) = grammar.parse(&text) {
+        let file = match include {
+            Include::Path(path) => path.as_str(),
+            Include::Inline { .. } => "grammar",
+        };
+        return invalid(key, format!("{file}:{}:{}: {}", e.line, e.column, e.kind));
+    }
+    Ok(text)
 }
 
 // ---------------------------------------------------------------- models
@@ -813,7 +828,7 @@ fn body(b: &schema::Body) -> Result<Checked> {
 }
 
 fn bones(b: &schema::Bones, files: &dyn Files) -> Result<Checked> {
-    let grammar = text(&b.grammar, "bones.grammar", files)?;
+    let grammar = grammar(&b.grammar, "bones.grammar", files)?;
     let frames = match &b.frames {
         BoneFrames::Keyword(k) if k == "final" => BoneFramesCore::Final,
         BoneFrames::Keyword(k) => {

@@ -1,9 +1,11 @@
 //! Running a [`Preset`] on a computer: every model in the core's
 //! [`Runner`] (the MCU's fixed capacity), except mosaics, whose cells go in
-//! a [`VecStore`] sized for the run. Both use the core's one run loop
+//! a [`VecStore`] sized for the run, and context-sensitive L-systems,
+//! derived in two heap buffers. Both use the core's one run loop
 //! ([`morphogen::preset::drive`]), so the stream is the same bytes the
 //! firmware writes.
 
+use morphogen::lsys::{Buffered, Grammar, LSystem, LsysError, Module};
 use morphogen::mosaic::store::{CellSlices, CellStore};
 use morphogen::mosaic::{Mosaic, host_capacity};
 use morphogen::preset::{self, Model, Preset, Runner};
@@ -62,6 +64,11 @@ impl CellStore for VecStore {
     }
 }
 
+/// Modules in each of the two buffers of a context-sensitive L-system's
+/// derivation on the host (32 MB each); the core's streaming derivation,
+/// which the MCU uses, handles context-free grammars only.
+pub const HOST_BUFFER_MODULES: usize = 1 << 21;
+
 /// Runs `preset` with `seed` into `sink`: header, then every step.
 ///
 /// # Errors
@@ -79,6 +86,23 @@ pub fn run(
             let mut mosaic = Mosaic::new(VecStore::new(host_capacity(params)));
             mosaic.start(params, seed)?;
             preset::drive(&mut mosaic, &header, sink, progress)
+        }
+        Model::LSystem(text) => {
+            let mut grammar = Box::new(Grammar::new());
+            grammar
+                .parse(text)
+                .map_err(|e| morphogen::Error::Lsys(LsysError::Parse(e)))?;
+            if grammar.is_context_sensitive() {
+                let mut a = vec![Module::default(); HOST_BUFFER_MODULES];
+                let mut b = vec![Module::default(); HOST_BUFFER_MODULES];
+                let mut sim = Box::new(LSystem::with_derivation(Buffered::new(&mut a, &mut b)));
+                sim.load(text, seed)?;
+                preset::drive(sim.as_mut(), &header, sink, progress)
+            } else {
+                let mut runner = Box::new(Runner::new());
+                runner.start(&preset.model, seed)?;
+                preset::drive(runner.as_mut(), &header, sink, progress)
+            }
         }
         model => {
             let mut runner = Box::new(Runner::new());

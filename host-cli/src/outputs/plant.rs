@@ -9,9 +9,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow};
 use morphogen::fx::Fx;
-use morphogen::lsys::{Buffered, Derivation, LSystem, LsysError, Module, Streaming};
-use morphogen::sim::Simulation;
-use morphogen::stream::{Encoder, FORMAT_VERSION, Header, PresetName, Record, Sink, params_digest};
+use morphogen::preset::{Model, Preset};
+use morphogen::stream::{Encoder, Record};
 use tiny_skia::{
     Color, FillRule, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke, Transform,
 };
@@ -21,10 +20,6 @@ use crate::exec::{Bytes, Run};
 
 /// The preset name in the header of a `run --grammar` stream.
 pub const GRAMMAR_PRESET: &str = "grammar";
-
-/// Modules per buffer when a context-sensitive grammar is derived on the
-/// host (2 × 2²¹ modules × 20 bytes = 80 MB at most).
-pub const HOST_BUFFER_MODULES: usize = 1 << 21;
 
 fn f(v: Fx) -> f64 {
     f64::from(v.to_bits()) / 65_536.0
@@ -350,46 +345,26 @@ pub fn write(records: &[Record], dir: &Path) -> Result<Vec<PathBuf>> {
 }
 
 /// Runs the grammar `text` (read from `file`, named in errors) with
-/// `seed`: streaming when context-free, otherwise buffered in two buffers
-/// of [`HOST_BUFFER_MODULES`].
+/// `seed`, as the stream of a preset called [`GRAMMAR_PRESET`]: streaming
+/// when context-free, otherwise buffered
+/// ([`morphogen_scenario::run::HOST_BUFFER_MODULES`] modules a buffer).
 ///
 /// # Errors
 /// A located parse error (`file:line:column: …`) or a run error.
 pub fn run_grammar(file: &Path, text: &str, seed: u64) -> Result<Run> {
+    let mut probe = Box::new(morphogen::lsys::Grammar::new());
+    probe
+        .parse(text)
+        .map_err(|p| anyhow!("{}:{}:{}: {}", file.display(), p.line, p.column, p.kind))?;
+    let preset = Preset {
+        name: GRAMMAR_PRESET,
+        summary: "",
+        default_seed: seed,
+        model: Model::LSystem(text),
+    };
     let mut encoder = Encoder::new(Bytes::default());
-    let mut name = PresetName::new();
-    name.push_str(GRAMMAR_PRESET)
-        .map_err(|()| anyhow!("preset name too long"))?;
-    let header = Header {
-        version: FORMAT_VERSION,
-        preset: name,
-        seed,
-        params: params_digest(text),
-    };
-    encoder
-        .record(&Record::Header(header))
-        .map_err(|e| anyhow!("{e}"))?;
-    let located = |e: LsysError| match e {
-        LsysError::Parse(p) => anyhow!("{}:{}:{}: {}", file.display(), p.line, p.column, p.kind),
-        other => anyhow!("{}: {other}", file.display()),
-    };
-    let mut probe = morphogen::lsys::Grammar::new();
-    probe.parse(text).map_err(|e| located(e.into()))?;
-    if probe.is_context_sensitive() {
-        let mut a = vec![Module::default(); HOST_BUFFER_MODULES];
-        let mut b = vec![Module::default(); HOST_BUFFER_MODULES];
-        let mut sim = LSystem::with_derivation(Buffered::new(&mut a, &mut b));
-        drive(&mut sim, text, seed, &mut encoder).map_err(|e| {
-            anyhow!(
-                "{}: {e} (context-sensitive grammars are derived in two buffers of {HOST_BUFFER_MODULES} modules)",
-                file.display()
-            )
-        })?;
-    } else {
-        let mut sim = Box::new(LSystem::<Streaming>::new());
-        drive(&mut sim, text, seed, &mut encoder)
-            .map_err(|e| anyhow!("{}: {e}", file.display()))?;
-    }
+    morphogen_scenario::run::run(&preset, seed, &mut encoder, &mut |_| {})
+        .map_err(|e| anyhow!("{}: {e}", file.display()))?;
     let digest = encoder.digest();
     let frames = encoder.frames();
     Ok(Run {
@@ -397,20 +372,6 @@ pub fn run_grammar(file: &Path, text: &str, seed: u64) -> Result<Run> {
         digest,
         frames,
     })
-}
-
-fn drive<D: Derivation>(
-    sim: &mut LSystem<D>,
-    text: &str,
-    seed: u64,
-    encoder: &mut Encoder<Bytes>,
-) -> Result<(), morphogen::Error> {
-    sim.load(text, seed)?;
-    loop {
-        if sim.step(encoder)?.finished() {
-            return Ok(());
-        }
-    }
 }
 
 #[cfg(test)]
