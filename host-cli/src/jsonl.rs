@@ -2,7 +2,7 @@
 //! fixed-point values as decimals (field names in docs/stream-format.md).
 
 use morphogen::fx::Fx;
-use morphogen::stream::{Decoded, Record};
+use morphogen::stream::{Decoded, FrameError, Record};
 use serde_json::{Value, json};
 
 /// An `Fx` as its exact decimal value.
@@ -65,6 +65,9 @@ pub fn record(r: &Record) -> Value {
 pub fn line(d: &Decoded) -> String {
     let value = match &d.result {
         Ok(r) => record(r),
+        Err(FrameError::UnknownKind { tag }) => {
+            json!({"kind": "unknown", "offset": d.offset, "tag": tag})
+        }
         Err(e) => json!({"kind": "error", "offset": d.offset, "error": e.to_string()}),
     };
     value.to_string()

@@ -405,12 +405,30 @@ fn bless(
 
 fn decode(file: &Path, out: Option<&Path>) -> Result<Outcome> {
     let bytes = fs::read(file).with_context(|| format!("cannot read {}", file.display()))?;
+    if bytes.is_empty() {
+        bail!("{} holds no frames", file.display());
+    }
+    for d in Decoder::new(&bytes) {
+        if let Ok(morphogen::stream::Record::Header(h)) = &d.result
+            && h.version != morphogen::stream::FORMAT_VERSION
+        {
+            bail!(
+                "{}: the stream at byte {} is format version {}; this reader knows version {} (docs/stream-format.md)",
+                file.display(),
+                d.offset,
+                h.version,
+                morphogen::stream::FORMAT_VERSION
+            );
+        }
+    }
     let text = jsonl::stream(&bytes);
     match out {
         Some(path) => atomic::write_atomic(path, text.as_bytes())?,
         None => morphogen_cli::stdout::text(&text)?,
     }
-    let corrupt = Decoder::new(&bytes).filter(|d| d.result.is_err()).count();
+    let corrupt = Decoder::new(&bytes)
+        .filter(|d| d.result.as_ref().is_err_and(|e| e.is_corrupt()))
+        .count();
     if corrupt > 0 {
         bail!(
             "{corrupt} corrupt or truncated frame(s) in {} (shown as \"kind\":\"error\" lines)",

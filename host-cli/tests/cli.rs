@@ -544,3 +544,57 @@ fn bless_replaces_a_fixture_whole_and_cleans_what_a_kill_left() {
     let o = morphogen(&["verify", "--fixtures", fx]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
 }
+
+#[test]
+fn decode_follows_the_stream_format_spec() {
+    use morphogen::stream::{Encoder, Header, Sink};
+    let tmp = tempfile::tempdir().unwrap();
+    let header = |version| {
+        Record::Header(Header {
+            version,
+            preset: "growth-curve".try_into().unwrap(),
+            seed: 0,
+            params: 1,
+        })
+    };
+    let encode = |records: &[Record]| {
+        let mut enc = Encoder::new(exec::Bytes::default());
+        for r in records {
+            enc.record(r).unwrap();
+        }
+        enc.into_writer().0
+    };
+    // A newer writer's record kind (tag 11) between known ones: skipped.
+    let record = [11u8, 5];
+    let mut raw = record.to_vec();
+    raw.extend_from_slice(
+        &crc::Crc::<u32>::new(&crc::CRC_32_ISO_HDLC)
+            .checksum(&record)
+            .to_le_bytes(),
+    );
+    let mut newer = encode(&[header(1)]);
+    newer.extend(cobs::encode_vec(&raw));
+    newer.push(0);
+    newer.extend(encode(&[Record::FrameEnd { frame: 0 }]));
+    let path = tmp.path().join("newer.bin");
+    fs::write(&path, &newer).unwrap();
+    let o = morphogen(&["decode", path.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(
+        text(&o).contains(r#""kind":"unknown""#) && text(&o).contains(r#""tag":11"#),
+        "{}",
+        text(&o)
+    );
+    // Another format version, and an empty file: exit 2, as verify --stream.
+    let v2 = tmp.path().join("v2.bin");
+    fs::write(&v2, encode(&[header(2)])).unwrap();
+    let empty = tmp.path().join("empty.bin");
+    fs::write(&empty, b"").unwrap();
+    for (file, message) in [(&v2, "format version 2"), (&empty, "holds no frames")] {
+        let o = morphogen(&["decode", file.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+        assert!(text(&o).contains(message), "{}", text(&o));
+        let o = morphogen(&["verify", "--stream", file.to_str().unwrap()]);
+        assert_ne!(o.status.code(), Some(0), "{}", text(&o));
+    }
+}

@@ -25,6 +25,13 @@ pub enum FrameError {
     },
     /// The CRC matches but the bytes are not a record of this version.
     Record,
+    /// A well-formed frame (its CRC checks) of a record kind this reader
+    /// does not know: a newer writer's. Receivers skip it
+    /// (docs/stream-format.md); it is not a corrupt frame.
+    UnknownKind {
+        /// The record's tag.
+        tag: u32,
+    },
     /// The input ended without a closing zero byte.
     Truncated,
 }
@@ -42,6 +49,9 @@ impl core::fmt::Display for FrameError {
                 )
             }
             FrameError::Record => f.write_str("CRC is valid but the bytes are not a known record"),
+            FrameError::UnknownKind { tag } => {
+                write!(f, "a record of unknown kind (tag {tag}), skipped")
+            }
             FrameError::Truncated => f.write_str("truncated: the stream ends inside a frame"),
         }
     }
@@ -108,9 +118,35 @@ impl<'a> Decoder<'a> {
         }
         match postcard::take_from_bytes::<Record>(record) {
             Ok((r, [])) => Ok(r),
-            _ => Err(FrameError::Record),
+            _ => match tag(record) {
+                Some(tag) if tag >= RECORD_KINDS => Err(FrameError::UnknownKind { tag }),
+                _ => Err(FrameError::Record),
+            },
         }
     }
+}
+
+impl FrameError {
+    /// Whether the frame is damaged (and not merely of a newer kind).
+    #[must_use]
+    pub fn is_corrupt(&self) -> bool {
+        !matches!(self, FrameError::UnknownKind { .. })
+    }
+}
+
+/// Record kinds of this version (tags 0 to 10, docs/stream-format.md).
+const RECORD_KINDS: u32 = 11;
+
+/// The record's tag: postcard's leading varint.
+fn tag(record: &[u8]) -> Option<u32> {
+    let mut value = 0u32;
+    for (i, &b) in record.iter().take(5).enumerate() {
+        value |= u32::from(b & 0x7F) << (7 * i);
+        if b & 0x80 == 0 {
+            return Some(value);
+        }
+    }
+    None
 }
 
 impl Iterator for Decoder<'_> {
@@ -189,6 +225,26 @@ mod tests {
             enc.record(r).unwrap();
         }
         enc.into_writer().to_vec()
+    }
+
+    #[test]
+    fn a_record_of_a_newer_kind_is_skipped_not_corrupt() {
+        // Tag 11 with two bytes of payload, framed as the encoder frames.
+        let record = [11u8, 1, 2];
+        let mut raw = Vec::from(record);
+        raw.extend_from_slice(&FRAME_CRC.checksum(&record).to_le_bytes());
+        let mut framed = [0u8; 32];
+        let n = cobs::encode(&raw, &mut framed);
+        let mut bytes = Vec::from(&framed[..n]);
+        bytes.push(0);
+        bytes.extend(encode(&sample_records()[..2]));
+        let decoded: Vec<Decoded> = Decoder::new(&bytes).collect();
+        assert_eq!(decoded[0].result, Err(FrameError::UnknownKind { tag: 11 }));
+        assert!(!FrameError::UnknownKind { tag: 11 }.is_corrupt());
+        assert_eq!(decoded.len(), 3);
+        assert!(decoded[1].result.is_ok() && decoded[2].result.is_ok());
+        // A known tag whose payload does not parse is corrupt.
+        assert!(FrameError::Record.is_corrupt());
     }
 
     #[test]
