@@ -13,12 +13,28 @@ use morphogen::sim::Progress;
 use morphogen::stream::{ByteSink, Decoder, Encoder, Record, SinkError};
 use morphogen_scenario::Scenario;
 
-/// A growable byte sink for the host.
-#[derive(Debug, Default)]
-pub struct Bytes(pub Vec<u8>);
+/// The default cap on a run's stream, MiB (`--max-stream-mb`): far above
+/// every preset (the largest streams 4 MB), and small enough that a
+/// runaway grammar stops in seconds on a laptop.
+pub const DEFAULT_MAX_STREAM_MB: u32 = 128;
+
+/// A growable byte sink for the host, holding at most `limit` bytes.
+#[derive(Debug)]
+pub struct Bytes(pub Vec<u8>, pub u64);
+
+impl Default for Bytes {
+    fn default() -> Bytes {
+        Bytes(Vec::new(), u64::from(DEFAULT_MAX_STREAM_MB) << 20)
+    }
+}
 
 impl ByteSink for Bytes {
     fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError> {
+        if (self.0.len() + bytes.len()) as u64 > self.1 {
+            return Err(SinkError::Full {
+                capacity: u32::try_from(self.1 >> 20).unwrap_or(u32::MAX),
+            });
+        }
         self.0.extend_from_slice(bytes);
         Ok(())
     }
@@ -119,7 +135,16 @@ pub fn parse_set(text: &str) -> Result<(String, String)> {
 /// # Errors
 /// The core's error, with the scenario named.
 pub fn run(scenario: &Scenario, seed: u64, progress: bool) -> Result<Run> {
-    let mut encoder = Encoder::new(Bytes::default());
+    run_limited(scenario, seed, progress, DEFAULT_MAX_STREAM_MB)
+}
+
+/// [`run`] with the stream capped at `max_mb` MiB.
+///
+/// # Errors
+/// The core's error, with the scenario named; a stream past the cap names
+/// the cap and the flag that raises it.
+pub fn run_limited(scenario: &Scenario, seed: u64, progress: bool, max_mb: u32) -> Result<Run> {
+    let mut encoder = Encoder::new(Bytes(Vec::new(), u64::from(max_mb) << 20));
     let start = Instant::now();
     let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
     bar.set_style(
@@ -141,7 +166,13 @@ pub fn run(scenario: &Scenario, seed: u64, progress: bool) -> Result<Run> {
     };
     scenario
         .with_preset(|p| morphogen_scenario::run::run(p, seed, &mut encoder, &mut report))
-        .map_err(|e| anyhow!("{}: {e}", scenario.name()))?;
+        .map_err(|e| match e {
+            morphogen::Error::Sink(SinkError::Full { .. }) => anyhow!(
+                "{}: the stream passed {max_mb} MiB and was stopped (raise the cap with --max-stream-mb)",
+                scenario.name()
+            ),
+            e => anyhow!("{}: {e}", scenario.name()),
+        })?;
     bar.finish_and_clear();
     let digest = encoder.digest();
     let frames = encoder.frames();

@@ -83,6 +83,10 @@ enum Command {
         /// allows F (in a PNG: luminance and alpha both ≥ 50 %).
         #[arg(long, value_name = "FILE", conflicts_with_all = ["grammar", "mesh"])]
         mask: Option<PathBuf>,
+        /// Stop a run whose stream grows past this many MiB (a runaway
+        /// grammar, a huge mosaic).
+        #[arg(long, value_name = "MB", default_value_t = exec::DEFAULT_MAX_STREAM_MB)]
+        max_stream_mb: u32,
     },
     /// Re-run scenarios and compare their streams with the golden fixtures,
     /// or check a device capture with --stream.
@@ -179,9 +183,10 @@ fn dispatch(command: Command) -> Result<Outcome> {
             grammar: Some(file),
             seed,
             out,
+            max_stream_mb,
             ..
         } => match target.as_deref() {
-            None | Some("custom") => run_grammar(&file, seed, out),
+            None | Some("custom") => run_grammar(&file, seed, out, max_stream_mb),
             Some(other) => bail!(
                 "--grammar runs a grammar file: give no preset name (got '{other}'), or `custom`"
             ),
@@ -196,6 +201,7 @@ fn dispatch(command: Command) -> Result<Outcome> {
             cylinders,
             rig,
             mask,
+            max_stream_mb,
         } => {
             let scenario = exec::find(&target, &sets(&set_args)?)?;
             let scenario = match &mask {
@@ -206,7 +212,7 @@ fn dispatch(command: Command) -> Result<Outcome> {
                 (Some(mesh), Some(cylinders)) => {
                     morphogen_cli::body_input::run(&scenario, seed, out, &mesh, &cylinders)
                 }
-                _ => run(&scenario, seed, out, rig.as_deref()),
+                _ => run(&scenario, seed, out, rig.as_deref(), max_stream_mb),
             }
         }
         Command::Run { target: None, .. } => {
@@ -238,13 +244,14 @@ fn run(
     seed: Option<u64>,
     out: Option<PathBuf>,
     rig: Option<&str>,
+    max_stream_mb: u32,
 ) -> Result<Outcome> {
     let rig = rig.map(morphogen_cli::rig::parse_rig_size).transpose()?;
     let seed = seed.unwrap_or(scenario.seed());
     let dir = out.unwrap_or_else(|| Path::new("out").join(scenario.name()));
     fs::create_dir_all(&dir)
         .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-    let run = exec::run(scenario, seed, true)?;
+    let run = exec::run_limited(scenario, seed, true, max_stream_mb)?;
     let written = exec::write_outputs(&dir, &run, |records, dir| {
         let mut files = scenario.with_preset(|p| outputs::write(p, records, dir))?;
         if let Some((w, h)) = rig {
@@ -268,14 +275,21 @@ fn run(
     Ok(Outcome::Ok)
 }
 
-fn run_grammar(file: &Path, seed: Option<u64>, out: Option<PathBuf>) -> Result<Outcome> {
-    let text = fs::read_to_string(file)
-        .with_context(|| format!("cannot read grammar {}", file.display()))?;
+fn run_grammar(
+    file: &Path,
+    seed: Option<u64>,
+    out: Option<PathBuf>,
+    max_stream_mb: u32,
+) -> Result<Outcome> {
+    let bytes = morphogen_scenario::read_limited(file)
+        .map_err(|e| anyhow::anyhow!("cannot read grammar {}: {e}", file.display()))?;
+    let text =
+        morphogen_scenario::utf8(bytes).map_err(|e| anyhow::anyhow!("{}:{e}", file.display()))?;
     let seed = seed.unwrap_or(0);
     let stem = file
         .file_stem()
         .map_or_else(|| "grammar".into(), |s| s.to_string_lossy().into_owned());
-    let run = outputs::plant::run_grammar(file, &text, seed)?;
+    let run = outputs::plant::run_grammar(file, &text, seed, max_stream_mb)?;
     let dir = out.unwrap_or_else(|| Path::new("out").join(&stem));
     let written = exec::write_outputs(&dir, &run, outputs::plant::write)?;
     say!(

@@ -598,3 +598,50 @@ fn decode_follows_the_stream_format_spec() {
         assert_ne!(o.status.code(), Some(0), "{}", text(&o));
     }
 }
+
+#[test]
+fn runaway_and_unreadable_grammars_stop_with_the_limit_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = |name: &str, bytes: &[u8]| {
+        let path = tmp.path().join(name);
+        fs::write(&path, bytes).unwrap();
+        path.display().to_string()
+    };
+    let runaway = file("runaway.lsys", b"n = 20\naxiom: A\nA -> [F]AA\n");
+    let o = morphogen(&[
+        "run",
+        "--grammar",
+        &runaway,
+        "--max-stream-mb",
+        "4",
+        "--out",
+        tmp.path().to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(
+        text(&o).contains("passed 4 MiB") && text(&o).contains("--max-stream-mb"),
+        "{}",
+        text(&o)
+    );
+    let mut big = b"n = 1\naxiom: F\n# ".to_vec();
+    big.resize(17 << 20, b'x');
+    let big = file("big.lsys", &big);
+    let not_utf8 = file("latin1.lsys", b"n = 2\naxiom: F\nF -> F\xe9\n");
+    for (grammar, message) in [
+        (big.as_str(), "more than 16777216 bytes"),
+        (
+            not_utf8.as_str(),
+            "latin1.lsys:3:7: not UTF-8 text (byte 0xe9)",
+        ),
+    ] {
+        let o = morphogen(&[
+            "run",
+            "--grammar",
+            grammar,
+            "--out",
+            tmp.path().to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+        assert!(text(&o).contains(message), "{}", text(&o));
+    }
+}

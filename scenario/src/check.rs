@@ -406,15 +406,7 @@ fn text(include: &Include, key: &str, files: &dyn Files) -> Result<String> {
             let bytes = files
                 .read(path)
                 .or_else(|e| invalid(key, format!("cannot read {path}: {e}")))?;
-            String::from_utf8(bytes).or_else(|e| {
-                invalid(
-                    key,
-                    format!(
-                        "{path} is not UTF-8 text (first bad byte at offset {})",
-                        e.utf8_error().valid_up_to()
-                    ),
-                )
-            })
+            crate::utf8(bytes).or_else(|e| invalid(key, format!("{path}:{e}")))
         }
     }
 }

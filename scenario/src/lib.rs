@@ -146,6 +146,21 @@ pub fn read_limited(path: &Path) -> Result<Vec<u8>, String> {
     Ok(bytes)
 }
 
+/// `bytes` as text, or where it stops being UTF-8: `LINE:COLUMN: …`.
+///
+/// # Errors
+/// The line and column (from 1) of the first byte that is not UTF-8.
+pub fn utf8(bytes: Vec<u8>) -> Result<String, String> {
+    String::from_utf8(bytes).map_err(|e| {
+        let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+        let line = good.iter().filter(|&&b| b == b'\n').count() + 1;
+        let start = good.iter().rposition(|&b| b == b'\n').map_or(0, |p| p + 1);
+        let column = String::from_utf8_lossy(&good[start..]).chars().count() + 1;
+        let byte = e.as_bytes()[good.len()];
+        format!("{line}:{column}: not UTF-8 text (byte {byte:#04x})")
+    })
+}
+
 /// A read and checked scenario.
 #[derive(Debug, Clone)]
 pub struct Scenario {
@@ -190,14 +205,11 @@ impl Scenario {
             key: String::new(),
             message: format!("cannot read: {message}"),
         })?;
-        let text = String::from_utf8(bytes).map_err(|e| Error {
+        let text = utf8(bytes).map_err(|message| Error {
             origin: origin.clone(),
             place: Place::File,
             key: String::new(),
-            message: format!(
-                "not UTF-8 text (first bad byte at offset {})",
-                e.utf8_error().valid_up_to()
-            ),
+            message,
         })?;
         let folder = path
             .parent()

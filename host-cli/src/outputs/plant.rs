@@ -351,7 +351,7 @@ pub fn write(records: &[Record], dir: &Path) -> Result<Vec<PathBuf>> {
 ///
 /// # Errors
 /// A located parse error (`file:line:column: …`) or a run error.
-pub fn run_grammar(file: &Path, text: &str, seed: u64) -> Result<Run> {
+pub fn run_grammar(file: &Path, text: &str, seed: u64, max_stream_mb: u32) -> Result<Run> {
     let mut probe = Box::new(morphogen::lsys::Grammar::new());
     probe
         .parse(text)
@@ -362,9 +362,14 @@ pub fn run_grammar(file: &Path, text: &str, seed: u64) -> Result<Run> {
         default_seed: seed,
         model: Model::LSystem(text),
     };
-    let mut encoder = Encoder::new(Bytes::default());
-    morphogen_scenario::run::run(&preset, seed, &mut encoder, &mut |_| {})
-        .map_err(|e| anyhow!("{}: {e}", file.display()))?;
+    let mut encoder = Encoder::new(Bytes(Vec::new(), u64::from(max_stream_mb) << 20));
+    morphogen_scenario::run::run(&preset, seed, &mut encoder, &mut |_| {}).map_err(|e| match e {
+        morphogen::Error::Sink(morphogen::stream::SinkError::Full { .. }) => anyhow!(
+            "{}: the stream passed {max_stream_mb} MiB and was stopped (raise the cap with --max-stream-mb)",
+            file.display()
+        ),
+        e => anyhow!("{}: {e}", file.display()),
+    })?;
     let digest = encoder.digest();
     let frames = encoder.frames();
     Ok(Run {
@@ -380,14 +385,14 @@ mod tests {
 
     #[test]
     fn grammar_errors_name_the_file_line_and_column() {
-        let e = run_grammar(Path::new("my.lsys"), "n = 2\naxiom: F\nF -> F(1", 0).unwrap_err();
+        let e = run_grammar(Path::new("my.lsys"), "n = 2\naxiom: F\nF -> F(1", 0, 128).unwrap_err();
         assert_eq!(e.to_string(), "my.lsys:3:9: expected `,` or `)`");
     }
 
     #[test]
     fn context_sensitive_grammars_run_buffered_and_draw() {
         let text = include_str!("../../../grammars/abop-context-1-31a.lsys");
-        let run = run_grammar(Path::new("ctx.lsys"), text, 0).unwrap();
+        let run = run_grammar(Path::new("ctx.lsys"), text, 0, 128).unwrap();
         let records: Vec<Record> = morphogen::stream::Decoder::new(&run.stream)
             .filter_map(|d| d.result.ok())
             .collect();
