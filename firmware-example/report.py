@@ -3,7 +3,9 @@
 
 Usage: report.py WORKDIR TARGET... — reads WORKDIR/TARGET.elf (sizes via
 binutils `size -A`) and WORKDIR/TARGET.log (the defmt lines that start with
-`report`, see src/main.rs). Called by scripts/firmware-check.sh.
+`report`, see src/main.rs) of the built-in presets, WORKDIR/host-presets.txt
+(`morphogen list`) and, when present, WORKDIR/user.log (the firmware built
+with MORPHOGEN_SCENARIOS). Called by scripts/firmware-check.sh.
 """
 import os
 import re
@@ -105,9 +107,9 @@ w("\nEvery target streamed the same bytes (same digests), and each capture\n"
   f"passed `{verifier} CAPTURE`.\n\n")
 
 w("## Presets at reduced size, and host-only presets\n\n")
-w(f"The firmware runs every preset of the core's registry\n"
-  f"(`morphogen::preset::PRESETS`; the core has no heap, and the big mosaics are\n"
-  f"host presets in `host-cli/src/host_presets.rs`):\n"
+w(f"The firmware runs every built-in scenario (`scenarios/*.toml`) that fits the\n"
+  f"MCU (`Model::fits_mcu`; the core has no heap), compiled in as `static`\n"
+  f"presets by `build.rs`; the big mosaics are host only:\n"
   f"{len(main['presets'])} presets here, none skipped (an error fails the run).\n\n")
 fw_names = [p["name"] for p in main["presets"]]
 host = []
@@ -133,6 +135,25 @@ else:
         w(f"| {n} | yes, reduced size, own fixture | {summaries.get(n, '')} |\n")
     for n, s in host_only:
         reason = why.get(n, "its state exceeds the 64 KiB RAM")
-        w(f"| {n} | no: host only (`host-cli/src/host_presets.rs`) | {reason}; {s} |\n")
+        w(f"| {n} | no: host only | {reason}; {s} |\n")
     if not reduced and not host_only:
         w("None: every host preset runs on the firmware at full size.\n")
+
+try:
+    user = open(f"{work}/user.log", encoding="utf-8", errors="replace").read()
+except OSError:
+    user = ""
+runs_user = [m.groupdict() for m in re.finditer(
+    r"report preset=(?P<name>\S+) seed=(?P<seed>\d+) frames=(?P<frames>\d+) "
+    r"bytes=(?P<bytes>\d+) digest=(?P<digest>[0-9a-f]+) systicks=(?P<ticks>\d+)", user)]
+if runs_user:
+    w("\n## A user scenario\n\n"
+      "The script also builds the firmware (thumbv7m) with `MORPHOGEN_SCENARIOS` naming a\n"
+      "scenario file it writes on the fly (`scenarios/ram-horn.toml` renamed, 3 years,\n"
+      "one frame a year), runs it in QEMU and verifies the capture bit for bit\n"
+      "against the fixture `morphogen bless` writes from the same file on the host:\n\n")
+    w("| preset | seed | records | bytes | digest | ticks (≈ instr.) |\n|---|---:|---:|---:|---|---:|\n")
+    for p in runs_user:
+        ticks = int(p["ticks"])
+        w(f"| {p['name']} | {p['seed']} | {int(p['frames']):,} | {int(p['bytes']):,} | `{p['digest']}` |"
+          f" {ticks:,} (≈ {ticks * ns_per_tick / 1e6:.2f} M) |\n")

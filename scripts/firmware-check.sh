@@ -3,7 +3,10 @@
 # and thumbv7em, runs each in QEMU's lm3s6965evb with `-icount shift=0`
 # (UART0 → capture file, defmt over semihosting → defmt-print), verifies every
 # capture bit for bit with `morphogen verify --stream`, checks that a flipped
-# bit is caught, and rewrites firmware-example/REPORT.md (sizes and costs).
+# bit is caught, builds and runs the firmware with a user scenario
+# (MORPHOGEN_SCENARIOS: a changed ram-horn made on the fly, verified against a
+# fixture blessed on the host), and rewrites firmware-example/REPORT.md (sizes
+# and costs of the built-in presets).
 #
 # Usage: scripts/firmware-check.sh [--capture FILE] [--flip BYTE[:BIT]] [--no-report]
 #   --capture FILE    only verify FILE (e.g. a capture from real hardware)
@@ -12,7 +15,10 @@
 #   --no-report       do not rewrite REPORT.md
 # Environment:
 #   MORPHOGEN_VERIFY  the verify command, given the capture as last argument
-#                     (default: cargo run --release -q -p morphogen-cli -- verify --stream)
+#                     (default: cargo run --release -q -p morphogen-cli -- verify --stream;
+#                     the user-scenario step appends `--fixtures DIR` after the capture)
+#   MORPHOGEN_BLESS   the bless command, given `FILE.toml --fixtures DIR`
+#                     (default: cargo run --release -q -p morphogen-cli -- bless)
 #   CARGO_TARGET_DIR  honoured (default: firmware-example/target)
 #   QEMU_TIMEOUT      seconds per QEMU run (default 600)
 #
@@ -30,7 +36,7 @@ while [ $# -gt 0 ]; do
     --capture) capture_only="$2"; shift 2 ;;
     --flip) flip="$2"; shift 2 ;;
     --no-report) write_report=0; shift ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,27p' "$0"; exit 0 ;;
     *) echo "firmware-check: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -45,8 +51,15 @@ else
   verify_cmd=(cargo run --release -q --manifest-path "$root/Cargo.toml" -p morphogen-cli -- verify --stream)
 fi
 
-verify() { # verify CAPTURE LOG → exit status of the verifier
-  (cd "$root" && "${verify_cmd[@]}" "$1") >"$2" 2>&1
+if [ -n "${MORPHOGEN_BLESS:-}" ]; then
+  read -r -a bless_cmd <<<"$MORPHOGEN_BLESS"
+else
+  bless_cmd=(cargo run --release -q --manifest-path "$root/Cargo.toml" -p morphogen-cli -- bless)
+fi
+
+verify() { # verify CAPTURE LOG [ARG...] → exit status of the verifier
+  local capture="$1" log="$2"; shift 2
+  (cd "$root" && "${verify_cmd[@]}" "$capture" "$@") >"$log" 2>&1
 }
 
 # A copy of $1 with one bit flipped at byte $2 (bit $3) written to $4.
@@ -113,37 +126,87 @@ command -v defmt-print >/dev/null || { say "cargo install defmt-print --locked";
 tdir="${CARGO_TARGET_DIR:-$fw/target}"
 work="$tdir/firmware-check"
 rm -rf "$work"; mkdir -p "$work"
+user_dir="$(mktemp -d)"; trap 'rm -rf "$user_dir"' EXIT
 cd "$fw"
-# The RTT variant (real hardware) first: it shares the ELF path of the
+
+# A user scenario, made on the fly: ram-horn renamed and shortened (3 years,
+# one frame a year; it names no grammar or mask file).
+user_name="my-horn"
+user_toml="$user_dir/$user_name.toml"
+python3 - "$root/scenarios/ram-horn.toml" "$user_toml" "$user_name" <<'PY'
+import re, sys
+src, dst, name = sys.argv[1:]
+text = open(src, encoding="utf-8").read()
+for key, value in [("name", f'"{name}"'),
+                   ("summary", '"ram-horn for 3 years, one frame a year (firmware-check user scenario)"'),
+                   ("years", "3"), ("frames_per_year", "1")]:
+    text, n = re.subn(rf"^{key} = [^#\n]*?(\s*(#.*)?)$", rf"{key} = {value}\1", text, count=1, flags=re.M)
+    if n != 1:
+        sys.exit(f"user scenario: no `{key} = ` line in {src}")
+open(dst, "w", encoding="utf-8").write(text)
+PY
+# First, so that the built-in builds below leave the target dir (the same
+# ELF path for thumbv7m) with the built-in presets: build.rs reruns when
+# MORPHOGEN_SCENARIOS changes. Its ELF is kept aside for the run below.
+say "build thumbv7m-none-eabi with MORPHOGEN_SCENARIOS=$user_toml"
+MORPHOGEN_SCENARIOS="$user_toml" cargo build --release --target thumbv7m-none-eabi
+cp "$tdir/thumbv7m-none-eabi/release/morphogen-firmware" "$work/user.elf"
+
+# The RTT variant (real hardware) next: it shares the ELF path of the
 # default thumbv7m build, which the loop below then rebuilds.
 say "build (rtt feature, thumbv7m-none-eabi)"
-cargo build --release --no-default-features --features rtt --target thumbv7m-none-eabi
+env -u MORPHOGEN_SCENARIOS cargo build --release --no-default-features --features rtt --target thumbv7m-none-eabi
 for t in "${targets[@]}"; do
   say "build $t"
-  cargo build --release --target "$t"
+  env -u MORPHOGEN_SCENARIOS cargo build --release --target "$t"
 done
 
 # ---- run in QEMU and verify ----------------------------------------------------
 qemu_cpu() { case "$1" in thumbv7em-*) echo cortex-m4 ;; *) echo cortex-m3 ;; esac; }
-for t in "${targets[@]}"; do
-  elf="$tdir/$t/release/morphogen-firmware"
-  cp "$elf" "$work/$t.elf"
-  say "QEMU lm3s6965evb -cpu $(qemu_cpu "$t"): $t"
+# qemu_run TARGET ELF NAME: boots ELF, UART0 → $work/NAME.bin, defmt log →
+# $work/NAME.log; fails unless every preset streamed.
+qemu_run() {
+  local t="$1" elf="$2" name="$3" status
+  say "QEMU lm3s6965evb -cpu $(qemu_cpu "$t"): $name"
   set +e
   timeout "${QEMU_TIMEOUT:-600}" qemu-system-arm -machine lm3s6965evb -cpu "$(qemu_cpu "$t")" \
     -display none -monitor none -parallel none \
     -semihosting-config enable=on,target=native -icount shift=0 \
-    -serial "file:$work/$t.bin" -kernel "$elf" 2>"$work/$t.qemu.err" \
-    | defmt-print -e "$elf" >"$work/$t.log" 2>&1
+    -serial "file:$work/$name.bin" -kernel "$elf" 2>"$work/$name.qemu.err" \
+    | defmt-print -e "$elf" >"$work/$name.log" 2>&1
   status=("${PIPESTATUS[@]}")
   set -e
-  cat "$work/$t.log"
-  [ "${status[0]}" -eq 0 ] || { cat "$work/$t.qemu.err" >&2; die "$t: QEMU exited ${status[0]} (firmware panic, fault, failed preset or timeout)"; }
-  grep -q "all .* presets streamed" "$work/$t.log" || die "$t: the firmware did not report completion"
+  cat "$work/$name.log"
+  [ "${status[0]}" -eq 0 ] || { cat "$work/$name.qemu.err" >&2; die "$name: QEMU exited ${status[0]} (firmware panic, fault, failed preset or timeout)"; }
+  grep -q "all .* presets streamed" "$work/$name.log" || die "$name: the firmware did not report completion"
+}
+for t in "${targets[@]}"; do
+  elf="$tdir/$t/release/morphogen-firmware"
+  cp "$elf" "$work/$t.elf"
+  qemu_run "$t" "$elf" "$t"
   say "verify $t capture ($(stat -c %s "$work/$t.bin") bytes)"
   verify "$work/$t.bin" "$work/$t.verify.log" || { cat "$work/$t.verify.log"; die "$t: capture does not match the fixtures"; }
   cat "$work/$t.verify.log"
 done
+
+# ---- a user scenario (MORPHOGEN_SCENARIOS) ---------------------------------------
+# The firmware built above from $user_toml alone streams exactly what the host
+# blesses from the same file.
+qemu_run thumbv7m-none-eabi "$work/user.elf" user
+grep -q "all 1 presets streamed" "$work/user.log" || die "user scenario: the firmware did not run exactly one preset"
+grep -q "report preset=$user_name " "$work/user.log" || die "user scenario: the firmware did not run $user_name"
+say "bless $user_name on the host"
+(cd "$root" && "${bless_cmd[@]}" "$user_toml" --fixtures "$user_dir/fixtures") >"$work/user.bless.log" 2>&1 \
+  || { cat "$work/user.bless.log"; die "user scenario: bless $user_toml failed"; }
+cat "$work/user.bless.log"
+[ -f "$user_dir/fixtures/$user_name/stream.bin" ] || die "user scenario: bless wrote no $user_name/stream.bin"
+say "verify the user-scenario capture ($(stat -c %s "$work/user.bin") bytes)"
+verify "$work/user.bin" "$work/user.verify.log" --fixtures "$user_dir/fixtures" \
+  || { cat "$work/user.verify.log"; die "user scenario: the capture does not match the blessed fixture"; }
+cat "$work/user.verify.log"
+cmp -s "$work/user.bin" "$user_dir/fixtures/$user_name/stream.bin" \
+  || die "user scenario: the capture differs from the blessed stream.bin"
+echo "user scenario: $user_name streamed on the firmware matches the host's bless, byte for byte"
 
 # The flipped bit lands in the preset that owns the byte (from the firmware's
 # per-preset byte counts, in stream order).
