@@ -4,7 +4,8 @@
 //! `CARGO_TARGET_DIR=… cargo bench -p morphogen --bench body`
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use morphogen::body::{Body, BodyParams, presets};
+use morphogen::body::Body;
+use morphogen::preset::Model;
 use morphogen::sim::Simulation;
 use morphogen::stream::{Record, Sink, SinkError};
 
@@ -19,21 +20,22 @@ impl Sink for Count {
 
 fn frames(c: &mut Criterion) {
     let mut group = c.benchmark_group("body");
-    for (name, params) in [
-        ("horse-growth", &presets::HORSE_GROWTH),
-        ("cow-growth", &presets::COW_GROWTH),
-        ("horse-trot", &presets::HORSE_TROT),
-    ] {
-        let params: &'static BodyParams<'static> = params;
-        let vertices = u64::from(params.model.mesh.vertex_count()) * u64::from(params.frames);
-        group.throughput(Throughput::Elements(vertices));
-        group.bench_function(format!("{name} run (vertices/s)"), |b| {
-            b.iter(|| {
-                let mut body: Body = Body::new();
-                body.start(params);
-                let mut sink = Count(0);
-                while !body.step(&mut sink).map(|p| p.finished()).unwrap_or(true) {}
-                sink.0
+    for name in ["horse-growth", "cow-growth", "horse-trot"] {
+        let scenario = morphogen_scenario::builtin(name).expect("a built-in scenario");
+        scenario.with_preset(|p| {
+            let Model::Body(params) = p.model else {
+                unreachable!("{name} is a body")
+            };
+            let vertices = u64::from(params.model.mesh.vertex_count()) * u64::from(params.frames);
+            group.throughput(Throughput::Elements(vertices));
+            group.bench_function(format!("{name} run (vertices/s)"), |b| {
+                b.iter(|| {
+                    let mut body: Body = Body::new();
+                    body.start(params).expect("the preset is valid");
+                    let mut sink = Count(0);
+                    while !body.step(&mut sink).map(|p| p.finished()).unwrap_or(true) {}
+                    sink.0
+                });
             });
         });
     }

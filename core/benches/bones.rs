@@ -6,14 +6,28 @@
 //! `CARGO_TARGET_DIR=… cargo bench -p morphogen --bench bones`
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use morphogen::bones::presets::{self, MCU_TRIANGLES, MCU_VERTICES};
-use morphogen::bones::{Bones, Grower, Skeleton};
+use morphogen::bones::{Bones, BonesParams, Grower, MCU_TRIANGLES, MCU_VERTICES, Skeleton};
 use morphogen::fx::{Fx, Real};
+use morphogen::preset::Model;
 use morphogen::shrinkwrap::{Element, Shrinkwrap};
 use morphogen::sim::Simulation;
 use morphogen::stream::{Record, Sink, SinkError};
 
-type McuBones = Bones<MCU_VERTICES, MCU_TRIANGLES>;
+type McuBones<'a> = Bones<'a, MCU_VERTICES, MCU_TRIANGLES>;
+
+/// The built-in bone scenarios.
+const PRESETS: [&str; 3] = ["long-bone", "long-bone-random", "bone-growth"];
+
+/// Calls `f` with the parameters of the built-in bone scenario `name`.
+fn with_bones<R>(name: &str, f: impl FnOnce(&BonesParams<'_>) -> R) -> R {
+    let scenario = morphogen_scenario::builtin(name).expect("a built-in scenario");
+    scenario.with_preset(|p| {
+        let Model::Bones(params) = p.model else {
+            unreachable!("{name} is a bone")
+        };
+        f(params)
+    })
+}
 
 /// Counts triangles, keeps nothing.
 struct Count(u64);
@@ -24,8 +38,7 @@ impl Sink for Count {
     }
 }
 
-fn run(name: &str) -> u64 {
-    let params = presets::find(name).expect("a bone preset");
+fn run(params: &BonesParams<'_>) -> u64 {
     let mut bones = Box::new(McuBones::new());
     bones.start(params, 1).expect("the preset's grammar parses");
     let mut sink = Count(0);
@@ -39,30 +52,35 @@ fn presets_run(c: &mut Criterion) {
         size_of::<McuBones>()
     );
     let mut group = c.benchmark_group("bones");
-    for (name, _) in presets::ALL {
-        group.throughput(Throughput::Elements(run(name)));
-        group.bench_function(format!("{name} run (triangles/s)"), |b| {
-            b.iter(|| run(name))
+    for name in PRESETS {
+        with_bones(name, |params| {
+            group.throughput(Throughput::Elements(run(params)));
+            group.bench_function(format!("{name} run (triangles/s)"), |b| {
+                b.iter(|| run(params))
+            });
         });
     }
     group.finish();
 }
 
 fn wrap(c: &mut Criterion) {
-    let mut grower = Grower::new();
-    grower.load(presets::LONG_BONE_GRAMMAR).expect("parses");
-    let mut skeleton = Skeleton::new();
-    grower.grow(12, 0, &mut skeleton).expect("grows");
+    let (skeleton, wrap) = with_bones("long-bone", |params| {
+        let mut grower = Grower::new();
+        grower.load(params.grammar).expect("parses");
+        let mut skeleton = Skeleton::new();
+        grower.grow(12, 0, &mut skeleton).expect("grows");
+        (skeleton, params.wrap)
+    });
     let skeleton_f64: Vec<Element<f64>> =
         skeleton.iter().map(|e| e.convert(f64::from_fx)).collect();
     let mut group = c.benchmark_group("shrinkwrap long-bone");
     group.bench_function("fixed point", |b| {
         let mut w = Box::new(Shrinkwrap::<Fx, MCU_VERTICES, MCU_TRIANGLES>::new(Fx::ZERO));
-        b.iter(|| w.run(&skeleton, &presets::WRAP).expect("wraps"));
+        b.iter(|| w.run(&skeleton, &wrap).expect("wraps"));
     });
     group.bench_function("f64", |b| {
         let mut w = Box::new(Shrinkwrap::<f64, MCU_VERTICES, MCU_TRIANGLES>::new(0.0));
-        b.iter(|| w.run(&skeleton_f64, &presets::WRAP).expect("wraps"));
+        b.iter(|| w.run(&skeleton_f64, &wrap).expect("wraps"));
     });
     group.finish();
 }

@@ -7,8 +7,8 @@ use std::hint::black_box;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use morphogen::Error;
 use morphogen::fx::{Fx, Real};
-use morphogen::horn::presets::RAM_HORN;
-use morphogen::horn::{Emit, HornKernel, Moment};
+use morphogen::horn::{Emit, HornKernel, HornParams, Moment};
+use morphogen::preset::Model;
 
 /// Places and emits one frame, folding every point into a checksum.
 fn frame<R: Real>(kernel: &mut HornKernel<'_, R>, t: Moment) -> Result<u64, Error> {
@@ -24,8 +24,18 @@ fn frame<R: Real>(kernel: &mut HornKernel<'_, R>, t: Moment) -> Result<u64, Erro
 }
 
 fn full_frame(c: &mut Criterion) {
-    let last = Moment::new(RAM_HORN.frames(), u32::from(RAM_HORN.frames_per_year));
-    let mut fixed = HornKernel::<Fx>::new(&RAM_HORN).expect("valid preset");
+    let scenario = morphogen_scenario::builtin("ram-horn").expect("a built-in scenario");
+    scenario.with_preset(|p| {
+        let Model::Horn(ram_horn) = p.model else {
+            unreachable!("ram-horn is a horn")
+        };
+        bench_full_frame(c, ram_horn);
+    });
+}
+
+fn bench_full_frame(c: &mut Criterion, ram_horn: &HornParams<'_>) {
+    let last = Moment::new(ram_horn.frames(), u32::from(ram_horn.frames_per_year));
+    let mut fixed = HornKernel::<Fx>::new(ram_horn).expect("valid preset");
     fixed.place(last).expect("in range");
     let rings = u64::from(fixed.ring_count());
     let mut group = c.benchmark_group("ram-horn full frame");
@@ -33,7 +43,7 @@ fn full_frame(c: &mut Criterion) {
     group.bench_function("fx rings", |b| {
         b.iter(|| frame(&mut fixed, black_box(last)).expect("frame"))
     });
-    let mut reference = HornKernel::<f64>::new(&RAM_HORN).expect("valid preset");
+    let mut reference = HornKernel::<f64>::new(ram_horn).expect("valid preset");
     group.bench_function("f64 rings", |b| {
         b.iter(|| frame(&mut reference, black_box(last)).expect("frame"))
     });

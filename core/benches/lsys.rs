@@ -8,7 +8,8 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use morphogen::lsys::{Buffered, Derivation, Grammar, LSystem, Module, Streaming, presets};
+use morphogen::lsys::{Buffered, Derivation, Grammar, LSystem, Module, Streaming};
+use morphogen::preset::Model;
 use morphogen::sim::Simulation;
 use morphogen::stream::{Record, Sink, SinkError};
 
@@ -23,9 +24,19 @@ impl Sink for Count {
     }
 }
 
+/// The grammar text of the built-in L-system scenario `name`.
+fn grammar_text(name: &str) -> String {
+    let scenario = morphogen_scenario::builtin(name).expect("a built-in scenario");
+    scenario.with_preset(|p| match p.model {
+        Model::LSystem(text) => text.to_owned(),
+        _ => unreachable!("{name} is an L-system"),
+    })
+}
+
 fn shrub() -> Grammar {
     let mut g = Grammar::new();
-    g.parse(presets::SHRUB).expect("the shrub parses");
+    g.parse(&grammar_text("abop-shrub"))
+        .expect("the shrub parses");
     g
 }
 
@@ -59,10 +70,11 @@ fn derive(c: &mut Criterion) {
 fn draw(c: &mut Criterion) {
     let mut group = c.benchmark_group("shrub_turtle");
     group.throughput(Throughput::Elements(3_891));
+    let shrub = grammar_text("abop-shrub");
     group.bench_function("segments_streaming", |b| {
         let mut sim = Box::new(LSystem::new());
         b.iter(|| {
-            sim.load(presets::SHRUB, 0).expect("load");
+            sim.load(&shrub, 0).expect("load");
             let mut sink = Count(0);
             while !sim.step(&mut sink).expect("step").finished() {}
             sink.0
@@ -72,9 +84,10 @@ fn draw(c: &mut Criterion) {
 }
 
 fn parse(c: &mut Criterion) {
+    let monopodial = grammar_text("abop-monopodial");
     c.bench_function("parse_monopodial", |b| {
         let mut g = Grammar::new();
-        b.iter(|| g.parse(black_box(presets::MONOPODIAL)).expect("parse"));
+        b.iter(|| g.parse(black_box(&monopodial)).expect("parse"));
     });
 }
 

@@ -1,7 +1,8 @@
 //! Clonal mosaic costs (issue 6). Run with
-//! `cargo bench -p morphogen --bench mosaic`. The big mosaics are host
-//! presets (`host-cli/src/host_presets.rs`; the core has no heap): this
-//! bench runs them on its own `Vec`-backed store, as the host does.
+//! `cargo bench -p morphogen --bench mosaic`. The big mosaics run on the
+//! host (the core has no heap): this bench runs them as the host does, on
+//! the scenario crate's `Vec`-backed store
+//! ([`morphogen_scenario::run::VecStore`]).
 //!
 //! 1. `sansevieria` end to end on one core (the thesis's 25–30 minute run):
 //!    median of 5 wall-clock runs, with cell-relaxation steps per second.
@@ -15,64 +16,22 @@ use std::time::Instant;
 use criterion::{Criterion, criterion_group, criterion_main};
 use morphogen::mosaic::grid::Grid;
 use morphogen::mosaic::relaxation::{self, Forces};
-use morphogen::mosaic::store::{self, CellSlices, CellStore};
-use morphogen::mosaic::{MAX_TYPES, Mosaic, Params, presets};
-use morphogen::preset;
+use morphogen::mosaic::store::{self, CellStore};
+use morphogen::mosaic::{MAX_TYPES, McuStore, Mosaic, Params, host_capacity};
+use morphogen::preset::{Model, Preset};
 use morphogen::sim::Simulation;
 use morphogen::stream::{ByteSink, Encoder, Record, Sink, SinkError};
+use morphogen_scenario::run::VecStore;
 
-/// A cell store on the heap (the host's, `host-cli/src/host_presets.rs`).
-struct VecStore {
-    pos: Vec<[i32; 2]>,
-    kind: Vec<u8>,
-    next_division: Vec<u16>,
-    order: Vec<u32>,
-    push: Vec<[i32; 2]>,
-    bins: Vec<u32>,
-}
-
-impl VecStore {
-    fn new(cells: usize, bins: usize) -> VecStore {
-        VecStore {
-            pos: vec![[0; 2]; cells],
-            kind: vec![0; cells],
-            next_division: vec![0; cells],
-            order: vec![0; cells],
-            push: vec![[0; 2]; cells],
-            bins: vec![0; bins],
-        }
-    }
-
-    /// Sized like the host's store for `params`.
-    fn for_params(params: &Params) -> VecStore {
-        let cells = presets::host_capacity(params);
-        VecStore::new(cells, cells / 4 + 1)
-    }
-}
-
-impl CellStore for VecStore {
-    fn capacity(&self) -> usize {
-        self.pos.len()
-    }
-
-    fn slices(&mut self) -> CellSlices<'_> {
-        CellSlices {
-            pos: &mut self.pos,
-            kind: &mut self.kind,
-            next_division: &mut self.next_division,
-            order: &mut self.order,
-            push: &mut self.push,
-            bins: &mut self.bins,
-        }
-    }
-
-    fn positions(&self) -> &[[i32; 2]] {
-        &self.pos
-    }
-
-    fn kinds(&self) -> &[u8] {
-        &self.kind
-    }
+/// Calls `f` with the built-in mosaic scenario `name` and its parameters.
+fn with_mosaic<R>(name: &str, f: impl FnOnce(&Preset<'_>, &Params<'_>) -> R) -> R {
+    let scenario = morphogen_scenario::builtin(name).expect("a built-in scenario");
+    scenario.with_preset(|p| {
+        let Model::Mosaic(params) = p.model else {
+            unreachable!("{name} is a mosaic")
+        };
+        f(p, params)
+    })
 }
 
 /// Counts bytes like a file would.
@@ -94,8 +53,8 @@ impl Sink for Null {
 }
 
 /// Cell-relaxation steps of one sansevieria run: Σ over relaxations of N.
-fn relaxation_steps(params: &'static Params) -> u64 {
-    let mut m = Mosaic::new(VecStore::for_params(params));
+fn relaxation_steps(params: &Params<'_>) -> u64 {
+    let mut m = Mosaic::new(VecStore::new(host_capacity(params)));
     m.start(params, 1).ok();
     let mut steps = 0u64;
     loop {
@@ -113,52 +72,45 @@ fn relaxation_steps(params: &'static Params) -> u64 {
 }
 
 fn end_to_end() {
-    let params = &presets::SANSEVIERIA;
-    let seed = 1; // the host preset's default
-    let mut times = Vec::new();
-    let mut bytes = 0;
-    for _ in 0..5 {
-        let mut encoder = Encoder::new(Bytes(0));
-        let t = Instant::now();
-        // As the host runs it: header, then every step.
-        let mut m = Mosaic::new(VecStore::for_params(params));
-        m.start(params, seed).expect("valid");
-        encoder
-            .record(&preset::header(
-                "sansevieria",
-                seed,
-                morphogen::stream::params_digest(params),
-            ))
-            .expect("header");
-        while !m.step(&mut encoder).expect("runs").finished() {}
-        times.push(t.elapsed().as_secs_f64());
-        bytes = encoder.into_writer().0;
-    }
-    times.sort_by(f64::total_cmp);
-    let median = times[2];
-    let steps = relaxation_steps(&presets::SANSEVIERIA);
-    println!(
-        "sansevieria end to end (1 core): median of 5 = {:.3} s (runs {:?}), {bytes} stream bytes; \
-         {steps} cell-relaxation steps = {:.1} M steps/s",
-        median,
-        times
-            .iter()
-            .map(|t| (t * 1000.0).round() / 1000.0)
-            .collect::<Vec<_>>(),
-        steps as f64 / median / 1e6
-    );
+    with_mosaic("sansevieria", |preset, params| {
+        let seed = preset.default_seed;
+        let mut times = Vec::new();
+        let mut bytes = 0;
+        for _ in 0..5 {
+            let mut encoder = Encoder::new(Bytes(0));
+            let t = Instant::now();
+            // As the host runs it: header, then every step.
+            morphogen_scenario::run::run(preset, seed, &mut encoder, &mut |_| {}).expect("runs");
+            times.push(t.elapsed().as_secs_f64());
+            bytes = encoder.into_writer().0;
+        }
+        times.sort_by(f64::total_cmp);
+        let median = times[2];
+        let steps = relaxation_steps(params);
+        println!(
+            "sansevieria end to end (1 core): median of 5 = {:.3} s (runs {:?}), {bytes} stream bytes; \
+             {steps} cell-relaxation steps = {:.1} M steps/s",
+            median,
+            times
+                .iter()
+                .map(|t| (t * 1000.0).round() / 1000.0)
+                .collect::<Vec<_>>(),
+            steps as f64 / median / 1e6
+        );
+    });
     println!(
         "RAM per cell: {} B in the arrays + 4 B per grid bin; MCU store ArrayStore<2048, 513> = {} B = {:.3} B/cell",
         store::CELL_BYTES,
-        core::mem::size_of::<presets::McuStore>(),
-        core::mem::size_of::<presets::McuStore>() as f64 / 2048.0
+        core::mem::size_of::<McuStore>(),
+        core::mem::size_of::<McuStore>() as f64 / 2048.0
     );
 }
 
-/// A croton-like configuration of `n` cells after a few relaxations.
-fn configuration(n: u32) -> (&'static Params, Mosaic<VecStore>) {
+/// A croton-like configuration of `n` cells: `croton` on a periodic
+/// square of area about `n`, no days, 5 initial relaxations.
+fn configuration<'a>(croton: &Params<'a>, n: u32) -> Params<'a> {
     let side = f64::from(n).sqrt();
-    let params: &'static Params = Box::leak(Box::new(Params {
+    Params {
         initial_cells: n,
         days: 0,
         initial_relaxations: 5,
@@ -166,40 +118,48 @@ fn configuration(n: u32) -> (&'static Params, Mosaic<VecStore>) {
             morphogen::fx::Fx::from_int(side.round() as i32),
             morphogen::fx::Fx::from_int((f64::from(n) / side.round()).round() as i32),
         ),
-        ..presets::CROTON
-    }));
-    let mut m = Mosaic::new(VecStore::new(n as usize, n as usize / 4 + 1));
+        ..*croton
+    }
+}
+
+/// `params`' cells after its initial relaxations.
+fn relaxed<'a>(params: &'a Params<'a>) -> Mosaic<'a, VecStore> {
+    let n = params.initial_cells as usize;
+    let mut m = Mosaic::new(VecStore::new(n));
     m.start(params, 1).expect("valid");
     while !m.step(&mut Null).expect("runs").finished() {}
-    (params, m)
+    m
 }
 
 fn grid_vs_naive(c: &mut Criterion) {
     end_to_end();
     let mut g = c.benchmark_group("mosaic relaxation step");
     g.sample_size(10);
-    for n in [2_000u32, 15_000] {
-        let (params, mut m) = configuration(n);
-        let radius = m.radius().to_bits();
-        let len = m.len();
-        let forces = Forces {
-            domain: &params.domain,
-            radius,
-            repel: [[1 << 16; MAX_TYPES]; MAX_TYPES],
-            push_weight: params.push_weight.to_bits(),
-            anisotropy_weight: 0,
-            field: None,
-        };
-        let store = m.store_mut();
-        let bins = store.slices().bins.len() - 1;
-        let grid = Grid::plan(&params.domain, radius, bins);
-        g.bench_function(format!("grid {n}"), |b| {
-            b.iter(|| relaxation::relax(&mut store.slices(), black_box(len), &grid, &forces));
-        });
-        g.bench_function(format!("naive {n}"), |b| {
-            b.iter(|| relaxation::relax_naive(&mut store.slices(), black_box(len), &forces));
-        });
-    }
+    with_mosaic("croton", |_, croton| {
+        for n in [2_000u32, 15_000] {
+            let params = configuration(croton, n);
+            let mut m = relaxed(&params);
+            let radius = m.radius().to_bits();
+            let len = m.len();
+            let forces = Forces {
+                domain: &params.domain,
+                radius,
+                repel: [[1 << 16; MAX_TYPES]; MAX_TYPES],
+                push_weight: params.push_weight.to_bits(),
+                anisotropy_weight: 0,
+                field: None,
+            };
+            let store = m.store_mut();
+            let bins = store.slices().bins.len() - 1;
+            let grid = Grid::plan(&params.domain, radius, bins);
+            g.bench_function(format!("grid {n}"), |b| {
+                b.iter(|| relaxation::relax(&mut store.slices(), black_box(len), &grid, &forces));
+            });
+            g.bench_function(format!("naive {n}"), |b| {
+                b.iter(|| relaxation::relax_naive(&mut store.slices(), black_box(len), &forces));
+            });
+        }
+    });
     g.finish();
 }
 

@@ -32,7 +32,9 @@ impl Sigmoid {
     /// The seasonal growth of a horn module over one year starting on
     /// 1 January: fastest at the turn of May and June (day 151.5),
     /// width 22 days, so May and June together add 60 % of the year's
-    /// growth while October to February add under 6 % (horn paper, Sec. 2).
+    /// growth while October to February add under 6 % (horn paper, Sec. 2;
+    /// the `growth-curve` and `ram-horn` scenarios' sigmoid).
+    #[cfg(test)]
     pub const SEASONAL_YEAR: Sigmoid = Sigmoid {
         centre: Fx::from_ratio(303, 2),
         width: Fx::from_int(22),

@@ -8,8 +8,8 @@ use serde::Serialize;
 
 use crate::Error;
 use crate::fx::Fx;
-use crate::growth::{Sigmoid, YEAR_DAYS};
-use crate::sim::{Progress, Simulation};
+use crate::growth::Sigmoid;
+use crate::sim::{Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 
 /// Series index of the cumulative growth f(t).
@@ -27,12 +27,6 @@ pub struct Params {
     pub days: u16,
 }
 
-/// The preset's parameters.
-pub const PARAMS: Params = Params {
-    growth: Sigmoid::SEASONAL_YEAR,
-    days: YEAR_DAYS as u16,
-};
-
 /// The daily sampler.
 #[derive(Clone, Debug)]
 pub struct GrowthCurve {
@@ -47,8 +41,28 @@ impl GrowthCurve {
         GrowthCurve { params, day: 0 }
     }
 
+    /// Nothing to sample until started (`const`, for a `static`).
+    pub const IDLE: GrowthCurve = GrowthCurve::new(Params {
+        growth: Sigmoid {
+            centre: Fx::ZERO,
+            width: Fx::ONE,
+            span: Fx::ONE,
+        },
+        days: 0,
+    });
+
     fn total(&self) -> u32 {
         self.params.days as u32 + 1
+    }
+}
+
+impl Start<'_> for GrowthCurve {
+    type Params = Params;
+
+    /// The curve has no randomness: `seed` is not used.
+    fn start(&mut self, params: &Params, _seed: u64) -> Result<(), Error> {
+        *self = GrowthCurve::new(*params);
+        Ok(())
     }
 }
 

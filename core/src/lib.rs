@@ -6,11 +6,15 @@
 //! use morphogen::preset::{self, Runner};
 //! use morphogen::stream::Encoder;
 //!
-//! let preset = preset::find("growth-curve").unwrap();
-//! let mut encoder = Encoder::new(heapless::Vec::<u8, 16384>::new());
-//! preset::run(preset, 0, &mut Runner::new(), &mut encoder, &mut |_| {}).unwrap();
-//! assert!(encoder.frames() > 700);
-//! println!("digest {:016x}", encoder.digest());
+//! // A built-in scenario (`scenarios/growth-curve.toml`), read by the std
+//! // crate `morphogen-scenario`; the firmware compiles its presets in.
+//! let scenario = morphogen_scenario::builtin("growth-curve").unwrap();
+//! scenario.with_preset(|preset| {
+//!     let mut encoder = Encoder::new(heapless::Vec::<u8, 16384>::new());
+//!     preset::run(preset, 0, &mut Runner::new(), &mut encoder, &mut |_| {}).unwrap();
+//!     assert!(encoder.frames() > 700);
+//!     println!("digest {:016x}", encoder.digest());
+//! });
 //! ```
 #![cfg_attr(not(test), no_std)]
 #![forbid(unsafe_code)]

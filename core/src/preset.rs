@@ -14,7 +14,7 @@ use crate::growth_curve::{self, GrowthCurve};
 use crate::horn::{Horn, HornParams};
 use crate::lsys::LSystem;
 use crate::mosaic::{self, McuStore, Mosaic, Params as MosaicParams};
-use crate::sim::{Progress, Simulation};
+use crate::sim::{Progress, Simulation, Start};
 use crate::stream::{FORMAT_VERSION, Header, PresetName, Record, Sink, params_digest};
 
 /// A model and its parameters: what a scenario file describes, checked.
@@ -149,14 +149,49 @@ pub enum Runner<'a> {
     Bones(Bones<'a, MCU_VERTICES, MCU_TRIANGLES>),
 }
 
-/// An empty MCU mosaic, written into the runner in place (a `const` of
-/// zeros, so no 49 KB temporary on a small stack).
-const EMPTY_MCU_MOSAIC: Mosaic<'static, McuStore> = Mosaic::new(McuStore::EMPTY);
-/// An empty L-system, written into the runner in place.
-const EMPTY_LSYSTEM: LSystem = LSystem::new();
-/// An empty bone simulation, written into the runner in place (its mesh
-/// buffers are uninitialised capacity, so no 48 KB temporary).
-const EMPTY_BONES: Bones<'static, MCU_VERTICES, MCU_TRIANGLES> = Bones::new();
+/// Defines `fn $name(runner, params, seed)`: puts an idle `$variant` into
+/// the runner unless it holds one (an idle model is a `const`, written in
+/// place: no model-sized temporary on a small stack), then starts it. Not
+/// inlined, so that the start of one model does not add its temporaries to
+/// the stack frame of every other's.
+macro_rules! start_in_place {
+    ($name:ident, $variant:ident, $params:ty, $idle:expr) => {
+        #[inline(never)]
+        fn $name<'a>(runner: &mut Runner<'a>, params: &'a $params, seed: u64) -> Result<(), Error> {
+            if !matches!(runner, Runner::$variant(_)) {
+                *runner = Runner::$variant($idle);
+            }
+            match runner {
+                Runner::$variant(sim) => Start::start(sim, params, seed),
+                _ => Err(Error::NotStarted),
+            }
+        }
+    };
+}
+
+/// The growth curve copies its parameters: they need not outlive the call.
+#[inline(never)]
+fn start_curve(
+    runner: &mut Runner<'_>,
+    params: &growth_curve::Params,
+    seed: u64,
+) -> Result<(), Error> {
+    let mut curve = GrowthCurve::IDLE;
+    let started = Start::start(&mut curve, params, seed);
+    *runner = Runner::GrowthCurve(curve);
+    started
+}
+
+start_in_place!(start_horn, Horn, HornParams<'a>, Horn::IDLE);
+start_in_place!(
+    start_mosaic,
+    Mosaic,
+    MosaicParams<'a>,
+    Mosaic::new(McuStore::EMPTY)
+);
+start_in_place!(start_lsystem, LSystem, str, LSystem::new());
+start_in_place!(start_body, Body, BodyParams<'a>, Body::new());
+start_in_place!(start_bones, Bones, BonesParams<'a>, Bones::new());
 
 impl<'a> Runner<'a> {
     /// An idle runner (`const`, for a `static`).
@@ -165,60 +200,20 @@ impl<'a> Runner<'a> {
         Runner::Idle
     }
 
-    /// Starts `model` with `seed` in place (reusing the state of the same
-    /// model, so that no model-sized temporary lands on the stack).
+    /// Starts `model` with `seed` in place, through the model's
+    /// [`Start`].
     ///
     /// # Errors
     /// The model's refusal of its parameters (each names the limit or the
     /// parameter); the runner is then idle.
     pub fn start(&mut self, model: &Model<'a>, seed: u64) -> Result<(), Error> {
         let result = match *model {
-            Model::GrowthCurve(p) => {
-                *self = Runner::GrowthCurve(GrowthCurve::new(p));
-                Ok(())
-            }
-            Model::Horn(p) => {
-                let horn = Horn::new(p);
-                let checked = horn.check();
-                *self = Runner::Horn(horn);
-                checked
-            }
-            Model::Mosaic(p) => {
-                if !matches!(self, Runner::Mosaic(_)) {
-                    *self = Runner::Mosaic(EMPTY_MCU_MOSAIC);
-                }
-                match self {
-                    Runner::Mosaic(m) => m.start(p, seed),
-                    _ => Err(Error::NotStarted),
-                }
-            }
-            Model::LSystem(grammar) => {
-                if !matches!(self, Runner::LSystem(_)) {
-                    *self = Runner::LSystem(EMPTY_LSYSTEM);
-                }
-                match self {
-                    Runner::LSystem(sim) => sim.load(grammar, seed).map_err(Error::from),
-                    _ => Err(Error::NotStarted),
-                }
-            }
-            Model::Body(p) => {
-                if !matches!(self, Runner::Body(_)) {
-                    *self = Runner::Body(Body::new());
-                }
-                match self {
-                    Runner::Body(sim) => sim.start(p),
-                    _ => Err(Error::NotStarted),
-                }
-            }
-            Model::Bones(p) => {
-                if !matches!(self, Runner::Bones(_)) {
-                    *self = Runner::Bones(EMPTY_BONES);
-                }
-                match self {
-                    Runner::Bones(sim) => sim.start(p, seed),
-                    _ => Err(Error::NotStarted),
-                }
-            }
+            Model::GrowthCurve(ref p) => start_curve(self, p, seed),
+            Model::Horn(p) => start_horn(self, p, seed),
+            Model::Mosaic(p) => start_mosaic(self, p, seed),
+            Model::LSystem(grammar) => start_lsystem(self, grammar, seed),
+            Model::Body(p) => start_body(self, p, seed),
+            Model::Bones(p) => start_bones(self, p, seed),
         };
         if result.is_err() {
             *self = Runner::Idle;

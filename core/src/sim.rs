@@ -28,6 +28,22 @@ pub trait Simulation {
     /// Runs one step, pushing its records into `sink`.
     ///
     /// # Errors
-    /// A full sink, or a model limit (each names the limit).
+    /// A full sink, or a model limit (each names the limit); `NotStarted`
+    /// before a successful [`Start::start`].
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error>;
+}
+
+/// How every model starts: from its checked parameters and a seed, in
+/// place (so that a model's state, tens of KB on an MCU, is never a
+/// temporary), ready to step or refused with the reason.
+pub trait Start<'a>: Simulation {
+    /// The parameters it starts from.
+    type Params: ?Sized;
+
+    /// (Re)starts from `params` and `seed`.
+    ///
+    /// # Errors
+    /// The parameter or limit that refuses the run; stepping then returns
+    /// the same error.
+    fn start(&mut self, params: &'a Self::Params, seed: u64) -> Result<(), Error>;
 }

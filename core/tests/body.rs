@@ -6,10 +6,11 @@ use morphogen::Error;
 use morphogen::body::binding::MAX_BINDINGS;
 use morphogen::body::skeleton::Skeleton;
 use morphogen::body::{
-    Body, BodyError, BodyModel, BodyParams, Cylinder, Drive, Joint, Label, MAX_CYLINDERS, presets,
+    Body, BodyError, BodyModel, BodyParams, Cylinder, Drive, Joint, Label, MAX_CYLINDERS,
     quadruped, solve,
 };
 use morphogen::fx::{Fx, Real};
+use morphogen::preset::Model;
 use morphogen::sim::Simulation;
 use morphogen::stream::{Record, Sink, SinkError};
 use nalgebra::Vector3;
@@ -35,53 +36,65 @@ fn posed<R: Real>(params: &BodyParams<'_>, frame: u32) -> Skeleton<R, MAX_CYLIND
     s
 }
 
-const ALL: [&BodyParams<'static>; 3] = [
-    &presets::HORSE_GROWTH,
-    &presets::COW_GROWTH,
-    &presets::HORSE_TROT,
-];
+/// Calls `f` with the parameters of the built-in body scenario `name`.
+fn with_body<R>(name: &str, f: impl FnOnce(&BodyParams<'_>) -> R) -> R {
+    let scenario = morphogen_scenario::builtin(name).unwrap();
+    scenario.with_preset(|p| {
+        let Model::Body(params) = p.model else {
+            unreachable!("{name} is not a body")
+        };
+        f(params)
+    })
+}
+
+/// The built-in body scenarios.
+const ALL: [&str; 3] = ["horse-growth", "cow-growth", "horse-trot"];
 
 #[test]
 fn at_every_table_age_the_deformed_features_have_the_tables_lengths() {
     let mut worst: f64 = 0.0;
-    for params in [&presets::HORSE_GROWTH, &presets::COW_GROWTH] {
-        let (model, table) = (params.model, params.table);
-        for (k, age) in table.ages.iter().enumerate() {
-            let frame = (0..u32::from(params.frames))
-                .find(|&f| params.age(f) == *age)
-                .unwrap();
-            let s = posed::<Fx>(params, frame);
-            for (c, cyl) in model.cylinders.iter().enumerate() {
-                for (i, f) in cyl.features.iter().enumerate() {
-                    let got = s.feature_length(cyl, c, i).unwrap().to_f64();
-                    let want = match f.drive {
-                        // The measurement itself, straight from the table.
-                        Drive::Measured(col) => table.columns[usize::from(col)].values[k].to_f64(),
-                        Drive::Follows(_) => {
-                            let rest = s.rest(c).unwrap();
-                            solve::feature_target(
-                                cyl,
-                                rest,
-                                i,
-                                table,
-                                *age,
-                                Fx::from_fx(model.model_age),
-                            )
-                            .unwrap()
-                            .to_f64()
-                        }
-                    };
-                    let err = (got - want).abs() / want;
-                    worst = worst.max(err);
-                    assert!(
-                        err < 0.005,
-                        "{} at {age} months: {} feature {i} is {got}, table {want}",
-                        table.unit,
-                        cyl.name
-                    );
+    for name in ["horse-growth", "cow-growth"] {
+        with_body(name, |params| {
+            let (model, table) = (params.model, params.table);
+            for (k, age) in table.ages.iter().enumerate() {
+                let frame = (0..u32::from(params.frames))
+                    .find(|&f| params.age(f) == *age)
+                    .unwrap();
+                let s = posed::<Fx>(params, frame);
+                for (c, cyl) in model.cylinders.iter().enumerate() {
+                    for (i, f) in cyl.features.iter().enumerate() {
+                        let got = s.feature_length(cyl, c, i).unwrap().to_f64();
+                        let want = match f.drive {
+                            // The measurement itself, straight from the table.
+                            Drive::Measured(col) => {
+                                table.columns[usize::from(col)].values[k].to_f64()
+                            }
+                            Drive::Follows(_) => {
+                                let rest = s.rest(c).unwrap();
+                                solve::feature_target(
+                                    cyl,
+                                    rest,
+                                    i,
+                                    table,
+                                    *age,
+                                    Fx::from_fx(model.model_age),
+                                )
+                                .unwrap()
+                                .to_f64()
+                            }
+                        };
+                        let err = (got - want).abs() / want;
+                        worst = worst.max(err);
+                        assert!(
+                            err < 0.005,
+                            "{} at {age} months: {} feature {i} is {got}, table {want}",
+                            table.unit,
+                            cyl.name
+                        );
+                    }
                 }
             }
-        }
+        });
     }
     println!(
         "largest relative feature-length error at table ages: {:.4} %",
@@ -92,30 +105,31 @@ fn at_every_table_age_the_deformed_features_have_the_tables_lengths() {
 
 #[test]
 fn joints_do_not_change_feature_lengths() {
-    let params = &presets::HORSE_TROT;
-    for frame in 0..u32::from(params.frames) {
-        let s = posed::<f64>(params, frame);
-        for (c, cyl) in params.model.cylinders.iter().enumerate() {
-            for i in 0..2 {
-                let rest = s.rest(c).unwrap();
-                let want = solve::feature_target(
-                    cyl,
-                    rest,
-                    i,
-                    params.table,
-                    params.age(frame).to_f64(),
-                    60.0,
-                )
-                .unwrap();
-                let got = s.feature_length(cyl, c, i).unwrap();
-                assert!(
-                    (got - want).abs() < 1e-9 * want.max(1.0),
-                    "{} frame {frame}",
-                    cyl.name
-                );
+    with_body("horse-trot", |params| {
+        for frame in 0..u32::from(params.frames) {
+            let s = posed::<f64>(params, frame);
+            for (c, cyl) in params.model.cylinders.iter().enumerate() {
+                for i in 0..2 {
+                    let rest = s.rest(c).unwrap();
+                    let want = solve::feature_target(
+                        cyl,
+                        rest,
+                        i,
+                        params.table,
+                        params.age(frame).to_f64(),
+                        60.0,
+                    )
+                    .unwrap();
+                    let got = s.feature_length(cyl, c, i).unwrap();
+                    assert!(
+                        (got - want).abs() < 1e-9 * want.max(1.0),
+                        "{} frame {frame}",
+                        cyl.name
+                    );
+                }
             }
         }
-    }
+    });
 }
 
 /// A small deterministic generator for the property tests.
@@ -152,46 +166,50 @@ fn weights_sum_exactly_to_one_and_are_never_negative() {
         );
         blended[b.len()] += 1;
     };
-    for (params, extent) in [(&presets::HORSE_GROWTH, 900), (&presets::COW_GROWTH, 1500)] {
-        let model = params.model;
-        let mut s = FxSkeleton::new();
-        s.load(model, params.table).unwrap();
-        for i in 0..model.mesh.vertex_count() {
-            check(&s, model.mesh.vertex(i).unwrap());
-        }
-        for _ in 0..20_000 {
-            let p = Vector3::new(
-                rng.fx(-extent, extent),
-                rng.fx(-100, extent + 400),
-                rng.fx(-extent / 3, extent / 3),
-            );
-            check(&s, p);
-        }
+    for (name, extent) in [("horse-growth", 900), ("cow-growth", 1500)] {
+        with_body(name, |params| {
+            let model = params.model;
+            let mut s = FxSkeleton::new();
+            s.load(model, params.table).unwrap();
+            for i in 0..model.mesh.vertex_count() {
+                check(&s, model.mesh.vertex(i).unwrap());
+            }
+            for _ in 0..20_000 {
+                let p = Vector3::new(
+                    rng.fx(-extent, extent),
+                    rng.fx(-100, extent + 400),
+                    rng.fx(-extent / 3, extent / 3),
+                );
+                check(&s, p);
+            }
+        });
     }
-    for _ in 0..200 {
-        let n = 2 + (rng.next() % (MAX_BINDINGS as u64 - 1)) as usize;
-        let mut cylinders = vec![quadruped::HORSE_CYLINDERS[0]; n];
-        for (i, c) in cylinders.iter_mut().enumerate() {
-            c.parent = i.checked_sub(1).map(|p| p as u8);
-            c.base = [rng.fx(-50, 50), rng.fx(-50, 50), rng.fx(-50, 50)];
-            c.tip = [rng.fx(-300, 300), rng.fx(-300, 300), rng.fx(-300, 300)];
-            c.radius = rng.fx(20, 150);
-        }
-        let model = BodyModel {
-            cylinders: &cylinders,
-            ..quadruped::HORSE
-        };
-        let mut s = FxSkeleton::new();
-        if s.load(&model, presets::HORSE_GROWTH.table).is_err() {
-            continue; // a degenerate random cylinder
-        }
+    with_body("horse-growth", |horse| {
         for _ in 0..200 {
-            check(
-                &s,
-                Vector3::new(rng.fx(-150, 150), rng.fx(-150, 150), rng.fx(-150, 150)),
-            );
+            let n = 2 + (rng.next() % (MAX_BINDINGS as u64 - 1)) as usize;
+            let mut cylinders = vec![quadruped::HORSE_CYLINDERS[0]; n];
+            for (i, c) in cylinders.iter_mut().enumerate() {
+                c.parent = i.checked_sub(1).map(|p| p as u8);
+                c.base = [rng.fx(-50, 50), rng.fx(-50, 50), rng.fx(-50, 50)];
+                c.tip = [rng.fx(-300, 300), rng.fx(-300, 300), rng.fx(-300, 300)];
+                c.radius = rng.fx(20, 150);
+            }
+            let model = BodyModel {
+                cylinders: &cylinders,
+                ..quadruped::HORSE
+            };
+            let mut s = FxSkeleton::new();
+            if s.load(&model, horse.table).is_err() {
+                continue; // a degenerate random cylinder
+            }
+            for _ in 0..200 {
+                check(
+                    &s,
+                    Vector3::new(rng.fx(-150, 150), rng.fx(-150, 150), rng.fx(-150, 150)),
+                );
+            }
         }
-    }
+    });
     println!("vertices by number of blended cylinders: {blended:?}");
     // Exercised well beyond the original program's limit of two.
     assert!(blended[3..].iter().sum::<u32>() > 1000, "{blended:?}");
@@ -211,65 +229,71 @@ fn deformed<R: Real>(params: &BodyParams<'_>, frame: u32) -> Vec<Vector3<R>> {
 fn no_cracks_neighbours_move_continuously() {
     // Bound on |Δ displacement| / |edge| over every mesh edge, every frame.
     const BOUND: f64 = 2.5;
-    for params in ALL {
-        let mesh = &params.model.mesh;
-        let model: Vec<Vector3<f64>> = (0..mesh.vertex_count())
-            .map(|i| mesh.vertex::<f64>(i).unwrap())
-            .collect();
-        let mut worst: (f64, u32, u32, u32) = (0.0, 0, 0, 0);
-        for frame in 0..u32::from(params.frames) {
-            let now: Vec<Vector3<f64>> = deformed::<Fx>(params, frame)
-                .iter()
-                .map(|p| p.map(Fx::to_f64))
+    for name in ALL {
+        with_body(name, |params| {
+            let mesh = &params.model.mesh;
+            let model: Vec<Vector3<f64>> = (0..mesh.vertex_count())
+                .map(|i| mesh.vertex::<f64>(i).unwrap())
                 .collect();
-            mesh.for_each_edge(|a, b| {
-                let (a, b) = (a as usize, b as usize);
-                let edge = n(model[b] - model[a]);
-                let jump = n((now[b] - model[b]) - (now[a] - model[a]));
-                let ratio = jump / edge.max(1e-3);
-                if ratio > worst.0 {
-                    worst = (ratio, frame, a as u32, b as u32);
-                }
-            });
-        }
-        println!(
-            "{}: largest displacement difference between neighbours {:.3} x edge length (frame {}, vertices {}-{})",
-            params.table.unit, worst.0, worst.1, worst.2, worst.3
-        );
-        assert!(worst.0 < BOUND, "{worst:?}");
+            let mut worst: (f64, u32, u32, u32) = (0.0, 0, 0, 0);
+            for frame in 0..u32::from(params.frames) {
+                let now: Vec<Vector3<f64>> = deformed::<Fx>(params, frame)
+                    .iter()
+                    .map(|p| p.map(Fx::to_f64))
+                    .collect();
+                mesh.for_each_edge(|a, b| {
+                    let (a, b) = (a as usize, b as usize);
+                    let edge = n(model[b] - model[a]);
+                    let jump = n((now[b] - model[b]) - (now[a] - model[a]));
+                    let ratio = jump / edge.max(1e-3);
+                    if ratio > worst.0 {
+                        worst = (ratio, frame, a as u32, b as u32);
+                    }
+                });
+            }
+            println!(
+                "{}: largest displacement difference between neighbours {:.3} x edge length (frame {}, vertices {}-{})",
+                params.table.unit, worst.0, worst.1, worst.2, worst.3
+            );
+            assert!(worst.0 < BOUND, "{worst:?}");
+        });
     }
 }
 
 #[test]
 fn fixed_point_follows_the_f64_reference() {
-    for params in ALL {
-        let mut worst: f64 = 0.0;
-        for frame in 0..u32::from(params.frames) {
-            let fx = deformed::<Fx>(params, frame);
-            let reference = deformed::<f64>(params, frame);
-            for (a, b) in fx.iter().zip(&reference) {
-                worst = worst.max(n(a.map(Fx::to_f64) - b));
+    for name in ALL {
+        with_body(name, |params| {
+            let mut worst: f64 = 0.0;
+            for frame in 0..u32::from(params.frames) {
+                let fx = deformed::<Fx>(params, frame);
+                let reference = deformed::<f64>(params, frame);
+                for (a, b) in fx.iter().zip(&reference) {
+                    worst = worst.max(n(a.map(Fx::to_f64) - b));
+                }
             }
-        }
-        println!(
-            "fixed vs f64, largest vertex deviation {worst:.5} {} over {} frames",
-            params.table.unit, params.frames
-        );
-        // 0.02 units: 0.05 mm on the horse (inches), 0.2 mm on the cow (cm).
-        assert!(worst < 0.02, "{worst}");
+            println!(
+                "fixed vs f64, largest vertex deviation {worst:.5} {} over {} frames",
+                params.table.unit, params.frames
+            );
+            // 0.02 units: 0.05 mm on the horse (inches), 0.2 mm on the cow (cm).
+            assert!(worst < 0.02, "{worst}");
+        });
     }
 }
 
 #[test]
 fn at_the_models_age_and_pose_the_body_is_the_model() {
-    for (params, frame) in [(&presets::HORSE_GROWTH, 10), (&presets::COW_GROWTH, 12)] {
-        let mesh = &params.model.mesh;
-        let now = deformed::<Fx>(params, frame);
-        for (i, p) in now.iter().enumerate() {
-            let m = mesh.vertex::<Fx>(i as u32).unwrap();
-            let d = n((p - m).map(Fx::to_f64));
-            assert!(d < 0.01, "vertex {i} moved {d}");
-        }
+    for (name, frame) in [("horse-growth", 10), ("cow-growth", 12)] {
+        with_body(name, |params| {
+            let mesh = &params.model.mesh;
+            let now = deformed::<Fx>(params, frame);
+            for (i, p) in now.iter().enumerate() {
+                let m = mesh.vertex::<Fx>(i as u32).unwrap();
+                let d = n((p - m).map(Fx::to_f64));
+                assert!(d < 0.01, "vertex {i} moved {d}");
+            }
+        });
     }
 }
 
@@ -277,8 +301,9 @@ fn at_the_models_age_and_pose_the_body_is_the_model() {
 fn growth_moves_the_body_the_right_way() {
     // The foal is smaller than the horse: the withers (top of the spine
     // tube) are lower and the legs shorter; hooves stay on the ground.
-    let params = &presets::HORSE_GROWTH;
-    let (foal, horse) = (deformed::<f64>(params, 0), deformed::<f64>(params, 10));
+    let (foal, horse) = with_body("horse-growth", |params| {
+        (deformed::<f64>(params, 0), deformed::<f64>(params, 10))
+    });
     let top = |v: &[Vector3<f64>]| v.iter().map(|p| p.y).fold(f64::MIN, f64::max);
     let bottom = |v: &[Vector3<f64>]| v.iter().map(|p| p.y).fold(f64::MAX, f64::min);
     assert!(
@@ -292,18 +317,18 @@ fn growth_moves_the_body_the_right_way() {
 
 #[test]
 fn binding_summary_counts_unbound_vertices() {
-    for (model, table) in [
-        (&quadruped::HORSE, presets::HORSE_GROWTH.table),
-        (&quadruped::COW, presets::COW_GROWTH.table),
-    ] {
-        let s = morphogen::body::binding_summary::<MAX_CYLINDERS>(model, table).unwrap();
-        println!("binding: {s:?}");
-        assert_eq!(s.vertices, model.mesh.vertex_count());
-        assert_eq!(s.unbound + s.by_count.iter().sum::<u32>(), s.vertices);
-        // Every vertex of the built-in bodies is inside a cylinder, and
-        // the joints blend neighbouring cylinders.
-        assert_eq!(s.unbound, 0, "{s:?}");
-        assert!(s.by_count[2] > s.vertices / 10, "little overlap: {s:?}");
+    for name in ["horse-growth", "cow-growth"] {
+        with_body(name, |params| {
+            let (model, table) = (params.model, params.table);
+            let s = morphogen::body::binding_summary::<MAX_CYLINDERS>(model, table).unwrap();
+            println!("binding: {s:?}");
+            assert_eq!(s.vertices, model.mesh.vertex_count());
+            assert_eq!(s.unbound + s.by_count.iter().sum::<u32>(), s.vertices);
+            // Every vertex of the built-in bodies is inside a cylinder, and
+            // the joints blend neighbouring cylinders.
+            assert_eq!(s.unbound, 0, "{s:?}");
+            assert!(s.by_count[2] > s.vertices / 10, "little overlap: {s:?}");
+        });
     }
 }
 
@@ -318,53 +343,54 @@ impl Sink for Collect {
 
 #[test]
 fn a_frame_is_the_deformed_mesh_at_its_age() {
-    let params = &presets::COW_GROWTH;
-    let mut body: Body = Body::new();
-    body.start(params);
-    let mut sink = Collect::default();
-    while !body.step(&mut sink).unwrap().finished() {}
-    let starts: Vec<Fx> = sink
-        .0
-        .iter()
-        .filter_map(|r| match r {
-            Record::FrameStart { time, .. } => Some(*time),
-            _ => None,
-        })
-        .collect();
-    assert_eq!(
-        starts,
-        (0..13).map(|m| Fx::from_int(3 * m)).collect::<Vec<_>>()
-    );
-    let per_frame = |kind: &str| sink.0.iter().filter(|r| r.kind() == kind).count() / 13;
-    assert_eq!(
-        per_frame("mesh_vertex") as u32,
-        params.model.mesh.vertex_count()
-    );
-    assert_eq!(
-        per_frame("triangle") as u32,
-        params.model.mesh.triangle_count()
-    );
-    assert_eq!(
-        body.unbound_vertices(),
-        morphogen::body::binding_summary::<MAX_CYLINDERS>(params.model, params.table)
-            .unwrap()
-            .unbound
-    );
-    // The stream holds exactly the kernel's positions.
-    let s = posed::<Fx>(params, 4);
-    let v7 = s.deform(&params.model.mesh.vertex(7).unwrap()).unwrap();
-    let frame4 = sink
-        .0
-        .iter()
-        .skip_while(|r| !matches!(r, Record::FrameStart { frame: 4, .. }));
-    let got = frame4
-        .filter_map(|r| match r {
-            Record::MeshVertex { id: 7, p } => Some(*p),
-            _ => None,
-        })
-        .next()
-        .unwrap();
-    assert_eq!(got, [v7.x, v7.y, v7.z]);
+    with_body("cow-growth", |params| {
+        let mut body: Body = Body::new();
+        body.start(params).unwrap();
+        let mut sink = Collect::default();
+        while !body.step(&mut sink).unwrap().finished() {}
+        let starts: Vec<Fx> = sink
+            .0
+            .iter()
+            .filter_map(|r| match r {
+                Record::FrameStart { time, .. } => Some(*time),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(
+            starts,
+            (0..13).map(|m| Fx::from_int(3 * m)).collect::<Vec<_>>()
+        );
+        let per_frame = |kind: &str| sink.0.iter().filter(|r| r.kind() == kind).count() / 13;
+        assert_eq!(
+            per_frame("mesh_vertex") as u32,
+            params.model.mesh.vertex_count()
+        );
+        assert_eq!(
+            per_frame("triangle") as u32,
+            params.model.mesh.triangle_count()
+        );
+        assert_eq!(
+            body.unbound_vertices(),
+            morphogen::body::binding_summary::<MAX_CYLINDERS>(params.model, params.table)
+                .unwrap()
+                .unbound
+        );
+        // The stream holds exactly the kernel's positions.
+        let s = posed::<Fx>(params, 4);
+        let v7 = s.deform(&params.model.mesh.vertex(7).unwrap()).unwrap();
+        let frame4 = sink
+            .0
+            .iter()
+            .skip_while(|r| !matches!(r, Record::FrameStart { frame: 4, .. }));
+        let got = frame4
+            .filter_map(|r| match r {
+                Record::MeshVertex { id: 7, p } => Some(*p),
+                _ => None,
+            })
+            .next()
+            .unwrap();
+        assert_eq!(got, [v7.x, v7.y, v7.z]);
+    });
 }
 
 #[test]
@@ -377,20 +403,24 @@ fn singular_features_fail_the_run_naming_the_cylinder() {
         cylinders: &cylinders,
         ..quadruped::HORSE
     };
-    let params = BodyParams {
-        model: &model,
-        ..presets::HORSE_GROWTH
-    };
-    let mut body: Body = Body::new();
-    body.start(&params);
-    let e = body.step(&mut Collect::default()).unwrap_err();
-    assert_eq!(
-        e,
-        Error::Body(BodyError::SingularFeatures {
-            cylinder: Label::new("neck")
-        })
-    );
-    assert!(e.to_string().contains("'neck'"), "{e}");
+    with_body("horse-growth", |horse| {
+        let params = BodyParams {
+            model: &model,
+            ..*horse
+        };
+        let mut body: Body = Body::new();
+        let started = body.start(&params);
+        let e = body.step(&mut Collect::default()).unwrap_err();
+        assert_eq!(
+            e,
+            Error::Body(BodyError::SingularFeatures {
+                cylinder: Label::new("neck")
+            })
+        );
+        assert!(e.to_string().contains("'neck'"), "{e}");
+        // `start` refuses the parameters with the same error.
+        assert_eq!(started, Err(e));
+    });
 }
 
 #[test]
@@ -409,19 +439,24 @@ fn too_many_cylinders_is_an_error_naming_the_limit() {
         cylinders: &cylinders,
         ..quadruped::HORSE
     };
-    let params = BodyParams {
-        model: &model,
-        ..presets::HORSE_GROWTH
-    };
-    let mut body: Body<'_, 8> = Body::new();
-    body.start(&params);
-    assert_eq!(
-        body.step(&mut Collect::default()),
-        Err(Error::Capacity {
-            limit: "MAX_CYLINDERS",
-            capacity: 8
-        })
-    );
+    with_body("horse-growth", |horse| {
+        let params = BodyParams {
+            model: &model,
+            ..*horse
+        };
+        let mut body: Body<'_, 8> = Body::new();
+        let started = body.start(&params);
+        let stepped = body.step(&mut Collect::default());
+        assert_eq!(
+            stepped,
+            Err(Error::Capacity {
+                limit: "MAX_CYLINDERS",
+                capacity: 8
+            })
+        );
+        // `start` refuses the parameters with the same error.
+        assert_eq!(started, stepped.map(|_| ()));
+    });
 }
 
 #[test]

@@ -7,12 +7,25 @@
     clippy::needless_range_loop
 )]
 
+use morphogen::Error;
 use morphogen::fx::Fx;
 use morphogen::mosaic::params::{MAX_TYPES, NO_MUTATION};
 use morphogen::mosaic::store::ArrayStore;
-use morphogen::mosaic::{CellType, Domain, Frames, Mosaic, Params, presets};
+use morphogen::mosaic::{CELL_LIMIT, CellType, Domain, Frames, McuStore, Mosaic, Params};
+use morphogen::preset::Model;
 use morphogen::sim::Simulation;
 use morphogen::stream::{Record, Sink, SinkError, StreamDigest};
+
+/// Calls `f` with the parameters of the built-in mosaic scenario `name`.
+fn with_mosaic<R>(name: &str, f: impl FnOnce(&Params<'_>) -> R) -> R {
+    let scenario = morphogen_scenario::builtin(name).unwrap();
+    scenario.with_preset(|p| {
+        let Model::Mosaic(params) = p.model else {
+            unreachable!("{name} is not a mosaic")
+        };
+        f(params)
+    })
+}
 
 /// Hashes every record's debug text (enough to compare two runs).
 struct Hash(StreamDigest);
@@ -26,7 +39,7 @@ impl Sink for Hash {
 
 type Big = ArrayStore<8192, 2049>;
 
-fn run(params: &'static Params, seed: u64) -> (Box<Mosaic<Big>>, u64) {
+fn run<'a>(params: &'a Params<'a>, seed: u64) -> (Box<Mosaic<'a, Big>>, u64) {
     let mut m = Box::new(Mosaic::new(Big::EMPTY));
     m.start(params, seed).unwrap();
     let mut h = Hash(StreamDigest::new());
@@ -36,7 +49,7 @@ fn run(params: &'static Params, seed: u64) -> (Box<Mosaic<Big>>, u64) {
 
 /// Clark–Evans index on a periodic domain: mean nearest-neighbour distance
 /// over 0.5·√(area/N), its expectation for a Poisson pattern.
-fn clark_evans(m: &Mosaic<Big>, domain: &Domain) -> f64 {
+fn clark_evans(m: &Mosaic<'_, Big>, domain: &Domain) -> f64 {
     let size = domain.size.map(|s| f64::from(s.to_bits()) / 65_536.0);
     let pts: Vec<[f64; 2]> = m
         .positions()
@@ -62,22 +75,21 @@ fn clark_evans(m: &Mosaic<Big>, domain: &Domain) -> f64 {
 
 #[test]
 fn initial_relaxation_makes_the_pattern_regular() {
-    let random: &'static Params = Box::leak(Box::new(Params {
-        days: 0,
-        initial_relaxations: 0,
-        ..presets::CROTON
-    }));
-    let relaxed: &'static Params = Box::leak(Box::new(Params {
-        days: 0,
-        ..presets::CROTON
-    }));
-    let (m, _) = run(random, 5);
-    let ce_random = clark_evans(&m, &random.domain);
-    let (m, _) = run(relaxed, 5);
-    let ce_relaxed = clark_evans(&m, &relaxed.domain);
+    let (ce_random, ce_relaxed, relaxations) = with_mosaic("croton", |croton| {
+        let random = Params {
+            days: 0,
+            initial_relaxations: 0,
+            ..*croton
+        };
+        let relaxed = Params { days: 0, ..*croton };
+        let (m, _) = run(&random, 5);
+        let ce_random = clark_evans(&m, &random.domain);
+        let (m, _) = run(&relaxed, 5);
+        let ce_relaxed = clark_evans(&m, &relaxed.domain);
+        (ce_random, ce_relaxed, relaxed.initial_relaxations)
+    });
     println!(
-        "Clark-Evans: random {ce_random:.3}, after rho_i = {} relaxations {ce_relaxed:.3}",
-        relaxed.initial_relaxations
+        "Clark-Evans: random {ce_random:.3}, after rho_i = {relaxations} relaxations {ce_relaxed:.3}"
     );
     assert!((0.95..1.05).contains(&ce_random), "{ce_random}");
     assert!(ce_relaxed >= 1.5, "{ce_relaxed}");
@@ -110,16 +122,19 @@ const fn growth_mutation() -> [[Fx; MAX_TYPES]; MAX_TYPES] {
     m
 }
 
-static GROWTH: Params = Params {
-    initial_cells: 300,
-    types: &GROWTH_TYPES,
-    mutation: growth_mutation(),
-    days: 12,
-    initial_relaxations: 1,
-    daily_relaxations: 1,
-    frames: Frames::Days(&[]),
-    ..presets::CROTON_MCU
-};
+/// Three types with mutation between them, on the `croton-mcu` surface.
+fn growth<'a>(croton_mcu: &Params<'a>) -> Params<'a> {
+    Params {
+        initial_cells: 300,
+        types: &GROWTH_TYPES,
+        mutation: growth_mutation(),
+        days: 12,
+        initial_relaxations: 1,
+        daily_relaxations: 1,
+        frames: Frames::Days(&[]),
+        ..*croton_mcu
+    }
+}
 
 /// SplitMix64, the reference's own generator (not the crate's).
 struct SplitMix(u64);
@@ -208,71 +223,136 @@ fn reference(params: &Params, seed: u64) -> [f64; 3] {
 
 #[test]
 fn growth_and_mutation_match_an_independent_reference() {
-    let seeds = 20;
-    let mut ours = [0.0; 3];
-    let mut theirs = [0.0; 3];
-    let mut divisions = [[0u64; MAX_TYPES]; MAX_TYPES];
-    for seed in 0..seeds {
-        let (m, _) = run(&GROWTH, seed);
-        for &k in m.kinds() {
-            ours[k as usize] += 1.0;
-        }
-        for (row, d) in divisions.iter_mut().zip(m.divisions()) {
-            for (a, b) in row.iter_mut().zip(d) {
-                *a += u64::from(*b);
+    with_mosaic("croton-mcu", |croton_mcu| {
+        let growth = growth(croton_mcu);
+        let seeds = 20;
+        let mut ours = [0.0; 3];
+        let mut theirs = [0.0; 3];
+        let mut divisions = [[0u64; MAX_TYPES]; MAX_TYPES];
+        for seed in 0..seeds {
+            let (m, _) = run(&growth, seed);
+            for &k in m.kinds() {
+                ours[k as usize] += 1.0;
+            }
+            for (row, d) in divisions.iter_mut().zip(m.divisions()) {
+                for (a, b) in row.iter_mut().zip(d) {
+                    *a += u64::from(*b);
+                }
+            }
+            let r = reference(&growth, 1000 + seed);
+            for k in 0..3 {
+                theirs[k] += r[k];
             }
         }
-        let r = reference(&GROWTH, 1000 + seed);
+        println!("final cells per type over {seeds} seeds: mosaic {ours:?}, reference {theirs:?}");
         for k in 0..3 {
-            theirs[k] += r[k];
-        }
-    }
-    println!("final cells per type over {seeds} seeds: mosaic {ours:?}, reference {theirs:?}");
-    for k in 0..3 {
-        let rel = (ours[k] - theirs[k]).abs() / theirs[k];
-        assert!(
-            rel < 0.05,
-            "type {k}: {} vs {} ({rel:.3})",
-            ours[k],
-            theirs[k]
-        );
-    }
-    // Mutation: the fraction of children of each parent type that switch.
-    for k in 0..3 {
-        let total: u64 = divisions[k].iter().sum();
-        for j in 0..3 {
-            if j == k {
-                continue;
-            }
-            let p = GROWTH.mutation[k][j].to_bits() as f64 / 65_536.0;
-            let observed = divisions[k][j] as f64 / total as f64;
-            let sigma = (p * (1.0 - p) / total as f64).sqrt();
-            println!("mutation {k}->{j}: expected {p:.3}, observed {observed:.4} of {total}");
+            let rel = (ours[k] - theirs[k]).abs() / theirs[k];
             assert!(
-                (observed - p).abs() <= 4.0 * sigma + 1e-9,
-                "{k}->{j}: {observed} vs {p}"
+                rel < 0.05,
+                "type {k}: {} vs {} ({rel:.3})",
+                ours[k],
+                theirs[k]
             );
         }
-    }
+        // Mutation: the fraction of children of each parent type that switch.
+        for k in 0..3 {
+            let total: u64 = divisions[k].iter().sum();
+            for j in 0..3 {
+                if j == k {
+                    continue;
+                }
+                let p = growth.mutation[k][j].to_bits() as f64 / 65_536.0;
+                let observed = divisions[k][j] as f64 / total as f64;
+                let sigma = (p * (1.0 - p) / total as f64).sqrt();
+                println!("mutation {k}->{j}: expected {p:.3}, observed {observed:.4} of {total}");
+                assert!(
+                    (observed - p).abs() <= 4.0 * sigma + 1e-9,
+                    "{k}->{j}: {observed} vs {p}"
+                );
+            }
+        }
+    });
 }
 
 #[test]
 fn the_same_seed_gives_the_same_stream() {
-    let (a, da) = run(&presets::CROTON_MCU, 9);
-    let (b, db) = run(&presets::CROTON_MCU, 9);
-    let (_, dc) = run(&presets::CROTON_MCU, 10);
-    assert_eq!(da, db);
-    assert_eq!(a.positions(), b.positions());
-    assert_ne!(da, dc);
+    with_mosaic("croton-mcu", |croton_mcu| {
+        let (a, da) = run(croton_mcu, 9);
+        let (b, db) = run(croton_mcu, 9);
+        let (_, dc) = run(croton_mcu, 10);
+        assert_eq!(da, db);
+        assert_eq!(a.positions(), b.positions());
+        assert_ne!(da, dc);
+    });
 }
 
 #[test]
 fn croton_mcu_fits_its_store_over_many_seeds() {
-    let mut largest = 0;
-    for seed in 0..40 {
-        let (m, _) = run(&presets::CROTON_MCU, seed);
-        largest = largest.max(m.len());
-    }
+    let largest = with_mosaic("croton-mcu", |croton_mcu| {
+        (0..40)
+            .map(|seed| run(croton_mcu, seed).0.len())
+            .max()
+            .unwrap()
+    });
     println!("croton-mcu: largest final count over 40 seeds {largest} (store 2048)");
     assert!(largest < 2048);
+}
+
+/// Counts records.
+#[derive(Default)]
+struct Count {
+    cells: u32,
+    frames: u32,
+}
+
+impl Sink for Count {
+    fn record(&mut self, r: &Record) -> Result<(), SinkError> {
+        match r {
+            Record::Cell { .. } => self.cells += 1,
+            Record::FrameEnd { .. } => self.frames += 1,
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
+#[test]
+fn croton_mcu_runs_and_streams_every_day() {
+    with_mosaic("croton-mcu", |croton_mcu| {
+        let mut m = Mosaic::new(McuStore::EMPTY);
+        m.start(croton_mcu, 1).unwrap();
+        let mut sink = Count::default();
+        while !m.step(&mut sink).unwrap().finished() {}
+        assert_eq!(sink.frames, 36);
+        assert!((1_200..2_048).contains(&m.len()), "{}", m.len());
+        // Every division is recorded; no mutation in croton.
+        let d = m.divisions();
+        assert_eq!(d[0][0] + d[1][1] + 180, m.len() as u32);
+        assert_eq!(d[0][1] + d[1][0], 0);
+    });
+}
+
+#[test]
+fn a_full_store_is_an_error_naming_the_limit() {
+    with_mosaic("croton-mcu", |croton_mcu| {
+        let mut m = Mosaic::new(ArrayStore::<200, 51>::EMPTY);
+        m.start(croton_mcu, 1).unwrap();
+        let mut sink = Count::default();
+        let e = loop {
+            match m.step(&mut sink) {
+                Ok(p) => assert!(!p.finished(), "should have overflowed"),
+                Err(e) => break e,
+            }
+        };
+        assert_eq!(
+            e,
+            Error::Capacity {
+                limit: CELL_LIMIT,
+                capacity: 200
+            }
+        );
+        let mut small = Mosaic::new(ArrayStore::<100, 26>::EMPTY);
+        assert!(small.start(croton_mcu, 1).is_err());
+        assert!(small.step(&mut sink).is_err());
+    });
 }

@@ -97,7 +97,7 @@ pub enum Checked {
     /// `[mosaic]`.
     Mosaic {
         /// Every scalar (its slices are empty here).
-        params: MosaicParams<'static>,
+        params: Box<MosaicParams<'static>>,
         /// The cell types.
         types: Vec<CoreCellType>,
         /// The frame days, if listed.
@@ -196,7 +196,7 @@ impl Checked {
                             weight: *weight,
                         }
                     }),
-                    ..*params
+                    ..**params
                 };
                 f(&preset(Model::Mosaic(&params)))
             }
@@ -571,15 +571,15 @@ fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
         });
     }
     let adhesion = matrix("mosaic.adhesion", &m.adhesion, n)?;
-    for i in 0..n {
-        for j in 0..n {
-            if adhesion[i][j] != adhesion[j][i] {
-                return invalid(
-                    format!("mosaic.adhesion[{i}][{j}]"),
-                    "adhesion is symmetric: α[i][j] must equal α[j][i]",
-                );
-            }
-        }
+    let pairs = (0..n).flat_map(|i| (0..n).map(move |j| (i, j)));
+    if let Some((i, j)) = pairs
+        .into_iter()
+        .find(|&(i, j)| adhesion[i][j] != adhesion[j][i])
+    {
+        return invalid(
+            format!("mosaic.adhesion[{i}][{j}]"),
+            "adhesion is symmetric: α[i][j] must equal α[j][i]",
+        );
     }
     let mutation = match &m.mutation {
         Some(rows) => matrix("mosaic.mutation", rows, n)?,
@@ -683,7 +683,7 @@ fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
         frames: DayFramesCore::EveryDay,
     };
     Ok(Checked::Mosaic {
-        params,
+        params: Box::new(params),
         types,
         days: frame_days,
         mask,
@@ -844,14 +844,14 @@ fn bones(b: &schema::Bones, files: &dyn Files) -> Result<Checked> {
     };
     let w = &b.wrap;
     let meridians: u8 = int("bones.wrap.meridians", w.meridians, 4, 252)?;
-    if meridians % 4 != 0 {
+    if !meridians.is_multiple_of(4) {
         return invalid(
             "bones.wrap.meridians",
             format!("{meridians} is not a multiple of 4 (allowed: 4, 8, … 252)"),
         );
     }
     let parallels: u8 = int("bones.wrap.parallels", w.parallels, 1, 255)?;
-    if parallels % 2 == 0 {
+    if parallels.is_multiple_of(2) {
         return invalid(
             "bones.wrap.parallels",
             format!("{parallels} is even (allowed: odd, 1 to 255)"),

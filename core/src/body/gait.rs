@@ -56,49 +56,49 @@ impl Gait<'_> {
     }
 }
 
-/// Fore forearm swing at the elbow over 12 phases of a trot, degrees
-/// (positive: hoof forward); stance in phases 0–5, swing in 6–11. Drawn
-/// after Muybridge's trotting horse, the paper's source (Fig. 7).
-const FORE_SWING: [i16; 12] = [18, 12, 6, 0, -6, -12, -16, -8, 4, 16, 26, 24];
-/// Knee: the cannon folds back during the swing.
-const FORE_KNEE: [i16; 12] = [0, 0, 0, 0, 0, -5, -25, -60, -75, -50, -15, -2];
-/// Fetlock: over-extended under load, folded in the swing.
-const FETLOCK: [i16; 12] = [0, 8, 14, 18, 20, 10, -20, -45, -40, -20, -5, 0];
-/// Hind gaskin swing at the stifle.
-const HIND_SWING: [i16; 12] = [12, 8, 4, 0, -4, -8, -12, -6, 4, 14, 20, 18];
-/// Hock: the hind cannon swings forward as the hock flexes.
-const HOCK: [i16; 12] = [0, 0, 0, 0, 0, 8, 25, 45, 50, 30, 10, 2];
-
-const fn channel(name: &str, shift: u8, degrees: &'static [i16]) -> Channel<'static> {
-    Channel {
-        cylinder: Label::new(name),
-        shift,
-        degrees,
-    }
-}
-
-/// A trot: left fore with right hind, then right fore with left hind half
-/// a stride (6 samples) later.
-pub static TROT: Gait<'static> = Gait {
-    channels: &[
-        channel("l-fore-forearm", 0, &FORE_SWING),
-        channel("l-fore-cannon", 0, &FORE_KNEE),
-        channel("l-fore-pastern", 0, &FETLOCK),
-        channel("r-hind-gaskin", 0, &HIND_SWING),
-        channel("r-hind-cannon", 0, &HOCK),
-        channel("r-hind-pastern", 0, &FETLOCK),
-        channel("r-fore-forearm", 6, &FORE_SWING),
-        channel("r-fore-cannon", 6, &FORE_KNEE),
-        channel("r-fore-pastern", 6, &FETLOCK),
-        channel("l-hind-gaskin", 6, &HIND_SWING),
-        channel("l-hind-cannon", 6, &HOCK),
-        channel("l-hind-pastern", 6, &FETLOCK),
-    ],
-};
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Fore forearm swing at the elbow over 12 phases of a trot, degrees
+    /// (positive: hoof forward); stance in phases 0–5, swing in 6–11. Drawn
+    /// after Muybridge's trotting horse, the paper's source (Fig. 7).
+    const FORE_SWING: [i16; 12] = [18, 12, 6, 0, -6, -12, -16, -8, 4, 16, 26, 24];
+    /// Knee: the cannon folds back during the swing.
+    const FORE_KNEE: [i16; 12] = [0, 0, 0, 0, 0, -5, -25, -60, -75, -50, -15, -2];
+    /// Fetlock: over-extended under load, folded in the swing.
+    const FETLOCK: [i16; 12] = [0, 8, 14, 18, 20, 10, -20, -45, -40, -20, -5, 0];
+    /// Hind gaskin swing at the stifle.
+    const HIND_SWING: [i16; 12] = [12, 8, 4, 0, -4, -8, -12, -6, 4, 14, 20, 18];
+    /// Hock: the hind cannon swings forward as the hock flexes.
+    const HOCK: [i16; 12] = [0, 0, 0, 0, 0, 8, 25, 45, 50, 30, 10, 2];
+
+    const fn channel(name: &str, shift: u8, degrees: &'static [i16]) -> Channel<'static> {
+        Channel {
+            cylinder: Label::new(name),
+            shift,
+            degrees,
+        }
+    }
+
+    /// A trot (the `horse-trot` scenario's gait): left fore with right
+    /// hind, then right fore with left hind half a stride (6 samples) later.
+    static TROT: Gait<'static> = Gait {
+        channels: &[
+            channel("l-fore-forearm", 0, &FORE_SWING),
+            channel("l-fore-cannon", 0, &FORE_KNEE),
+            channel("l-fore-pastern", 0, &FETLOCK),
+            channel("r-hind-gaskin", 0, &HIND_SWING),
+            channel("r-hind-cannon", 0, &HOCK),
+            channel("r-hind-pastern", 0, &FETLOCK),
+            channel("r-fore-forearm", 6, &FORE_SWING),
+            channel("r-fore-cannon", 6, &FORE_KNEE),
+            channel("r-fore-pastern", 6, &FETLOCK),
+            channel("l-hind-gaskin", 6, &HIND_SWING),
+            channel("l-hind-cannon", 6, &HOCK),
+            channel("l-hind-pastern", 6, &FETLOCK),
+        ],
+    };
 
     #[test]
     fn samples_interpolate_and_diagonals_are_half_a_stride_apart() {

@@ -13,10 +13,12 @@
 //! - [`quadruped`]: the built-in horse and cow;
 //! - [`gait`]: joint angles over a stride (the trot);
 //! - [`skeleton`]: the posed hierarchy, generic over [`Real`](crate::fx::Real);
-//! - [`sim`]: the [`Body`] simulation; [`presets`]: its parameter sets.
+//! - [`sim`]: the [`Body`] simulation and its [`BodyParams`] (the built-in
+//!   bodies are the scenarios `horse-growth`, `cow-growth`, `horse-trot`).
 //!
 //! ```
-//! use morphogen::body::{Body, presets};
+//! use morphogen::body::Body;
+//! use morphogen::preset::Model;
 //! use morphogen::sim::Simulation;
 //! use morphogen::stream::{Record, Sink, SinkError};
 //!
@@ -29,11 +31,15 @@
 //!         Ok(())
 //!     }
 //! }
-//! let mut body: Body = Body::new();
-//! body.start(&presets::HORSE_GROWTH);
-//! let mut sink = Count(0);
-//! body.step(&mut sink).unwrap(); // the newborn foal
-//! assert_eq!(sink.0, presets::HORSE_GROWTH.model.mesh.vertex_count());
+//! let scenario = morphogen_scenario::builtin("horse-growth").unwrap();
+//! scenario.with_preset(|preset| {
+//!     let Model::Body(params) = preset.model else { unreachable!() };
+//!     let mut body: Body = Body::new();
+//!     body.start(params).unwrap();
+//!     let mut sink = Count(0);
+//!     body.step(&mut sink).unwrap(); // the newborn foal
+//!     assert_eq!(sink.0, params.model.mesh.vertex_count());
+//! });
 //! ```
 
 pub mod binding;

@@ -15,7 +15,7 @@ use super::skeleton::Skeleton;
 use super::{BodyModel, GrowthTable, Joint, MAX_CYLINDERS};
 use crate::Error;
 use crate::fx::Fx;
-use crate::sim::{Progress, Simulation};
+use crate::sim::{Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 
 /// What a body run shows.
@@ -108,6 +108,15 @@ impl<'a, const C: usize> Body<'a, C> {
     #[must_use]
     pub fn unbound_vertices(&self) -> u32 {
         self.unbound
+    }
+}
+
+impl<'a, const C: usize> Start<'a> for Body<'a, C> {
+    type Params = BodyParams<'a>;
+
+    /// A body grows deterministically: `seed` is not used.
+    fn start(&mut self, params: &'a BodyParams<'a>, _seed: u64) -> Result<(), Error> {
+        Body::start(self, params)
     }
 }
 

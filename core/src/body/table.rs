@@ -141,6 +141,7 @@ pub const QUARTER_HORSE: GrowthTable<'static> = GrowthTable {
 };
 
 /// Ages of the Holstein table, months (growth paper, Table 2).
+#[cfg(test)]
 const COW_AGES: [Fx; 4] = [
     Fx::from_int(0),
     Fx::from_int(12),
@@ -148,17 +149,23 @@ const COW_AGES: [Fx; 4] = [
     Fx::from_int(36),
 ];
 /// Holstein, height at withers, cm (Table 2).
+#[cfg(test)]
 const COW_WITHERS: [Fx; 4] = [tenths(704), tenths(1126), tenths(1267), tenths(1316)];
 /// Holstein, height at croup, cm (Table 2).
+#[cfg(test)]
 const COW_CROUP: [Fx; 4] = [tenths(741), tenths(1168), tenths(1295), tenths(1337)];
 /// Holstein, depth of chest, cm (Table 2).
+#[cfg(test)]
 const COW_CHEST_DEPTH: [Fx; 4] = [tenths(284), tenths(545), tenths(642), tenths(684)];
 /// Holstein, from poll to muzzle, cm (Table 2).
+#[cfg(test)]
 const COW_POLL_TO_MUZZLE: [Fx; 4] = [tenths(232), tenths(443), tenths(520), tenths(521)];
 /// Holstein, width of forehead, cm (Table 2).
+#[cfg(test)]
 const COW_FOREHEAD_WIDTH: [Fx; 4] = [tenths(118), tenths(181), tenths(201), tenths(197)];
 
-/// Column indices of [`HOLSTEIN`].
+/// Column indices of the Holstein table (growth paper, Table 2; the
+/// `cow-growth` scenario's columns).
 pub mod cow {
     /// Height at withers.
     pub const WITHERS_HEIGHT: u8 = 0;
@@ -173,7 +180,8 @@ pub mod cow {
 }
 
 /// Holstein cattle after Brody, birth to 36 months, cm (growth paper,
-/// Table 2).
+/// Table 2; the `cow-growth` scenario's table).
+#[cfg(test)]
 pub const HOLSTEIN: GrowthTable<'static> = GrowthTable {
     unit: "cm",
     ages: &COW_AGES,

@@ -6,7 +6,8 @@
 //!   segment of weight = the turtle's width, `O(ρ)` a point of weight ρ.
 //! - [`Bones`] is the simulation: one wrapped frame per skeleton, for the
 //!   final step, every step (the paper's Fig. 2) or several seeds (Fig. 3).
-//! - [`presets`]: `long-bone`, `long-bone-random`, `bone-growth`.
+//! - The built-in bones are the scenarios `long-bone`, `long-bone-random`
+//!   and `bone-growth` (`scenarios/`).
 
 mod sim;
 mod skeleton;

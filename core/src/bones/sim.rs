@@ -12,7 +12,7 @@ use nalgebra::Vector3;
 use crate::Error;
 use crate::fx::Fx;
 use crate::shrinkwrap::{Phase, Shrinkwrap};
-use crate::sim::{Progress, Simulation};
+use crate::sim::{Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 
 use super::skeleton::{Grower, Skeleton};
@@ -152,6 +152,14 @@ impl<'a, const V: usize, const T: usize> Bones<'a, V, T> {
 impl<const V: usize, const T: usize> Default for Bones<'_, V, T> {
     fn default() -> Self {
         Bones::new()
+    }
+}
+
+impl<'a, const V: usize, const T: usize> Start<'a> for Bones<'a, V, T> {
+    type Params = BonesParams<'a>;
+
+    fn start(&mut self, params: &'a BonesParams<'a>, seed: u64) -> Result<(), Error> {
+        Bones::start(self, params, seed)
     }
 }
 

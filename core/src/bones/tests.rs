@@ -86,11 +86,7 @@ fn every_preset_mesh_is_a_closed_genus_0_manifold_wound_outwards() {
             w.run(&skeleton, &p.wrap).unwrap();
             let m = w.mesh();
             let edges = assert_closed_genus_0(m.vertices().len(), m.triangles());
-            assert_eq!(
-                3 * m.triangles().len(),
-                2 * edges,
-                "{name} frame {frame}"
-            );
+            assert_eq!(3 * m.triangles().len(), 2 * edges, "{name} frame {frame}");
             let v: std::vec::Vec<Vector3<f64>> =
                 m.vertices().iter().map(|v| v.map(f64::from_fx)).collect();
             assert!(

@@ -39,7 +39,7 @@ mod sim;
 pub use clock::{LocalTime, Moment};
 pub use error::HornError;
 pub use kernel::{Emit, HornKernel};
-pub use outline::{Outline, ROUNDED_TRIANGLE};
+pub use outline::Outline;
 pub use params::{HornParams, Module};
 pub use sim::Horn;
 

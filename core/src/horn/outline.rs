@@ -6,6 +6,7 @@ use super::{HornError, MAX_RING_POINTS};
 use crate::Error;
 use crate::fx::{Fx, Real};
 
+#[cfg(test)]
 const fn pt(y: i32, z: i32) -> [Fx; 2] {
     [Fx::from_ratio(y, 10_000), Fx::from_ratio(z, 10_000)]
 }
@@ -14,7 +15,9 @@ const fn pt(y: i32, z: i32) -> [Fx; 2] {
 /// L_1(T): an equilateral triangle of circumradius 2 cm offset by 1.5 cm
 /// (corners are 120° arcs of radius 1.5 cm, 7 vertices each), so it spans
 /// 3.5 cm from the centre to a corner and 2.5 cm to a side; a corner points
-/// along +z. Counter-clockwise in (y, z).
+/// along +z. Counter-clockwise in (y, z). (The `ram-horn` scenarios'
+/// outline.)
+#[cfg(test)]
 pub static ROUNDED_TRIANGLE: [[Fx; 2]; 21] = [
     pt(12_990, 27_500),
     pt(9_642, 31_491),

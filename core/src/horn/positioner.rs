@@ -71,7 +71,11 @@ mod tests {
 
     /// Modules E_1 … E_3 of Table 1 (the ram horn's data is the
     /// `ram-horn` scenario; these rows are all the tests need).
-    static TABLE_1: [Module; 3] = [row(30, 100, 75, 30), row(100, 137, 83, 33), row(137, 150, 59, 24)];
+    static TABLE_1: [Module; 3] = [
+        row(30, 100, 75, 30),
+        row(100, 137, 83, 33),
+        row(137, 150, 59, 24),
+    ];
 
     fn norm(v: Vector3<f64>) -> f64 {
         v.dot(&v).sqrt()

@@ -7,7 +7,7 @@
 use super::{Emit, HornKernel, HornParams, Moment};
 use crate::Error;
 use crate::fx::Fx;
-use crate::sim::{Progress, Simulation};
+use crate::sim::{Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 
 /// A running horn: the fixed-point kernel and the frame counter. A few
@@ -32,7 +32,23 @@ impl<'a> Horn<'a> {
     }
 }
 
+impl<'a> Start<'a> for Horn<'a> {
+    type Params = HornParams<'a>;
+
+    /// A horn grows deterministically: `seed` is not used.
+    fn start(&mut self, params: &'a HornParams<'a>, _seed: u64) -> Result<(), Error> {
+        *self = Horn::new(params);
+        self.check()
+    }
+}
+
 impl Horn<'_> {
+    /// Nothing to draw until started (`const`, for a `static`).
+    pub const IDLE: Horn<'static> = Horn {
+        kernel: Err(Error::NotStarted),
+        frame: 0,
+    };
+
     /// Why the parameters were refused, if they were.
     ///
     /// # Errors

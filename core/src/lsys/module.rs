@@ -36,4 +36,3 @@ impl Module {
         self.params.get(..self.arity as usize).unwrap_or(&[])
     }
 }
-

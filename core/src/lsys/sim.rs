@@ -12,7 +12,7 @@ use nalgebra::Vector3;
 
 use crate::Error;
 use crate::fx::Fx;
-use crate::sim::{Progress, Simulation};
+use crate::sim::{Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 use crate::turtle::{Drawn, Params, Turtle};
 
@@ -190,6 +190,15 @@ impl<D: Derivation> LSystem<D> {
             self.draw(&m, sink)?;
         }
         Ok(())
+    }
+}
+
+impl<D: Derivation> Start<'_> for LSystem<D> {
+    /// The grammar's text (docs/lsystems.md).
+    type Params = str;
+
+    fn start(&mut self, grammar: &str, seed: u64) -> Result<(), Error> {
+        self.load(grammar, seed).map_err(Error::from)
     }
 }
 

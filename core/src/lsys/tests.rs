@@ -7,7 +7,7 @@ use std::vec;
 use std::vec::Vec;
 
 use super::*;
-use crate::fx::Real;
+use crate::fx::{Fx, Real};
 use crate::sim::Simulation;
 use crate::stream::{Record, Sink, SinkError};
 use crate::turtle::{Drawn, Params, Turtle};

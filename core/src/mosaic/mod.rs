@@ -12,7 +12,8 @@
 //! [`Record::Cell`]s; the host draws them as Voronoi regions.
 //!
 //! ```
-//! use morphogen::mosaic::{Mosaic, presets, store::ArrayStore};
+//! use morphogen::mosaic::{Mosaic, store::ArrayStore};
+//! use morphogen::preset::Model;
 //! use morphogen::sim::Simulation;
 //! use morphogen::stream::{Record, Sink, SinkError};
 //!
@@ -25,12 +26,16 @@
 //!     }
 //! }
 //!
-//! let mut m = Mosaic::new(ArrayStore::<2048, 513>::EMPTY);
-//! m.start(&presets::CROTON_MCU, 7).unwrap();
-//! let mut sink = Cells(0);
-//! while !m.step(&mut sink).unwrap().finished() {}
-//! assert!(m.len() > presets::CROTON_MCU.initial_cells as usize * 5);
-//! assert!(sink.0 > m.len());
+//! let scenario = morphogen_scenario::builtin("croton-mcu").unwrap();
+//! scenario.with_preset(|preset| {
+//!     let Model::Mosaic(params) = preset.model else { unreachable!() };
+//!     let mut m = Mosaic::new(ArrayStore::<2048, 513>::EMPTY);
+//!     m.start(params, 7).unwrap();
+//!     let mut sink = Cells(0);
+//!     while !m.step(&mut sink).unwrap().finished() {}
+//!     assert!(m.len() > params.initial_cells as usize * 5);
+//!     assert!(sink.0 > m.len());
+//! });
 //! ```
 
 pub mod control;
@@ -48,7 +53,7 @@ pub use params::{CellType, Frames, MAX_TYPES, Params};
 use crate::Error;
 use crate::fx::Fx;
 use crate::rng::KeyedRng;
-use crate::sim::{Progress, Simulation};
+use crate::sim::{Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 use division::{Purpose, stream_id};
 use grid::Grid;
@@ -425,6 +430,14 @@ impl<'a, S: CellStore> Mosaic<'a, S> {
         sink.record(&Record::FrameEnd { frame: self.frame })?;
         self.frame += 1;
         Ok(())
+    }
+}
+
+impl<'a, S: CellStore> Start<'a> for Mosaic<'a, S> {
+    type Params = Params<'a>;
+
+    fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
+        Mosaic::start(self, params, seed)
     }
 }
 
