@@ -252,12 +252,19 @@ impl Scenario {
                 .map_err(|m| err(Place::Set(format!("{key}={value}")), key, m))?;
         }
         let edited = doc.to_string();
+        // A bad value is located at the `--set` that gave it (the last one
+        // for the key, one of its parents or one of its children), or else
+        // at its line in the file as written.
+        let nested = |outer: &str, inner: &str| {
+            inner
+                .strip_prefix(outer)
+                .is_some_and(|rest| rest.starts_with(['.', '[']))
+        };
+        let set_for = |key: &str, k: &str| {
+            key == k || nested(k, key) || (!key.is_empty() && nested(key, k))
+        };
         let locate = |key: &str| -> Place {
-            if let Some((k, v)) = sets.iter().rev().find(|(k, _)| {
-                key == k
-                    || key.starts_with(&format!("{k}."))
-                    || k.starts_with(key) && !key.is_empty()
-            }) {
+            if let Some((k, v)) = sets.iter().rev().find(|(k, _)| set_for(key, k)) {
                 return Place::Set(format!("{k}={v}"));
             }
             match span_of(&original, key) {
@@ -527,33 +534,31 @@ fn line_of(text: &str, at: usize) -> usize {
 }
 
 /// Every built-in scenario, in `morphogen list` order: by model (curve,
-/// horn, L-system, body, bones, mosaic), then by file name.
+/// horn, L-system, body, bones, mosaic), then by file name. Read and
+/// checked once per process.
 ///
 /// # Panics
 /// When a built-in file is invalid (a test checks that none is).
 #[must_use]
 pub fn builtins() -> Vec<Scenario> {
-    let mut all: Vec<Scenario> = embedded::FILES
-        .iter()
-        .filter(|(p, _)| p.starts_with("scenarios/") && p.ends_with(".toml"))
-        .map(|(path, bytes)| {
-            let text = String::from_utf8_lossy(bytes);
-            let name = path
-                .trim_start_matches("scenarios/")
-                .trim_end_matches(".toml");
-            match Scenario::parse(
-                &format!("built-in {name}"),
-                &text,
-                Base::Embedded(path),
-                &[],
-            ) {
-                Ok(s) => s,
-                Err(e) => panic!("built-in scenario {path}: {e}"),
-            }
-        })
-        .collect();
-    all.sort_by_key(|s| (model_order(s.checked()), s.origin.clone()));
-    all
+    static ALL: std::sync::OnceLock<Vec<Scenario>> = std::sync::OnceLock::new();
+    ALL.get_or_init(|| {
+        let mut all: Vec<Scenario> = embedded::FILES
+            .iter()
+            .filter(|(p, _)| p.starts_with("scenarios/") && p.ends_with(".toml"))
+            .map(|(path, bytes)| {
+                let text = String::from_utf8_lossy(bytes);
+                let name = path
+                    .trim_start_matches("scenarios/")
+                    .trim_end_matches(".toml");
+                Scenario::parse(&format!("built-in {name}"), &text, Base::Embedded(path), &[])
+                    .unwrap_or_else(|e| panic!("built-in scenario {path}: {e}"))
+            })
+            .collect();
+        all.sort_by_key(|s| (model_order(s.checked()), s.origin.clone()));
+        all
+    })
+    .clone()
 }
 
 fn model_order(c: &Checked) -> u8 {
