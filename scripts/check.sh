@@ -31,13 +31,29 @@ for t in thumbv6m-none-eabi thumbv7m-none-eabi; do
     cargo build -p morphogen --target "$t" --features defmt,rig
 done
 
+step "release build (once: the determinism test, the fixtures and the firmware check reuse it)"
+cargo build --release -p morphogen-cli
+morphogen="$PWD/target/release/morphogen"
+export MORPHOGEN_RELEASE_BIN="$morphogen"
+
 step "tests"
 cargo test --workspace
 
-step "golden fixtures (release build)"
-cargo run --release -p morphogen-cli -- verify
+step "golden fixtures: every built-in scenario re-run (release build)"
+"$morphogen" verify
+
+step "every preset's scenario file, shown and run from a file, gives its fixture"
+shown=$(mktemp -d)
+trap 'rm -rf "$shown"' EXIT
+for name in $("$morphogen" list | cut -d' ' -f1); do
+    "$morphogen" show "$name" >"$shown/$name.toml"
+    "$morphogen" run "$shown/$name.toml" --out "$shown/out-$name" >/dev/null
+    cmp "$shown/out-$name/stream.bin" "fixtures/$name/stream.bin"
+    rm -rf "$shown/out-$name"
+done
+echo "all $(ls "$shown" | wc -l) scenario files reproduce their fixtures"
 
 step "firmware in QEMU, bit-exact against the fixtures"
-bash scripts/firmware-check.sh
+MORPHOGEN_VERIFY="$morphogen verify --stream" MORPHOGEN_BLESS="$morphogen bless" bash scripts/firmware-check.sh
 
 printf '\nall checks passed\n'

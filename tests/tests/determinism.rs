@@ -18,12 +18,12 @@ const PROBES: &[&str] = &[
     "long-bone",
 ];
 
-#[test]
-#[cfg_attr(
-    not(debug_assertions),
-    ignore = "compares a release build with this one: run it in a debug build"
-)]
-fn release_build_writes_the_same_bytes_as_debug() {
+/// The release `morphogen`: `$MORPHOGEN_RELEASE_BIN` when set (CI builds
+/// it once for every check), else built here into `target/determinism`.
+fn release_binary() -> std::path::PathBuf {
+    if let Some(path) = std::env::var_os("MORPHOGEN_RELEASE_BIN") {
+        return path.into();
+    }
     let workspace = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let target = workspace.join("target/determinism");
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
@@ -41,7 +41,16 @@ fn release_build_writes_the_same_bytes_as_debug() {
         .status()
         .expect("start cargo");
     assert!(status.success(), "release build failed");
-    let binary = target.join("release/morphogen");
+    target.join("release/morphogen")
+}
+
+#[test]
+#[cfg_attr(
+    not(debug_assertions),
+    ignore = "compares a release build with this one: run it in a debug build"
+)]
+fn release_build_writes_the_same_bytes_as_debug() {
+    let binary = release_binary();
     let tmp = tempfile::tempdir().unwrap();
     for name in PROBES {
         let out = tmp.path().join(name);
