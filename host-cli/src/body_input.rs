@@ -4,7 +4,6 @@
 //! and line.
 
 use std::collections::HashMap;
-use std::fs;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow, bail};
@@ -22,6 +21,18 @@ use crate::{Outcome, outputs};
 /// Capacity of a user body (cylinders); the built-in ones use 24.
 pub const USER_CYLINDERS: usize = 64;
 
+/// The largest coordinate of a mesh vertex or a cylinder point: a body
+/// grown a few times its size must stay inside the fixed-point range
+/// (±32 767), so nothing saturates.
+pub const MAX_COORDINATE: f64 = 2048.0;
+
+/// The most vertices of a user mesh (a run streams every vertex of every
+/// frame: 200 000 vertices are 5 MB a frame).
+pub const MAX_MESH_VERTICES: usize = 200_000;
+
+/// The oldest model age and table age, months.
+pub const MAX_AGE_MONTHS: f64 = 1200.0;
+
 /// A triangle mesh read from an OBJ file.
 #[derive(Debug, Default, Clone, PartialEq)]
 pub struct ObjMesh {
@@ -31,15 +42,31 @@ pub struct ObjMesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
-/// A number as I16F16, refusing what does not fit.
-fn number(token: &str) -> Result<Fx> {
+/// A token shown in an error, at most 24 characters of it.
+fn shown(token: &str) -> String {
+    match token.char_indices().nth(24) {
+        Some((at, _)) => format!("{}…", &token[..at]),
+        None => token.to_string(),
+    }
+}
+
+/// A number within ±`limit` as I16F16, refusing what does not fit.
+fn number_within(token: &str, limit: f64) -> Result<Fx> {
     let v: f64 = token
         .parse()
-        .map_err(|_| anyhow!("'{token}' is not a number"))?;
-    if !v.is_finite() || v.abs() >= 32_767.0 {
-        bail!("{token} is outside the fixed-point range ±32767");
+        .map_err(|_| anyhow!("'{}' is not a number", shown(token)))?;
+    if !v.is_finite() || v.abs() > limit {
+        bail!(
+            "{} is out of range (allowed: -{limit} to {limit})",
+            shown(token)
+        );
     }
     Ok(Fx::from_bits((v * 65_536.0).round() as i32))
+}
+
+/// A coordinate (±[`MAX_COORDINATE`]).
+fn number(token: &str) -> Result<Fx> {
+    number_within(token, MAX_COORDINATE)
 }
 
 fn numbers<const N: usize>(tokens: &[&str]) -> Result<[Fx; N]> {
@@ -66,6 +93,12 @@ pub fn parse_obj(name: &str, text: &str) -> Result<ObjMesh> {
         let tokens: Vec<&str> = line.split_whitespace().collect();
         match tokens.first().copied() {
             Some("v") => {
+                if mesh.vertices.len() == MAX_MESH_VERTICES {
+                    bail!(
+                        "{}: more than {MAX_MESH_VERTICES} vertices (body_input::MAX_MESH_VERTICES); simplify the mesh",
+                        at()
+                    );
+                }
                 let p = numbers::<3>(&tokens[1..]).with_context(at)?;
                 mesh.vertices.push(p);
             }
@@ -134,7 +167,17 @@ pub fn parse_cylinders(name: &str, text: &str, table: &GrowthTable<'_>) -> Resul
                 if t.len() != 2 {
                     bail!("{at}: expected `model-age MONTHS`");
                 }
-                model_age = Some(number(t[1]).with_context(|| at.clone())?);
+                if model_age.is_some() {
+                    bail!("{at}: a second `model-age`");
+                }
+                let age = number_within(t[1], MAX_AGE_MONTHS).with_context(|| at.clone())?;
+                if age < Fx::ZERO {
+                    bail!(
+                        "{at}: model-age {} is negative (allowed: 0 to {MAX_AGE_MONTHS})",
+                        t[1]
+                    );
+                }
+                model_age = Some(age);
             }
             "cylinder" => {
                 // cylinder NAME parent P|- base X Y Z tip X Y Z radius R [roll DEG]
@@ -151,8 +194,16 @@ pub fn parse_cylinders(name: &str, text: &str, table: &GrowthTable<'_>) -> Resul
                     );
                 }
                 let label = Label::try_new(t[1]).ok_or_else(|| {
-                    anyhow!("{at}: cylinder name '{}' is longer than 16 bytes", t[1])
+                    anyhow!(
+                        "{at}: cylinder name '{}' is longer than 16 bytes",
+                        shown(t[1])
+                    )
                 })?;
+                if cylinders.len() == USER_CYLINDERS {
+                    bail!(
+                        "{at}: more than {USER_CYLINDERS} cylinders (body_input::USER_CYLINDERS)"
+                    );
+                }
                 if lines.contains_key(t[1]) {
                     bail!("{at}: cylinder '{}' is declared twice", t[1]);
                 }
@@ -170,9 +221,8 @@ pub fn parse_cylinders(name: &str, text: &str, table: &GrowthTable<'_>) -> Resul
                 if parent.is_none() != cylinders.is_empty() {
                     bail!("{at}: the first cylinder is the root (parent -), and only it");
                 }
-                let parent = parent
-                    .map(|p| u8::try_from(p).map_err(|_| anyhow!("{at}: more than 255 cylinders")))
-                    .transpose()?;
+                // Fewer than USER_CYLINDERS (64) cylinders: an index fits a u8.
+                let parent = parent.and_then(|p| u8::try_from(p).ok());
                 let roll = if t.len() == 16 {
                     Angle::from_degrees_fx(number(t[15]).with_context(|| at.clone())?)
                 } else {
@@ -359,10 +409,13 @@ fn run_body(
     mesh_path: &Path,
     cylinders_path: &Path,
 ) -> Result<Outcome> {
-    let mesh_text = fs::read_to_string(mesh_path)
-        .with_context(|| format!("cannot read mesh {}", mesh_path.display()))?;
-    let cyl_text = fs::read_to_string(cylinders_path)
-        .with_context(|| format!("cannot read cylinders {}", cylinders_path.display()))?;
+    let read = |path: &Path, what: &str| -> Result<String> {
+        let bytes = morphogen_scenario::read_limited(path)
+            .map_err(|e| anyhow!("cannot read {what} {}: {e}", path.display()))?;
+        morphogen_scenario::utf8(bytes).map_err(|e| anyhow!("{}:{e}", path.display()))
+    };
+    let mesh_text = read(mesh_path, "mesh")?;
+    let cyl_text = read(cylinders_path, "cylinders")?;
     let mesh_name = mesh_path.display().to_string();
     let cyl_name = cylinders_path.display().to_string();
     let obj = parse_obj(&mesh_name, &mesh_text)?;
@@ -398,12 +451,15 @@ fn run_body(
         .map_err(|e| anyhow!("{e}"))?;
     let mut body = Box::new(Body::<'_, USER_CYLINDERS>::new());
     body.start(&params).map_err(locate)?;
+    let bar = exec::Bar::new(preset, true);
     loop {
         let p = body.step(&mut encoder).map_err(locate)?;
+        bar.report(p);
         if p.finished() {
             break;
         }
     }
+    bar.finish();
     let run = Run {
         digest: encoder.digest(),
         frames: encoder.frames(),
@@ -508,6 +564,40 @@ feature leg follows cannon-diameter canonical 0.5 0 -1 0.5 0 1
         assert!(
             e.contains("c.txt:5: cylinder 'leg' needs exactly two features"),
             "{e}"
+        );
+    }
+
+    #[test]
+    fn values_that_would_saturate_are_errors_naming_the_line() {
+        let e = parse_obj("m.obj", "v 0 0 0\nv 32000 0 0\n").unwrap_err();
+        assert!(
+            format!("{e:#}").contains("m.obj:2") && format!("{e:#}").contains("2048"),
+            "{e:#}"
+        );
+        for (age, message) in [
+            ("-5", "c.txt:1: model-age -5 is negative"),
+            ("32766", "c.txt:1: 32766 is out of range"),
+        ] {
+            let bad = CYLINDERS.replace("model-age 60", &format!("model-age {age}"));
+            let e = parse_cylinders("c.txt", &bad, &QUARTER_HORSE).unwrap_err();
+            assert!(format!("{e:#}").contains(message), "{e:#}");
+        }
+        let twice = format!("{CYLINDERS}model-age 12\n");
+        let e = parse_cylinders("c.txt", &twice, &QUARTER_HORSE).unwrap_err();
+        assert!(
+            format!("{e:#}").contains("c.txt:8: a second `model-age`"),
+            "{e:#}"
+        );
+        let mut many = CYLINDERS.to_string();
+        for i in 0..USER_CYLINDERS {
+            many.push_str(&format!(
+                "cylinder c{i} parent body base 0 0 0 tip 1 0 0 radius 1\n"
+            ));
+        }
+        let e = parse_cylinders("c.txt", &many, &QUARTER_HORSE).unwrap_err();
+        assert!(
+            format!("{e:#}").contains(&format!("more than {USER_CYLINDERS} cylinders")),
+            "{e:#}"
         );
     }
 }

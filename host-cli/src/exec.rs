@@ -145,27 +145,11 @@ pub fn run(scenario: &Scenario, seed: u64, progress: bool) -> Result<Run> {
 /// the cap and the flag that raises it.
 pub fn run_limited(scenario: &Scenario, seed: u64, progress: bool, max_mb: u32) -> Result<Run> {
     let mut encoder = Encoder::new(Bytes(Vec::new(), u64::from(max_mb) << 20));
-    let start = Instant::now();
-    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{prefix} [{bar:40}] {pos}/{len} steps, {elapsed} (eta {eta})",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar())
-        .progress_chars("=> "),
-    );
-    bar.set_prefix(scenario.name().to_string());
-    let mut shown = false;
-    let mut report = |p: Progress| {
-        bar.set_length(u64::from(p.total));
-        bar.set_position(u64::from(p.done));
-        if progress && !shown && start.elapsed() > Duration::from_secs(1) {
-            bar.set_draw_target(ProgressDrawTarget::stderr());
-            shown = true;
-        }
-    };
+    let bar = Bar::new(scenario.name(), progress);
     scenario
-        .with_preset(|p| morphogen_scenario::run::run(p, seed, &mut encoder, &mut report))
+        .with_preset(|p| {
+            morphogen_scenario::run::run(p, seed, &mut encoder, &mut |p| bar.report(p))
+        })
         .map_err(|e| match e {
             morphogen::Error::Sink(SinkError::Full { .. }) => anyhow!(
                 "{}: the stream passed {max_mb} MiB and was stopped (raise the cap with --max-stream-mb)",
@@ -173,7 +157,7 @@ pub fn run_limited(scenario: &Scenario, seed: u64, progress: bool, max_mb: u32) 
             ),
             e => anyhow!("{}: {e}", scenario.name()),
         })?;
-    bar.finish_and_clear();
+    bar.finish();
     let digest = encoder.digest();
     let frames = encoder.frames();
     Ok(Run {
@@ -181,6 +165,50 @@ pub fn run_limited(scenario: &Scenario, seed: u64, progress: bool, max_mb: u32) 
         digest,
         frames,
     })
+}
+
+/// A progress bar on standard error that appears once a run has taken a
+/// second (and never when `shown` is false).
+#[derive(Debug)]
+pub struct Bar {
+    bar: ProgressBar,
+    start: Instant,
+    enabled: bool,
+}
+
+impl Bar {
+    /// A hidden bar named `name`.
+    #[must_use]
+    pub fn new(name: &str, enabled: bool) -> Bar {
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{prefix} [{bar:40}] {pos}/{len} steps, {elapsed} (eta {eta})",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+        );
+        bar.set_prefix(name.to_string());
+        Bar {
+            bar,
+            start: Instant::now(),
+            enabled,
+        }
+    }
+
+    /// Records progress `p`; shows the bar after the first second.
+    pub fn report(&self, p: Progress) {
+        self.bar.set_length(u64::from(p.total));
+        self.bar.set_position(u64::from(p.done));
+        if self.enabled && self.bar.is_hidden() && self.start.elapsed() > Duration::from_secs(1) {
+            self.bar.set_draw_target(ProgressDrawTarget::stderr());
+        }
+    }
+
+    /// Clears the bar.
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
 }
 
 /// Writes a finished run into `dir` (created if missing): `stream.bin`,
