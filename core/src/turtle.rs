@@ -66,6 +66,10 @@ pub enum TurtleError {
     TooManyVertices,
     /// A coordinate beyond ±`COORDINATE_LIMIT`.
     OutOfRange,
+    /// `!(w)` with a negative width.
+    NegativeWidth,
+    /// `'(c)` with a colour index outside 0 to 65 535.
+    ColourOutOfRange,
 }
 
 impl core::fmt::Display for TurtleError {
@@ -87,6 +91,10 @@ impl core::fmt::Display for TurtleError {
                 f,
                 "the turtle left the drawable range ±COORDINATE_LIMIT = {COORDINATE_LIMIT}"
             ),
+            TurtleError::NegativeWidth => f.write_str("`!(w)` with a negative width"),
+            TurtleError::ColourOutOfRange => {
+                f.write_str("`'(c)` with a colour index outside 0 to 65535")
+            }
         }
     }
 }
@@ -437,13 +445,16 @@ impl<R: Real> Turtle<R> {
             b'.' if self.polygon_open => self.add_vertex()?,
             b'!' => {
                 s.width = match m.args().first() {
+                    Some(&w) if w < Fx::ZERO => return Err(TurtleError::NegativeWidth),
                     Some(&w) => R::from_fx(w),
                     None => s.width * self.params.thin,
                 }
             }
             b'\'' => {
                 s.colour = match m.args().first() {
-                    Some(&c) => c.floor_int().clamp(0, u16::MAX as i32) as u16,
+                    Some(&c) => {
+                        u16::try_from(c.floor_int()).map_err(|_| TurtleError::ColourOutOfRange)?
+                    }
                     None => s.colour.saturating_add(1),
                 }
             }

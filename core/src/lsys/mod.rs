@@ -107,6 +107,11 @@ pub enum ParseErrorKind {
     NotAscii,
     /// A setting with a value outside its range (the text says which).
     InvalidValue(&'static str),
+    /// A `]` without its `[` in the same successor (a branch closes in
+    /// the successor that opens it, ABOP Sec. 1.6).
+    UnmatchedClose,
+    /// A `[` that its successor does not close.
+    UnclosedBranch,
     /// A fixed capacity was exceeded.
     Capacity {
         /// The limit's name (e.g. `MAX_PRODUCTIONS`).
@@ -132,6 +137,12 @@ impl core::fmt::Display for ParseErrorKind {
             }
             ParseErrorKind::NotAscii => f.write_str("character outside printable ASCII"),
             ParseErrorKind::InvalidValue(what) => write!(f, "invalid value: {what}"),
+            ParseErrorKind::UnmatchedClose => {
+                f.write_str("`]` without its `[` (a branch closes in the successor that opens it)")
+            }
+            ParseErrorKind::UnclosedBranch => {
+                f.write_str("`[` not closed in its successor (a branch closes where it opens)")
+            }
             ParseErrorKind::Capacity { limit, capacity } => write!(
                 f,
                 "capacity {limit} = {capacity} exceeded (raise it in core/src/lsys/mod.rs)"

@@ -724,9 +724,26 @@ impl Grammar {
         constants: &Constants,
     ) -> Result<Span, ParseError> {
         let start = self.templates.len() as u16;
+        // Open branches in this successor, and where the outermost one
+        // still open began.
+        let (mut depth, mut outermost) = (0u16, 0usize);
         while !c.at_end() {
             let at = c.pos;
             let symbol = c.symbol()?;
+            match symbol {
+                b'[' => {
+                    if depth == 0 {
+                        outermost = at;
+                    }
+                    depth = depth.saturating_add(1);
+                }
+                b']' => {
+                    depth = depth
+                        .checked_sub(1)
+                        .ok_or_else(|| c.err_at(at, ParseErrorKind::UnmatchedClose))?;
+                }
+                _ => {}
+            }
             let mut t = Template {
                 symbol,
                 arity: 0,
@@ -754,6 +771,9 @@ impl Grammar {
             self.templates.push(t).map_err(|_| {
                 c.err_at(at, capacity("MAX_SUCCESSOR_MODULES", MAX_SUCCESSOR_MODULES))
             })?;
+        }
+        if depth > 0 {
+            return Err(c.err_at(outermost, ParseErrorKind::UnclosedBranch));
         }
         Ok(Span {
             start,

@@ -372,7 +372,10 @@ fn parse_err(text: &str) -> ParseError {
 #[test]
 fn malformed_grammars_get_located_errors() {
     use ParseErrorKind as K;
-    let cases: [(&str, u32, u32, K); 16] = [
+    let cases: [(&str, u32, u32, K); 19] = [
+        ("n = 1\naxiom: F[", 2, 9, K::UnclosedBranch),
+        ("n = 1\naxiom: F\nF -> F]F", 3, 7, K::UnmatchedClose),
+        ("n = 1\naxiom: F\nF -> F[+F][[-F]", 3, 11, K::UnclosedBranch),
         (
             "n = 1\naxiom: F\nF -> F(",
             3,
@@ -461,4 +464,26 @@ fn expressions_conditions_and_settings() {
     assert_eq!(text(&s), "CB");
     assert_eq!(s[0].args(), [Fx::from_int(4), Fx::from_int(2), Fx::ONE]);
     assert_eq!(s[1].args(), [Fx::from_int(49), Fx::MAX, Fx::ZERO]);
+}
+
+#[test]
+fn a_negative_width_or_an_out_of_range_colour_is_an_error() {
+    use crate::turtle::TurtleError;
+    for (text, error) in [
+        ("n = 0\naxiom: !(-5)F", TurtleError::NegativeWidth),
+        ("n = 0\naxiom: '(-300)F", TurtleError::ColourOutOfRange),
+        ("n = 0\naxiom: '(-1)F", TurtleError::ColourOutOfRange),
+    ] {
+        let mut sim = LSystem::new();
+        sim.load(text, 0).unwrap();
+        let mut sink = Records::default();
+        let e = loop {
+            match sim.step(&mut sink) {
+                Ok(p) if p.finished() => panic!("{text}: drew without an error"),
+                Ok(_) => {}
+                Err(e) => break e,
+            }
+        };
+        assert_eq!(e, crate::Error::Lsys(LsysError::Turtle(error)), "{text}");
+    }
 }
