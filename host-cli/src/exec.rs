@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use morphogen::preset::{Model, Preset};
 use morphogen::sim::Progress;
 use morphogen::stream::{ByteSink, Decoder, Encoder, Record, SinkError};
 use morphogen_scenario::Scenario;
@@ -211,6 +212,44 @@ impl Bar {
     }
 }
 
+/// The preset name in the header of a `run --grammar` stream.
+pub const GRAMMAR_PRESET: &str = "grammar";
+
+/// Runs the grammar `text` (read from `file`, named in errors) with
+/// `seed`, as the stream of a preset called [`GRAMMAR_PRESET`]: streaming
+/// when context-free, otherwise buffered
+/// ([`morphogen_scenario::run::HOST_BUFFER_MODULES`] modules a buffer).
+///
+/// # Errors
+/// A located parse error (`file:line:column: …`) or a run error.
+pub fn run_grammar(file: &Path, text: &str, seed: u64, max_stream_mb: u32) -> Result<Run> {
+    let mut probe = Box::new(morphogen::lsys::Grammar::new());
+    probe
+        .parse(text)
+        .map_err(|p| anyhow!("{}:{}:{}: {}", file.display(), p.line, p.column, p.kind))?;
+    let preset = Preset {
+        name: GRAMMAR_PRESET,
+        summary: "",
+        default_seed: seed,
+        model: Model::LSystem(text),
+    };
+    let mut encoder = Encoder::new(Bytes(Vec::new(), u64::from(max_stream_mb) << 20));
+    morphogen_scenario::run::run(&preset, seed, &mut encoder, &mut |_| {}).map_err(|e| match e {
+        morphogen::Error::Sink(morphogen::stream::SinkError::Full { .. }) => anyhow!(
+            "{}: the stream passed {max_stream_mb} MiB and was stopped (raise the cap with --max-stream-mb)",
+            file.display()
+        ),
+        e => anyhow!("{}: {e}", file.display()),
+    })?;
+    let digest = encoder.digest();
+    let frames = encoder.frames();
+    Ok(Run {
+        stream: encoder.into_writer().0,
+        digest,
+        frames,
+    })
+}
+
 /// Writes a finished run into `dir` (created if missing): `stream.bin`,
 /// `records.jsonl`, then the files `model` draws from the decoded records.
 /// Returns every path written, in order.
@@ -234,4 +273,40 @@ pub fn write_outputs(
     let mut written = vec![stream_path, jsonl_path];
     written.extend(model(&records, dir)?);
     Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::outputs::plant;
+
+    #[test]
+    fn grammar_errors_name_the_file_line_and_column() {
+        let e = run_grammar(Path::new("my.lsys"), "n = 2\naxiom: F\nF -> F(1", 0, 128).unwrap_err();
+        assert_eq!(e.to_string(), "my.lsys:3:9: expected `,` or `)`");
+    }
+
+    #[test]
+    fn context_sensitive_grammars_run_buffered_and_draw() {
+        let text = include_str!("../../grammars/abop-context-1-31a.lsys");
+        let run = run_grammar(Path::new("ctx.lsys"), text, 0, 128).unwrap();
+        let records: Vec<Record> = morphogen::stream::Decoder::new(&run.stream)
+            .filter_map(|d| d.result.ok())
+            .collect();
+        let segments = records
+            .iter()
+            .filter(|r| matches!(r, Record::Segment { .. }))
+            .count();
+        assert!(segments > 1000, "{segments}");
+        let dir = tempfile::tempdir().unwrap();
+        let written = plant::write(&records, dir.path()).unwrap();
+        assert_eq!(written.len(), 3);
+        let obj = std::fs::read_to_string(dir.path().join("plant.obj")).unwrap();
+        assert_eq!(
+            obj.lines().filter(|l| l.starts_with("v ")).count(),
+            8 * segments
+        );
+        let csv = std::fs::read_to_string(dir.path().join("segments.csv")).unwrap();
+        assert_eq!(csv.lines().count(), segments + 1);
+    }
 }

@@ -289,7 +289,7 @@ fn run_grammar(
     let stem = file
         .file_stem()
         .map_or_else(|| "grammar".into(), |s| s.to_string_lossy().into_owned());
-    let run = outputs::plant::run_grammar(file, &text, seed, max_stream_mb)?;
+    let run = exec::run_grammar(file, &text, seed, max_stream_mb)?;
     let dir = out.unwrap_or_else(|| Path::new("out").join(&stem));
     let written = exec::write_outputs(&dir, &run, outputs::plant::write)?;
     say!(
