@@ -40,6 +40,8 @@ pub struct ObjMesh {
     pub vertices: Vec<[Fx; 3]>,
     /// `f` lines, fan-triangulated, 0-based.
     pub triangles: Vec<[u32; 3]>,
+    /// The line of each vertex, for errors about it.
+    pub vertex_lines: Vec<usize>,
 }
 
 /// A token shown in an error, at most 24 characters of it.
@@ -101,6 +103,7 @@ pub fn parse_obj(name: &str, text: &str) -> Result<ObjMesh> {
                 }
                 let p = numbers::<3>(&tokens[1..]).with_context(at)?;
                 mesh.vertices.push(p);
+                mesh.vertex_lines.push(n + 1);
             }
             Some("f") => {
                 let count = mesh.vertices.len() as i64;
@@ -361,6 +364,19 @@ pub fn format_cylinders(model: &BodyModel<'_>, table: &GrowthTable<'_>) -> Strin
     s
 }
 
+/// The first vertex of `model` that cannot be bound (more cylinders hold
+/// it than a binding has room for), if any.
+fn first_unbindable(model: &BodyModel<'_>, table: &GrowthTable<'_>) -> Option<usize> {
+    let mut skeleton = Box::new(morphogen::body::Skeleton::<Fx, USER_CYLINDERS>::new());
+    skeleton.load(model, table).ok()?;
+    (0..model.mesh.vertex_count() as usize).find(|&i| {
+        model
+            .mesh
+            .vertex::<Fx>(i as u32)
+            .is_some_and(|p| skeleton.bind(&p).is_err())
+    })
+}
+
 /// The cylinder an error is about, if any.
 fn cylinder_of(e: &morphogen::Error) -> Option<Label> {
     match e {
@@ -439,8 +455,20 @@ fn run_body(
         ),
         None => anyhow!("{mesh_name} with {cyl_name}: {e}"),
     };
-    let binding =
-        morphogen::body::binding_summary::<USER_CYLINDERS>(&model, base.table).map_err(locate)?;
+    let binding = morphogen::body::binding_summary::<USER_CYLINDERS>(&model, base.table)
+        .map_err(|e| match e {
+            // Too many cylinders hold one vertex: name the first such vertex.
+            morphogen::Error::Capacity { .. } => match first_unbindable(&model, base.table) {
+                Some(v) => anyhow!(
+                    "{mesh_name}:{}: vertex {} lies in more than {} cylinders ({e}); make the cylinders overlap less",
+                    obj.vertex_lines.get(v).copied().unwrap_or(0),
+                    v + 1,
+                    morphogen::body::binding::MAX_BINDINGS
+                ),
+                None => locate(e),
+            },
+            e => locate(e),
+        })?;
     let mut encoder = Encoder::new(Bytes::default());
     encoder
         .record(&morphogen::preset::header(
@@ -598,6 +626,33 @@ feature leg follows cannon-diameter canonical 0.5 0 -1 0.5 0 1
         assert!(
             format!("{e:#}").contains(&format!("more than {USER_CYLINDERS} cylinders")),
             "{e:#}"
+        );
+    }
+
+    #[test]
+    fn a_vertex_in_too_many_cylinders_is_named_with_its_line() {
+        let tmp = tempfile::tempdir().unwrap();
+        let mut cylinders = CYLINDERS.to_string();
+        for i in 0..9 {
+            cylinders.push_str(&format!(
+                "cylinder c{i} parent body base 0 10 0 tip 20 10 0 radius 5\n\
+                 feature c{i} follows elbow-to-ground model 0 10 0 20 10 0\n\
+                 feature c{i} measured cannon-diameter canonical 0.5 -0.2 0 0.5 0.2 0\n"
+            ));
+        }
+        let (mesh, cyl) = (tmp.path().join("m.obj"), tmp.path().join("c.txt"));
+        std::fs::write(
+            &mesh,
+            "# one triangle\nv 30 30 30\nv 10 10 0\nv 30 31 30\nf 1 2 3\n",
+        )
+        .unwrap();
+        std::fs::write(&cyl, cylinders).unwrap();
+        let horse = morphogen_scenario::builtin("horse-growth").unwrap();
+        let e = run(&horse, None, Some(tmp.path().join("out")), &mesh, &cyl).unwrap_err();
+        let e = format!("{e:#}");
+        assert!(
+            e.contains("m.obj:3: vertex 2 lies in more than 8 cylinders"),
+            "{e}"
         );
     }
 }
