@@ -145,20 +145,24 @@ pub fn run(scenario: &Scenario, seed: u64, progress: bool) -> Result<Run> {
 /// The core's error, with the scenario named; a stream past the cap names
 /// the cap and the flag that raises it.
 pub fn run_limited(scenario: &Scenario, seed: u64, progress: bool, max_mb: u32) -> Result<Run> {
-    let mut encoder = Encoder::new(Bytes(Vec::new(), u64::from(max_mb) << 20));
     let bar = Bar::new(scenario.name(), progress);
-    scenario
-        .with_preset(|p| {
-            morphogen_scenario::run::run(p, seed, &mut encoder, &mut |p| bar.report(p))
-        })
-        .map_err(|e| match e {
-            morphogen::Error::Sink(SinkError::Full { .. }) => anyhow!(
-                "{}: the stream passed {max_mb} MiB and was stopped (raise the cap with --max-stream-mb)",
-                scenario.name()
-            ),
-            e => anyhow!("{}: {e}", scenario.name()),
-        })?;
+    let run = scenario.with_preset(|p| run_preset(p, seed, scenario.name(), &bar, max_mb))?;
     bar.finish();
+    Ok(run)
+}
+
+/// Runs `preset` into a stream of at most `max_mb` MiB; errors name
+/// `what` (the scenario or the file).
+fn run_preset(preset: &Preset<'_>, seed: u64, what: &str, bar: &Bar, max_mb: u32) -> Result<Run> {
+    let mut encoder = Encoder::new(Bytes(Vec::new(), u64::from(max_mb) << 20));
+    morphogen_scenario::run::run(preset, seed, &mut encoder, &mut |p| bar.report(p)).map_err(
+        |e| match e {
+            morphogen::Error::Sink(SinkError::Full { .. }) => anyhow!(
+                "{what}: the stream passed {max_mb} MiB and was stopped (raise the cap with --max-stream-mb)"
+            ),
+            e => anyhow!("{what}: {e}"),
+        },
+    )?;
     let digest = encoder.digest();
     let frames = encoder.frames();
     Ok(Run {
@@ -233,21 +237,16 @@ pub fn run_grammar(file: &Path, text: &str, seed: u64, max_stream_mb: u32) -> Re
         default_seed: seed,
         model: Model::LSystem(text),
     };
-    let mut encoder = Encoder::new(Bytes(Vec::new(), u64::from(max_stream_mb) << 20));
-    morphogen_scenario::run::run(&preset, seed, &mut encoder, &mut |_| {}).map_err(|e| match e {
-        morphogen::Error::Sink(morphogen::stream::SinkError::Full { .. }) => anyhow!(
-            "{}: the stream passed {max_stream_mb} MiB and was stopped (raise the cap with --max-stream-mb)",
-            file.display()
-        ),
-        e => anyhow!("{}: {e}", file.display()),
-    })?;
-    let digest = encoder.digest();
-    let frames = encoder.frames();
-    Ok(Run {
-        stream: encoder.into_writer().0,
-        digest,
-        frames,
-    })
+    let bar = Bar::new(GRAMMAR_PRESET, true);
+    let run = run_preset(
+        &preset,
+        seed,
+        &file.display().to_string(),
+        &bar,
+        max_stream_mb,
+    )?;
+    bar.finish();
+    Ok(run)
 }
 
 /// Writes a finished run into `dir` (created if missing): `stream.bin`,
