@@ -260,9 +260,8 @@ impl Scenario {
                 .strip_prefix(outer)
                 .is_some_and(|rest| rest.starts_with(['.', '[']))
         };
-        let set_for = |key: &str, k: &str| {
-            key == k || nested(k, key) || (!key.is_empty() && nested(key, k))
-        };
+        let set_for =
+            |key: &str, k: &str| key == k || nested(k, key) || (!key.is_empty() && nested(key, k));
         let locate = |key: &str| -> Place {
             if let Some((k, v)) = sets.iter().rev().find(|(k, _)| set_for(key, k)) {
                 return Place::Set(format!("{k}={v}"));
@@ -551,8 +550,13 @@ pub fn builtins() -> Vec<Scenario> {
                 let name = path
                     .trim_start_matches("scenarios/")
                     .trim_end_matches(".toml");
-                Scenario::parse(&format!("built-in {name}"), &text, Base::Embedded(path), &[])
-                    .unwrap_or_else(|e| panic!("built-in scenario {path}: {e}"))
+                Scenario::parse(
+                    &format!("built-in {name}"),
+                    &text,
+                    Base::Embedded(path),
+                    &[],
+                )
+                .unwrap_or_else(|e| panic!("built-in scenario {path}: {e}"))
             })
             .collect();
         all.sort_by_key(|s| (model_order(s.checked()), s.origin.clone()));
