@@ -655,4 +655,17 @@ feature leg follows cannon-diameter canonical 0.5 0 -1 0.5 0 1
             "{e}"
         );
     }
+
+    #[test]
+    fn a_mesh_beyond_the_vertex_limit_is_refused_at_its_line() {
+        let text = "v 0 0 0\n".repeat(MAX_MESH_VERTICES + 1);
+        let e = parse_obj("big.obj", &text).unwrap_err().to_string();
+        assert!(
+            e.starts_with(&format!(
+                "big.obj:{}: more than {MAX_MESH_VERTICES} vertices",
+                MAX_MESH_VERTICES + 1
+            )),
+            "{e}"
+        );
+    }
 }

@@ -645,3 +645,36 @@ fn runaway_and_unreadable_grammars_stop_with_the_limit_named() {
         assert!(text(&o).contains(message), "{}", text(&o));
     }
 }
+
+#[test]
+fn a_capture_cannot_choose_its_fixture_by_a_path_in_its_name() {
+    use morphogen::stream::{Encoder, Header, Sink};
+    let tmp = tempfile::tempdir().unwrap();
+    let fixtures = fixture_copy(tmp.path());
+    for name in ["../fixtures/growth-curve", "/tmp/x", ".hidden", "a/b"] {
+        let mut enc = Encoder::new(exec::Bytes::default());
+        enc.record(&Record::Header(Header {
+            version: 1,
+            preset: name.try_into().unwrap(),
+            seed: 0,
+            params: 0,
+        }))
+        .unwrap();
+        enc.record(&Record::FrameEnd { frame: 0 }).unwrap();
+        let capture = tmp.path().join("capture.bin");
+        fs::write(&capture, enc.into_writer().0).unwrap();
+        let o = morphogen(&[
+            "verify",
+            "--stream",
+            capture.to_str().unwrap(),
+            "--fixtures",
+            fixtures.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", text(&o));
+        assert!(
+            text(&o).contains("is not a fixture name"),
+            "{name}: {}",
+            text(&o)
+        );
+    }
+}
