@@ -157,12 +157,13 @@ fn dispatch(command: Command) -> Result<Outcome> {
             let all = morphogen_scenario::builtins();
             let width = all.iter().map(|s| s.name().len()).max().unwrap_or(0);
             for s in &all {
-                let note = s.with_preset(|p| {
-                    if p.model.fits_mcu() {
-                        String::new()
-                    } else {
-                        "  (host only: too many cells for an MCU)".to_string()
-                    }
+                let note = s.with_preset(|p| match p.model {
+                    morphogen::preset::Model::Mosaic(m) if !p.model.fits_mcu() => format!(
+                        "  (host only: up to ~{} cells at the fastest type's doubling, an MCU store holds {})",
+                        morphogen::mosaic::expected_peak_cells(m),
+                        morphogen::mosaic::McuStore::CAPACITY
+                    ),
+                    _ => String::new(),
                 });
                 say!(
                     "{:width$}  seed {:<4} {}{note}",
