@@ -1,8 +1,8 @@
 //! Fuzzes the L-system grammar parser, then derives and draws whatever
 //! parses (bounded): no input may panic, hang or give an unlocated error.
 //!
-//! `cargo +nightly fuzz run parse -- -max_total_time=600` from `core/`
-//! (or see `docs/lsystems.md` for running it without cargo-fuzz).
+//! `RUSTC_BOOTSTRAP=1 cargo fuzz run parse -- -max_total_time=600` from
+//! `core/` (or `bash scripts/fuzz.sh`; docs/robustness.md).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

@@ -17,6 +17,7 @@ pub(crate) mod func;
 mod number;
 mod real;
 mod tables;
+mod wide;
 
 #[cfg(test)]
 mod accuracy;
@@ -26,3 +27,4 @@ mod tables_gen;
 pub use angle::Angle;
 pub use number::Fx;
 pub use real::Real;
+pub use wide::{dot_wide, length};

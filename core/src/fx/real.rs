@@ -9,8 +9,8 @@ use core::ops::Neg;
 use nalgebra::{ClosedAddAssign, ClosedMulAssign, ClosedSubAssign, Scalar, Vector3};
 use num_traits::{One, Zero};
 
+use super::wide::{dot_wide, length};
 use super::{Angle, Fx, func};
-use crate::geom::{dot_wide, length};
 
 /// A real number type a kernel computes with.
 ///
