@@ -53,6 +53,9 @@ for name in $("$morphogen" list | cut -d' ' -f1); do
 done
 echo "all $(ls "$shown" | wc -l) scenario files reproduce their fixtures"
 
+step "fuzz smoke: every reader's libFuzzer target for 20 s (docs/robustness.md)"
+bash scripts/fuzz.sh 20
+
 step "firmware in QEMU, bit-exact against the fixtures"
 MORPHOGEN_VERIFY="$morphogen verify --stream" MORPHOGEN_BLESS="$morphogen bless" bash scripts/firmware-check.sh
 

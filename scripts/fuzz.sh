@@ -1,0 +1,115 @@
+#!/usr/bin/env bash
+# Fuzz smoke (issue 14): builds every cargo-fuzz target of core/fuzz (the
+# core's readers) and fuzz/ (the host's readers) and runs each for SECONDS
+# (default 20), one after the other. Prints one line per target and exits
+# non-zero if any target crashed (its input is in <crate>/artifacts/<target>/).
+#
+#   bash scripts/fuzz.sh [SECONDS]
+#   FUZZ_TARGETS="mask scenario" bash scripts/fuzz.sh 600   # some targets
+#
+# Runs on the stable toolchain: RUSTC_BOOTSTRAP=1 lets it take the nightly
+# flags cargo-fuzz passes (-Zsanitizer=address). Installs cargo-fuzz if it
+# is missing. Seeds are <crate>/seeds/<target>/ (committed); what libFuzzer
+# adds goes to <crate>/corpus/<target>/ (ignored). Both crates build into
+# fuzz/target/ (shared dependencies build once); logs go to
+# fuzz/target/fuzz-logs/. docs/robustness.md, "Fuzzing".
+set -euo pipefail
+
+seconds="${1:-20}"
+case "$seconds" in
+'' | *[!0-9]*)
+    echo "usage: bash scripts/fuzz.sh [SECONDS]" >&2
+    exit 2
+    ;;
+esac
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+export RUSTC_BOOTSTRAP=1
+target_dir="$root/fuzz/target"
+logs="fuzz/target/fuzz-logs"
+
+# crate directory:target
+all_targets=(
+    core/fuzz:parse
+    core/fuzz:derive_buffered
+    core/fuzz:decode
+    fuzz:scenario
+    fuzz:mask
+    fuzz:obj_cylinders
+    fuzz:capture
+)
+
+# libFuzzer options for every target: memory caps (a reader must refuse
+# what does not fit, not allocate it), input size, a per-input time limit.
+options=(
+    -rss_limit_mb=1024
+    -malloc_limit_mb=512
+    -max_len=65536
+    -timeout=20
+    -print_final_stats=1
+)
+
+if ! cargo fuzz --version >/dev/null 2>&1; then
+    echo "fuzz: installing cargo-fuzz"
+    cargo install cargo-fuzz --locked
+fi
+
+selected=()
+for entry in "${all_targets[@]}"; do
+    if [ -z "${FUZZ_TARGETS:-}" ] || [[ " $FUZZ_TARGETS " == *" ${entry#*:} "* ]]; then
+        selected+=("$entry")
+    fi
+done
+if [ "${#selected[@]}" -eq 0 ]; then
+    echo "fuzz: no target matches FUZZ_TARGETS='$FUZZ_TARGETS'" >&2
+    exit 2
+fi
+
+started=$SECONDS
+built=""
+for entry in "${selected[@]}"; do
+    dir="${entry%%:*}"
+    case " $built " in *" $dir "*) continue ;; esac
+    echo "fuzz: building $dir"
+    mkdir -p "$logs"
+    build_log="$logs/build-${dir//\//-}.log"
+    cargo fuzz build --fuzz-dir "$dir" --target-dir "$target_dir" >"$build_log" 2>&1 || {
+        tail -n 30 "$build_log" >&2
+        echo "fuzz: build of $dir failed (whole log: $build_log)" >&2
+        exit 1
+    }
+    built="$built $dir"
+done
+build_time=$((SECONDS - started))
+
+failed=0
+for entry in "${selected[@]}"; do
+    dir="${entry%%:*}"
+    target="${entry#*:}"
+    corpus="$dir/corpus/$target"
+    log="$logs/$target.log"
+    mkdir -p "$corpus" "$dir/artifacts/$target"
+    status=0
+    cargo fuzz run --fuzz-dir "$dir" --target-dir "$target_dir" \
+        "$target" "$corpus" "$dir/seeds/$target" -- \
+        "${options[@]}" -max_total_time="$seconds" >"$log" 2>&1 || status=$?
+    runs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)"
+    if [ -z "$runs" ]; then
+        runs="$(grep -o '^#[0-9]*' "$log" | tail -n 1 | tr -d '#' || true)"
+    fi
+    # libFuzzer's corpus at the end: units/bytes.
+    units="$(grep -E '^#[0-9]+' "$log" | tail -n 1 | sed -n 's/.* corp: \([^ ]*\).*/\1/p' || true)"
+    if [ "$status" -eq 0 ]; then
+        printf 'fuzz %-16s %10s runs  corpus %-14s 0 crashes\n' "$target" "${runs:-?}" "${units:-?}"
+    else
+        failed=1
+        artifact="$(sed -n 's/.*Test unit written to //p' "$log" | tail -n 1)"
+        printf 'fuzz %-16s %10s runs  corpus %-14s CRASH (exit %s): %s\n' \
+            "$target" "${runs:-?}" "${units:-?}" "$status" "${artifact:-see $log}"
+        grep -m 1 -E 'panicked at|ERROR: (AddressSanitizer|libFuzzer)' "$log" | sed 's/^/    /' >&2 || true
+        echo "    reproduce: RUSTC_BOOTSTRAP=1 cargo fuzz run --fuzz-dir $dir --target-dir $target_dir $target ${artifact:-<input>}" >&2
+        echo "    log: $log" >&2
+    fi
+done
+echo "fuzz: ${#selected[@]} targets, ${seconds} s each; build ${build_time} s, total $((SECONDS - started)) s"
+exit "$failed"
