@@ -11,22 +11,10 @@ use libfuzzer_sys::fuzz_target;
 use morphogen::mosaic::Mask;
 use morphogen_scenario::mask;
 
-/// A PNG whose first chunk is an empty `IHDR`. The PNG decoder skips it
-/// and takes its sizes from a later `IHDR`, which the reader's size check
-/// (`scenario/src/mask.rs`, bytes 16..24) never sees. In a normal build the
-/// empty chunk's CRC (always `a8a1ae0a`) is what that check reads as the
-/// width, so it is refused; a fuzzing build does not check CRCs and would
-/// allocate the later `IHDR`'s size. Skipped until the check reads the
-/// chunk length (docs/robustness.md).
-const EMPTY_FIRST_IHDR: &[u8] = b"\x89PNG\r\n\x1a\n\0\0\0\0IHDR";
-
 /// Masks up to this many pixels are written back as PBM and re-read.
 const ROUND_TRIP_PIXELS: u64 = 1 << 16;
 
 fuzz_target!(|data: &[u8]| {
-    if data.starts_with(EMPTY_FIRST_IHDR) {
-        return;
-    }
     let (width, height, bits) = match mask::read(data) {
         Ok(mask) => mask,
         Err(e) => {

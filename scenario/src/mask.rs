@@ -50,11 +50,13 @@ fn read_png(bytes: &[u8]) -> Result<(u16, u16, Vec<u8>), String> {
     };
     // The sizes in IHDR (the first chunk), checked before decoding
     // allocates the whole image.
-    match (bytes.get(12..16), be32(16), be32(20)) {
-        (Some(b"IHDR"), Some(w), Some(h)) => {
+    // The first chunk must be a whole (13-byte) IHDR: a decoder skips an
+    // empty one and would take its sizes from a later, unchecked chunk.
+    match (bytes.get(8..16), be32(16), be32(20)) {
+        (Some(b"\0\0\0\x0dIHDR"), Some(w), Some(h)) => {
             size_check(u64::from(w), u64::from(h), "PNG")?;
         }
-        _ => return Err("PNG: cannot decode: no IHDR chunk".into()),
+        _ => return Err("PNG: cannot decode: the first chunk is not a 13-byte IHDR".into()),
     }
     let pixmap = tiny_skia::Pixmap::decode_png(bytes).map_err(|e| format!("PNG: {e}"))?;
     let (width, height) = size_check(u64::from(pixmap.width()), u64::from(pixmap.height()), "PNG")?;
@@ -241,6 +243,10 @@ mod tests {
                 .contains("raster needs 8 bytes")
         );
         assert!(read(b"\x89PNG\r\n\x1a\n").unwrap_err().contains("IHDR"));
+        // Found by fuzzing: an empty first IHDR, then one of 12 × 704 643 080
+        // pixels that a decoder would have allocated.
+        let empty_ihdr: &[u8] = b"\x89PNG\r\n\x1a\n\0\0\0\0IHDR\0\0\0\x20\0\0\0\x0dIHDR\0\0\0\x0c\x2a\0\0\x08\x08\x06\0\0\0\xcd\xe4\x1e\xf1\0\0\0\x27IDAT\x82\x60\x82";
+        assert!(read(empty_ihdr).unwrap_err().contains("13-byte IHDR"));
     }
 
     #[test]
