@@ -13,7 +13,7 @@
 use libfuzzer_sys::fuzz_target;
 use morphogen::body::table::QUARTER_HORSE;
 use morphogen::body::{BodyModel, Mesh};
-use morphogen_cli::body_input::{USER_CYLINDERS, parse_cylinders, parse_obj};
+use morphogen_scenario::body_files::{USER_CYLINDERS, parse_cylinders, parse_obj};
 
 /// Meshes bound to cylinders at most this many vertices (bounds the time).
 const BIND_VERTICES: usize = 4096;

@@ -8,7 +8,9 @@ use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use morphogen::stream::Decoder;
 use morphogen_cli::stdout::StdoutError;
-use morphogen_cli::{Outcome, atomic, capture, exec, fixture, jsonl, outputs, say, sweep, verify};
+use morphogen_cli::{
+    Outcome, atomic, body_input, capture, exec, fixture, jsonl, outputs, say, sweep, verify,
+};
 use morphogen_scenario::Scenario;
 
 /// The workspace's fixtures folder, the default for `verify` and `bless`.
@@ -211,7 +213,14 @@ fn dispatch(command: Command) -> Result<Outcome> {
             };
             match (mesh, cylinders) {
                 (Some(mesh), Some(cylinders)) => {
-                    morphogen_cli::body_input::run(&scenario, seed, out, &mesh, &cylinders)
+                    let body = body_input::with_body_files(&scenario, &mesh, &cylinders)?;
+                    let stem = mesh
+                        .file_stem()
+                        .map_or_else(|| "mesh".into(), |s| s.to_string_lossy().into_owned());
+                    let out = out.unwrap_or_else(|| {
+                        Path::new("out").join(format!("{}-{stem}", scenario.name()))
+                    });
+                    run(&body, seed, Some(out), rig.as_deref(), max_stream_mb)
                 }
                 _ => run(&scenario, seed, out, rig.as_deref(), max_stream_mb),
             }

@@ -195,6 +195,98 @@ fn a_user_scenario_is_blessed_verified_and_guarded() {
     );
 }
 
+fn examples() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
+}
+
+#[test]
+fn a_user_body_runs_from_its_files_and_their_mistakes_are_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    for file in ["wagging-tail.toml", "tail.obj", "tail.cylinders"] {
+        std::fs::copy(examples().join(file), tmp.path().join(file)).unwrap();
+    }
+    let o = morphogen(&["run", "wagging-tail.toml", "--out", "a"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary = std::fs::read_to_string(tmp.path().join("a/summary.txt")).unwrap();
+    assert!(
+        summary.contains("vertices 16, triangles 28")
+            && summary.contains("vertices in no cylinder (following the nearest): 0"),
+        "{summary}"
+    );
+    // `show` inlines both files: the shown scenario runs anywhere, alike.
+    let shown = morphogen(&["show", "wagging-tail.toml"], tmp.path());
+    std::fs::create_dir(tmp.path().join("elsewhere")).unwrap();
+    std::fs::write(tmp.path().join("elsewhere/tail.toml"), &shown.stdout).unwrap();
+    let o = morphogen(
+        &["run", "tail.toml", "--out", "b"],
+        &tmp.path().join("elsewhere"),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        std::fs::read(tmp.path().join("a/stream.bin")).unwrap(),
+        std::fs::read(tmp.path().join("elsewhere/b/stream.bin")).unwrap()
+    );
+    // Golden files guard it like any scenario.
+    let o = morphogen(
+        &["bless", "wagging-tail.toml", "--fixtures", "fx"],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = morphogen(&["verify", "--fixtures", "fx"], tmp.path());
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    // A mistake in a named file is located in that file, under the key.
+    let error = |cylinders: &str, toml: &str| {
+        std::fs::write(tmp.path().join("bad.cylinders"), cylinders).unwrap();
+        std::fs::write(tmp.path().join("bad.toml"), toml).unwrap();
+        let o = morphogen(&["run", "bad.toml"], tmp.path());
+        assert_eq!(o.status.code(), Some(2));
+        String::from_utf8_lossy(&o.stderr).trim().to_string()
+    };
+    let cylinders = std::fs::read_to_string(tmp.path().join("tail.cylinders")).unwrap();
+    let toml = std::fs::read_to_string(tmp.path().join("wagging-tail.toml")).unwrap();
+    let bad_toml = toml.replace("\"tail.cylinders\"", "\"bad.cylinders\"");
+    assert_eq!(
+        error(&cylinders.replace("parent base", "parent hip"), &bad_toml),
+        "error: bad.toml:7: body.cylinders: bad.cylinders:6: parent 'hip' must be declared before 'tip'"
+    );
+    assert_eq!(
+        error(
+            &cylinders.replace("measured girth", "measured waist"),
+            &bad_toml
+        ),
+        "error: bad.toml:7: body.cylinders: bad.cylinders:5: the growth table has no column 'waist' (it has length, girth)"
+    );
+    assert_eq!(
+        error(
+            &cylinders,
+            &toml.replace("[body]\n", "[body]\nmodel = \"horse\"\n")
+        ),
+        "error: bad.toml:6: body.model: a built-in body or your own mesh and cylinders, not both (remove model, or mesh and cylinders)"
+    );
+    // The command line's --mesh/--cylinders: the same readers and checks.
+    let o = morphogen(
+        &[
+            "run",
+            "horse-growth",
+            "--mesh",
+            "tail.obj",
+            "--cylinders",
+            "tail.cylinders",
+        ],
+        tmp.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr).trim(),
+        "error: tail.cylinders:4: the growth table has no column 'length' (it has elbow-to-ground, cannon-diameter, hind-leg, head-width)"
+    );
+}
+
 #[test]
 fn sweeps_do_not_depend_on_threads_or_shards() {
     let tmp = tempfile::tempdir().unwrap();
@@ -244,6 +336,10 @@ fn every_example_in_the_scenario_docs_runs() {
         tmp.path().join("grammars/long-bone.lsys"),
     )
     .unwrap();
+    // The user-body example names its mesh and cylinders beside it.
+    for file in ["tail.obj", "tail.cylinders"] {
+        std::fs::copy(examples().join(file), tmp.path().join("docs").join(file)).unwrap();
+    }
     let blocks: Vec<&str> = docs
         .split("```toml\n")
         .skip(1)
@@ -266,4 +362,9 @@ fn every_example_in_the_scenario_docs_runs() {
         );
     }
     assert_eq!(models.len(), 6, "one example per model");
+    let tail = std::fs::read_to_string(examples().join("wagging-tail.toml")).unwrap();
+    assert!(
+        blocks.contains(&tail.as_str()),
+        "docs/scenarios.md shows examples/wagging-tail.toml as it is"
+    );
 }

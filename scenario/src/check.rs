@@ -5,7 +5,9 @@
 use morphogen::body::gait::Channel as CoreChannel;
 use morphogen::body::gait::Gait as CoreGait;
 use morphogen::body::table::Column as CoreColumn;
-use morphogen::body::{BodyModel, BodyParams, GrowthTable, Interpolation, Label};
+use morphogen::body::{
+    BodyError, BodyModel, BodyParams, Cylinder, GrowthTable, Interpolation, Label, Mesh, Skeleton,
+};
 use morphogen::bones::{BonesParams, Frames as BoneFramesCore};
 use morphogen::fx::{Angle, Fx};
 use morphogen::growth::Sigmoid as CoreSigmoid;
@@ -19,6 +21,7 @@ use morphogen::preset::{Model, Preset};
 use morphogen::shrinkwrap::WrapParams;
 use morphogen::stream::PresetName;
 
+use crate::body_files::{self, USER_CYLINDERS};
 use crate::mask;
 use crate::schema::{self, BoneFrames, DayFrames, File, Include};
 
@@ -78,6 +81,45 @@ impl BuiltinBody {
     }
 }
 
+/// The body a `[body]` scenario grows.
+#[derive(Debug, Clone)]
+pub enum BodyShape {
+    /// A built-in body (`model`).
+    Builtin(BuiltinBody),
+    /// The user's mesh and cylinders (`mesh`, `cylinders`).
+    User(Box<UserBody>),
+}
+
+/// A user's body, read from its mesh and cylinder files and bound.
+#[derive(Debug, Clone)]
+pub struct UserBody {
+    /// The cylinders, root first.
+    pub cylinders: Vec<Cylinder>,
+    /// The age the mesh shows, months.
+    pub model_age: Fx,
+    /// The mesh's vertices.
+    pub vertices: Vec<[Fx; 3]>,
+    /// The mesh's triangles.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl BodyShape {
+    /// Calls `f` with the core's model of this body.
+    fn with_model<R>(&self, f: impl FnOnce(&BodyModel<'_>) -> R) -> R {
+        match self {
+            BodyShape::Builtin(b) => f(b.model()),
+            BodyShape::User(u) => f(&BodyModel {
+                cylinders: &u.cylinders,
+                mesh: Mesh::Indexed {
+                    vertices: &u.vertices,
+                    triangles: &u.triangles,
+                },
+                model_age: u.model_age,
+            }),
+        }
+    }
+}
+
 /// A checked model, owning every table its core parameters borrow.
 #[derive(Debug, Clone)]
 pub enum Checked {
@@ -110,7 +152,7 @@ pub enum Checked {
     /// `[body]`.
     Body {
         /// The body.
-        model: BuiltinBody,
+        model: BodyShape,
         /// Frames, first and last age, frames per stride.
         frames: u16,
         /// Age of the first frame.
@@ -237,16 +279,23 @@ impl Checked {
                 let core_gait = CoreGait {
                     channels: &channels,
                 };
-                let params = BodyParams {
-                    model: model.model(),
-                    table: &table,
-                    frames: *frames,
-                    first_age: *first_age,
-                    last_age: *last_age,
-                    gait: gait.as_ref().map(|_| &core_gait),
-                    frames_per_stride: *frames_per_stride,
-                };
-                f(&preset(Model::Body(&params)))
+                model.with_model(|model| {
+                    let params = BodyParams {
+                        model,
+                        table: &table,
+                        frames: *frames,
+                        first_age: *first_age,
+                        last_age: *last_age,
+                        gait: gait.as_ref().map(|_| &core_gait),
+                        frames_per_stride: *frames_per_stride,
+                    };
+                    f(&Preset {
+                        name,
+                        summary,
+                        default_seed: seed,
+                        model: Model::Body(&params),
+                    })
+                })
             }
             Checked::Bones {
                 grammar,
@@ -341,7 +390,7 @@ pub fn check(file: &File, files: &dyn Files) -> Result<Checked> {
         return mosaic(m, files);
     }
     if let Some(b) = &file.body {
-        return body(b);
+        return body(b, files);
     }
     match &file.bones {
         Some(b) => bones(b, files),
@@ -701,17 +750,7 @@ fn label(key: &str, name: &str) -> Result<Label> {
     })
 }
 
-fn body(b: &schema::Body) -> Result<Checked> {
-    let model = match b.model.as_str() {
-        "horse" => BuiltinBody::Horse,
-        "cow" => BuiltinBody::Cow,
-        other => {
-            return invalid(
-                "body.model",
-                format!("{other:?} is not a built-in body (allowed: \"horse\", \"cow\")"),
-            );
-        }
-    };
+fn body(b: &schema::Body, files: &dyn Files) -> Result<Checked> {
     let t = &b.table;
     let interpolation = match t.interpolation.as_str() {
         "linear" => Interpolation::Linear,
@@ -758,6 +797,65 @@ fn body(b: &schema::Body) -> Result<Checked> {
             .collect::<Result<Vec<_>>>()?;
         columns.push((label(&format!("{key}.name"), &c.name)?, values));
     }
+    let core_columns: Vec<CoreColumn<'_>> = columns
+        .iter()
+        .map(|(name, values)| CoreColumn {
+            name: *name,
+            values,
+        })
+        .collect();
+    let table = GrowthTable {
+        unit: &t.unit,
+        ages: &ages,
+        columns: &core_columns,
+        interpolation,
+    };
+    table.validate().map_err(|e| Invalid {
+        key: "body.table".into(),
+        message: e.to_string(),
+    })?;
+    let model = match (&b.model, &b.mesh, &b.cylinders) {
+        (Some(name), None, None) => BodyShape::Builtin(match name.as_str() {
+            "horse" => BuiltinBody::Horse,
+            "cow" => BuiltinBody::Cow,
+            other => {
+                return invalid(
+                    "body.model",
+                    format!("{other:?} is not a built-in body (allowed: \"horse\", \"cow\")"),
+                );
+            }
+        }),
+        (None, Some(mesh), Some(cylinders)) => {
+            BodyShape::User(Box::new(user_body(mesh, cylinders, &table, files)?))
+        }
+        (Some(_), _, _) => {
+            return invalid(
+                "body.model",
+                "a built-in body or your own mesh and cylinders, not both (remove model, or mesh and cylinders)",
+            );
+        }
+        (None, None, _) => {
+            return invalid(
+                "body.mesh",
+                "missing: give model = \"horse\" or \"cow\", or mesh and cylinders",
+            );
+        }
+        (None, Some(_), None) => {
+            return invalid(
+                "body.cylinders",
+                "missing: a mesh is bound to the cylinders of a cylinder file (docs/body.md)",
+            );
+        }
+    };
+    // A built-in model reads its columns by position: check the table
+    // against it (a user's cylinder file names its columns).
+    if let BodyShape::Builtin(body) = &model {
+        let mut skeleton = Box::new(Skeleton::<Fx, USER_CYLINDERS>::new());
+        skeleton.load(body.model(), &table).map_err(|e| Invalid {
+            key: "body.table.columns".into(),
+            message: format!("{e} (the {} model needs its columns in order)", body.name()),
+        })?;
+    }
     let frames: u16 = int("body.frames", b.frames, 1, 10000)?;
     let (frames_per_stride, gait) = match &b.gait {
         None => (1, None),
@@ -785,7 +883,22 @@ fn body(b: &schema::Body) -> Result<Checked> {
             )
         }
     };
-    let checked = Checked::Body {
+    // A channel for a cylinder the body does not have would move nothing.
+    if let Some(channels) = &gait {
+        let names: Vec<Label> = model.with_model(|m| m.cylinders.iter().map(|c| c.name).collect());
+        if let Some(i) = channels.iter().position(|(c, ..)| !names.contains(c)) {
+            let known: Vec<&str> = names.iter().map(Label::as_str).collect();
+            return invalid(
+                format!("body.gait.channels[{i}].cylinder"),
+                format!(
+                    "{:?} is not a cylinder of this body (allowed: {})",
+                    channels[i].0.as_str(),
+                    known.join(", ")
+                ),
+            );
+        }
+    }
+    Ok(Checked::Body {
         model,
         frames,
         first_age: fx("body.first_age", b.first_age, 0.0, 1200.0)?,
@@ -796,27 +909,97 @@ fn body(b: &schema::Body) -> Result<Checked> {
         ages,
         columns,
         gait,
+    })
+}
+
+/// The user's body: the cylinder file read against the growth `table`,
+/// the mesh, and every vertex bound, so that a mistake is named by its
+/// file and line here rather than in the middle of a run.
+fn user_body(
+    mesh: &Include,
+    cylinders: &Include,
+    table: &GrowthTable<'_>,
+    files: &dyn Files,
+) -> Result<UserBody> {
+    let name = |include: &Include, inline: &str| match include {
+        Include::Path(path) => path.clone(),
+        Include::Inline { .. } => inline.to_string(),
     };
-    // The model reads its columns by position: check the table against it.
-    checked.with_preset("check", "", 0, |p| match p.model {
-        Model::Body(params) => {
-            params.table.validate().map_err(|e| Invalid {
-                key: "body.table".into(),
-                message: e.to_string(),
-            })?;
-            morphogen::body::Skeleton::<Fx, { morphogen::body::MAX_CYLINDERS }>::new()
-                .load(params.model, params.table)
-                .map_err(|e| Invalid {
-                    key: "body.table.columns".into(),
+    let (mesh_name, cylinders_name) = (name(mesh, "mesh"), name(cylinders, "cylinders"));
+    let file = body_files::parse_cylinders(
+        &cylinders_name,
+        &text(cylinders, "body.cylinders", files)?,
+        table,
+    )
+    .or_else(|e| invalid("body.cylinders", e))?;
+    let obj = body_files::parse_obj(&mesh_name, &text(mesh, "body.mesh", files)?)
+        .or_else(|e| invalid("body.mesh", e))?;
+    let model = BodyModel {
+        cylinders: &file.cylinders,
+        mesh: Mesh::Indexed {
+            vertices: &obj.vertices,
+            triangles: &obj.triangles,
+        },
+        model_age: file.model_age,
+    };
+    if let Err(e) = morphogen::body::binding_summary::<USER_CYLINDERS>(&model, table) {
+        let line = |c: Label| file.lines.get(c.as_str()).copied().unwrap_or(0);
+        return Err(
+            match (&e, cylinder_of(&e), first_unbindable(&model, table)) {
+                (morphogen::Error::Capacity { .. }, _, Some(v)) => Invalid {
+                    key: "body.mesh".into(),
                     message: format!(
-                        "{e} (the {} model needs its columns in order)",
-                        model.name()
+                        "{mesh_name}:{}: vertex {} lies in more than {} cylinders ({e}); make the cylinders overlap less",
+                        obj.vertex_lines.get(v).copied().unwrap_or(0),
+                        v + 1,
+                        morphogen::body::binding::MAX_BINDINGS
                     ),
-                })
-        }
-        _ => Ok(()),
-    })?;
-    Ok(checked)
+                },
+                (_, Some(c), _) => Invalid {
+                    key: "body.cylinders".into(),
+                    message: format!("{cylinders_name}:{}: {e}", line(c)),
+                },
+                _ => Invalid {
+                    key: "body.mesh".into(),
+                    message: format!("{mesh_name} with {cylinders_name}: {e}"),
+                },
+            },
+        );
+    }
+    Ok(UserBody {
+        cylinders: file.cylinders,
+        model_age: file.model_age,
+        vertices: obj.vertices,
+        triangles: obj.triangles,
+    })
+}
+
+/// The first vertex of `model` that cannot be bound (more cylinders hold
+/// it than a binding has room for), if any.
+fn first_unbindable(model: &BodyModel<'_>, table: &GrowthTable<'_>) -> Option<usize> {
+    let mut skeleton = Box::new(Skeleton::<Fx, USER_CYLINDERS>::new());
+    skeleton.load(model, table).ok()?;
+    (0..model.mesh.vertex_count() as usize).find(|&i| {
+        model
+            .mesh
+            .vertex::<Fx>(i as u32)
+            .is_some_and(|p| skeleton.bind(&p).is_err())
+    })
+}
+
+/// The cylinder an error is about, if any.
+fn cylinder_of(e: &morphogen::Error) -> Option<Label> {
+    match e {
+        morphogen::Error::Body(
+            BodyError::ParentOrder { cylinder }
+            | BodyError::DegenerateCylinder { cylinder }
+            | BodyError::DegenerateFeature { cylinder }
+            | BodyError::SingularFeatures { cylinder }
+            | BodyError::NegativeSize { cylinder }
+            | BodyError::UnknownColumn { cylinder, .. },
+        ) => Some(*cylinder),
+        _ => None,
+    }
 }
 
 fn bones(b: &schema::Bones, files: &dyn Files) -> Result<Checked> {

@@ -20,6 +20,7 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs, missing_debug_implementations)]
 
+pub mod body_files;
 pub mod check;
 pub mod codegen;
 pub mod mask;
@@ -31,7 +32,7 @@ use std::path::{Path, PathBuf};
 
 use morphogen::preset::Preset;
 
-pub use check::{Checked, Files, Invalid};
+pub use check::{BodyShape, Checked, Files, Invalid, UserBody};
 
 /// The embedded files: `scenarios/*.toml`, `scenarios/masks/*`,
 /// `grammars/*`.
@@ -228,6 +229,15 @@ impl Scenario {
         Scenario::parse(origin, text, Base::None, &[])
     }
 
+    /// Reads a scenario from `text` whose named files are relative to
+    /// `folder`.
+    ///
+    /// # Errors
+    /// The first bad value with its line and key.
+    pub fn from_text_in(origin: &str, text: &str, folder: &Path) -> Result<Scenario, Error> {
+        Scenario::parse(origin, text, Base::Folder(folder.to_path_buf()), &[])
+    }
+
     fn parse(
         origin: &str,
         text: &str,
@@ -357,7 +367,7 @@ impl Scenario {
     }
 
     /// The scenario as one file: the text with the `--set`s applied and
-    /// every named file (grammar, mask) inline, so that it runs anywhere.
+    /// every named file (grammar, mask, mesh, cylinders) inline, so that it runs anywhere.
     #[must_use]
     pub fn self_contained(&self) -> String {
         let mut doc: toml_edit::DocumentMut = match self.text.parse() {
@@ -368,7 +378,14 @@ impl Scenario {
             let _ = set(&mut doc, key, value); // applied once already
         }
         let files = self.base.files();
-        for key in ["lsystem.grammar", "bones.grammar", "mosaic.mask"] {
+        let included = [
+            "lsystem.grammar",
+            "bones.grammar",
+            "mosaic.mask",
+            "body.mesh",
+            "body.cylinders",
+        ];
+        for key in included {
             let (table, field) = key.split_once('.').unwrap_or(("", key));
             let Some(item) = doc.get_mut(table).and_then(|t| t.get_mut(field)) else {
                 continue;

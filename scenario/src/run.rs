@@ -1,16 +1,20 @@
 //! Running a [`Preset`] on a computer: every model in the core's
 //! [`Runner`] (the MCU's fixed capacity), except mosaics, whose cells go in
-//! a [`VecStore`] sized for the run, and context-sensitive L-systems,
-//! derived in two heap buffers. Both use the core's one run loop
+//! a [`VecStore`] sized for the run, bodies, with room for a user's
+//! [`USER_CYLINDERS`] cylinders, and context-sensitive L-systems, derived in
+//! two heap buffers. Both use the core's one run loop
 //! ([`morphogen::preset::drive`]), so the stream is the same bytes the
 //! firmware writes.
 
+use morphogen::body::Body;
 use morphogen::lsys::{Buffered, Grammar, LSystem, LsysError, Module};
 use morphogen::mosaic::store::{CellSlices, CellStore};
 use morphogen::mosaic::{Mosaic, host_capacity};
 use morphogen::preset::{self, Model, Preset, Runner};
 use morphogen::sim::Progress;
 use morphogen::stream::Sink;
+
+use crate::body_files::USER_CYLINDERS;
 
 /// A cell store on the heap, its capacity chosen at run time.
 #[derive(Debug, Default)]
@@ -103,6 +107,11 @@ pub fn run(
                 runner.start(&preset.model, seed)?;
                 preset::drive(runner.as_mut(), &header, sink, progress)
             }
+        }
+        Model::Body(params) => {
+            let mut body = Box::new(Body::<'_, USER_CYLINDERS>::new());
+            body.start(params)?;
+            preset::drive(body.as_mut(), &header, sink, progress)
         }
         model => {
             let mut runner = Box::new(Runner::new());

@@ -247,12 +247,17 @@ pub struct Gait {
     pub channels: Vec<Channel>,
 }
 
-/// `[body]`: a built-in body grown by a table.
+/// `[body]`: a body grown by a table: a built-in one (`model`) or the
+/// user's (`mesh` and `cylinders`).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Body {
     /// `"horse"` or `"cow"`.
-    pub model: String,
+    pub model: Option<String>,
+    /// An OBJ mesh (`docs/body.md`).
+    pub mesh: Option<Include>,
+    /// A cylinder file (`docs/body.md`).
+    pub cylinders: Option<Include>,
     /// Frames.
     pub frames: i64,
     /// Age of the first frame, months.

@@ -27,9 +27,9 @@ pub fn write(preset: &Preset<'_>, records: &[Record], dir: &Path) -> Result<Vec<
         Model::Horn(p) => horn::write(records, dir, p.rings_per_module),
         Model::LSystem(_) => plant::write(records, dir),
         Model::Body(p) => {
-            let binding = morphogen::body::binding_summary::<{ morphogen::body::MAX_CYLINDERS }>(
-                p.model, p.table,
-            )
+            let binding = morphogen::body::binding_summary::<
+                { morphogen_scenario::body_files::USER_CYLINDERS },
+            >(p.model, p.table)
             .ok();
             body::write(preset.name, records, dir, binding)
         }
