@@ -103,6 +103,9 @@ enum Command {
         /// starting with its header) to check instead of re-running.
         #[arg(long, conflicts_with = "targets")]
         stream: Option<PathBuf>,
+        /// Threads re-running fixtures side by side (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
     },
     /// Write the golden fixtures of presets or scenario files (the only
     /// writer of fixtures). A scenario file's fixture keeps a
@@ -237,7 +240,8 @@ fn dispatch(command: Command) -> Result<Outcome> {
             targets,
             fixtures,
             stream: None,
-        } => verify_targets(targets, &fixtures),
+            jobs,
+        } => verify_targets(targets, &fixtures, jobs),
         Command::Bless {
             targets,
             sets: set_args,
@@ -316,7 +320,11 @@ fn run_grammar(
     Ok(Outcome::Ok)
 }
 
-fn verify_targets(targets: Vec<String>, fixtures: &Path) -> Result<Outcome> {
+/// Re-runs `targets` (default: every fixture in `fixtures`) on `jobs`
+/// threads and compares each stream with its fixture; a line per fixture,
+/// in order, as soon as it and those before it are done.
+fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<usize>) -> Result<Outcome> {
+    use rayon::prelude::*;
     let scenarios: Vec<Scenario> = if targets.is_empty() {
         fixture::names(fixtures)?
             .iter()
@@ -331,24 +339,57 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path) -> Result<Outcome> {
     if scenarios.is_empty() {
         bail!("no fixtures in {}", fixtures.display());
     }
-    let mut outcome = Outcome::Ok;
-    for scenario in scenarios {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs.unwrap_or(0))
+        .build()
+        .context("cannot start the worker threads")?;
+    // One line per fixture: whether it matched, and what to print.
+    let check = |scenario: &Scenario| -> Result<(bool, String)> {
         let fixture = fixture::load(fixtures, scenario.name())?;
-        let run = exec::run(&scenario, fixture.summary.seed, true)?;
-        match verify::compare(&fixture.stream, &run.stream) {
-            None => say!(
-                "ok        {} ({} frames, digest {:016x})",
-                scenario.name(),
-                run.frames,
-                run.digest
-            )?,
-            Some(diff) => {
-                say!("MISMATCH  {}: {diff}", scenario.name())?;
-                outcome = Outcome::Mismatch;
+        // A bar for a lone run; side by side, the lines show progress.
+        let run = exec::run(scenario, fixture.summary.seed, scenarios.len() == 1)?;
+        Ok(match verify::compare(&fixture.stream, &run.stream) {
+            None => (
+                true,
+                format!(
+                    "ok        {} ({} frames, digest {:016x})",
+                    scenario.name(),
+                    run.frames,
+                    run.digest
+                ),
+            ),
+            Some(diff) => (false, format!("MISMATCH  {}: {diff}", scenario.name())),
+        })
+    };
+    let (done, results) = std::sync::mpsc::channel();
+    std::thread::scope(|scope| {
+        scope.spawn(|| {
+            pool.install(|| {
+                scenarios
+                    .par_iter()
+                    .enumerate()
+                    .try_for_each_with(done, |done, (i, s)| {
+                        // A failed send: the printer stopped at an error.
+                        done.send((i, check(s))).map_err(drop)
+                    })
+            })
+        });
+        let mut outcome = Outcome::Ok;
+        let mut waiting = std::collections::BTreeMap::new();
+        let mut next = 0;
+        for (i, result) in results {
+            waiting.insert(i, result);
+            while let Some(result) = waiting.remove(&next) {
+                let (matched, line) = result?;
+                say!("{line}")?;
+                if !matched {
+                    outcome = Outcome::Mismatch;
+                }
+                next += 1;
             }
         }
-    }
-    Ok(outcome)
+        Ok(outcome)
+    })
 }
 
 fn verify_capture(file: &Path, fixtures: &Path) -> Result<Outcome> {

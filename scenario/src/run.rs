@@ -8,15 +8,19 @@
 
 use morphogen::body::Body;
 use morphogen::lsys::{Buffered, Grammar, LSystem, LsysError, Module};
+use morphogen::mosaic::grid::Grid;
+use morphogen::mosaic::relaxation::{self, Forces, Relax};
 use morphogen::mosaic::store::{CellSlices, CellStore};
 use morphogen::mosaic::{Mosaic, host_capacity};
 use morphogen::preset::{self, Model, Preset, Runner};
 use morphogen::sim::Progress;
 use morphogen::stream::Sink;
+use rayon::prelude::*;
 
 use crate::body_files::USER_CYLINDERS;
 
-/// A cell store on the heap, its capacity chosen at run time.
+/// A cell store on the heap, its capacity chosen at run time, whose
+/// relaxation moves the cells side by side on all cores (rayon).
 #[derive(Debug, Default)]
 pub struct VecStore {
     pos: Vec<[i32; 2]>,
@@ -25,7 +29,13 @@ pub struct VecStore {
     order: Vec<u32>,
     push: Vec<[i32; 2]>,
     bins: Vec<u32>,
+    /// The new positions of a relaxation step, in grid order.
+    moved: Vec<[i32; 2]>,
 }
+
+/// Cells a thread moves at a time: small enough to share out a 2 000-cell
+/// step, large enough that handing out chunks costs little.
+const RELAX_CHUNK: usize = 512;
 
 impl VecStore {
     /// A store of `cells` cells and `cells / 4 + 1` grid bin offsets.
@@ -39,6 +49,7 @@ impl VecStore {
             order: vec![0; cells],
             push: vec![[0; 2]; cells],
             bins: vec![0; bins],
+            moved: vec![[0; 2]; cells],
         }
     }
 }
@@ -65,6 +76,33 @@ impl CellStore for VecStore {
 
     fn kinds(&self) -> &[u8] {
         &self.kind
+    }
+}
+
+impl Relax for VecStore {
+    fn relax(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>) {
+        let mut cells = CellSlices {
+            pos: &mut self.pos,
+            kind: &mut self.kind,
+            next_division: &mut self.next_division,
+            order: &mut self.order,
+            push: &mut self.push,
+            bins: &mut self.bins,
+        };
+        let (snapshot, pos) = relaxation::snapshot(&mut cells, n, grid, forces);
+        let moved = &mut self.moved[..n];
+        moved
+            .par_chunks_mut(RELAX_CHUNK)
+            .enumerate()
+            .for_each(|(chunk, out)| {
+                let first = chunk * RELAX_CHUNK;
+                for (k, p) in out.iter_mut().enumerate() {
+                    *p = snapshot.moved(first + k);
+                }
+            });
+        for (slot, p) in moved.iter().enumerate() {
+            pos[snapshot.cell(slot)] = *p;
+        }
     }
 }
 

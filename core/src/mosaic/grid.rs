@@ -95,40 +95,62 @@ impl Grid {
         }
     }
 
+    /// Whether the shifts of [`Grid::span`] give every displacement: not
+    /// when a periodic axis has fewer than 3 bins, where one bin can hold
+    /// neighbours on both sides of a cell (then `span` lists every bin of
+    /// that axis and displacements need [`Domain::delta`]).
+    #[must_use]
+    pub fn shifts_exact(&self) -> bool {
+        (!self.periodic[0] || self.cols >= 3) && (!self.periodic[1] || self.rows >= 3)
+    }
+
     /// The bins along `axis` that hold every point within `radius` of
     /// coordinate `x` (periodic where the domain wraps): up to 3 distinct
-    /// indices, in order; returns how many are used. Needs `2·radius` below
-    /// the domain size and bins wider than `radius`.
+    /// bins, in order, each with the shift that takes its cells next to `x`
+    /// (`−size` or `+size` for a bin reached across the wrap, else 0), so
+    /// that `x − (q + shift)` is the shortest displacement from any q
+    /// within `radius` ([`Domain::delta`] without its branches). Returns
+    /// how many are used. Needs `2·radius` below the domain size and bins
+    /// wider than `radius`.
     #[inline]
     #[must_use]
-    pub fn span(&self, axis: usize, x: i32, radius: i32, size: i32) -> ([u32; 3], usize) {
+    pub fn span(&self, axis: usize, x: i32, radius: i32, size: i32) -> ([(u32, i32); 3], usize) {
         let n = if axis == 0 { self.cols } else { self.rows };
+        if self.periodic[axis] && n < 3 {
+            // Every bin, unshifted: see `Grid::shifts_exact`.
+            return ([(0, 0), (1, 0), (0, 0)], n as usize);
+        }
         let at = |p: i32| {
             let c = ((p as u64 * self.scale[axis]) >> 32) as u32;
             c.min(n - 1)
         };
-        let (lo, hi) = if self.periodic[axis] {
-            let lo = if x < radius {
-                x - radius + size
+        let (lo, hi, shift) = if self.periodic[axis] {
+            let (lo, shift) = if x < radius {
+                (x - radius + size, -size)
             } else {
-                x - radius
+                (x - radius, 0)
             };
             let hi = if x >= size - radius {
                 x + radius - size
             } else {
                 x + radius
             };
-            (at(lo), at(hi))
+            (at(lo), at(hi), shift)
         } else {
-            (at((x - radius).max(0)), at((x + radius).min(size - 1)))
+            (at((x - radius).max(0)), at((x + radius).min(size - 1)), 0)
         };
         let gap = if hi >= lo { hi - lo } else { hi + n - lo };
         let count = (gap + 1).min(3) as usize;
-        let mut out = [lo, 0, 0];
-        let mut c = lo;
+        let mut out = [(lo, shift), (0, 0), (0, 0)];
+        let (mut c, mut shift) = (lo, shift);
         for slot in out.iter_mut().take(count).skip(1) {
-            c = if c + 1 == n { 0 } else { c + 1 };
-            *slot = c;
+            if c + 1 == n {
+                // Across the wrap: the next bins lie one size further on.
+                (c, shift) = (0, shift + size);
+            } else {
+                c += 1;
+            }
+            *slot = (c, shift);
         }
         (out, count)
     }

@@ -10,7 +10,7 @@ use super::control::Field;
 use super::domain::Domain;
 use super::grid::Grid;
 use super::params::MAX_TYPES;
-use super::store::CellSlices;
+use super::store::{ArrayStore, CellSlices, CellStore};
 
 /// Q16 one.
 const ONE: i64 = 1 << 16;
@@ -34,24 +34,18 @@ pub struct Forces<'a> {
 }
 
 impl Forces<'_> {
-    /// The push of q (index `j`) on p (index `i`), `(1 − α)·(r − d)·(p − q)/d`
-    /// as Q32 (the product of Q16 repulsion and Q16 displacement), or `None`
-    /// beyond the radius.
+    /// The push on cell `i` of cell `j` displaced by `(dx, dy)` from it,
+    /// `(1 − α)·(r − d)·(p − q)/d` as Q32 (the product of Q16 repulsion
+    /// and Q16 displacement), for `d2 = dx² + dy²` below `r²`.
     #[inline(always)]
-    fn pair(&self, i: usize, j: usize, p: [i32; 2], q: [i32; 2], repel: i32) -> Option<[i64; 2]> {
-        let dx = i64::from(self.domain.delta(0, p[0], q[0]));
-        let dy = i64::from(self.domain.delta(1, p[1], q[1]));
-        let d2 = dx * dx + dy * dy; // < 2·(2^30)², Q32
+    fn push(&self, i: usize, j: usize, dx: i64, dy: i64, d2: i64, repel: i32) -> [i64; 2] {
         let r = i64::from(self.radius);
-        if d2 >= r * r {
-            return None;
-        }
         let repel = i64::from(repel);
         if d2 == 0 {
             // Coincident cells (a child on its parent): push apart along u,
             // the lower index towards −u.
             let s = if i < j { -1 } else { 1 };
-            return Some([s * repel * r, 0]);
+            return [s * repel * r, 0];
         }
         // Q16, 1 ≤ d < r; the 32-bit root is much cheaper when it fits.
         let d = if d2 <= i64::from(u32::MAX) {
@@ -64,7 +58,18 @@ impl Forces<'_> {
         // |k·dx| ≤ (r − d)·2^16·(1 + 1/d) < 2^47 since |dx| ≤ d.
         let fx = (k * dx) >> 16;
         let fy = (k * dy) >> 16;
-        Some([fx * repel, fy * repel])
+        [fx * repel, fy * repel]
+    }
+
+    /// The push of q (index `j`) on p (index `i`), or `None` beyond the
+    /// radius ([`Forces::push`]).
+    #[inline(always)]
+    fn pair(&self, i: usize, j: usize, p: [i32; 2], q: [i32; 2], repel: i32) -> Option<[i64; 2]> {
+        let dx = i64::from(self.domain.delta(0, p[0], q[0]));
+        let dy = i64::from(self.domain.delta(1, p[1], q[1]));
+        let d2 = dx * dx + dy * dy; // < 2·(2^30)², Q32
+        let r = i64::from(self.radius);
+        (d2 < r * r).then(|| self.push(i, j, dx, dy, d2, repel))
     }
 
     /// Turns the sum of pair pushes (Q32) at position `p` into the cell's
@@ -84,62 +89,162 @@ impl Forces<'_> {
             let aniso = (r * i64::from(v[c])) >> 14; // Q16
             let blend = ((ONE - wa) * s + wa * aniso + (ONE >> 1)) >> 16;
             let delta = (wd * blend + (ONE >> 1)) >> 16;
-            out[c] = delta.clamp(-r, r) as i32;
+            // max/min, not clamp: the same for r ≥ 1, and no panic path
+            // (with its formatting code) for reversed bounds.
+            out[c] = delta.max(-r).min(r) as i32;
         }
         out
     }
 }
 
-/// One relaxation step over the first `n` cells with the grid `grid`
-/// (already planned for `forces.radius`): builds the grid, gathers the
-/// positions in bin order into the push scratch (so neighbours are read
-/// from contiguous memory), computes each cell's push from those old
-/// positions only, and writes its new position straight into `pos` (which
-/// the loop no longer reads: still a Jacobi step).
-pub fn relax(cells: &mut CellSlices<'_>, n: usize, grid: &Grid, forces: &Forces<'_>) {
-    grid.build(&cells.pos[..n], &mut cells.order[..n], cells.bins);
-    let order = &cells.order[..n];
-    let bins = &cells.bins[..=grid.bins()];
-    let sorted = &mut cells.push[..n];
-    for (s, &i) in sorted.iter_mut().zip(order) {
-        *s = cells.pos[i as usize];
+/// What one relaxation step reads: the old positions in grid-bin order
+/// (so neighbours are read from contiguous memory), the grid and the
+/// forces. Each cell's new position is a function of the snapshot alone,
+/// so the cells can move in any order, or side by side on several threads
+/// ([`Relax`]), with the same result.
+#[derive(Debug)]
+pub struct Snapshot<'s> {
+    sorted: &'s [[i32; 2]],
+    order: &'s [u32],
+    bins: &'s [u32],
+    kind: &'s [u8],
+    grid: &'s Grid,
+    forces: &'s Forces<'s>,
+}
+
+impl Snapshot<'_> {
+    /// Cells in the snapshot.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.order.len()
     }
-    let sorted = &cells.push[..n];
-    let kind = &cells.kind[..n];
-    let domain = forces.domain;
-    let size = domain.size.map(|s| s.to_bits());
-    let r = forces.radius;
-    for (slot, (&p, &i)) in sorted.iter().zip(order).enumerate() {
-        let i = i as usize;
-        let repel = &forces.repel[kind[i] as usize % MAX_TYPES];
+
+    /// Whether it holds no cell.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.order.is_empty()
+    }
+
+    /// The index of the cell in grid slot `slot` (below [`Snapshot::len`]).
+    #[must_use]
+    pub fn cell(&self, slot: usize) -> usize {
+        self.order[slot] as usize
+    }
+
+    /// The new position of the cell in grid slot `slot`: its old one
+    /// moved by the pushes of its neighbours within the radius.
+    #[must_use]
+    pub fn moved(&self, slot: usize) -> [i32; 2] {
+        let sum = if self.grid.shifts_exact() {
+            self.pushes::<true>(slot)
+        } else {
+            self.pushes::<false>(slot)
+        };
+        let p = self.sorted[slot];
+        let d = self.forces.displacement(sum, p);
+        let domain = self.forces.domain;
+        [
+            domain.confine(0, i64::from(p[0]) + i64::from(d[0])),
+            domain.confine(1, i64::from(p[1]) + i64::from(d[1])),
+        ]
+    }
+
+    /// The sum of the pushes on the cell in grid slot `slot`; `SHIFTED`:
+    /// displacements from the bins' shifts ([`Grid::span`]), else from
+    /// [`Domain::delta`](super::domain::Domain::delta).
+    #[inline(always)]
+    fn pushes<const SHIFTED: bool>(&self, slot: usize) -> [i64; 2] {
+        let (forces, grid, bins, sorted) = (self.forces, self.grid, self.bins, self.sorted);
+        let p = sorted[slot];
+        let i = self.cell(slot);
+        let repel = &forces.repel[self.kind[i] as usize % MAX_TYPES];
+        let domain = forces.domain;
+        let size = domain.size.map(|s| s.to_bits());
+        let r = forces.radius;
+        let r2 = i64::from(r) * i64::from(r);
         let (cols, nc) = grid.span(0, p[0], r, size[0]);
         let (rows, nr) = grid.span(1, p[1], r, size[1]);
         let mut sum = [0i64; 2];
-        for &row in &rows[..nr] {
-            for &col in &cols[..nc] {
+        for &(row, shift_v) in &rows[..nr] {
+            for &(col, shift_u) in &cols[..nc] {
                 let nb = (row * grid.cols + col) as usize;
                 let (lo, hi) = (bins[nb] as usize, bins[nb + 1] as usize);
                 for (t, q) in sorted[lo..hi].iter().enumerate() {
+                    let (dx, dy) = if SHIFTED {
+                        (
+                            i64::from(p[0]) - i64::from(q[0]) - i64::from(shift_u),
+                            i64::from(p[1]) - i64::from(q[1]) - i64::from(shift_v),
+                        )
+                    } else {
+                        (
+                            i64::from(domain.delta(0, p[0], q[0])),
+                            i64::from(domain.delta(1, p[1], q[1])),
+                        )
+                    };
+                    let d2 = dx * dx + dy * dy; // < 2·(2^30)², Q32
                     let t = lo + t;
-                    if t == slot {
+                    if d2 >= r2 || t == slot {
                         continue;
                     }
-                    let j = order[t] as usize;
-                    let rep = repel[kind[j] as usize % MAX_TYPES];
-                    if let Some(f) = forces.pair(i, j, p, *q, rep) {
-                        sum[0] += f[0];
-                        sum[1] += f[1];
-                    }
+                    let j = self.cell(t);
+                    let rep = repel[self.kind[j] as usize % MAX_TYPES];
+                    let f = forces.push(i, j, dx, dy, d2, rep);
+                    sum[0] += f[0];
+                    sum[1] += f[1];
                 }
             }
         }
-        let d = forces.displacement(sum, p);
-        cells.pos[i] = [
-            domain.confine(0, i64::from(p[0]) + i64::from(d[0])),
-            domain.confine(1, i64::from(p[1]) + i64::from(d[1])),
-        ];
+        sum
     }
 }
+
+/// Takes the snapshot of one relaxation step over the first `n` cells with
+/// the grid `grid` (already planned for `forces.radius`): builds the grid
+/// and gathers the positions in bin order into the push scratch. Returns it
+/// with the positions, which the snapshot no longer reads: writing a new
+/// position there keeps the step a Jacobi step.
+pub fn snapshot<'s>(
+    cells: &'s mut CellSlices<'_>,
+    n: usize,
+    grid: &'s Grid,
+    forces: &'s Forces<'s>,
+) -> (Snapshot<'s>, &'s mut [[i32; 2]]) {
+    grid.build(&cells.pos[..n], &mut cells.order[..n], cells.bins);
+    let order = &cells.order[..n];
+    for (s, &i) in cells.push[..n].iter_mut().zip(order) {
+        *s = cells.pos[i as usize];
+    }
+    let snapshot = Snapshot {
+        sorted: &cells.push[..n],
+        order,
+        bins: &cells.bins[..=grid.bins()],
+        kind: &cells.kind[..n],
+        grid,
+        forces,
+    };
+    (snapshot, &mut cells.pos[..n])
+}
+
+/// One relaxation step over the first `n` cells, one cell after another.
+pub fn relax(cells: &mut CellSlices<'_>, n: usize, grid: &Grid, forces: &Forces<'_>) {
+    let (snapshot, pos) = snapshot(cells, n, grid, forces);
+    for slot in 0..snapshot.len() {
+        pos[snapshot.cell(slot)] = snapshot.moved(slot);
+    }
+}
+
+/// How a cell store runs a relaxation step: one cell after another (the
+/// default, [`relax`]), or, on a computer, side by side on several threads
+/// through the [`Snapshot`], with the same result.
+pub trait Relax: CellStore {
+    /// One relaxation step over the first `n` cells with the grid `grid`
+    /// (already planned for `forces.radius`).
+    fn relax(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>) {
+        relax(&mut self.slices(), n, grid, forces);
+    }
+}
+
+impl<const N: usize, const G: usize> Relax for ArrayStore<N, G> {}
 
 /// The same step by brute force, O(N²): the reference for tests and the
 /// bench. Integer sums are exact, so it gives bit-identical positions.

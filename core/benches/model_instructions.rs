@@ -1,0 +1,124 @@
+//! Instruction counts of the models' hot paths under Valgrind (gungraun):
+//! the figures of issue 15 that a noisy machine cannot time. Needs
+//! valgrind and `cargo install gungraun-runner --version 0.20.0`; run by
+//! `scripts/bench.sh`, or `cargo bench -p morphogen --bench
+//! model_instructions`. Setup (parsing, the initial relaxations) is not
+//! counted.
+//!
+//! - `relaxation_step`: one relaxation step of 2 000 croton cells (a
+//!   croton-like periodic square after its initial relaxations): divide by
+//!   [`CELLS`] for instructions per cell-relaxation step;
+//! - `shrub`: ABOP Fig. 1.25's shrub at n = 7, derived and drawn by the
+//!   turtle into a sink that drops the records.
+
+use std::hint::black_box;
+
+use gungraun::{library_benchmark, library_benchmark_group, main};
+use morphogen::lsys::LSystem;
+use morphogen::mosaic::grid::Grid;
+use morphogen::mosaic::relaxation::{self, Forces};
+use morphogen::mosaic::store::CellStore;
+use morphogen::mosaic::{MAX_TYPES, Mosaic, Params};
+use morphogen::preset::Model;
+use morphogen::sim::Simulation;
+use morphogen::stream::{Record, Sink, SinkError};
+use morphogen_scenario::run::VecStore;
+
+/// Cells of the relaxation bench.
+const CELLS: u32 = 2_000;
+
+struct Null;
+
+impl Sink for Null {
+    fn record(&mut self, _: &Record) -> Result<(), SinkError> {
+        Ok(())
+    }
+}
+
+/// A relaxation ready to run: the cells after their initial relaxations,
+/// the grid and the forces.
+struct Relaxation {
+    mosaic: Mosaic<'static, VecStore>,
+    grid: Grid,
+    forces: Forces<'static>,
+}
+
+fn croton_cells() -> Relaxation {
+    let scenario = Box::leak(Box::new(
+        morphogen_scenario::builtin("croton").expect("a built-in scenario"),
+    ));
+    let croton: Params<'static> = scenario.with_preset(|p| match p.model {
+        Model::Mosaic(params) => Params {
+            types: params.types.to_vec().leak(),
+            mask: None,
+            anisotropy: None,
+            frames: morphogen::mosaic::Frames::EveryDay,
+            ..*params
+        },
+        _ => unreachable!("croton is a mosaic"),
+    });
+    let side = f64::from(CELLS).sqrt().round() as i32;
+    let params: &'static Params<'static> = Box::leak(Box::new(Params {
+        initial_cells: CELLS,
+        days: 0,
+        initial_relaxations: 5,
+        domain: morphogen::mosaic::Domain::periodic(
+            morphogen::fx::Fx::from_int(side),
+            morphogen::fx::Fx::from_int((CELLS as i32 + side / 2) / side),
+        ),
+        ..croton
+    }));
+    let mut mosaic = Mosaic::new(VecStore::new(CELLS as usize));
+    mosaic.start(params, 1).expect("valid");
+    while !mosaic.step(&mut Null).expect("runs").finished() {}
+    let radius = mosaic.radius().to_bits();
+    let bins = mosaic.store_mut().slices().bins.len() - 1;
+    Relaxation {
+        grid: Grid::plan(&params.domain, radius, bins),
+        forces: Forces {
+            domain: &params.domain,
+            radius,
+            repel: [[1 << 16; MAX_TYPES]; MAX_TYPES],
+            push_weight: params.push_weight.to_bits(),
+            anisotropy_weight: 0,
+            field: None,
+        },
+        mosaic,
+    }
+}
+
+#[library_benchmark]
+#[bench::croton_2000(setup = croton_cells)]
+fn relaxation_step(mut r: Relaxation) -> Relaxation {
+    let len = r.mosaic.len();
+    relaxation::relax(
+        &mut r.mosaic.store_mut().slices(),
+        black_box(len),
+        &r.grid,
+        &r.forces,
+    );
+    r
+}
+
+fn shrub_grammar() -> String {
+    let scenario = morphogen_scenario::builtin("abop-shrub").expect("a built-in scenario");
+    scenario.with_preset(|p| match p.model {
+        Model::LSystem(text) => text.to_owned(),
+        _ => unreachable!("abop-shrub is an L-system"),
+    })
+}
+
+#[library_benchmark]
+#[bench::n7(setup = shrub_grammar)]
+fn shrub(text: String) -> u32 {
+    let mut sim = Box::new(LSystem::new());
+    sim.load(&text, 0).expect("the shrub loads");
+    let mut steps = 0;
+    while !sim.step(&mut Null).expect("runs").finished() {
+        steps += 1;
+    }
+    black_box(steps)
+}
+
+library_benchmark_group!(name = models, benchmarks = [relaxation_step, shrub]);
+main!(library_benchmark_groups = models);

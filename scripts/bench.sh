@@ -1,0 +1,119 @@
+#!/usr/bin/env bash
+# Prints issue 15's table of speed and size figures, all measured in this
+# one run (this machine is noisy: times are medians of several runs, and
+# each ratio compares runs made side by side). Not part of CI.
+#
+#   bash scripts/bench.sh [RUNS]      RUNS per timed figure (default 5)
+#
+# Needs valgrind and gungraun-runner 0.20.0 for the instruction counts
+# (installed here when missing) and the thumbv7m target for the flash.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+cd "$root"
+runs="${1:-5}"
+say() { printf '\033[1m== %s\033[0m\n' "$*" >&2; }
+
+command -v valgrind >/dev/null || { say "install valgrind"; sudo apt-get install -y valgrind; }
+if [ "$(gungraun-runner --version 2>/dev/null | awk '{print $2}')" != "0.20.0" ]; then
+  say "install gungraun-runner 0.20.0"
+  cargo install gungraun-runner --version 0.20.0 --locked
+fi
+rustup target add thumbv7m-none-eabi >/dev/null 2>&1
+
+say "build (release)"
+cargo build --release -p morphogen-cli
+bin="${CARGO_TARGET_DIR:-$root/target}/release/morphogen"
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+
+# median SECONDS of the wall time (or, with cpu, of the user+system CPU
+# time) of RUNS runs of a command.
+median() {
+  python3 - "$runs" "$@" <<'PY'
+import os, resource, statistics, subprocess, sys, time
+runs, mode, cmd = int(sys.argv[1]), sys.argv[2], sys.argv[3:]
+env = dict(os.environ)
+while cmd and "=" in cmd[0] and not cmd[0].startswith("/"):
+    k, v = cmd.pop(0).split("=", 1)
+    env[k] = v
+times = []
+for _ in range(runs):
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t = time.perf_counter()
+    subprocess.run(cmd, env=env, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    wall = time.perf_counter() - t
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    times.append(cpu if mode == "cpu" else wall)
+print(f"{statistics.median(times):.3f}")
+PY
+}
+ratio() { python3 -c "print(f'{$1 / $2:.2f}')"; }
+
+# ---- flash ------------------------------------------------------------------
+say "flash: firmware, thumbv7m-none-eabi"
+(cd firmware-example && env -u MORPHOGEN_SCENARIOS cargo build --release --target thumbv7m-none-eabi)
+elf="${CARGO_TARGET_DIR:-$root/firmware-example/target}/thumbv7m-none-eabi/release/morphogen-firmware"
+flash="$(llvm-size -A "$elf" | awk '$1 ~ /^\.(vector_table|text|rodata|data)$/ {s += $2} END {print s}')"
+
+# ---- outputs ----------------------------------------------------------------
+say "run ÷ verify CPU, every preset"
+worst=0; worst_name=""
+ratios="$work/ratios.md"
+printf '| preset | verify CPU s | run CPU s | run ÷ verify |\n|---|---:|---:|---:|\n' >"$ratios"
+for p in $("$bin" list | awk '{print $1}'); do
+  v="$(median cpu "$bin" verify "$p")"
+  r="$(median cpu "$bin" run "$p" --out "$work/out")"
+  q="$(python3 -c "print(f'{$r / max($v, 0.001):.2f}')")"
+  printf '| %s | %s | %s | %s |\n' "$p" "$v" "$r" "$q" >>"$ratios"
+  if python3 -c "import sys; sys.exit(0 if $q > $worst else 1)"; then worst="$q"; worst_name="$p"; fi
+done
+
+# ---- memory of a long grammar run -------------------------------------------
+say "peak RSS, run --grammar shrub n = 7..10"
+rss=""
+for n in 7 8 9 10; do
+  sed "s/^n = 7$/n = $n/" grammars/abop-shrub.lsys >"$work/shrub-$n.lsys"
+  kb="$(/usr/bin/time -f %M "$bin" run --grammar "$work/shrub-$n.lsys" --out "$work/g" --max-stream-mb 4096 2>&1 >/dev/null | tail -1)"
+  rss="$rss n=$n $((kb / 1024)) MB;"
+done
+rss10="$(echo "$rss" | sed -n 's/.*n=10 \([0-9]*\) MB.*/\1/p')"
+
+# ---- threads ----------------------------------------------------------------
+say "relaxation on 1 and 2 threads (croton-ageing)"
+relax1="$(median wall RAYON_NUM_THREADS=1 "$bin" verify croton-ageing)"
+relax2="$(median wall RAYON_NUM_THREADS=2 "$bin" verify croton-ageing)"
+say "verify every preset, --jobs 1 and --jobs 2"
+verify1="$(median wall "$bin" verify --jobs 1)"
+verify2="$(median wall "$bin" verify --jobs 2)"
+
+# ---- kernels ------------------------------------------------------------------
+say "instruction counts (valgrind, gungraun)"
+counts="$work/instructions.txt"
+cargo bench -p morphogen --bench model_instructions 2>&1 | tee "$counts" >&2
+instructions() { # the Instructions line after the bench named $1
+  awk -v b="$1" 'index($0, b) {found = 1} found && /Instructions:/ {gsub(/\|.*/, "", $2); print $2; exit}' "$counts"
+}
+relax_ir="$(instructions relaxation_step)"
+shrub_ir="$(instructions "shrub n7")"
+per_cell="$(python3 -c "print(round($relax_ir / 2000))")"
+say "shrinkwrap: bone-growth"
+triangles="$("$bin" decode fixtures/bone-growth/stream.bin | grep -c '"kind":"triangle"')"
+wrap_s="$(median cpu "$bin" verify bone-growth)"
+
+cat <<EOF2
+
+| figure | now | goal |
+|---|---|---|
+| flash, thumbv7m, all MCU presets | $flash B ($(python3 -c "print(f'{$flash / 1024:.1f}')") KiB) | < 96 KB |
+| \`run\` ÷ \`verify\` CPU, every preset | up to ${worst}× ($worst_name) | ≤ 1.3× |
+| peak RSS, \`run --grammar\` shrub n = 10 | $rss10 MB ($rss) | < 24 MB, flat in n |
+| relaxation, 2 threads ÷ 1 thread (croton-ageing) | $(ratio "$relax1" "$relax2") ($relax1 s / $relax2 s) | ≥ 1.7×, same bytes |
+| \`verify\` of all presets, 2 cores | $(ratio "$verify1" "$verify2")× faster ($verify1 s / $verify2 s) | ≥ 1.7× faster |
+| instructions per cell-relaxation step (croton, 2 000 cells) | $per_cell | ≤ 700 |
+| shrinkwrap triangles/s (bone-growth, \`verify\` CPU) | $(python3 -c "print(f'{$triangles / $wrap_s / 1000:.0f} K')") ($triangles in $wrap_s s) | ≥ 150 K |
+| shrub n = 7 derive + turtle instructions | $(python3 -c "print(f'{$shrub_ir / 1e6:.1f} M')") | ≤ 20 M |
+
+Times are medians of $runs runs; $(nproc) cores, $(date -u +%F).
+
+EOF2
+cat "$ratios"
