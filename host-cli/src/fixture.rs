@@ -56,6 +56,111 @@ pub struct Fixture {
 /// built-in preset (self-contained: `verify` re-runs it from there).
 pub const SCENARIO_FILE: &str = "scenario.toml";
 
+/// The new stream `verify` leaves beside a fixture it does not match.
+pub const PENDING_FILE: &str = "stream.bin.pending";
+
+/// The environment variable naming the fixtures folder.
+pub const FIXTURES_ENV: &str = "MORPHOGEN_FIXTURES";
+
+/// The fixtures folder: `given` (`--fixtures`), else
+/// `$MORPHOGEN_FIXTURES`, else `fixtures/` in the current folder or the
+/// nearest parent that has one — so an installed `morphogen` works inside
+/// the repository and inside a user's project alike. With nothing found, a
+/// writer (`bless`) gets a new `fixtures/` here.
+///
+/// # Errors
+/// Nothing found for a reader, or no current folder.
+pub fn locate(given: Option<PathBuf>, for_writing: bool) -> Result<PathBuf> {
+    if let Some(dir) = given {
+        return Ok(dir);
+    }
+    if let Some(dir) = std::env::var_os(FIXTURES_ENV).filter(|d| !d.is_empty()) {
+        return Ok(PathBuf::from(dir));
+    }
+    let here = std::env::current_dir().context("cannot read the current folder")?;
+    if let Some(dir) = here
+        .ancestors()
+        .map(|a| a.join("fixtures"))
+        .find(|d| d.is_dir())
+    {
+        return Ok(dir);
+    }
+    if for_writing {
+        return Ok(PathBuf::from("fixtures"));
+    }
+    bail!(
+        "no fixtures folder: give --fixtures DIR, set {FIXTURES_ENV}, or run inside a folder that has fixtures/ (searched {} and its parents)",
+        here.display()
+    )
+}
+
+/// Writes `stream` as `name`'s pending stream; returns its path.
+///
+/// # Errors
+/// When it cannot be written.
+pub fn write_pending(fixtures: &Path, name: &str, stream: &[u8]) -> Result<PathBuf> {
+    let path = dir(fixtures, name).join(PENDING_FILE);
+    write_atomic(&path, stream)?;
+    Ok(path)
+}
+
+/// Removes `name`'s pending stream, if any (it matches again).
+///
+/// # Errors
+/// When it exists and cannot be removed.
+pub fn drop_pending(fixtures: &Path, name: &str) -> Result<()> {
+    let path = dir(fixtures, name).join(PENDING_FILE);
+    match fs::remove_file(&path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            Err(e).with_context(|| format!("cannot remove {}", path.display()))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The fixtures with a pending stream, sorted.
+///
+/// # Errors
+/// When the folder cannot be read.
+pub fn pending_names(fixtures: &Path) -> Result<Vec<String>> {
+    Ok(names(fixtures)?
+        .into_iter()
+        .filter(|n| dir(fixtures, n).join(PENDING_FILE).is_file())
+        .collect())
+}
+
+/// `name`'s pending stream as a run, checked: every frame whole, and its
+/// header naming `name`.
+///
+/// # Errors
+/// No pending stream, or one that is corrupt or of another preset.
+pub fn read_pending(fixtures: &Path, name: &str) -> Result<Run> {
+    let path = dir(fixtures, name).join(PENDING_FILE);
+    let stream = fs::read(&path).with_context(|| {
+        format!(
+            "cannot read {} (`morphogen verify` writes it on a mismatch)",
+            path.display()
+        )
+    })?;
+    let mut frames = 0u32;
+    for (i, d) in Decoder::new(&stream).enumerate() {
+        match &d.result {
+            Err(e) => bail!("{}: byte {}: {e}", path.display(), d.offset),
+            Ok(Record::Header(h)) if i == 0 && h.preset.as_str() != name => bail!(
+                "{} is a stream of '{}', not of '{name}'",
+                path.display(),
+                h.preset.as_str()
+            ),
+            Ok(_) => frames += 1,
+        }
+    }
+    Ok(Run {
+        digest: morphogen::stream::StreamDigest::of(&stream),
+        frames,
+        stream,
+    })
+}
+
 /// The folder of `name`'s fixture. Names are checked scenario names (no
 /// `/`, no leading `.`), so this never leaves `fixtures`.
 #[must_use]

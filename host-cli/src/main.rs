@@ -13,9 +13,6 @@ use morphogen_cli::{
 };
 use morphogen_scenario::Scenario;
 
-/// The workspace's fixtures folder, the default for `verify` and `bless`.
-const WORKSPACE_FIXTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures");
-
 /// Deterministic growth simulations: horns, bodies, plants, bones and cell
 /// mosaics, bit-identical on a workstation and a microcontroller.
 ///
@@ -91,14 +88,18 @@ enum Command {
         max_stream_mb: u32,
     },
     /// Re-run scenarios and compare their streams with the golden fixtures,
-    /// or check a device capture with --stream.
+    /// or check a device capture with --stream. Every fixture is checked;
+    /// a mismatch leaves the new stream beside the fixture as
+    /// `stream.bin.pending` (`bless --accept` takes it). Exit 1 on any
+    /// mismatch or missing fixture, 2 when one cannot be checked.
     Verify {
         /// Presets or scenario files to verify (default: every fixture in
         /// the fixtures folder, built-in or not).
         targets: Vec<String>,
-        /// The fixtures folder.
-        #[arg(long, default_value = WORKSPACE_FIXTURES)]
-        fixtures: PathBuf,
+        /// The fixtures folder (default: $MORPHOGEN_FIXTURES, else
+        /// `fixtures/` in this folder or the nearest parent that has one).
+        #[arg(long)]
+        fixtures: Option<PathBuf>,
         /// A capture from a device (one or more streams back to back, each
         /// starting with its header) to check instead of re-running.
         #[arg(long, conflicts_with = "targets")]
@@ -112,14 +113,24 @@ enum Command {
     /// self-contained copy of it, so `verify` re-runs it from there.
     Bless {
         /// Presets or scenario files to bless.
-        #[arg(required = true)]
+        #[arg(required_unless_present_any = ["accept", "all"])]
         targets: Vec<String>,
+        /// Take the new streams `verify` left as `stream.bin.pending`
+        /// (all of them, or those of TARGETS).
+        #[arg(long, conflicts_with_all = ["all", "sets", "seed"])]
+        accept: bool,
+        /// Re-bless every fixture in the folder, each from its own scenario
+        /// and seed.
+        #[arg(long, conflicts_with_all = ["targets", "sets", "seed"])]
+        all: bool,
         /// Change a parameter (as `run --set`); repeatable.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
-        /// The fixtures folder.
-        #[arg(long, default_value = WORKSPACE_FIXTURES)]
-        fixtures: PathBuf,
+        /// The fixtures folder (default: $MORPHOGEN_FIXTURES, else
+        /// `fixtures/` in this folder or the nearest parent that has one,
+        /// else a new `fixtures/` here).
+        #[arg(long)]
+        fixtures: Option<PathBuf>,
         /// The seed (default: the scenario's own).
         #[arg(long)]
         seed: Option<u64>,
@@ -235,19 +246,36 @@ fn dispatch(command: Command) -> Result<Outcome> {
             fixtures,
             stream: Some(file),
             ..
-        } => verify_capture(&file, &fixtures),
+        } => verify_capture(&file, &fixture::locate(fixtures, false)?),
         Command::Verify {
             targets,
             fixtures,
             stream: None,
             jobs,
-        } => verify_targets(targets, &fixtures, jobs),
+        } => verify_targets(targets, &fixture::locate(fixtures, false)?, jobs),
+        Command::Bless {
+            targets,
+            accept: true,
+            fixtures,
+            ..
+        } => accept(&targets, &fixture::locate(fixtures, false)?),
+        Command::Bless {
+            all: true,
+            fixtures,
+            ..
+        } => bless_all(&fixture::locate(fixtures, false)?),
         Command::Bless {
             targets,
             sets: set_args,
             fixtures,
             seed,
-        } => bless(&targets, &sets(&set_args)?, &fixtures, seed),
+            ..
+        } => bless(
+            &targets,
+            &sets(&set_args)?,
+            &fixture::locate(fixtures, true)?,
+            seed,
+        ),
         Command::Sweep(args) => sweep::run(&args),
         Command::Decode { file, out } => decode(&file, out.as_deref()),
     }
@@ -320,9 +348,20 @@ fn run_grammar(
     Ok(Outcome::Ok)
 }
 
+/// What `verify` found for one fixture.
+enum Checked {
+    /// The stream equals the fixture.
+    Ok(String),
+    /// It differs; the line names the first difference.
+    Mismatch(String),
+    /// There is no fixture to compare with.
+    Missing(String),
+}
+
 /// Re-runs `targets` (default: every fixture in `fixtures`) on `jobs`
 /// threads and compares each stream with its fixture; a line per fixture,
-/// in order, as soon as it and those before it are done.
+/// in order, as soon as it and those before it are done, then one summary
+/// line. A mismatch leaves its new stream as `stream.bin.pending`.
 fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<usize>) -> Result<Outcome> {
     use rayon::prelude::*;
     let scenarios: Vec<Scenario> = if targets.is_empty() {
@@ -333,7 +372,7 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<usize>) ->
     } else {
         targets
             .iter()
-            .map(|t| exec::find(t, &[]))
+            .map(|t| fixture_target(t, fixtures))
             .collect::<Result<_>>()?
     };
     if scenarios.is_empty() {
@@ -343,22 +382,37 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<usize>) ->
         .num_threads(jobs.unwrap_or(0))
         .build()
         .context("cannot start the worker threads")?;
-    // One line per fixture: whether it matched, and what to print.
-    let check = |scenario: &Scenario| -> Result<(bool, String)> {
-        let fixture = fixture::load(fixtures, scenario.name())?;
+    let check = |scenario: &Scenario| -> Result<Checked> {
+        let name = scenario.name();
+        if !fixture::dir(fixtures, name).is_dir() {
+            return Ok(Checked::Missing(format!(
+                "MISSING   {name}: no fixture in {} (create it with `morphogen bless {}`)",
+                fixtures.display(),
+                if scenario.is_builtin() {
+                    name
+                } else {
+                    scenario.origin()
+                }
+            )));
+        }
+        let fixture = fixture::load(fixtures, name)?;
         // A bar for a lone run; side by side, the lines show progress.
         let run = exec::run(scenario, fixture.summary.seed, scenarios.len() == 1)?;
         Ok(match verify::compare(&fixture.stream, &run.stream) {
-            None => (
-                true,
-                format!(
-                    "ok        {} ({} frames, digest {:016x})",
-                    scenario.name(),
-                    run.frames,
-                    run.digest
-                ),
-            ),
-            Some(diff) => (false, format!("MISMATCH  {}: {diff}", scenario.name())),
+            None => {
+                fixture::drop_pending(fixtures, name)?;
+                Checked::Ok(format!(
+                    "ok        {name} ({} frames, digest {:016x})",
+                    run.frames, run.digest
+                ))
+            }
+            Some(diff) => {
+                let pending = fixture::write_pending(fixtures, name, &run.stream)?;
+                Checked::Mismatch(format!(
+                    "MISMATCH  {name}: {diff}\n  new stream: {} (take it with `morphogen bless --accept {name}`)",
+                    pending.display()
+                ))
+            }
         })
     };
     let (done, results) = std::sync::mpsc::channel();
@@ -369,26 +423,56 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<usize>) ->
                     .par_iter()
                     .enumerate()
                     .try_for_each_with(done, |done, (i, s)| {
-                        // A failed send: the printer stopped at an error.
+                        // A failed send: the printer stopped early.
                         done.send((i, check(s))).map_err(drop)
                     })
             })
         });
-        let mut outcome = Outcome::Ok;
+        let (mut ok, mut mismatch, mut missing, mut errors) = (0, 0, 0, Vec::new());
         let mut waiting = std::collections::BTreeMap::new();
         let mut next = 0;
         for (i, result) in results {
             waiting.insert(i, result);
             while let Some(result) = waiting.remove(&next) {
-                let (matched, line) = result?;
-                say!("{line}")?;
-                if !matched {
-                    outcome = Outcome::Mismatch;
-                }
+                let name = scenarios[next].name();
                 next += 1;
+                match result {
+                    Ok(Checked::Ok(line)) => {
+                        ok += 1;
+                        say!("{line}")?;
+                    }
+                    Ok(Checked::Mismatch(line)) => {
+                        mismatch += 1;
+                        say!("{line}")?;
+                    }
+                    Ok(Checked::Missing(line)) => {
+                        missing += 1;
+                        say!("{line}")?;
+                    }
+                    Err(e) => {
+                        say!("ERROR     {name}: {e:#}")?;
+                        errors.push(format!("{name}: {e:#}"));
+                    }
+                }
             }
         }
-        Ok(outcome)
+        let unchecked = if errors.is_empty() {
+            String::new()
+        } else {
+            format!(", {} not checked", errors.len())
+        };
+        say!("{ok} ok, {mismatch} mismatch, {missing} missing{unchecked}")?;
+        if let Some(first) = errors.first() {
+            bail!(
+                "{} fixture(s) could not be checked; first: {first}",
+                errors.len()
+            );
+        }
+        Ok(if mismatch + missing > 0 {
+            Outcome::Mismatch
+        } else {
+            Outcome::Ok
+        })
     })
 }
 
@@ -455,15 +539,74 @@ fn bless(
         let scenario = exec::find(target, sets)?;
         let seed = seed.unwrap_or(scenario.seed());
         let run = exec::run(&scenario, seed, true)?;
-        let summary = fixture::summarise(&scenario, seed, &run);
-        let dir = fixture::bless(fixtures, &scenario, &summary, &run)?;
-        say!(
-            "blessed   {} seed {seed}: {} frames, digest {:016x} -> {}",
-            scenario.name(),
-            run.frames,
-            run.digest,
-            dir.display()
-        )?;
+        bless_run(fixtures, &scenario, seed, &run)?;
+    }
+    Ok(Outcome::Ok)
+}
+
+/// Writes `run` as `scenario`'s fixture and says so.
+fn bless_run(fixtures: &Path, scenario: &Scenario, seed: u64, run: &exec::Run) -> Result<()> {
+    let summary = fixture::summarise(scenario, seed, run);
+    let dir = fixture::bless(fixtures, scenario, &summary, run)?;
+    say!(
+        "blessed   {} seed {seed}: {} frames, digest {:016x} -> {}",
+        scenario.name(),
+        run.frames,
+        run.digest,
+        dir.display()
+    )?;
+    Ok(())
+}
+
+/// The scenario `target` names for `verify` and `bless --accept`: a
+/// scenario file, else the fixture of that name (from its own
+/// `scenario.toml` when it has one), else a built-in preset.
+fn fixture_target(target: &str, fixtures: &Path) -> Result<Scenario> {
+    if !exec::is_file(target)
+        && morphogen_scenario::check::name(target).is_ok()
+        && fixture::dir(fixtures, target).is_dir()
+    {
+        return fixture::scenario(fixtures, target);
+    }
+    exec::find(target, &[])
+}
+
+/// `bless --all`: every fixture in `fixtures` re-run from its own scenario
+/// and seed, and re-blessed.
+fn bless_all(fixtures: &Path) -> Result<Outcome> {
+    let names = fixture::names(fixtures)?;
+    if names.is_empty() {
+        bail!("no fixtures in {}", fixtures.display());
+    }
+    for name in names {
+        let scenario = fixture::scenario(fixtures, &name)?;
+        let seed = fixture::load(fixtures, &name)?.summary.seed;
+        let run = exec::run(&scenario, seed, true)?;
+        bless_run(fixtures, &scenario, seed, &run)?;
+    }
+    Ok(Outcome::Ok)
+}
+
+/// `bless --accept`: the pending streams `verify` left (all, or those of
+/// `targets`) become the fixtures.
+fn accept(targets: &[String], fixtures: &Path) -> Result<Outcome> {
+    let names: Vec<String> = if targets.is_empty() {
+        fixture::pending_names(fixtures)?
+    } else {
+        targets
+            .iter()
+            .map(|t| fixture_target(t, fixtures).map(|s| s.name().to_string()))
+            .collect::<Result<_>>()?
+    };
+    if names.is_empty() {
+        say!("nothing pending in {}", fixtures.display())?;
+        return Ok(Outcome::Ok);
+    }
+    for name in names {
+        let scenario = fixture::scenario(fixtures, &name)?;
+        let seed = fixture::load(fixtures, &name)?.summary.seed;
+        let run = fixture::read_pending(fixtures, &name)?;
+        bless_run(fixtures, &scenario, seed, &run)?;
     }
     Ok(Outcome::Ok)
 }
