@@ -1,39 +1,101 @@
-//! Writing a file whole or not at all: a temporary file beside it, synced,
-//! then renamed over it.
+//! Writing a file whole or not at all: a buffered temporary file beside
+//! it, synced, then renamed over it — streamed ([`OutputFile`]) or from
+//! bytes at hand ([`write_atomic`]).
 
 use std::fs;
-use std::io::Write;
-use std::path::Path;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
+use tempfile::NamedTempFile;
 
-/// Writes `bytes` to a temporary file in `path`'s folder, then renames it.
+/// A file being written; dropped without [`OutputFile::finish`], it
+/// leaves nothing behind.
+#[derive(Debug)]
+pub struct OutputFile {
+    path: PathBuf,
+    writer: BufWriter<NamedTempFile>,
+}
+
+impl OutputFile {
+    /// Starts writing `path` (through a temporary file in its folder).
+    ///
+    /// # Errors
+    /// When the folder is not writable.
+    pub fn create(path: &Path) -> Result<OutputFile> {
+        let folder = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        let tmp = tempfile::Builder::new()
+            .prefix(".morphogen-")
+            .tempfile_in(folder)
+            .with_context(|| format!("cannot write in {}", folder.display()))?;
+        Ok(OutputFile {
+            path: path.to_path_buf(),
+            writer: BufWriter::with_capacity(1 << 16, tmp),
+        })
+    }
+
+    /// Writes `path` whole from `fill`, which streams into the file.
+    ///
+    /// # Errors
+    /// When the folder is not writable or a write fails.
+    pub fn write_with(
+        path: &Path,
+        fill: impl FnOnce(&mut OutputFile) -> io::Result<()>,
+    ) -> Result<()> {
+        let mut file = OutputFile::create(path)?;
+        fill(&mut file).with_context(|| format!("cannot write {}", path.display()))?;
+        file.finish()
+    }
+
+    /// Flushes, syncs and renames the file into place.
+    ///
+    /// # Errors
+    /// When a write, the sync or the rename fails.
+    pub fn finish(self) -> Result<()> {
+        let path = self.path;
+        let tmp = self
+            .writer
+            .into_inner()
+            .map_err(io::IntoInnerError::into_error)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        tmp.as_file()
+            .sync_all()
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        // tempfile creates files 0600; outputs and fixtures are ordinary files.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            tmp.as_file()
+                .set_permissions(fs::Permissions::from_mode(0o644))
+                .with_context(|| format!("cannot write {}", path.display()))?;
+        }
+        tmp.persist(&path)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        Ok(())
+    }
+}
+
+impl Write for OutputFile {
+    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+        self.writer.write(bytes)
+    }
+
+    fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.writer.write_all(bytes)
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.writer.flush()
+    }
+}
+
+/// Writes `bytes` to `path` whole or not at all.
 ///
 /// # Errors
 /// When the folder is not writable or the rename fails.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let folder = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".morphogen-")
-        .tempfile_in(folder)
-        .with_context(|| format!("cannot write in {}", folder.display()))?;
-    tmp.write_all(bytes)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    tmp.as_file()
-        .sync_all()
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    // tempfile creates files 0600; outputs and fixtures are ordinary files.
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        tmp.as_file()
-            .set_permissions(fs::Permissions::from_mode(0o644))
-            .with_context(|| format!("cannot write {}", path.display()))?;
-    }
-    tmp.persist(path)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    Ok(())
+    OutputFile::write_with(path, |f| f.write_all(bytes))
 }

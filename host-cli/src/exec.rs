@@ -14,6 +14,8 @@ use morphogen::sim::Progress;
 use morphogen::stream::{ByteSink, Decoder, Encoder, Record, SinkError};
 use morphogen_scenario::Scenario;
 
+use crate::atomic::OutputFile;
+
 /// The default cap on a run's stream, MiB (`--max-stream-mb`): far above
 /// every preset (the largest streams 4 MB), and small enough that a
 /// runaway grammar stops in seconds on a laptop.
@@ -250,8 +252,9 @@ pub fn run_grammar(file: &Path, text: &str, seed: u64, max_stream_mb: u32) -> Re
 }
 
 /// Writes a finished run into `dir` (created if missing): `stream.bin`,
-/// `records.jsonl`, then the files `model` draws from the decoded records.
-/// Returns every path written, in order.
+/// `records.jsonl` (streamed as the frames decode), then the files `model`
+/// draws from the decoded records, with a spinner on standard error once
+/// this has taken a second. Returns every path written, in order.
 ///
 /// # Errors
 /// When the folder cannot be created or a file cannot be written.
@@ -262,16 +265,54 @@ pub fn write_outputs(
 ) -> Result<Vec<PathBuf>> {
     fs::create_dir_all(dir)
         .with_context(|| format!("cannot create output folder {}", dir.display()))?;
+    let _spinner = Spinner::after_a_second(&format!("writing {}", dir.display()));
     let stream_path = dir.join("stream.bin");
     crate::atomic::write_atomic(&stream_path, &run.stream)?;
     let jsonl_path = dir.join("records.jsonl");
-    crate::atomic::write_atomic(&jsonl_path, crate::jsonl::stream(&run.stream).as_bytes())?;
+    OutputFile::write_with(&jsonl_path, |file| {
+        crate::jsonl::write_stream(&run.stream, file)
+    })?;
     let records: Vec<Record> = Decoder::new(&run.stream)
         .filter_map(|d| d.result.ok())
         .collect();
     let mut written = vec![stream_path, jsonl_path];
     written.extend(model(&records, dir)?);
     Ok(written)
+}
+
+/// A spinner on standard error for work of unknown length: it appears
+/// once the work has taken a second and is cleared when dropped.
+#[derive(Debug)]
+struct Spinner {
+    bar: ProgressBar,
+}
+
+impl Spinner {
+    fn after_a_second(message: &str) -> Spinner {
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} {msg} ({elapsed})")
+                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+        );
+        bar.set_message(message.to_string());
+        let shown = bar.clone();
+        // A detached timer: after a second it shows the bar, which then
+        // ticks on its own; a finished bar is left hidden.
+        std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_secs(1));
+            if !shown.is_finished() {
+                shown.set_draw_target(ProgressDrawTarget::stderr());
+                shown.enable_steady_tick(Duration::from_millis(120));
+            }
+        });
+        Spinner { bar }
+    }
+}
+
+impl Drop for Spinner {
+    fn drop(&mut self) {
+        self.bar.finish_and_clear();
+    }
 }
 
 #[cfg(test)]

@@ -1,82 +1,260 @@
 //! Records as JSON Lines: one object per record, with a `kind` field and
-//! fixed-point values as decimals (field names in docs/stream-format.md).
+//! fixed-point values as exact decimals (field names in
+//! docs/stream-format.md). Lines are written straight into a byte buffer
+//! (no JSON tree per record); strings go through `serde_json` for their
+//! escaping.
+
+use std::io::{self, Write};
 
 use morphogen::fx::Fx;
-use morphogen::stream::{Decoded, FrameError, Record};
-use serde_json::{Value, json};
+use morphogen::stream::{Decoded, Decoder, FrameError, Record};
 
-/// An `Fx` as its exact decimal value.
-#[must_use]
-pub fn fx(v: Fx) -> Value {
-    json!(f64::from(v.to_bits()) / 65_536.0)
+use crate::outputs::text::{self, Whole};
+
+/// A JSON object being written field by field into a line buffer.
+struct Object<'a> {
+    out: &'a mut Vec<u8>,
 }
 
-fn fx_array<const N: usize>(v: &[Fx; N]) -> Value {
-    Value::Array(v.iter().map(|&x| fx(x)).collect())
-}
+impl<'a> Object<'a> {
+    /// Opens the object with its `kind`.
+    fn new(out: &'a mut Vec<u8>, kind: &str) -> Object<'a> {
+        out.extend_from_slice(b"{\"kind\":");
+        string(out, kind);
+        Object { out }
+    }
 
-/// One record as a JSON object.
-#[must_use]
-pub fn record(r: &Record) -> Value {
-    let kind = r.kind();
-    match r {
-        Record::Header(h) => json!({
-            "kind": kind, "version": h.version, "preset": h.preset.as_str(),
-            "seed": h.seed, "params": format!("{:016x}", h.params),
-        }),
-        Record::FrameStart { frame, time } => {
-            json!({"kind": kind, "frame": frame, "time": fx(*time)})
+    fn key(&mut self, name: &str) -> &mut Vec<u8> {
+        self.out.extend_from_slice(b",\"");
+        self.out.extend_from_slice(name.as_bytes());
+        self.out.extend_from_slice(b"\":");
+        self.out
+    }
+
+    fn int(&mut self, name: &str, n: impl itoa::Integer) -> &mut Self {
+        text::int(self.key(name), n);
+        self
+    }
+
+    fn fx(&mut self, name: &str, v: Fx) -> &mut Self {
+        text::fx(self.key(name), v, Whole::PointZero);
+        self
+    }
+
+    fn fxs(&mut self, name: &str, v: &[Fx]) -> &mut Self {
+        let out = self.key(name);
+        out.push(b'[');
+        for (i, &x) in v.iter().enumerate() {
+            if i > 0 {
+                out.push(b',');
+            }
+            text::fx(out, x, Whole::PointZero);
         }
-        Record::FrameEnd { frame } => json!({"kind": kind, "frame": frame}),
-        Record::Point { p } => json!({"kind": kind, "p": fx_array(p)}),
+        out.push(b']');
+        self
+    }
+
+    fn ints(&mut self, name: &str, v: &[u32]) -> &mut Self {
+        let out = self.key(name);
+        out.push(b'[');
+        for (i, &x) in v.iter().enumerate() {
+            if i > 0 {
+                out.push(b',');
+            }
+            text::int(out, x);
+        }
+        out.push(b']');
+        self
+    }
+
+    fn string(&mut self, name: &str, s: &str) -> &mut Self {
+        string(self.key(name), s);
+        self
+    }
+
+    fn close(&mut self) {
+        self.out.push(b'}');
+    }
+}
+
+/// Appends `s` as a JSON string.
+fn string(out: &mut Vec<u8>, s: &str) {
+    // Writing into a Vec cannot fail, and a &str always serialises.
+    let _ = serde_json::to_writer(out, s);
+}
+
+/// Appends one record as a JSON object (no newline).
+pub fn record(out: &mut Vec<u8>, r: &Record) {
+    let mut o = Object::new(out, r.kind());
+    match r {
+        Record::Header(h) => o
+            .int("version", h.version)
+            .string("preset", h.preset.as_str())
+            .int("seed", h.seed)
+            .string("params", &format!("{:016x}", h.params)),
+        Record::FrameStart { frame, time } => o.int("frame", *frame).fx("time", *time),
+        Record::FrameEnd { frame } => o.int("frame", *frame),
+        Record::Point { p } => o.fxs("p", p),
         Record::Segment {
             a,
             b,
             width,
             colour,
-        } => json!({
-            "kind": kind, "a": fx_array(a), "b": fx_array(b), "width": fx(*width), "colour": colour,
-        }),
-        Record::Polygon { vertices, colour } => {
-            json!({"kind": kind, "vertices": vertices, "colour": colour})
-        }
-        Record::MeshVertex { id, p } => json!({"kind": kind, "id": id, "p": fx_array(p)}),
-        Record::Triangle { v } => json!({"kind": kind, "v": v}),
+        } => o
+            .fxs("a", a)
+            .fxs("b", b)
+            .fx("width", *width)
+            .int("colour", *colour),
+        Record::Polygon { vertices, colour } => o.int("vertices", *vertices).int("colour", *colour),
+        Record::MeshVertex { id, p } => o.int("id", *id).fxs("p", p),
+        Record::Triangle { v } => o.ints("v", v),
         Record::Cell {
             id,
             kind: cell_type,
             p,
-        } => json!({"kind": kind, "id": id, "type": cell_type, "p": fx_array(p)}),
-        Record::Sample { series, x, y } => {
-            json!({"kind": kind, "series": series, "x": fx(*x), "y": fx(*y)})
-        }
+        } => o.int("id", *id).int("type", *cell_type).fxs("p", p),
+        Record::Sample { series, x, y } => o.int("series", *series).fx("x", *x).fx("y", *y),
         Record::Ring {
             module,
             ring,
             points,
-        } => json!({"kind": kind, "module": module, "ring": ring, "points": points}),
-        other => json!({"kind": other.kind()}),
+        } => o
+            .int("module", *module)
+            .int("ring", *ring)
+            .int("points", *points),
+        _ => &mut o,
+    }
+    .close();
+}
+
+/// Appends a decoded frame as one JSON object (no newline): the record, or
+/// an `error` object naming the byte offset and what is wrong.
+pub fn decoded(out: &mut Vec<u8>, d: &Decoded) {
+    match &d.result {
+        Ok(r) => record(out, r),
+        Err(FrameError::UnknownKind { tag }) => Object::new(out, "unknown")
+            .int("offset", d.offset)
+            .int("tag", *tag)
+            .close(),
+        Err(e) => Object::new(out, "error")
+            .int("offset", d.offset)
+            .string("error", &e.to_string())
+            .close(),
     }
 }
 
-/// A decoded frame as one JSON line: the record, or an `error` object
-/// naming the byte offset and what is wrong.
+/// A decoded frame as one JSON line (without its newline).
 #[must_use]
 pub fn line(d: &Decoded) -> String {
-    let value = match &d.result {
-        Ok(r) => record(r),
-        Err(FrameError::UnknownKind { tag }) => {
-            json!({"kind": "unknown", "offset": d.offset, "tag": tag})
-        }
-        Err(e) => json!({"kind": "error", "offset": d.offset, "error": e.to_string()}),
-    };
-    value.to_string()
+    let mut out = Vec::new();
+    decoded(&mut out, d);
+    // Only ASCII and serde_json's UTF-8 strings were written.
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// Writes the JSONL of a whole stream to `w`, a line per frame as it is
+/// decoded (each line ends with `\n`).
+///
+/// # Errors
+/// When `w` fails.
+pub fn write_stream(bytes: &[u8], w: &mut impl Write) -> io::Result<()> {
+    let mut out = Vec::with_capacity(256);
+    for d in Decoder::new(bytes) {
+        out.clear();
+        decoded(&mut out, &d);
+        out.push(b'\n');
+        w.write_all(&out)?;
+    }
+    Ok(())
 }
 
 /// The JSONL text of a whole stream (each line ends with `\n`).
 #[must_use]
 pub fn stream(bytes: &[u8]) -> String {
-    morphogen::stream::Decoder::new(bytes)
-        .map(|d| line(&d) + "\n")
-        .collect()
+    let mut out = Vec::new();
+    // Writing into a Vec cannot fail.
+    let _ = write_stream(bytes, &mut out);
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+#[cfg(test)]
+mod tests {
+    use morphogen::stream::{Encoder, Header, Sink};
+
+    use super::*;
+    use crate::exec::Bytes;
+
+    #[test]
+    fn every_kind_reads_as_the_json_it_was() {
+        let fx = Fx::from_bits;
+        let records = [
+            Record::Header(Header {
+                version: 1,
+                preset: "a \"quoted\" name".try_into().unwrap(),
+                seed: u64::MAX,
+                params: 0x65a_4353,
+            }),
+            Record::FrameStart {
+                frame: 3,
+                time: fx(65_536),
+            },
+            Record::Point {
+                p: [fx(1), fx(-98_304), fx(0)],
+            },
+            Record::Segment {
+                a: [fx(i32::MIN), fx(i32::MAX), fx(7)],
+                b: [fx(0); 3],
+                width: fx(100),
+                colour: 9,
+            },
+            Record::Polygon {
+                vertices: 4,
+                colour: 2,
+            },
+            Record::MeshVertex {
+                id: 12,
+                p: [fx(65_537), fx(2), fx(3)],
+            },
+            Record::Triangle { v: [1, 2, 3] },
+            Record::Cell {
+                id: 5,
+                kind: 1,
+                p: [fx(3), fx(4)],
+            },
+            Record::Sample {
+                series: 1,
+                x: fx(0),
+                y: fx(3),
+            },
+            Record::Ring {
+                module: 1,
+                ring: 2,
+                points: 3,
+            },
+            Record::FrameEnd { frame: 3 },
+        ];
+        let mut encoder = Encoder::new(Bytes::default());
+        for r in &records {
+            encoder.record(r).unwrap();
+        }
+        let text = stream(&encoder.into_writer().0);
+        let lines: Vec<serde_json::Value> = text
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        assert_eq!(lines.len(), records.len());
+        assert_eq!(
+            lines[0],
+            serde_json::json!({"kind": "header", "version": 1, "preset": "a \"quoted\" name",
+                "seed": u64::MAX, "params": "00000000065a4353"})
+        );
+        assert_eq!(
+            text.lines().nth(3).unwrap(),
+            r#"{"kind":"segment","a":[-32768.0,32767.9999847412109375,0.0001068115234375],"b":[0.0,0.0,0.0],"width":0.00152587890625,"colour":9}"#
+        );
+        assert_eq!(lines[2]["p"][1], -1.5);
+        assert_eq!(lines[6]["v"], serde_json::json!([1, 2, 3]));
+        assert_eq!(lines[7]["type"], 1);
+        assert_eq!(lines[9]["points"], 3);
+    }
 }

@@ -5,14 +5,23 @@
 //! sizes.
 
 use std::fmt::Write as _;
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use morphogen::body::BindingSummary;
 use morphogen::stream::Record;
-use tiny_skia::{Color, FillRule, Paint, PathBuilder, Pixmap, Stroke, Transform};
+use rayon::prelude::*;
+use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
-use crate::atomic::write_atomic;
+use super::picture;
+use super::raster;
+use super::text;
+use crate::atomic::{OutputFile, write_atomic};
+
+/// Pictures are drawn at this many times their size, then averaged down
+/// (anti-aliasing for the triangles of [`raster`]).
+const OVERSAMPLE: f32 = 2.0;
 
 /// One decoded frame of a body stream.
 #[derive(Debug, Default, Clone)]
@@ -66,18 +75,37 @@ pub fn frames(records: &[Record]) -> Vec<Frame> {
     out
 }
 
-/// The OBJ text of a frame, headed by the comment `header` and named
-/// `object`.
-#[must_use]
-pub fn obj(frame: &Frame, header: &str, object: &str) -> String {
-    let mut s = format!("# {header}\no {object}\n");
-    for v in &frame.vertices {
-        let _ = writeln!(s, "v {:.5} {:.5} {:.5}", v[0], v[1], v[2]);
-    }
-    for t in &frame.triangles {
-        let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
-    }
-    s
+/// Writes the OBJ of a frame to `path`, headed by the comment `header`
+/// and named `object`.
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn obj(frame: &Frame, header: &str, object: &str, path: &Path) -> Result<()> {
+    OutputFile::write_with(path, |file| {
+        writeln!(file, "# {header}\no {object}")?;
+        let mut line = Vec::with_capacity(64);
+        for v in &frame.vertices {
+            line.clear();
+            line.push(b'v');
+            for &c in v {
+                line.push(b' ');
+                text::decimals_5(&mut line, c);
+            }
+            line.push(b'\n');
+            file.write_all(&line)?;
+        }
+        for t in &frame.triangles {
+            line.clear();
+            line.push(b'f');
+            for &k in t {
+                line.push(b' ');
+                text::int(&mut line, u64::from(k) + 1);
+            }
+            line.push(b'\n');
+            file.write_all(&line)?;
+        }
+        Ok(())
+    })
 }
 
 /// Side-view bounds (x, y) over frames, with a margin.
@@ -108,9 +136,10 @@ fn colour(title: &str) -> [f32; 3] {
 }
 
 /// Draws `frame` seen from its left side (+z), orthographic, painter's
-/// order far to near, Lambert-shaded, into `pixmap` where model point
-/// (x, y) lands at `(ox + s·x, oy − s·y)`.
+/// order far to near, Lambert-shaded, into a [`canvas`] where model point
+/// (x, y) lands at `(ox + s·x, oy − s·y)` in the saved picture's pixels.
 pub(crate) fn draw(pixmap: &mut Pixmap, frame: &Frame, base: [f32; 3], s: f32, ox: f32, oy: f32) {
+    let (s, ox, oy) = (s * OVERSAMPLE, ox * OVERSAMPLE, oy * OVERSAMPLE);
     let light = {
         let l = [-0.35f64, 0.65, 0.68];
         let n = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt();
@@ -145,57 +174,46 @@ pub(crate) fn draw(pixmap: &mut Pixmap, frame: &Frame, base: [f32; 3], s: f32, o
         }
         let lambert = ((n[0] * light[0] + n[1] * light[1] + n[2] * light[2]) / len).max(0.0);
         let k = (0.35 + 0.65 * lambert) as f32;
-        let shade =
-            Color::from_rgba(base[0] * k, base[1] * k, base[2] * k, 1.0).unwrap_or(Color::BLACK);
-        let mut pb = PathBuilder::new();
-        pb.move_to(ox + s * a[0] as f32, oy - s * a[1] as f32);
-        pb.line_to(ox + s * b[0] as f32, oy - s * b[1] as f32);
-        pb.line_to(ox + s * c[0] as f32, oy - s * c[1] as f32);
-        pb.close();
-        let Some(path) = pb.finish() else { continue };
-        let mut paint = Paint::default();
-        paint.set_color(shade);
-        paint.anti_alias = true;
-        pixmap.fill_path(
-            &path,
-            &paint,
-            FillRule::Winding,
-            Transform::identity(),
-            None,
+        let shade = Color::from_rgba(base[0] * k, base[1] * k, base[2] * k, 1.0)
+            .unwrap_or(Color::BLACK)
+            .to_color_u8();
+        let at = |p: [f64; 3]| [ox + s * p[0] as f32, oy - s * p[1] as f32];
+        raster::triangle(
+            pixmap,
+            [at(a), at(b), at(c)],
+            [shade.red(), shade.green(), shade.blue()],
         );
-        // A hairline of the same shade hides anti-aliasing seams.
-        let stroke = Stroke {
-            width: 0.6,
-            ..Stroke::default()
-        };
-        pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
     }
 }
 
+/// The ground line at `y` (saved picture's pixels) across a [`canvas`].
 fn ground(pixmap: &mut Pixmap, y: f32) {
     let mut pb = PathBuilder::new();
-    pb.move_to(0.0, y);
-    pb.line_to(pixmap.width() as f32, y);
+    pb.move_to(0.0, y * OVERSAMPLE);
+    pb.line_to(pixmap.width() as f32, y * OVERSAMPLE);
     if let Some(path) = pb.finish() {
         let mut paint = Paint::default();
         paint.set_color(Color::from_rgba8(120, 140, 90, 255));
         let stroke = Stroke {
-            width: 2.0,
+            width: 2.0 * OVERSAMPLE,
             ..Stroke::default()
         };
         pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
     }
 }
 
+/// A blank picture of `width × height` pixels once saved (drawn at
+/// [`OVERSAMPLE`] times that).
 pub(crate) fn canvas(width: u32, height: u32) -> Result<Pixmap> {
-    let mut p = Pixmap::new(width, height).context("picture size must be positive")?;
+    let k = OVERSAMPLE as u32;
+    let mut p = Pixmap::new(width * k, height * k).context("picture size must be positive")?;
     p.fill(Color::from_rgba8(246, 244, 238, 255));
     Ok(p)
 }
 
+/// Saves a [`canvas`] at its own size.
 pub(crate) fn save(pixmap: &Pixmap, path: &Path) -> Result<()> {
-    let png = pixmap.encode_png().context("cannot encode PNG")?;
-    write_atomic(path, &png)
+    picture::save(&picture::half(pixmap)?, path)
 }
 
 /// Side view of one frame, `width` pixels wide, at the scale fitting
@@ -263,14 +281,19 @@ pub fn write(
             fb.1 - fb.0,
             fb.3 - fb.2
         );
-        let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
-        let header = format!("{title} frame {}, age {:.2} months", f.index, f.age);
-        write_atomic(&obj_path, obj(f, &header, "body").as_bytes())?;
-        let png_path = dir.join(format!("side_{:03}.png", f.index));
-        save(&side_view(f, title, b, 640)?, &png_path)?;
-        written.push(obj_path);
-        written.push(png_path);
     }
+    let per_frame: Vec<[PathBuf; 2]> = frames
+        .par_iter()
+        .map(|f| {
+            let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
+            let header = format!("{title} frame {}, age {:.2} months", f.index, f.age);
+            obj(f, &header, "body", &obj_path)?;
+            let png_path = dir.join(format!("side_{:03}.png", f.index));
+            save(&side_view(f, title, b, 640)?, &png_path)?;
+            Ok([obj_path, png_path])
+        })
+        .collect::<Result<_>>()?;
+    written.extend(per_frame.into_iter().flatten());
     let strip = yearly(&frames);
     if !strip.is_empty() {
         let panel = 300u32;

@@ -97,7 +97,7 @@ pub fn write(
         );
         let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
         let header = format!("{preset} frame {}, {} L-system steps", f.index, f.age);
-        write_atomic(&obj_path, obj(f, &header, "bone").as_bytes())?;
+        obj(f, &header, "bone", &obj_path)?;
         let mut one = canvas(width, height)?;
         let (ox, oy) = ((-b.0 * s) as f32, (b.3 * s) as f32);
         draw(&mut one, f, BONE, s as f32, ox, oy);

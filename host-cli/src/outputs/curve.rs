@@ -2,32 +2,36 @@
 //! (blue) and the daily increment (orange, scaled to the plot), with a
 //! grid line at the start of each month.
 
-use std::fmt::Write as _;
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
+use morphogen::fx::Fx;
 use morphogen::growth_curve::{SERIES_DAILY, SERIES_GROWTH};
 use morphogen::stream::Record;
 
 use super::plot::{Plot, rgb};
-use crate::atomic::write_atomic;
+use super::text::{self, Whole};
+use crate::atomic::OutputFile;
 
 /// First day of each month in a non-leap year.
 const MONTH_STARTS: [f64; 12] = [
     0.0, 31.0, 59.0, 90.0, 120.0, 151.0, 181.0, 212.0, 243.0, 273.0, 304.0, 334.0,
 ];
 
-fn series(records: &[Record], which: u16) -> Vec<(f64, f64)> {
+fn series(records: &[Record], which: u16) -> Vec<(Fx, Fx)> {
     records
         .iter()
         .filter_map(|r| match r {
-            Record::Sample { series, x, y } if *series == which => Some((
-                f64::from(x.to_bits()) / 65_536.0,
-                f64::from(y.to_bits()) / 65_536.0,
-            )),
+            Record::Sample { series, x, y } if *series == which => Some((*x, *y)),
             _ => None,
         })
         .collect()
+}
+
+fn real((x, y): (Fx, Fx)) -> (f64, f64) {
+    let f = |v: Fx| f64::from(v.to_bits()) / 65_536.0;
+    (f(x), f(y))
 }
 
 /// Writes `growth.csv` and `growth.png`.
@@ -37,12 +41,25 @@ fn series(records: &[Record], which: u16) -> Vec<(f64, f64)> {
 pub fn write(records: &[Record], dir: &Path) -> Result<Vec<PathBuf>> {
     let growth = series(records, SERIES_GROWTH);
     let daily = series(records, SERIES_DAILY);
-    let mut csv = String::from("day,growth,daily_increment\n");
-    for (g, d) in growth.iter().zip(&daily) {
-        let _ = writeln!(csv, "{},{},{}", g.0, g.1, d.1);
-    }
     let csv_path = dir.join("growth.csv");
-    write_atomic(&csv_path, csv.as_bytes())?;
+    OutputFile::write_with(&csv_path, |file| {
+        file.write_all(b"day,growth,daily_increment\n")?;
+        let mut line = Vec::with_capacity(64);
+        for (g, d) in growth.iter().zip(&daily) {
+            line.clear();
+            for (k, v) in [g.0, g.1, d.1].into_iter().enumerate() {
+                if k > 0 {
+                    line.push(b',');
+                }
+                text::fx(&mut line, v, Whole::Bare);
+            }
+            line.push(b'\n');
+            file.write_all(&line)?;
+        }
+        Ok(())
+    })?;
+    let growth: Vec<(f64, f64)> = growth.into_iter().map(real).collect();
+    let daily: Vec<(f64, f64)> = daily.into_iter().map(real).collect();
 
     let days = growth.last().map_or(365.0, |p| p.0);
     let mut plot = Plot::new(800, 400, (0.0, days), (0.0, 1.05))?;

@@ -13,16 +13,15 @@
 //! alternating bands (crowded in winter: the annual rings); `years.png` shows
 //! the frames at the end of each year side by side, to the same scale.
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use morphogen::stream::Record;
-use tiny_skia::{
-    Color, FillRule, FilterQuality, Paint, PathBuilder, Pixmap, PixmapPaint, Stroke, Transform,
-};
+use rayon::prelude::*;
+use tiny_skia::{Color, Pixmap};
 
-use crate::atomic::write_atomic;
+use super::{picture, raster, text};
+use crate::atomic::OutputFile;
 
 /// A point in cm.
 pub type P3 = [f64; 3];
@@ -225,20 +224,40 @@ pub fn mesh(frame: &Frame, rings_per_year: u32) -> Mesh {
     m
 }
 
-/// The OBJ text of a mesh.
-#[must_use]
-pub fn obj(mesh: &Mesh, title: &str) -> String {
-    let mut s = format!("# {title}\n# units: cm; skull frame (module k grows along +x)\n");
+/// Writes the OBJ of a mesh to `out`.
+///
+/// # Errors
+/// When `out` fails.
+pub fn obj(mesh: &Mesh, title: &str, out: &mut impl std::io::Write) -> std::io::Result<()> {
+    writeln!(
+        out,
+        "# {title}\n# units: cm; skull frame (module k grows along +x)"
+    )?;
+    let mut line = Vec::with_capacity(64);
     for v in &mesh.vertices {
-        let _ = writeln!(s, "v {:.5} {:.5} {:.5}", v[0], v[1], v[2]);
+        line.clear();
+        line.push(b'v');
+        for &c in v {
+            line.push(b' ');
+            text::decimals_5(&mut line, c);
+        }
+        line.push(b'\n');
+        out.write_all(&line)?;
     }
     for (module, tris) in &mesh.groups {
-        let _ = writeln!(s, "g module_{module}");
+        writeln!(out, "g module_{module}")?;
         for (t, _) in tris {
-            let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+            line.clear();
+            line.push(b'f');
+            for &k in t {
+                line.push(b' ');
+                text::int(&mut line, k + 1);
+            }
+            line.push(b'\n');
+            out.write_all(&line)?;
         }
     }
-    s
+    Ok(())
 }
 
 /// A view: rotation of the skull frame into screen axes (x right, y up,
@@ -328,21 +347,13 @@ fn draw(pixmap: &mut Pixmap, mesh: &Mesh, view: &View, origin: [f64; 2], at: [f3
         .collect();
     tris.sort_by(|x, y| x.0.total_cmp(&y.0));
     let px = |p: P3| {
-        (
+        [
             at[0] + ((p[0] - origin[0]) * scale) as f32,
             at[1] - ((p[1] - origin[1]) * scale) as f32,
-        )
+        ]
     };
     // No anti-aliasing per triangle (it would leave seams between them);
-    // pictures are drawn at twice their size and filtered down instead.
-    let mut paint = Paint {
-        anti_alias: false,
-        ..Paint::default()
-    };
-    let seam = Stroke {
-        width: 1.0,
-        ..Stroke::default()
-    };
+    // pictures are drawn at twice their size and averaged down instead.
     for (_, t, month) in tris {
         let (a, b, c) = (screen[t[0]], screen[t[1]], screen[t[2]]);
         let n = cross(sub(b, a), sub(c, a));
@@ -355,23 +366,7 @@ fn draw(pixmap: &mut Pixmap, mesh: &Mesh, view: &View, origin: [f64; 2], at: [f3
         };
         let k = (0.35 + 0.65 * lambert) * band;
         let rgb = HORN.map(|v| (v * k).clamp(0.0, 255.0) as u8);
-        paint.set_color_rgba8(rgb[0], rgb[1], rgb[2], 255);
-        let mut pb = PathBuilder::new();
-        let (p0, p1, p2) = (px(a), px(b), px(c));
-        pb.move_to(p0.0, p0.1);
-        pb.line_to(p1.0, p1.1);
-        pb.line_to(p2.0, p2.1);
-        pb.close();
-        if let Some(path) = pb.finish() {
-            pixmap.fill_path(
-                &path,
-                &paint,
-                FillRule::Winding,
-                Transform::identity(),
-                None,
-            );
-            pixmap.stroke_path(&path, &paint, &seam, Transform::identity(), None);
-        }
+        raster::triangle(pixmap, [px(a), px(b), px(c)], rgb);
     }
 }
 
@@ -421,24 +416,9 @@ fn montage(frames: &[&Frame], j: u32, cell: u32) -> Result<Pixmap> {
     Ok(pixmap)
 }
 
-/// Writes a picture drawn at twice its size, filtered down to half.
+/// Writes a picture drawn at twice its size, averaged down to half.
 fn save(pixmap: &Pixmap, path: &Path) -> Result<()> {
-    let mut half =
-        Pixmap::new(pixmap.width() / 2, pixmap.height() / 2).context("picture too small")?;
-    let paint = PixmapPaint {
-        quality: FilterQuality::Bicubic,
-        ..PixmapPaint::default()
-    };
-    half.draw_pixmap(
-        0,
-        0,
-        pixmap.as_ref(),
-        &paint,
-        Transform::from_scale(0.5, 0.5),
-        None,
-    );
-    let png = half.encode_png().context("cannot encode PNG")?;
-    write_atomic(path, &png)
+    picture::save(&picture::half(pixmap)?, path)
 }
 
 /// Writes `frame_NNN.obj` for every frame, `horn.png` and `years.png`.
@@ -448,13 +428,15 @@ fn save(pixmap: &Pixmap, path: &Path) -> Result<()> {
 pub fn write(records: &[Record], dir: &Path, rings_per_module: u16) -> Result<Vec<PathBuf>> {
     let frames = frames(records)?;
     let j = u32::from(rings_per_module);
-    let mut written = Vec::new();
-    for f in &frames {
-        let path = dir.join(format!("frame_{:03}.obj", f.index));
-        let title = format!("morphogen horn, frame {} at t = {} years", f.index, f.years);
-        write_atomic(&path, obj(&mesh(f, j), &title).as_bytes())?;
-        written.push(path);
-    }
+    let mut written: Vec<PathBuf> = frames
+        .par_iter()
+        .map(|f| {
+            let path = dir.join(format!("frame_{:03}.obj", f.index));
+            let title = format!("morphogen horn, frame {} at t = {} years", f.index, f.years);
+            OutputFile::write_with(&path, |file| obj(&mesh(f, j), &title, file))?;
+            Ok(path)
+        })
+        .collect::<Result<_>>()?;
     if let Some(last) = frames.last() {
         let path = dir.join("horn.png");
         save(&render(last, j, 2400, 1800)?, &path)?;
@@ -517,7 +499,9 @@ mod tests {
             );
             assert!(dot(n, sub(a[0], centroid(a))) > 0.0 || b.is_empty());
         }
-        let text = obj(&mesh(frames.last().unwrap(), 24), "t");
+        let mut text = Vec::new();
+        obj(&mesh(frames.last().unwrap(), 24), "t", &mut text).unwrap();
+        let text = String::from_utf8(text).unwrap();
         for i in 1..=8 {
             assert!(text.contains(&format!("\ng module_{i}\n")));
         }

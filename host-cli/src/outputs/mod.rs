@@ -13,8 +13,11 @@ pub mod bones;
 pub mod curve;
 pub mod horn;
 pub mod mosaic;
+pub mod picture;
 pub mod plant;
 pub mod plot;
+pub mod raster;
+pub mod text;
 
 /// Writes the files natural to `preset`'s model into `dir`; returns their
 /// paths.

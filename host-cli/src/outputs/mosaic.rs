@@ -3,18 +3,26 @@
 //! (`day_NN.png`: every pixel takes the colour of the type of its nearest
 //! cell, distances periodic where the domain wraps, the cylinder unrolled
 //! with u to the right and v down); `mosaic.png` is the last day; the
-//! control mask, if any, as `mask.pbm`. [`read_mask`] reads a user's mask
-//! (PBM or PNG).
+//! control mask, if any, as `mask.pbm`. Days are written in parallel.
+//!
+//! The picture finds each pixel's nearest cell tile by tile: the cell
+//! nearest the tile's centre bounds how far any pixel of the tile can be
+//! from its own nearest cell, so only the cells (and their periodic images,
+//! placed once per tile) within that reach of the tile are compared, in
+//! plain arithmetic per pixel.
 
-use std::fmt::Write as _;
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
-use morphogen::mosaic::Params;
+use anyhow::Result;
+use morphogen::fx::Fx;
+use morphogen::mosaic::{Domain, Params};
 use morphogen::stream::Record;
-use tiny_skia::{ColorU8, Pixmap};
+use rayon::prelude::*;
 
-use crate::atomic::write_atomic;
+use super::picture::save_indexed;
+use super::text::{self, Whole};
+use crate::atomic::{OutputFile, write_atomic};
 
 /// The longest side of the pictures, in pixels.
 const LONG_SIDE: f64 = 900.0;
@@ -25,7 +33,7 @@ pub struct Day {
     /// The day number.
     pub day: i32,
     /// `(id, type, u, v)` of each cell.
-    pub cells: Vec<(u32, u8, f64, f64)>,
+    pub cells: Vec<(u32, u8, Fx, Fx)>,
 }
 
 /// The days of a mosaic stream, in order.
@@ -40,12 +48,7 @@ pub fn days(records: &[Record]) -> Vec<Day> {
             }),
             Record::Cell { id, kind, p } => {
                 if let Some(d) = out.last_mut() {
-                    d.cells.push((
-                        *id,
-                        *kind,
-                        f64::from(p[0].to_bits()) / 65_536.0,
-                        f64::from(p[1].to_bits()) / 65_536.0,
-                    ));
+                    d.cells.push((*id, *kind, p[0], p[1]));
                 }
             }
             _ => {}
@@ -59,24 +62,23 @@ pub fn days(records: &[Record]) -> Vec<Day> {
 /// # Errors
 /// When a file cannot be written.
 pub fn write(params: &Params, records: &[Record], dir: &Path) -> Result<Vec<PathBuf>> {
-    let mut written = Vec::new();
     let days = days(records);
-    for d in &days {
-        let mut csv = String::from("id,type,x,y\n");
-        for (id, kind, x, y) in &d.cells {
-            let _ = writeln!(csv, "{id},{kind},{x},{y}");
-        }
-        let path = dir.join(format!("cells_day{:02}.csv", d.day));
-        write_atomic(&path, csv.as_bytes())?;
-        written.push(path);
-        let png = voronoi(params, &d.cells)?;
-        let path = dir.join(format!("day_{:02}.png", d.day));
-        write_atomic(&path, &png)?;
-        written.push(path);
-    }
+    let colours: Vec<[u8; 3]> = params.types.iter().map(|t| t.colour).collect();
+    let domain = &params.domain;
+    let per_day: Vec<[PathBuf; 2]> = days
+        .par_iter()
+        .map(|d| {
+            let csv = dir.join(format!("cells_day{:02}.csv", d.day));
+            write_csv(&d.cells, &csv)?;
+            let png = dir.join(format!("day_{:02}.png", d.day));
+            voronoi(domain, &colours, &d.cells, &png)?;
+            Ok([csv, png])
+        })
+        .collect::<Result<_>>()?;
+    let mut written: Vec<PathBuf> = per_day.into_iter().flatten().collect();
     if let Some(last) = days.last() {
         let path = dir.join("mosaic.png");
-        write_atomic(&path, &voronoi(params, &last.cells)?)?;
+        voronoi(domain, &colours, &last.cells, &path)?;
         written.push(path);
     }
     if let Some(mask) = &params.mask {
@@ -87,130 +89,332 @@ pub fn write(params: &Params, records: &[Record], dir: &Path) -> Result<Vec<Path
     Ok(written)
 }
 
-/// Nearest-cell lookup on a uniform grid, periodic where the domain wraps.
-struct Nearest<'a> {
-    cells: &'a [(u32, u8, f64, f64)],
-    size: [f64; 2],
-    periodic: [bool; 2],
-    n: [usize; 2],
-    side: [f64; 2],
-    bins: Vec<Vec<u32>>,
+/// Writes `cells` as `id,type,x,y` lines under a header.
+fn write_csv(cells: &[(u32, u8, Fx, Fx)], path: &Path) -> Result<()> {
+    OutputFile::write_with(path, |file| {
+        file.write_all(b"id,type,x,y\n")?;
+        let mut line = Vec::with_capacity(64);
+        for &(id, kind, x, y) in cells {
+            line.clear();
+            text::int(&mut line, id);
+            line.push(b',');
+            text::int(&mut line, kind);
+            line.push(b',');
+            text::fx(&mut line, x, Whole::Bare);
+            line.push(b',');
+            text::fx(&mut line, y, Whole::Bare);
+            line.push(b'\n');
+            file.write_all(&line)?;
+        }
+        Ok(())
+    })
 }
 
-impl<'a> Nearest<'a> {
-    fn new(params: &Params, cells: &'a [(u32, u8, f64, f64)]) -> Nearest<'a> {
-        let size = params
-            .domain
-            .size
-            .map(|s| f64::from(s.to_bits()) / 65_536.0);
-        let spacing = (size[0] * size[1] / cells.len().max(1) as f64).sqrt();
-        let n = size.map(|s| ((s / spacing) as usize).clamp(1, 4096));
+/// The tile side, in multiples of the pixels between neighbouring cells
+/// (a quarter of a cell per tile: few cells within reach of it), and its
+/// limits in pixels.
+const TILE: (f64, usize, usize) = (0.5, 4, 64);
+
+/// A cell placed for one tile: position (a periodic image, in domain
+/// units), its order in the day (ties go to the lower), palette index.
+#[derive(Debug, Clone, Copy)]
+struct Site {
+    x: f64,
+    y: f64,
+    order: u32,
+    colour: u8,
+}
+
+/// The cells of a day in a uniform grid of bins (about one cell a bin),
+/// periodic where the domain wraps.
+struct Bins {
+    sites: Vec<Site>,
+    size: [f64; 2],
+    periodic: [bool; 2],
+    n: [i64; 2],
+    side: [f64; 2],
+    /// Per bin, the range of `order` in `sorted`.
+    starts: Vec<usize>,
+    sorted: Vec<u32>,
+}
+
+impl Bins {
+    fn new(domain: &Domain, sites: Vec<Site>) -> Bins {
+        let size = domain.size.map(|s| f64::from(s.to_bits()) / 65_536.0);
+        let spacing = (size[0] * size[1] / sites.len().max(1) as f64).sqrt();
+        let n = size.map(|s| ((s / spacing) as i64).clamp(1, 4096));
         let side = [size[0] / n[0] as f64, size[1] / n[1] as f64];
-        let mut bins = vec![Vec::new(); n[0] * n[1]];
-        for (i, c) in cells.iter().enumerate() {
-            let bx = ((c.2 / side[0]) as usize).min(n[0] - 1);
-            let by = ((c.3 / side[1]) as usize).min(n[1] - 1);
-            bins[by * n[0] + bx].push(i as u32);
+        let bin_of = |s: &Site| {
+            let bx = ((s.x / side[0]) as i64).clamp(0, n[0] - 1);
+            let by = ((s.y / side[1]) as i64).clamp(0, n[1] - 1);
+            (by * n[0] + bx) as usize
+        };
+        // Counting sort of the sites by bin.
+        let mut starts = vec![0usize; (n[0] * n[1]) as usize + 1];
+        for s in &sites {
+            starts[bin_of(s) + 1] += 1;
         }
-        Nearest {
-            cells,
+        for b in 1..starts.len() {
+            starts[b] += starts[b - 1];
+        }
+        let mut fill = starts.clone();
+        let mut sorted = vec![0u32; sites.len()];
+        for (i, s) in sites.iter().enumerate() {
+            let b = bin_of(s);
+            sorted[fill[b]] = i as u32;
+            fill[b] += 1;
+        }
+        Bins {
+            sites,
             size,
-            periodic: params.domain.periodic,
+            periodic: domain.periodic,
             n,
             side,
-            bins,
+            starts,
+            sorted,
         }
     }
 
-    fn delta(&self, axis: usize, a: f64, b: f64) -> f64 {
-        let d = a - b;
-        if self.periodic[axis] {
-            let s = self.size[axis];
-            d - s * (d / s).round()
-        } else {
-            d
+    /// Calls `each` with every site of bin `(bx, by)` — any integers: past
+    /// the grid on a periodic axis it is a shifted image, else nothing.
+    fn visit(&self, bx: i64, by: i64, mut each: impl FnMut(Site)) {
+        let mut shift = [0.0; 2];
+        let mut at = [bx, by];
+        for k in 0..2 {
+            if !(0..self.n[k]).contains(&at[k]) {
+                if !self.periodic[k] {
+                    return;
+                }
+                shift[k] = at[k].div_euclid(self.n[k]) as f64 * self.size[k];
+                at[k] = at[k].rem_euclid(self.n[k]);
+            }
+        }
+        let b = (at[1] * self.n[0] + at[0]) as usize;
+        for &i in &self.sorted[self.starts[b]..self.starts[b + 1]] {
+            let s = self.sites[i as usize];
+            each(Site {
+                x: s.x + shift[0],
+                y: s.y + shift[1],
+                ..s
+            });
         }
     }
 
-    /// The index of the cell nearest to `(x, y)` (ties: lowest index).
-    fn find(&self, x: f64, y: f64) -> Option<usize> {
-        let bx = ((x / self.side[0]) as isize).clamp(0, self.n[0] as isize - 1);
-        let by = ((y / self.side[1]) as isize).clamp(0, self.n[1] as isize - 1);
-        let mut best: Option<(f64, usize)> = None;
-        let rings = self.n[0].max(self.n[1]) as isize;
+    fn bin(&self, x: f64, axis: usize) -> i64 {
+        (x / self.side[axis]).floor() as i64
+    }
+
+    /// The site (image) nearest to `(x, y)`, searched ring by ring of bins.
+    fn nearest(&self, x: f64, y: f64) -> Option<Site> {
+        let (bx, by) = (self.bin(x, 0), self.bin(y, 1));
+        let mut best: Option<(f64, Site)> = None;
+        let rings = self.n[0].max(self.n[1]) + 1;
         for k in 0..=rings {
-            // Cells in ring k are at least (k − 1)·side away.
-            let reach = (k - 1).max(0) as f64 * self.side[0].min(self.side[1]);
-            if best.is_some_and(|(d2, _)| d2 < reach * reach) {
+            for dy in -k..=k {
+                let step = if dy.abs() == k { 1 } else { 2 * k.max(1) };
+                let mut dx = -k;
+                while dx <= k {
+                    self.visit(bx + dx, by + dy, |s| {
+                        let d2 = (s.x - x).powi(2) + (s.y - y).powi(2);
+                        if best.is_none_or(|(b, _)| d2 < b) {
+                            best = Some((d2, s));
+                        }
+                    });
+                    dx += step;
+                }
+            }
+            // Bins of ring k + 1 are at least k sides away.
+            let reach = k as f64 * self.side[0].min(self.side[1]);
+            if best.is_some_and(|(d2, _)| d2 <= reach * reach) {
                 break;
             }
-            for dy in -k..=k {
-                for dx in -k..=k {
-                    if dx.abs() != k && dy.abs() != k {
-                        continue;
+        }
+        best.map(|(_, s)| s)
+    }
+
+    /// Every site image within `reach` of the box `lo`–`hi`, by order.
+    fn near_box(&self, lo: [f64; 2], hi: [f64; 2], reach: f64, out: &mut Vec<Site>) {
+        out.clear();
+        let (bx0, bx1) = (self.bin(lo[0] - reach, 0), self.bin(hi[0] + reach, 0));
+        let (by0, by1) = (self.bin(lo[1] - reach, 1), self.bin(hi[1] + reach, 1));
+        // Slightly wider than `reach`, so rounding cannot drop a tie.
+        let limit = (reach * (1.0 + 1e-9) + 1e-9).powi(2);
+        for by in by0..=by1 {
+            for bx in bx0..=bx1 {
+                self.visit(bx, by, |s| {
+                    let dx = (lo[0] - s.x).max(s.x - hi[0]).max(0.0);
+                    let dy = (lo[1] - s.y).max(s.y - hi[1]).max(0.0);
+                    if dx * dx + dy * dy <= limit {
+                        out.push(s);
                     }
-                    let Some(b) = self.bin(bx + dx, by + dy) else {
-                        continue;
-                    };
-                    for &i in &self.bins[b] {
-                        let c = &self.cells[i as usize];
-                        let ddx = self.delta(0, x, c.2);
-                        let ddy = self.delta(1, y, c.3);
-                        let d2 = ddx * ddx + ddy * ddy;
-                        if best.is_none_or(|(bd, bi)| d2 < bd || (d2 == bd && (i as usize) < bi)) {
-                            best = Some((d2, i as usize));
+                });
+            }
+        }
+        out.sort_unstable_by_key(|s| s.order);
+    }
+}
+
+/// Palette index of pixels no cell reaches (an empty day): white.
+const EMPTY: u8 = 0;
+/// Palette index of cells of a type the parameters do not name: grey.
+const UNKNOWN: u8 = 1;
+
+/// Writes the Voronoi picture of `cells` on `domain` as an indexed PNG at
+/// `path`, type `k` in `colours[k]`.
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn voronoi(
+    domain: &Domain,
+    colours: &[[u8; 3]],
+    cells: &[(u32, u8, Fx, Fx)],
+    path: &Path,
+) -> Result<()> {
+    let mut palette = vec![[255, 255, 255], [128, 128, 128]];
+    palette.extend(colours.iter().take(254));
+    let sites = cells
+        .iter()
+        .enumerate()
+        .map(|(i, &(_, kind, x, y))| Site {
+            x: f64::from(x.to_bits()) / 65_536.0,
+            y: f64::from(y.to_bits()) / 65_536.0,
+            order: i as u32,
+            colour: if usize::from(kind) + 2 < palette.len() {
+                kind + 2
+            } else {
+                UNKNOWN
+            },
+        })
+        .collect();
+    let bins = Bins::new(domain, sites);
+    let scale = LONG_SIDE / bins.size[0].max(bins.size[1]);
+    let w = ((bins.size[0] * scale).round() as usize).max(1);
+    let h = ((bins.size[1] * scale).round() as usize).max(1);
+    let spacing = (w * h) as f64 / bins.sites.len().max(1) as f64;
+    let tile = ((spacing.sqrt() * TILE.0) as usize).clamp(TILE.1, TILE.2);
+    let mut pixels = vec![EMPTY; w * h];
+    let centre = |p: usize| (p as f64 + 0.5) / scale;
+    let mut near = Vec::new();
+    for ty in (0..h).step_by(tile) {
+        for tx in (0..w).step_by(tile) {
+            let (px1, py1) = ((tx + tile).min(w) - 1, (ty + tile).min(h) - 1);
+            let (lo, hi) = ([centre(tx), centre(ty)], [centre(px1), centre(py1)]);
+            let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+            let Some(s) = bins.nearest(mid[0], mid[1]) else {
+                continue;
+            };
+            // Every pixel of the tile is at most this far from its nearest
+            // cell: the farthest corner from `s` (distance is convex).
+            let reach = [lo[0], hi[0]]
+                .iter()
+                .flat_map(|&x| [lo[1], hi[1]].map(|y| (s.x - x).hypot(s.y - y)))
+                .fold(0.0, f64::max);
+            bins.near_box(lo, hi, reach, &mut near);
+            if near.iter().all(|n| n.colour == s.colour) {
+                // One type within reach: the whole tile has its colour.
+                for py in ty..=py1 {
+                    pixels[py * w + tx..=py * w + px1].fill(s.colour);
+                }
+                continue;
+            }
+            for py in ty..=py1 {
+                let y = centre(py);
+                let row = &mut pixels[py * w..(py + 1) * w];
+                for (px, pixel) in row.iter_mut().enumerate().take(px1 + 1).skip(tx) {
+                    let x = centre(px);
+                    let mut best = (f64::INFINITY, EMPTY);
+                    // By order, so the first of equals wins.
+                    for s in &near {
+                        let d2 = (x - s.x) * (x - s.x) + (y - s.y) * (y - s.y);
+                        if d2 < best.0 {
+                            best = (d2, s.colour);
                         }
+                    }
+                    *pixel = best.1;
+                }
+            }
+        }
+    }
+    save_indexed(w as u32, h as u32, &palette, &pixels, path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The nearest cell by brute force, ties to the first, periodic
+    /// distances where the domain wraps.
+    fn brute(domain: &Domain, sites: &[Site], x: f64, y: f64) -> u8 {
+        let size = domain.size.map(|s| f64::from(s.to_bits()) / 65_536.0);
+        let delta = |axis: usize, d: f64| {
+            if domain.periodic[axis] {
+                d - size[axis] * (d / size[axis]).round()
+            } else {
+                d
+            }
+        };
+        let mut best = (f64::INFINITY, EMPTY);
+        for s in sites {
+            let d2 = delta(0, x - s.x).powi(2) + delta(1, y - s.y).powi(2);
+            if d2 < best.0 {
+                best = (d2, s.colour);
+            }
+        }
+        best.1
+    }
+
+    #[test]
+    fn tiles_find_the_same_nearest_cells_as_brute_force() {
+        let types = [[200, 0, 0], [0, 200, 0]];
+        let mut seed = 7u64;
+        let mut random = |n: i32| {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            ((seed >> 33) % n as u64) as i32
+        };
+        for periodic in [[false, false], [true, false], [true, true]] {
+            for count in [1usize, 3, 40, 700] {
+                let domain = Domain {
+                    size: [Fx::from_int(90), Fx::from_int(30)],
+                    periodic,
+                };
+                let cells: Vec<(u32, u8, Fx, Fx)> = (0..count)
+                    .map(|i| {
+                        let x = Fx::from_bits(random(90 << 16));
+                        let y = Fx::from_bits(random(30 << 16));
+                        (i as u32, (random(3)) as u8, x, y)
+                    })
+                    .collect();
+                let dir = tempfile::tempdir().unwrap();
+                let path = dir.path().join("v.png");
+                voronoi(&domain, &types, &cells, &path).unwrap();
+                let picture = tiny_skia::Pixmap::load_png(&path).unwrap();
+                let bins = Bins::new(&domain, Vec::new());
+                let scale = LONG_SIDE / bins.size[0];
+                let colours = [[255, 255, 255], [128, 128, 128], [200, 0, 0], [0, 200, 0]];
+                let sites: Vec<Site> = cells
+                    .iter()
+                    .enumerate()
+                    .map(|(i, c)| Site {
+                        x: f64::from(c.2.to_bits()) / 65_536.0,
+                        y: f64::from(c.3.to_bits()) / 65_536.0,
+                        order: i as u32,
+                        colour: if c.1 < 2 { c.1 + 2 } else { UNKNOWN },
+                    })
+                    .collect();
+                for py in (0..picture.height()).step_by(7) {
+                    for px in (0..picture.width()).step_by(3) {
+                        let x = (f64::from(px) + 0.5) / scale;
+                        let y = (f64::from(py) + 0.5) / scale;
+                        let want = colours[usize::from(brute(&domain, &sites, x, y))];
+                        let got = picture.pixel(px, py).unwrap();
+                        assert_eq!(
+                            [got.red(), got.green(), got.blue()],
+                            want,
+                            "{periodic:?} {count} cells, pixel ({px}, {py})"
+                        );
                     }
                 }
             }
         }
-        best.map(|(_, i)| i)
     }
-
-    fn bin(&self, x: isize, y: isize) -> Option<usize> {
-        let wrap = |v: isize, n: usize, periodic: bool| {
-            if (0..n as isize).contains(&v) {
-                Some(v as usize)
-            } else if periodic && n >= 3 {
-                Some(v.rem_euclid(n as isize) as usize)
-            } else {
-                None
-            }
-        };
-        Some(
-            wrap(y, self.n[1], self.periodic[1])? * self.n[0]
-                + wrap(x, self.n[0], self.periodic[0])?,
-        )
-    }
-}
-
-/// The Voronoi picture of `cells` as PNG bytes.
-///
-/// # Errors
-/// An empty domain or a failed encoding.
-pub fn voronoi(params: &Params, cells: &[(u32, u8, f64, f64)]) -> Result<Vec<u8>> {
-    let near = Nearest::new(params, cells);
-    let scale = LONG_SIDE / near.size[0].max(near.size[1]);
-    let w = ((near.size[0] * scale).round() as u32).max(1);
-    let h = ((near.size[1] * scale).round() as u32).max(1);
-    let mut pixmap = Pixmap::new(w, h).context("picture size must be positive")?;
-    let colour = |kind: u8| {
-        params
-            .types
-            .get(kind as usize)
-            .map_or([128, 128, 128], |t| t.colour)
-    };
-    let pixels = pixmap.pixels_mut();
-    for py in 0..h {
-        for px in 0..w {
-            let x = (f64::from(px) + 0.5) / scale;
-            let y = (f64::from(py) + 0.5) / scale;
-            let c = near
-                .find(x, y)
-                .map_or([255, 255, 255], |i| colour(cells[i].1));
-            pixels[(py * w + px) as usize] =
-                ColorU8::from_rgba(c[0], c[1], c[2], 255).premultiply();
-        }
-    }
-    pixmap.encode_png().context("cannot encode PNG")
 }

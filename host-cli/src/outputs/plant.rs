@@ -4,7 +4,7 @@
 //! as square prisms of side `width`, polygons as faces) and a CSV of every
 //! segment. Pictures and meshes show the last frame; the CSV has them all.
 
-use std::fmt::Write as _;
+use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
@@ -14,7 +14,9 @@ use tiny_skia::{
     Color, FillRule, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke, Transform,
 };
 
-use crate::atomic::write_atomic;
+use super::picture;
+use super::text::{self, Whole};
+use crate::atomic::OutputFile;
 
 fn f(v: Fx) -> f64 {
     f64::from(v.to_bits()) / 65_536.0
@@ -201,8 +203,7 @@ fn png(items: &[Item], size: u32, path: &Path) -> Result<()> {
             }
         }
     }
-    let bytes = pixmap.encode_png().context("cannot encode PNG")?;
-    write_atomic(path, &bytes)
+    picture::save(&pixmap, path)
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -225,11 +226,21 @@ fn scaled(a: [f64; 3], s: f64) -> [f64; 3] {
     [a[0] * s / n, a[1] * s / n, a[2] * s / n]
 }
 
-/// The OBJ text: every segment a square prism (4 side faces), every
+/// Appends the OBJ line `v x y z`.
+fn vertex(line: &mut Vec<u8>, p: [f64; 3]) {
+    line.push(b'v');
+    for c in p {
+        line.push(b' ');
+        text::float(line, c);
+    }
+    line.push(b'\n');
+}
+
+/// Writes the OBJ: every segment a square prism (4 side faces), every
 /// polygon one face.
-fn obj(items: &[Item]) -> String {
-    let mut out =
-        String::from("# morphogen L-system plant: segments as square prisms, polygons as faces\n");
+fn obj(items: &[Item], out: &mut impl Write) -> io::Result<()> {
+    out.write_all(b"# morphogen L-system plant: segments as square prisms, polygons as faces\n")?;
+    let mut line = Vec::with_capacity(256);
     let mut next = 1usize;
     for item in items {
         match item {
@@ -249,52 +260,50 @@ fn obj(items: &[Item]) -> String {
                     [-u[0] - v[0], -u[1] - v[1], -u[2] - v[2]],
                     [u[0] - v[0], u[1] - v[1], u[2] - v[2]],
                 ];
+                line.clear();
                 for end in [a, b] {
                     for c in &corners {
-                        let _ = writeln!(
-                            out,
-                            "v {} {} {}",
-                            end[0] + c[0],
-                            end[1] + c[1],
-                            end[2] + c[2]
-                        );
+                        vertex(&mut line, [end[0] + c[0], end[1] + c[1], end[2] + c[2]]);
                     }
                 }
                 for k in 0..4 {
                     let k1 = (k + 1) % 4;
-                    let _ = writeln!(
-                        out,
-                        "f {} {} {} {}",
-                        next + k,
-                        next + k1,
-                        next + 4 + k1,
-                        next + 4 + k
-                    );
+                    line.push(b'f');
+                    for corner in [next + k, next + k1, next + 4 + k1, next + 4 + k] {
+                        line.push(b' ');
+                        text::int(&mut line, corner);
+                    }
+                    line.push(b'\n');
                 }
+                out.write_all(&line)?;
                 next += 8;
             }
             Item::Polygon { points, .. } => {
                 if points.len() < 3 {
                     continue;
                 }
+                line.clear();
                 for p in points {
-                    let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
+                    vertex(&mut line, *p);
                 }
-                out.push('f');
+                line.push(b'f');
                 for k in 0..points.len() {
-                    let _ = write!(out, " {}", next + k);
+                    line.push(b' ');
+                    text::int(&mut line, next + k);
                 }
-                out.push('\n');
+                line.push(b'\n');
+                out.write_all(&line)?;
                 next += points.len();
             }
         }
     }
-    out
+    Ok(())
 }
 
-/// The CSV of every segment of every frame.
-fn csv(records: &[Record]) -> String {
-    let mut out = String::from("frame,ax,ay,az,bx,by,bz,width,colour\n");
+/// Writes the CSV of every segment of every frame.
+fn csv(records: &[Record], out: &mut impl Write) -> io::Result<()> {
+    out.write_all(b"frame,ax,ay,az,bx,by,bz,width,colour\n")?;
+    let mut line = Vec::with_capacity(160);
     let mut frame = 0u32;
     for r in records {
         match r {
@@ -305,23 +314,21 @@ fn csv(records: &[Record]) -> String {
                 width,
                 colour,
             } => {
-                let (a, b) = (p3(a), p3(b));
-                let _ = writeln!(
-                    out,
-                    "{frame},{},{},{},{},{},{},{},{colour}",
-                    a[0],
-                    a[1],
-                    a[2],
-                    b[0],
-                    b[1],
-                    b[2],
-                    f(*width)
-                );
+                line.clear();
+                text::int(&mut line, frame);
+                for &v in a.iter().chain(b).chain([width]) {
+                    line.push(b',');
+                    text::fx(&mut line, v, Whole::Bare);
+                }
+                line.push(b',');
+                text::int(&mut line, *colour);
+                line.push(b'\n');
+                out.write_all(&line)?;
             }
             _ => {}
         }
     }
-    out
+    Ok(())
 }
 
 /// Writes `plant.png`, `plant.obj` and `segments.csv`.
@@ -333,9 +340,9 @@ pub fn write(records: &[Record], dir: &Path) -> Result<Vec<PathBuf>> {
     let png_path = dir.join("plant.png");
     png(&items, 1000, &png_path)?;
     let obj_path = dir.join("plant.obj");
-    write_atomic(&obj_path, obj(&items).as_bytes())?;
+    OutputFile::write_with(&obj_path, |file| obj(&items, file))?;
     let csv_path = dir.join("segments.csv");
-    write_atomic(&csv_path, csv(records).as_bytes())?;
+    OutputFile::write_with(&csv_path, |file| csv(records, file))?;
     Ok(vec![png_path, obj_path, csv_path])
 }
 

@@ -5,8 +5,6 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
-use crate::atomic::write_atomic;
-
 /// A plot area mapping data coordinates to pixels, y up.
 #[derive(Debug)]
 pub struct Plot {
@@ -91,7 +89,6 @@ impl Plot {
     /// # Errors
     /// When encoding or writing fails.
     pub fn save(&self, path: &Path) -> Result<()> {
-        let png = self.pixmap.encode_png().context("cannot encode PNG")?;
-        write_atomic(path, &png)
+        super::picture::save(&self.pixmap, path)
     }
 }

@@ -1,0 +1,220 @@
+//! The text of numbers in the output files (`records.jsonl`, CSV, OBJ),
+//! appended to a line buffer: integers by `itoa`, fixed-point values
+//! (`Fx`, I16F16) as their exact decimal expansion read off the bits, and
+//! computed `f64` values in Rust's shortest form.
+//!
+//! An `Fx` is `bits / 65536`, whose decimal expansion ends after at most
+//! 16 fractional digits; [`fx`] prints every one of them, with no `f64` in
+//! between. For values of up to 15 significant digits this is the same
+//! text as the shortest round-trip `f64` form printed before; longer values
+//! (e.g. `1.0000152587890625`) now show all their digits.
+
+use std::fmt::Write as _;
+
+use morphogen::fx::Fx;
+
+/// How an `Fx` with no fractional part is written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Whole {
+    /// `1` (CSV, OBJ: as Rust prints a whole `f64`).
+    Bare,
+    /// `1.0` (JSON: a number that reads back as a float).
+    PointZero,
+}
+
+/// Appends the integer `n`.
+pub fn int(out: &mut Vec<u8>, n: impl itoa::Integer) {
+    out.extend_from_slice(itoa::Buffer::new().format(n).as_bytes());
+}
+
+/// Appends the exact decimal value of `v`, whole numbers written as
+/// `whole` says.
+///
+/// The fraction is 16 bits `f`; each digit is `⌊10·f / 2¹⁶⌋`, the rest
+/// `10·f mod 2¹⁶` (below 655 360, so no overflow), until nothing is left:
+/// at most 16 digits, since 10¹⁶ is a multiple of 2¹⁶. Hand-written:
+/// fixed-point crates print the shortest text that reads back (not every
+/// digit), and float printers would need the `f64` round trip.
+pub fn fx(out: &mut Vec<u8>, v: Fx, whole: Whole) {
+    let bits = v.to_bits();
+    if bits < 0 {
+        out.push(b'-');
+    }
+    let magnitude = bits.unsigned_abs();
+    int(out, magnitude >> 16);
+    let mut fraction = magnitude & 0xffff;
+    if fraction == 0 {
+        if whole == Whole::PointZero {
+            out.extend_from_slice(b".0");
+        }
+        return;
+    }
+    out.push(b'.');
+    while fraction != 0 {
+        fraction *= 10;
+        // The digit is below 10: `fraction` < 10·2¹⁶ here.
+        out.push(b'0' + (fraction >> 16) as u8);
+        fraction &= 0xffff;
+    }
+}
+
+/// Appends `v` rounded to 5 decimals, exactly as `format!("{:.5}", f64)`
+/// prints `bits / 65536` (ties to even on the exact value), with no `f64`.
+pub fn fx_5(out: &mut Vec<u8>, v: Fx) {
+    let bits = i64::from(v.to_bits());
+    // value·10⁵ = bits·100 000 / 65 536 = bits·3 125 / 2 048, rounded
+    // half to even; |bits·3 125| < 2³¹·2¹² fits an i64.
+    let scaled = bits.unsigned_abs() * 3_125;
+    let (quotient, rest) = (scaled >> 11, scaled & 0x7ff);
+    let rounded = match rest.cmp(&0x400) {
+        std::cmp::Ordering::Greater => quotient + 1,
+        std::cmp::Ordering::Equal => quotient + (quotient & 1),
+        std::cmp::Ordering::Less => quotient,
+    };
+    if bits < 0 {
+        out.push(b'-');
+    }
+    int(out, rounded / 100_000);
+    out.push(b'.');
+    let decimals = itoa::Buffer::new().format(rounded % 100_000).len();
+    out.extend(std::iter::repeat_n(b'0', 5 - decimals));
+    int(out, rounded % 100_000);
+}
+
+/// `x` as a fixed-point value, when it is one exactly (every coordinate
+/// read from a stream, before any arithmetic).
+fn as_fx(x: f64) -> Option<Fx> {
+    let bits = x * 65_536.0;
+    // Whole and in range: the conversion is exact.
+    (bits.fract() == 0.0 && (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&bits))
+        .then(|| Fx::from_bits(bits as i32))
+}
+
+/// Appends `x` rounded to 5 decimals as `format!("{:.5}", x)` does: by
+/// [`fx_5`] when `x` is a fixed-point value, by the formatter otherwise
+/// (computed points).
+pub fn decimals_5(out: &mut Vec<u8>, x: f64) {
+    if let Some(v) = as_fx(x) {
+        fx_5(out, v);
+    } else {
+        let mut s = String::new();
+        let _ = write!(s, "{x:.5}");
+        out.extend_from_slice(s.as_bytes());
+    }
+}
+
+/// Appends `x` in full: a fixed-point value exactly ([`fx`]), a computed
+/// one as the shortest text that reads back to it (as Rust's `{}`, by
+/// `ryu`; where two shortest texts are equally near, ryu's may differ
+/// from Rust's in the last digit).
+pub fn float(out: &mut Vec<u8>, x: f64) {
+    if let Some(v) = as_fx(x) {
+        return fx(out, v, Whole::Bare);
+    }
+    let mut buffer = ryu::Buffer::new();
+    let text = buffer.format(x);
+    // ryu writes whole numbers as `1.0` and very small or large ones with
+    // an exponent; Rust's `{}` writes `1` and never uses an exponent.
+    if let Some(bare) = text.strip_suffix(".0") {
+        out.extend_from_slice(bare.as_bytes());
+    } else if text.contains(['e', 'N', 'i']) {
+        let mut s = String::new();
+        let _ = write!(s, "{x}");
+        out.extend_from_slice(s.as_bytes());
+    } else {
+        out.extend_from_slice(text.as_bytes());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn text(f: impl Fn(&mut Vec<u8>)) -> String {
+        let mut out = Vec::new();
+        f(&mut out);
+        String::from_utf8(out).unwrap()
+    }
+
+    fn exact(bits: i32, whole: Whole) -> String {
+        text(|o| fx(o, Fx::from_bits(bits), whole))
+    }
+
+    #[test]
+    fn fixed_point_values_print_every_digit() {
+        assert_eq!(exact(0, Whole::PointZero), "0.0");
+        assert_eq!(exact(0, Whole::Bare), "0");
+        assert_eq!(exact(65_536, Whole::PointZero), "1.0");
+        assert_eq!(exact(-65_536 * 3, Whole::Bare), "-3");
+        assert_eq!(exact(1, Whole::Bare), "0.0000152587890625");
+        assert_eq!(exact(-1, Whole::Bare), "-0.0000152587890625");
+        assert_eq!(exact(65_537, Whole::Bare), "1.0000152587890625");
+        assert_eq!(exact(i32::MAX, Whole::Bare), "32767.9999847412109375");
+        assert_eq!(exact(i32::MIN, Whole::PointZero), "-32768.0");
+        assert_eq!(exact(98_304, Whole::PointZero), "1.5");
+    }
+
+    #[test]
+    fn short_values_match_the_shortest_f64_text() {
+        // Up to 15 significant digits the exact text is the shortest one
+        // (f64 keeps 15 digits apart), so earlier files read the same.
+        for bits in (-3_000_000..3_000_000).step_by(7) {
+            let e = exact(bits, Whole::Bare);
+            let shortest = format!("{}", f64::from(bits) / 65_536.0);
+            let significant = e
+                .trim_start_matches('-')
+                .trim_start_matches(['0', '.'])
+                .bytes()
+                .filter(u8::is_ascii_digit)
+                .count();
+            if significant <= 15 {
+                assert_eq!(e, shortest, "bits {bits}");
+            }
+            let back: f64 = e.parse().unwrap();
+            assert_eq!(back, f64::from(bits) / 65_536.0, "bits {bits}");
+            let json: f64 = exact(bits, Whole::PointZero).parse().unwrap();
+            assert_eq!(json, back, "bits {bits}");
+        }
+    }
+
+    #[test]
+    fn five_decimals_match_rust_formatting() {
+        let samples = (-70_000..70_000)
+            .chain((0..4_000).map(|k| k * 524_287 - 1_000_000_000))
+            .chain([i32::MIN, i32::MAX, i32::MIN + 1]);
+        for bits in samples {
+            let ours = text(|o| fx_5(o, Fx::from_bits(bits)));
+            let rust = format!("{:.5}", f64::from(bits) / 65_536.0);
+            assert_eq!(ours, rust, "bits {bits}");
+        }
+    }
+
+    #[test]
+    fn five_decimals_of_any_f64_match_rust_formatting() {
+        for x in [0.1, -2.5e-6, 1.0 / 3.0, 7.0, 65_537.0 / 65_536.0, 1e12] {
+            assert_eq!(text(|o| decimals_5(o, x)), format!("{x:.5}"));
+        }
+    }
+
+    #[test]
+    fn floats_print_as_rust_does() {
+        for x in [
+            0.0,
+            1.0,
+            -2.0,
+            0.1,
+            1e-7,
+            -3.5e-12,
+            123_456.789,
+            1e21,
+            0.3333333333333333,
+        ] {
+            assert_eq!(text(|o| float(o, x)), format!("{x}"));
+        }
+        // A fixed-point value prints exactly, not as the shortest f64.
+        assert_eq!(
+            text(|o| float(o, 576_357.0 / 65_536.0)),
+            "8.7945098876953125"
+        );
+    }
+}

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# What writing the outputs costs: for every preset (or those named), the
+# CPU of `morphogen verify` (the simulation alone) and of `morphogen run`
+# (simulation + stream.bin, records.jsonl, PNG/OBJ/CSV), and their ratio,
+# as a markdown table on standard output. Non-interactive.
+#
+#   scripts/bench-outputs.sh [--runs N] [--instructions] [--bin PATH] [PRESET …]
+#
+# CPU is user + system seconds of the whole process (all threads), the
+# median of N runs (default 5), verify and run interleaved so that load on
+# a busy machine hits both alike. --instructions counts instructions with
+# valgrind (callgrind) instead: one run each, stable, ~50x slower.
+# The binary is built with `cargo build --release -p morphogen-cli` unless
+# --bin is given (CARGO_TARGET_DIR is honoured).
+set -euo pipefail
+
+runs=5
+mode=cpu
+bin=
+presets=()
+while (($#)); do
+    case "$1" in
+    --runs) runs="$2"; shift 2 ;;
+    --instructions) mode=instructions; shift ;;
+    --bin) bin="$2"; shift 2 ;;
+    -h | --help) sed -n '2,14p' "$0"; exit 0 ;;
+    *) presets+=("$1"); shift ;;
+    esac
+done
+
+root="$(cd "$(dirname "$0")/.." && pwd)"
+if [[ -z "$bin" ]]; then
+    (cd "$root" && cargo build --release -q -p morphogen-cli)
+    bin="${CARGO_TARGET_DIR:-$root/target}/release/morphogen"
+fi
+if ((${#presets[@]} == 0)); then
+    mapfile -t presets < <("$bin" list | awk '{print $1}')
+fi
+scratch="$(mktemp -d)"
+trap 'rm -rf "$scratch"' EXIT
+
+# The cost of one command: CPU seconds or instructions.
+cost() {
+    if [[ "$mode" == instructions ]]; then
+        valgrind --tool=callgrind --callgrind-out-file=/dev/null "$@" \
+            2>&1 >/dev/null | awk '/Collected :/ {print $4}'
+    else
+        /usr/bin/time -f '%U %S' -o "$scratch/time" "$@" >/dev/null 2>&1
+        awk '{printf "%.2f\n", $1 + $2}' "$scratch/time"
+    fi
+}
+
+median() { sort -g | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}'; }
+
+if [[ "$mode" == instructions ]]; then
+    unit="instructions"
+    n=1
+else
+    unit="CPU s, median of $runs"
+    n="$runs"
+fi
+echo "| preset | verify ($unit) | run ($unit) | run / verify |"
+echo "|---|---:|---:|---:|"
+for p in "${presets[@]}"; do
+    : >"$scratch/verify"
+    : >"$scratch/run"
+    for ((i = 0; i < n; i++)); do
+        cost "$bin" verify "$p" >>"$scratch/verify"
+        rm -rf "$scratch/out"
+        cost "$bin" run "$p" --out "$scratch/out" >>"$scratch/run"
+    done
+    v="$(median <"$scratch/verify")"
+    r="$(median <"$scratch/run")"
+    ratio="$(awk -v v="$v" -v r="$r" 'BEGIN {if (v > 0) printf "%.2f", r / v; else print "n/a"}')"
+    echo "| $p | $v | $r | $ratio |"
+done
