@@ -25,6 +25,10 @@ cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy -p morphogen --all-targets --features rig,defmt -- -D warnings
 (cd firmware-example && cargo clippy --release -- -D warnings)
 
+step "documentation: cargo doc without a warning (the core with every feature, as docs.rs builds it)"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
+RUSTDOCFLAGS="-D warnings" cargo doc -p morphogen --no-deps --all-features
+
 step "core builds for Cortex-M0+ and Cortex-M3 (no_std, no alloc)"
 for t in thumbv6m-none-eabi thumbv7m-none-eabi; do
     cargo build -p morphogen --target "$t"

@@ -58,7 +58,7 @@ enum Command {
         /// The seed (default: the scenario's own, the one fixtures use).
         #[arg(long)]
         seed: Option<u64>,
-        /// The output folder (default: out/<name>).
+        /// The output folder (default: `out/NAME`).
         #[arg(long)]
         out: Option<PathBuf>,
         /// With a body scenario: grow this OBJ mesh instead of the built-in
@@ -289,6 +289,7 @@ fn run(
     max_stream_mb: u32,
 ) -> Result<Outcome> {
     let rig = rig.map(morphogen_cli::rig::parse_rig_size).transpose()?;
+    warn_unused_seed(scenario, seed);
     let seed = seed.unwrap_or(scenario.seed());
     let dir = out.unwrap_or_else(|| Path::new("out").join(scenario.name()));
     fs::create_dir_all(&dir)
@@ -537,11 +538,23 @@ fn bless(
 ) -> Result<Outcome> {
     for target in targets {
         let scenario = exec::find(target, sets)?;
+        warn_unused_seed(&scenario, seed);
         let seed = seed.unwrap_or(scenario.seed());
         let run = exec::run(&scenario, seed, true)?;
         bless_run(fixtures, &scenario, seed, &run)?;
     }
     Ok(Outcome::Ok)
+}
+
+/// Warns on standard error when `--seed` was given to a scenario whose
+/// stream does not depend on it (only its header records the seed).
+fn warn_unused_seed(scenario: &Scenario, seed: Option<u64>) {
+    if seed.is_some() && !scenario.uses_seed() {
+        eprintln!(
+            "warning: --seed has no effect on {}: its model draws no random numbers (only the stream header records the seed)",
+            scenario.name()
+        );
+    }
 }
 
 /// Writes `run` as `scenario`'s fixture and says so.

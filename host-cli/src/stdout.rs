@@ -1,4 +1,4 @@
-//! Standard output that fails politely: every line goes through [`line`],
+//! Standard output that fails politely: every line goes through [`line()`],
 //! whose error the command returns, so a closed pipe (`morphogen decode … |
 //! head -1`) ends the command quietly and a full disk is exit 2 with a
 //! message, never a panic.
@@ -49,7 +49,7 @@ pub fn line(args: fmt::Arguments<'_>) -> anyhow::Result<()> {
         .map_err(|e| StdoutError(e).into())
 }
 
-/// `say!(…)`: [`line`] with `format!` arguments.
+/// `say!(…)`: [`line()`] with `format!` arguments.
 #[macro_export]
 macro_rules! say {
     ($($arg:tt)*) => {

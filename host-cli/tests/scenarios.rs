@@ -368,3 +368,19 @@ fn every_example_in_the_scenario_docs_runs() {
         "docs/scenarios.md shows examples/wagging-tail.toml as it is"
     );
 }
+
+#[test]
+fn a_seed_that_changes_nothing_is_warned_about() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = morphogen(&["run", "growth-curve", "--seed", "4"], tmp.path());
+    assert!(o.status.success());
+    assert!(
+        String::from_utf8_lossy(&o.stderr)
+            .contains("warning: --seed has no effect on growth-curve"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let o = morphogen(&["run", "abop-stochastic", "--seed", "4"], tmp.path());
+    assert!(o.status.success());
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("warning"));
+}

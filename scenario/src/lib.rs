@@ -360,6 +360,23 @@ impl Scenario {
             .with_preset(self.name(), self.summary(), self.seed(), f)
     }
 
+    /// Whether its stream depends on the seed beyond the header: mosaics
+    /// always, L-systems and bones when a production is stochastic; the
+    /// growth curve, horns and bodies draw no random numbers.
+    #[must_use]
+    pub fn uses_seed(&self) -> bool {
+        let stochastic = |text: &str| {
+            let mut grammar = Box::new(morphogen::lsys::Grammar::new());
+            grammar.parse(text).is_ok() && grammar.is_stochastic()
+        };
+        match &self.checked {
+            Checked::Mosaic { .. } => true,
+            Checked::LSystem(text) => stochastic(text),
+            Checked::Bones { grammar, .. } => stochastic(grammar),
+            Checked::Curve(_) | Checked::Horn { .. } | Checked::Body { .. } => false,
+        }
+    }
+
     /// The text as given (comments and all), before any `--set`.
     #[must_use]
     pub fn text(&self) -> &str {

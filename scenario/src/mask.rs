@@ -1,5 +1,5 @@
 //! Mask images for MClone's control (thesis Sec. 3.2.2): a PBM (plain P1 or
-//! raw P4) or a PNG, read into the core [`Mask`](morphogen::mosaic::Mask)'s
+//! raw P4) or a PNG, read into the core [`morphogen::mosaic::Mask`]'s
 //! packed rows (1 = white = foreground allowed). Sizes are checked before
 //! anything is allocated.
 

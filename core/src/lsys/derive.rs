@@ -227,7 +227,7 @@ struct Frame {
 }
 
 /// Depth-first derivation of a context-free grammar: the string of step
-/// `n` is produced module by module, holding one [`Frame`] per step
+/// `n` is produced module by module, holding one frame per step
 /// (`MAX_STEPS + 1` frames, ~24 bytes each) and one position counter per
 /// step (for keying stochastic choices), never the string.
 ///

@@ -185,6 +185,13 @@ impl Grammar {
             .any(|p| p.left.len > 0 || p.right.len > 0)
     }
 
+    /// Whether any production has a probability weight: only then does a
+    /// derivation depend on its seed.
+    #[must_use]
+    pub fn is_stochastic(&self) -> bool {
+        self.productions.iter().any(|p| p.weight.is_some())
+    }
+
     /// Whether `symbol` is in the `ignore:` set.
     #[must_use]
     pub fn is_ignored(&self, symbol: u8) -> bool {

@@ -91,7 +91,10 @@ fn coarse_grids_find_every_neighbour_on_both_sides_of_the_wrap() {
     // the shortest displacement. Either way the grid agrees with the naive
     // step, on periodic and walled domains.
     let params = &croton_mcu_day_0(120);
-    for domain in [params.domain, Domain::walled(Fx::from_int(15), Fx::from_int(12))] {
+    for domain in [
+        params.domain,
+        Domain::walled(Fx::from_int(15), Fx::from_int(12)),
+    ] {
         let params = &Params { domain, ..*params };
         for max_bins in [1, 2, 4, 6, 9, 16, 128] {
             let mut a = Mosaic::new(ArrayStore::<512, 129>::EMPTY);

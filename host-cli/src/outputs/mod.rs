@@ -1,5 +1,5 @@
 //! The model's natural files written by `morphogen run`: pictures, meshes,
-//! tables. Each model has a module; [`write`] picks it by the preset's
+//! tables. Each model has a module; [`write()`] picks it by the preset's
 //! model.
 
 use std::path::{Path, PathBuf};

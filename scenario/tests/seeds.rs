@@ -1,0 +1,48 @@
+//! `Scenario::uses_seed` says the truth: with two seeds, a built-in's
+//! stream differs beyond the header exactly when it says it uses the seed.
+
+use morphogen::stream::{ByteSink, Encoder, SinkError};
+
+struct Bytes(Vec<u8>);
+
+impl ByteSink for Bytes {
+    fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError> {
+        self.0.extend_from_slice(bytes);
+        Ok(())
+    }
+}
+
+/// The stream of `name` with `seed`, without its header record.
+fn body(scenario: &morphogen_scenario::Scenario, seed: u64) -> Vec<u8> {
+    let mut encoder = Encoder::new(Bytes(Vec::new()));
+    scenario
+        .with_preset(|p| morphogen_scenario::run::run(p, seed, &mut encoder, &mut |_| {}))
+        .expect("runs");
+    let bytes = encoder.into_writer().0;
+    let header = morphogen::stream::Decoder::new(&bytes)
+        .next()
+        .expect("a header");
+    bytes[header.offset + header.len..].to_vec()
+}
+
+#[test]
+fn the_seed_changes_a_stream_exactly_when_the_scenario_says_so() {
+    // The big mosaics are slow in a debug build: one small mosaic stands
+    // for them (a mosaic always draws its cells' positions).
+    let big_mosaics = [
+        "amanita",
+        "cactus-spots",
+        "croton",
+        "croton-ageing",
+        "philodendron",
+    ];
+    for scenario in morphogen_scenario::builtins() {
+        let name = scenario.name();
+        if big_mosaics.contains(&name) || name.starts_with("watermelon") || name == "sansevieria" {
+            assert!(scenario.uses_seed(), "{name}");
+            continue;
+        }
+        let differs = body(&scenario, 3) != body(&scenario, 4);
+        assert_eq!(scenario.uses_seed(), differs, "{name}");
+    }
+}
