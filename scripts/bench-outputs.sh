@@ -29,9 +29,12 @@ while (($#)); do
 done
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
+cd "$root" # verify finds fixtures/ from here
 if [[ -z "$bin" ]]; then
     (cd "$root" && cargo build --release -q -p morphogen-cli)
     bin="${CARGO_TARGET_DIR:-$root/target}/release/morphogen"
+elif [[ "$bin" != /* ]]; then
+    bin="$OLDPWD/$bin"
 fi
 if ((${#presets[@]} == 0)); then
     mapfile -t presets < <("$bin" list | awk '{print $1}')

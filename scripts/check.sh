@@ -46,6 +46,9 @@ cargo test --workspace
 step "golden fixtures: every built-in scenario re-run (release build)"
 "$morphogen" verify
 
+step "the Python stream reader against every preset (python/)"
+MORPHOGEN_BIN="$morphogen" bash scripts/python-check.sh
+
 step "every preset's scenario file, shown and run from a file, gives its fixture"
 shown=$(mktemp -d)
 trap 'rm -rf "$shown"' EXIT
