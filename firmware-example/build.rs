@@ -1,7 +1,9 @@
-//! Puts `memory.x` where the linker finds it, and writes `presets.rs`: the
-//! presets the firmware runs, as `static` Rust generated from scenario
-//! files by `morphogen_scenario::codegen` (so no parameter has a second
-//! copy in this crate).
+//! Puts `memory.x` (and an empty `device.x`) where the linker finds them,
+//! and writes `presets.rs`: the presets the firmware runs, as `static` Rust
+//! generated from scenario files by `morphogen_scenario::codegen` (so no
+//! parameter has a second copy in this crate), and their parameter digests;
+//! summaries and grammar comments, which the device never reads, are left
+//! out.
 //!
 //! - By default: every built-in scenario (`scenarios/*.toml`) that fits
 //!   the MCU ([`morphogen::preset::Model::fits_mcu`]), in `morphogen list`
@@ -17,6 +19,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process;
 
+use morphogen::preset::Model;
 use morphogen_scenario::schema::Include;
 use morphogen_scenario::{Scenario, codegen};
 
@@ -26,6 +29,20 @@ const VAR: &str = "MORPHOGEN_SCENARIOS";
 fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
     fs::copy("memory.x", out.join("memory.x")).expect("memory.x is readable");
+    // cortex-m-rt's `device` feature includes `device.x`, where a device
+    // crate names its interrupt handlers; this firmware has none (its
+    // vectors are in src/board.rs).
+    // ARMv6-M takes at most 32 device interrupts (cfg `armv6m`, as in
+    // cortex-m-rt).
+    println!("cargo::rustc-check-cfg=cfg(armv6m)");
+    if env::var("TARGET").is_ok_and(|t| t.starts_with("thumbv6m-")) {
+        println!("cargo::rustc-cfg=armv6m");
+    }
+    fs::write(
+        out.join("device.x"),
+        "/* No device interrupt handlers: every vector is DefaultHandler (src/board.rs). */\n",
+    )
+    .expect("OUT_DIR is writable");
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rerun-if-changed=memory.x");
     println!("cargo:rerun-if-changed=build.rs");
@@ -49,9 +66,67 @@ fn main() {
     if scenarios.is_empty() {
         fail("no preset fits the MCU");
     }
-    let source = codegen::presets(&scenarios)
+    let mut source = codegen::presets(&scenarios)
         .unwrap_or_else(|e| fail(&format!("generating presets.rs: {e}")));
+    strip_for_flash(&mut source, &scenarios);
+    source.push_str(&params_digests(&scenarios));
     fs::write(out.join("presets.rs"), source).expect("OUT_DIR is writable");
+}
+
+/// `PARAMS_DIGESTS`: the stream header's parameter digest of each preset,
+/// in the order of `PRESETS`, computed here by the same core code the
+/// device would run (`Model::params_digest`), so that the firmware needs no
+/// serializer for the parameters of every model.
+fn params_digests(scenarios: &[Scenario]) -> String {
+    let digests: Vec<String> = scenarios
+        .iter()
+        .map(|s| format!("{:#018x}", s.with_preset(|p| p.model.params_digest())))
+        .collect();
+    format!(
+        "\n/// The parameter digest of each of `PRESETS`, in order (computed by `build.rs`).\n\
+         pub static PARAMS_DIGESTS: [u64; {}] = [{}];\n",
+        digests.len(),
+        digests.join(", ")
+    )
+}
+
+/// Drops from the generated `source` what the firmware never reads, to
+/// save flash: each preset's summary (for `morphogen list`), and the
+/// comments of its grammar text (the parser skips them; the digest of the
+/// whole text is in `PARAMS_DIGESTS`). Both are found as the `{:?}`
+/// literals `codegen` writes; a literal not found stays as it is.
+fn strip_for_flash(source: &mut String, scenarios: &[Scenario]) {
+    for scenario in scenarios {
+        let (summary, grammar) = scenario.with_preset(|p| {
+            let grammar = match p.model {
+                Model::LSystem(text) => Some(text.to_owned()),
+                Model::Bones(b) => Some(b.grammar.to_owned()),
+                _ => None,
+            };
+            (p.summary.to_owned(), grammar)
+        });
+        *source = source.replace(&format!("summary: {summary:?}"), "summary: \"\"");
+        if let Some(text) = grammar {
+            *source = source.replace(
+                &format!("{text:?}"),
+                &format!("{:?}", without_comments(&text)),
+            );
+        }
+    }
+}
+
+/// `text` without its comments: each line up to its first `#`, as the
+/// grammar parser reads it (`docs/lsystems.md`), without the blanks before
+/// it; the lines stay, so that a parse error names the same line.
+fn without_comments(text: &str) -> String {
+    let lines: Vec<&str> = text
+        .split('\n')
+        .map(|line| match line.find('#') {
+            Some(k) => line[..k].trim_end_matches([' ', '\t']),
+            None => line,
+        })
+        .collect();
+    lines.join("\n")
 }
 
 /// The scenario files of the comma-separated `list`, loaded and checked.

@@ -150,11 +150,14 @@ pub enum Runner<'a> {
 }
 
 /// The idle models written into the runner when it switches model: `const`
-/// items, so that the compiler writes them in place (a memset, or a copy
-/// of a constant) instead of building the model on a small stack first.
-/// (Measured with `llvm-objdump` on thumbv7m: inside `Runner::start` this
-/// costs a 4 KB frame; moved to a function of its own per model, the same
-/// write built bones on the stack, a 13.7 KB frame.)
+/// items, so that the compiler writes them in place instead of building
+/// the model on a small stack first (measured with `llvm-objdump` on
+/// thumbv7m: moved to a function of its own per model, the same write once
+/// built bones on the stack, a 13.7 KB frame). Every idle model is all zero
+/// bytes (uninitialised capacity aside; deferred errors are
+/// [`Deferred`](crate::sim::Deferred)), so the write is a memset: a model
+/// with one non-zero byte would instead be copied from a constant of its
+/// whole size in flash (50 KB for the mosaic).
 const IDLE_MOSAIC: Mosaic<'static, McuStore> = Mosaic::new(McuStore::EMPTY);
 /// An idle L-system.
 const IDLE_LSYSTEM: LSystem = LSystem::new();
@@ -185,7 +188,7 @@ impl<'a> Runner<'a> {
                     *self = Runner::$variant($idle);
                 }
                 match self {
-                    Runner::$variant(sim) => Start::start(sim, $params, seed),
+                    Runner::$variant(sim) => start_in_place(sim, $params, seed),
                     _ => Err(Error::NotStarted),
                 }
             }};
@@ -203,6 +206,19 @@ impl<'a> Runner<'a> {
         }
         result
     }
+}
+
+/// Starts `sim` through its [`Start`], in a stack frame of its own: the
+/// temporaries of one model's start (a horn's kernel, a grammar's parse)
+/// then do not add to the frame of [`run`], which stays on the stack below
+/// every step.
+#[inline(never)]
+fn start_in_place<'a, M: Start<'a> + ?Sized>(
+    sim: &mut M,
+    params: &'a M::Params,
+    seed: u64,
+) -> Result<(), Error> {
+    sim.start(params, seed)
 }
 
 impl Simulation for Runner<'_> {
@@ -232,8 +248,27 @@ pub fn run<'a>(
     sink: &mut dyn Sink,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<(), Error> {
+    let params = preset.model.params_digest();
+    run_with_digest(preset, seed, params, runner, sink, progress)
+}
+
+/// [`run`] with the parameter digest of the header given: `params` must be
+/// `preset.model.params_digest()`. A device whose presets are compiled in
+/// passes the digest its build computed, and so carries no serializer for
+/// any model's parameters (some 4 KB of flash on a Cortex-M).
+///
+/// # Errors
+/// As [`run`].
+pub fn run_with_digest<'a>(
+    preset: &Preset<'a>,
+    seed: u64,
+    params: u64,
+    runner: &mut Runner<'a>,
+    sink: &mut dyn Sink,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<(), Error> {
     runner.start(&preset.model, seed)?;
-    let header = header(preset.name, seed, preset.model.params_digest());
+    let header = header(preset.name, seed, params);
     let result = drive(runner, &header, sink, progress);
     *runner = Runner::Idle;
     result

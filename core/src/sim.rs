@@ -1,6 +1,8 @@
 //! The face every simulation shows to host, firmware and tests: a stepper
 //! that pushes records into a [`Sink`] and reports its progress.
 
+use heapless::Vec;
+
 use crate::Error;
 use crate::stream::Sink;
 
@@ -46,4 +48,41 @@ pub trait Start<'a>: Simulation {
     /// The parameter or limit that refuses the run; stepping then returns
     /// the same error.
     fn start(&mut self, params: &'a Self::Params, seed: u64) -> Result<(), Error>;
+}
+
+/// A model's deferred error: the refusal of its parameters, or the error
+/// that stopped its run, kept so that every later [`Simulation::step`]
+/// returns it too.
+///
+/// Empty, it is all zero bytes (a `heapless::Vec` of capacity one, where
+/// the `None` of an `Option<Error>` would be a non-zero niche): an idle
+/// model is then all zeros, and the [`Runner`](crate::preset::Runner)
+/// writes one into its slot with a memset instead of copying a template of
+/// the whole model out of flash.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Deferred(Vec<Error, 1>);
+
+impl Deferred {
+    /// No error (`const`, for a `static`).
+    pub(crate) const fn new() -> Deferred {
+        Deferred(Vec::new())
+    }
+
+    /// Keeps `result`'s error, or forgets the kept one if `result` is
+    /// `Ok`; returns `result`.
+    pub(crate) fn keep(&mut self, result: Result<(), Error>) -> Result<(), Error> {
+        self.0.clear();
+        if let Err(e) = result {
+            let _ = self.0.push(e); // capacity 1, just cleared
+        }
+        result
+    }
+
+    /// The kept error, if any.
+    pub(crate) fn check(&self) -> Result<(), Error> {
+        match self.0.first() {
+            Some(&e) => Err(e),
+            None => Ok(()),
+        }
+    }
 }

@@ -166,42 +166,38 @@ pub struct Turtle<R: Real = Fx> {
     sin_delta: R,
 }
 
+// The next two are functions of their own, over separate borrows of the
+// turtle's fields, so that the compiler knows that source and destination
+// do not overlap: a state or a vertex is then copied in place, where inside
+// a method of the whole turtle it was a call to `memmove` (and that 1.6 KB
+// routine in the firmware).
+
+/// Pops the state saved by the matching `[` into `state`.
+fn restore<R: Real>(
+    state: &mut State<R>,
+    stack: &mut Vec<State<R>, MAX_TURTLE_STACK>,
+) -> Result<(), TurtleError> {
+    *state = stack.pop().ok_or(TurtleError::UnmatchedPop)?;
+    Ok(())
+}
+
+/// Appends `p` to `polygon` unless it repeats the last vertex.
+fn push_vertex<R: Real>(
+    polygon: &mut Vec<Vector3<R>, MAX_POLYGON_VERTICES>,
+    p: &Vector3<R>,
+) -> Result<(), TurtleError> {
+    if polygon.last() == Some(p) {
+        return Ok(());
+    }
+    polygon.push(*p).map_err(|_| TurtleError::TooManyVertices)
+}
+
 /// `(a, b) ← (a·c + b·s, b·c − a·s)`: the rotation of the plane (a, b) that
 /// turns a towards b.
 fn rotate<R: Real>(a: &mut Vector3<R>, b: &mut Vector3<R>, c: R, s: R) {
     let (x, y) = (*a, *b);
     *a = x * c + y * s;
     *b = y * c - x * s;
-}
-
-impl Turtle<Fx> {
-    /// A fixed-point turtle with unit step and width, δ = 0 (`const`, for
-    /// a `static`; [`Turtle::new`] sets real parameters).
-    #[must_use]
-    pub const fn new_const() -> Turtle<Fx> {
-        let (o, l) = (Fx::ZERO, Fx::ONE);
-        Turtle {
-            state: State {
-                position: Vector3::new(o, o, o),
-                heading: Vector3::new(o, l, o),
-                left: Vector3::new(Fx::from_int(-1), o, o),
-                up: Vector3::new(o, o, l),
-                width: l,
-                colour: 0,
-            },
-            stack: Vec::new(),
-            polygon: Vec::new(),
-            polygon_open: false,
-            params: Params {
-                step: l,
-                delta: Angle::ZERO,
-                width: l,
-                thin: l,
-            },
-            cos_delta: l,
-            sin_delta: o,
-        }
-    }
 }
 
 impl Turtle<Fx> {
@@ -315,13 +311,7 @@ impl<R: Real> Turtle<R> {
     }
 
     fn add_vertex(&mut self) -> Result<(), TurtleError> {
-        let p = self.state.position;
-        if self.polygon.last() == Some(&p) {
-            return Ok(());
-        }
-        self.polygon
-            .push(p)
-            .map_err(|_| TurtleError::TooManyVertices)
+        push_vertex(&mut self.polygon, &self.state.position)
     }
 
     fn advance(&mut self, m: &Module) -> Result<Vector3<R>, TurtleError> {
@@ -421,7 +411,7 @@ impl<R: Real> Turtle<R> {
                     .push(copy)
                     .map_err(|_| TurtleError::StackOverflow)?;
             }
-            b']' => self.state = self.stack.pop().ok_or(TurtleError::UnmatchedPop)?,
+            b']' => restore(&mut self.state, &mut self.stack)?,
             b'{' => {
                 if self.polygon_open {
                     return Err(TurtleError::NestedPolygon);

@@ -9,6 +9,23 @@ use core::ptr::{read_volatile, write_volatile};
 
 use morphogen::stream::{ByteSink, SinkError};
 
+/// The LM3S6965's device interrupts (IRQ 0 to 43, data sheet table 2-9);
+/// an ARMv6-M core (the thumbv6m build) takes at most 32.
+const INTERRUPTS: usize = if cfg!(armv6m) { 32 } else { 44 };
+
+unsafe extern "C" {
+    /// cortex-m-rt's handler for every vector nobody claims.
+    fn DefaultHandler();
+}
+
+/// The device part of the vector table, every interrupt to the default
+/// handler: the firmware enables none (UART0 is polled). Sized for this
+/// chip, where cortex-m-rt without its `device` feature reserves the 240
+/// vectors of any Cortex-M3 (800 B more of flash).
+#[unsafe(link_section = ".vector_table.interrupts")]
+#[unsafe(no_mangle)]
+static __INTERRUPTS: [unsafe extern "C" fn(); INTERRUPTS] = [DefaultHandler; INTERRUPTS];
+
 /// System control: run-mode clock configuration (RCC).
 const SYSCTL_RCC: usize = 0x400F_E060;
 /// System control: run-mode clock gating 1 (bit 0 = UART0).

@@ -15,7 +15,7 @@ use super::skeleton::Skeleton;
 use super::{BodyModel, GrowthTable, Joint, MAX_CYLINDERS};
 use crate::Error;
 use crate::fx::Fx;
-use crate::sim::{Progress, Simulation, Start};
+use crate::sim::{Deferred, Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 
 /// What a body run shows.
@@ -62,7 +62,7 @@ impl BodyParams<'_> {
 pub struct Body<'a, const C: usize = MAX_CYLINDERS> {
     params: Option<&'a BodyParams<'a>>,
     skeleton: Skeleton<Fx, C>,
-    failure: Option<Error>,
+    failure: Deferred,
     frame: u32,
     unbound: u32,
 }
@@ -80,7 +80,7 @@ impl<'a, const C: usize> Body<'a, C> {
         Body {
             params: None,
             skeleton: Skeleton::new(),
-            failure: None,
+            failure: Deferred::new(),
             frame: 0,
             unbound: 0,
         }
@@ -95,13 +95,13 @@ impl<'a, const C: usize> Body<'a, C> {
         self.params = Some(params);
         self.frame = 0;
         self.unbound = 0;
-        self.failure =
+        let result =
             if params.frames == 0 || (params.gait.is_some() && params.frames_per_stride == 0) {
-                Some(super::BodyError::ZeroCount.into())
+                Err(super::BodyError::ZeroCount.into())
             } else {
-                self.skeleton.load(params.model, params.table).err()
+                self.skeleton.load(params.model, params.table)
             };
-        self.failure.map_or(Ok(()), Err)
+        self.failure.keep(result)
     }
 
     /// Vertices in no cylinder, following the nearest (counted in frame 0).
@@ -122,9 +122,7 @@ impl<'a, const C: usize> Start<'a> for Body<'a, C> {
 
 impl<const C: usize> Simulation for Body<'_, C> {
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
-        if let Some(e) = self.failure {
-            return Err(e);
-        }
+        self.failure.check()?;
         let Some(params) = self.params else {
             return Err(Error::NotStarted);
         };

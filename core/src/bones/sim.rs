@@ -6,13 +6,12 @@
 //! outside), `FrameEnd`. Each [`Simulation::step`] runs one shrinkwrap
 //! iteration; progress counts finished frames.
 
-use heapless::Vec;
 use nalgebra::Vector3;
 
 use crate::Error;
 use crate::fx::Fx;
 use crate::shrinkwrap::{Phase, Shrinkwrap};
-use crate::sim::{Progress, Simulation, Start};
+use crate::sim::{Deferred, Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 
 use super::skeleton::{Grower, Skeleton};
@@ -29,10 +28,8 @@ pub struct Bones<'a, const V: usize, const T: usize> {
     grower: Grower,
     skeleton: Skeleton,
     wrap: Shrinkwrap<Fx, V, T>,
-    /// The error that stopped the run, if any (a `Vec`, not an `Option`,
-    /// so that an idle simulation is all zero bytes: a runner slot is then
-    /// written in place by a memset, without a 48 KB temporary).
-    failed: Vec<Error, 1>,
+    /// The error that stopped the run, if any.
+    failed: Deferred,
 }
 
 impl<'a, const V: usize, const T: usize> Bones<'a, V, T> {
@@ -47,7 +44,7 @@ impl<'a, const V: usize, const T: usize> Bones<'a, V, T> {
             seed: 0,
             frame: 0,
             wrapping: false,
-            failed: Vec::new(),
+            failed: Deferred::new(),
         }
     }
 
@@ -61,12 +58,8 @@ impl<'a, const V: usize, const T: usize> Bones<'a, V, T> {
         self.seed = seed;
         self.frame = 0;
         self.wrapping = false;
-        self.failed.clear();
-        if let Err(e) = self.grower.load(params.grammar) {
-            let _ = self.failed.push(e.into()); // capacity 1, just cleared
-            return Err(e.into());
-        }
-        Ok(())
+        let loaded = self.grower.load(params.grammar).map_err(Error::from);
+        self.failed.keep(loaded)
     }
 
     /// The current skeleton.
@@ -165,16 +158,12 @@ impl<'a, const V: usize, const T: usize> Start<'a> for Bones<'a, V, T> {
 
 impl<const V: usize, const T: usize> Simulation for Bones<'_, V, T> {
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
-        if let Some(&e) = self.failed.first() {
-            return Err(e);
-        }
+        self.failed.check()?;
         let params = self.params.ok_or(Error::NotStarted)?;
         let total = self.frames();
-        if self.frame < total
-            && let Err(e) = self.advance(params, sink)
-        {
-            let _ = self.failed.push(e); // empty: an error ends the run
-            return Err(e);
+        if self.frame < total {
+            let advanced = self.advance(params, sink);
+            self.failed.keep(advanced)?;
         }
         Ok(Progress {
             done: self.frame.min(total),

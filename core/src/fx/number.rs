@@ -86,6 +86,70 @@ impl Fx {
         Fx::from_bits(div_bits((num as i64) << FRAC, den as i64))
     }
 
+    /// The non-negative decimal number `int.frac` (ASCII digits; either
+    /// part may be empty) as `fixed`'s `I16F16::from_str` (1.29) parses it,
+    /// computed with a few integer operations (that general parser is some
+    /// 3 KB of firmware code): rounded to nearest, ties to even — except
+    /// where `fixed` takes a fraction of 7 to 16 significant digits that
+    /// its half-way point (k + ½)·2⁻¹⁶ starts with for that half-way point
+    /// itself, a tie (so `0.3251876`, just below 21311.5 LSBs, gives 21312
+    /// like `0.32518768310546875`). `None` for a byte that is not a digit,
+    /// or a rounded value above [`Fx::MAX`].
+    ///
+    /// ```
+    /// use morphogen::fx::Fx;
+    /// assert_eq!(Fx::from_decimal(b"1", b"5"), Some(Fx::from_ratio(3, 2)));
+    /// assert_eq!(Fx::from_decimal(b"", b"00000762939453125"), Some(Fx::ZERO)); // 2⁻¹⁷: a tie, to even
+    /// assert_eq!(Fx::from_decimal(b"32768", b""), None);
+    /// ```
+    #[must_use]
+    pub fn from_decimal(int: &[u8], frac: &[u8]) -> Option<Fx> {
+        /// Digits of the fraction taken exactly: (k + ½)·2⁻¹⁶ has 17
+        /// decimals, so a tie needs no more, and the digits after them only
+        /// say whether the value is above one.
+        const EXACT: usize = 17;
+        /// 10¹⁷ / 2¹⁶ = 2·5¹⁷: the first `EXACT` digits as an integer `n`
+        /// are `n / SCALE` LSBs.
+        const SCALE: u64 = 2 * 762_939_453_125;
+        /// Up to this many significant digits `fixed` rounds exactly.
+        const FIXED_EXACT: usize = 6;
+        let digit = |b: u8| b.is_ascii_digit().then(|| u64::from(b - b'0'));
+        let mut whole = 0u64;
+        for &b in int {
+            // Above `MAX`'s integer part it stays above: no overflow.
+            whole = (whole * 10 + digit(b)?).min(1 << FRAC);
+        }
+        // n < 10¹⁷ < 2⁵⁷.
+        let mut n = 0u64;
+        let mut rest_nonzero = false;
+        let mut significant = 0;
+        for k in 0..frac.len().max(EXACT) {
+            let d = match frac.get(k) {
+                Some(&b) => digit(b)?,
+                None => 0,
+            };
+            if d != 0 {
+                significant = k + 1;
+            }
+            if k < EXACT {
+                n = n * 10 + d;
+            } else {
+                rest_nonzero |= d != 0;
+            }
+        }
+        let (lsbs, rest) = (n / SCALE, n % SCALE);
+        let half = SCALE / 2;
+        // `fixed`'s tie: the digits are a proper prefix of the half-way
+        // point's, which is above them by less than one unit of the last.
+        let prefix_of_half = (FIXED_EXACT + 1..EXACT).contains(&significant)
+            && rest < half
+            && half - rest < 10u64.pow((EXACT - significant) as u32);
+        let tie = (rest == half && !rest_nonzero) || prefix_of_half;
+        let up = if tie { lsbs & 1 == 1 } else { rest >= half };
+        let bits = (whole << FRAC) + lsbs + u64::from(up);
+        i32::try_from(bits).ok().map(Fx::from_bits)
+    }
+
     /// The wrapped `fixed` value, for formatting and parsing.
     #[must_use]
     pub const fn to_fixed(self) -> I16F16 {
@@ -352,5 +416,75 @@ mod tests {
         assert_eq!(Fx::from_ratio(-3, 2).floor(), Fx::from_int(-2));
         assert_eq!(Fx::from_ratio(-3, 2).floor_int(), -2);
         assert_eq!(Fx::from_ratio(5, 2).floor_int(), 2);
+    }
+
+    /// `from_decimal` against `fixed`'s parser, which it replaces on the
+    /// device: short and long fractions, exact ties (k/2¹⁷, the only
+    /// values with a half LSB) with and without digits after them, and the
+    /// edge of the range.
+    #[test]
+    fn from_decimal_is_fixed_from_str() {
+        let check = |int: &str, frac: &str| {
+            let text = format!(
+                "{}.{}",
+                if int.is_empty() { "0" } else { int },
+                if frac.is_empty() { "0" } else { frac }
+            );
+            let expected = I16F16::from_str(&text).ok().map(Fx::from_fixed);
+            assert_eq!(
+                Fx::from_decimal(int.as_bytes(), frac.as_bytes()),
+                expected,
+                "{text}"
+            );
+        };
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |m: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % m
+        };
+        for _ in 0..20_000 {
+            let int = next(40_000).to_string();
+            let digits = next(30) as usize;
+            let frac: String = (0..digits)
+                .map(|_| char::from(b'0' + next(10) as u8))
+                .collect();
+            check(&int, &frac);
+            check("", &frac);
+        }
+        for _ in 0..20_000 {
+            // k/2¹⁷ exactly (17 decimals), then maybe a non-zero digit.
+            let k = next(1 << 17);
+            let tie = format!("{:017}", k * 762_939_453_125);
+            let int = next(32_768).to_string();
+            check(&int, &tie);
+            check(&int, &format!("{tie}0000"));
+            check(&int, &format!("{tie}0001"));
+        }
+        for _ in 0..20_000 {
+            // The first 7 to 16 digits of a half-way point (k + ½)·2⁻¹⁶.
+            let k = 2 * next(1 << 16) + 1;
+            let half = format!("{:017}", k * 762_939_453_125);
+            let digits = 7 + next(10) as usize;
+            check(&next(100).to_string(), &half[..digits]);
+        }
+        for (int, frac) in [
+            ("", "3251876"),
+            ("0000000000000000000000000000001", "5"),
+            ("32767", "99999237060546875"),
+            ("32767", "999992370605468750001"),
+            ("32767", "99999618530273437"),
+            ("32767", "999996185302734375"),
+            ("32767", "9999961853027343750001"),
+            ("32768", ""),
+            ("0032767", "5"),
+            ("", ""),
+            ("99999999999999999999999", "1"),
+        ] {
+            check(int, frac);
+        }
+        assert_eq!(Fx::from_decimal(b"1a", b""), None);
+        assert_eq!(Fx::from_decimal(b"1", b"5x"), None);
     }
 }

@@ -7,16 +7,19 @@
 use super::{Emit, HornKernel, HornParams, Moment};
 use crate::Error;
 use crate::fx::Fx;
-use crate::sim::{Progress, Simulation, Start};
+use crate::sim::{Deferred, Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 
 /// A running horn: the fixed-point kernel and the frame counter. A few
 /// hundred bytes plus the outline (see [`super::MAX_RING_POINTS`]).
 #[derive(Clone, Debug)]
 pub struct Horn<'a> {
-    /// The kernel, or why the parameters were refused (reported by the
-    /// first `step`).
-    kernel: Result<HornKernel<'a, Fx>, Error>,
+    /// The kernel, once started with valid parameters (its `None` is the
+    /// null of the parameters' reference: an idle horn is all zero bytes,
+    /// written into a runner slot by a memset).
+    kernel: Option<HornKernel<'a, Fx>>,
+    /// Why the parameters were refused (reported by every `step`).
+    refused: Deferred,
     frame: u32,
 }
 
@@ -25,10 +28,9 @@ impl<'a> Horn<'a> {
     /// [`Simulation::step`] fail with the reason.
     #[must_use]
     pub fn new(params: &'a HornParams<'a>) -> Horn<'a> {
-        Horn {
-            kernel: HornKernel::new(params),
-            frame: 0,
-        }
+        let mut horn = Horn::IDLE;
+        let _ = horn.start(params, 0); // kept for the first step
+        horn
     }
 }
 
@@ -37,15 +39,18 @@ impl<'a> Start<'a> for Horn<'a> {
 
     /// A horn grows deterministically: `seed` is not used.
     fn start(&mut self, params: &'a HornParams<'a>, _seed: u64) -> Result<(), Error> {
-        *self = Horn::new(params);
-        self.check()
+        self.frame = 0;
+        self.kernel = None;
+        let result = HornKernel::new(params).map(|kernel| self.kernel = Some(kernel));
+        self.refused.keep(result)
     }
 }
 
 impl Horn<'_> {
     /// Nothing to draw until started (`const`, for a `static`).
     pub const IDLE: Horn<'static> = Horn {
-        kernel: Err(Error::NotStarted),
+        kernel: None,
+        refused: Deferred::new(),
         frame: 0,
     };
 
@@ -54,13 +59,14 @@ impl Horn<'_> {
     /// # Errors
     /// The first [`Simulation::step`]'s error for invalid parameters.
     pub fn check(&self) -> Result<(), Error> {
-        self.kernel.as_ref().map(|_| ()).map_err(|e| *e)
+        self.refused.check()
     }
 }
 
 impl Simulation for Horn<'_> {
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
-        let kernel = self.kernel.as_mut().map_err(|e| *e)?;
+        self.refused.check()?;
+        let kernel = self.kernel.as_mut().ok_or(Error::NotStarted)?;
         let params = kernel.params();
         let total = params.frames();
         if self.frame >= total {

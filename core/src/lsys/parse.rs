@@ -1,7 +1,6 @@
 //! The grammar text parser: line by line, alloc-free, every error located.
 //! The format is specified in `docs/lsystems.md`.
 
-use fixed::types::I16F16;
 use heapless::Vec;
 
 use crate::fx::Fx;
@@ -355,20 +354,8 @@ fn number(c: &mut Cursor<'_>) -> Result<Fx, ParseError> {
     }
     let text = c.text.get(start..c.pos).unwrap_or("0");
     let (int, frac) = text.split_once('.').unwrap_or((text, ""));
-    // `fixed` wants digits on both sides of a point.
-    let mut buf = [b'0'; 48];
-    let (int, frac) = (if int.is_empty() { "0" } else { int }, frac);
-    let len = int.len() + 1 + frac.len().max(1);
-    let Some(slot) = buf.get_mut(..len) else {
-        return Err(c.err_at(start, ParseErrorKind::NumberOutOfRange));
-    };
-    slot[..int.len()].copy_from_slice(int.as_bytes());
-    slot[int.len()] = b'.';
-    slot[int.len() + 1..int.len() + 1 + frac.len()].copy_from_slice(frac.as_bytes());
-    let s = core::str::from_utf8(slot).unwrap_or("0");
-    I16F16::from_str(s)
-        .map(Fx::from_fixed)
-        .map_err(|_| c.err_at(start, ParseErrorKind::NumberOutOfRange))
+    Fx::from_decimal(int.as_bytes(), frac.as_bytes())
+        .ok_or_else(|| c.err_at(start, ParseErrorKind::NumberOutOfRange))
 }
 
 /// What `Grammar::parse` tracks across lines.
@@ -409,9 +396,9 @@ impl Grammar {
                 .bytes()
                 .position(|b| !(b.is_ascii_graphic() || b == b' ' || b == b'\t'))
             {
-                // The column counts characters, not bytes.
-                let column = content.get(..bad).map_or(bad, |s| s.chars().count());
-                return Err(c.err_at(column, ParseErrorKind::NotAscii));
+                // The column counts characters; every byte before `bad` is
+                // ASCII, one character each.
+                return Err(c.err_at(bad, ParseErrorKind::NotAscii));
             }
             if c.at_end() {
                 continue;

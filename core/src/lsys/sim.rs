@@ -12,7 +12,7 @@ use nalgebra::Vector3;
 
 use crate::Error;
 use crate::fx::Fx;
-use crate::sim::{Progress, Simulation, Start};
+use crate::sim::{Deferred, Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 use crate::turtle::{Drawn, Params, Turtle};
 
@@ -32,7 +32,7 @@ pub struct LSystem<D: Derivation = Streaming> {
     plant: u8,
     drawing: bool,
     done: u32,
-    failed: Option<Error>,
+    failed: Deferred,
 }
 
 pub(crate) fn turtle_params(g: &Grammar) -> Params<Fx> {
@@ -47,7 +47,8 @@ pub(crate) fn turtle_params(g: &Grammar) -> Params<Fx> {
 
 impl LSystem<Streaming> {
     /// An empty simulation with streaming derivation (`const`, for a
-    /// `static`); [`LSystem::load`] a grammar before stepping it.
+    /// `static`); [`LSystem::load`] a grammar before stepping it (until
+    /// then it has no steps).
     #[must_use]
     pub const fn new() -> LSystem<Streaming> {
         LSystem::with_derivation(Streaming::new())
@@ -62,18 +63,20 @@ impl Default for LSystem<Streaming> {
 
 impl<D: Derivation> LSystem<D> {
     /// An empty simulation over `derivation` (e.g. [`super::Buffered`]).
+    /// Apart from `derivation` it is all zero bytes, so that a runner slot
+    /// holding one is written in place by a memset.
     #[must_use]
     pub const fn with_derivation(derivation: D) -> LSystem<D> {
         LSystem {
-            grammar: Grammar::new(),
+            grammar: Grammar::zeroed(),
             derivation,
-            turtle: Turtle::new_const(),
+            turtle: Turtle::zeroed(),
             seed: 0,
             frame: 0,
             plant: 0,
             drawing: false,
             done: 0,
-            failed: None,
+            failed: Deferred::new(),
         }
     }
 
@@ -87,17 +90,12 @@ impl<D: Derivation> LSystem<D> {
         self.plant = 0;
         self.drawing = false;
         self.done = 0;
-        self.failed = None;
-        match self.grammar.parse(text) {
-            Ok(()) => {
-                self.turtle = Turtle::new(turtle_params(&self.grammar));
-                Ok(())
-            }
-            Err(e) => {
-                self.failed = Some(Error::Lsys(e.into()));
-                Err(e.into())
-            }
+        let parsed = self.grammar.parse(text).map_err(LsysError::from);
+        if parsed.is_ok() {
+            self.turtle = Turtle::new(turtle_params(&self.grammar));
         }
+        let _ = self.failed.keep(parsed.map_err(Error::Lsys));
+        parsed
     }
 
     /// The parsed grammar.
@@ -204,15 +202,11 @@ impl<D: Derivation> Start<'_> for LSystem<D> {
 
 impl<D: Derivation> Simulation for LSystem<D> {
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
-        if let Some(e) = self.failed {
-            return Err(e);
-        }
+        self.failed.check()?;
         let total = self.total();
-        if self.done < total
-            && let Err(e) = self.advance(sink)
-        {
-            self.failed = Some(e);
-            return Err(e);
+        if self.done < total {
+            let advanced = self.advance(sink);
+            self.failed.keep(advanced)?;
         }
         Ok(Progress {
             done: self.done.min(total),

@@ -187,10 +187,15 @@ pub struct Field {
 }
 
 impl Field {
-    /// No anisotropy.
-    pub const ZERO: Field = Field {
-        lattice: [[0; 2]; FIELD_LATTICE * FIELD_LATTICE],
-    };
+    /// No anisotropy (a function, not a constant: a call fills the field
+    /// in place, where a copy of a constant would keep 1 KB of zeros in
+    /// flash).
+    #[must_use]
+    pub const fn zero() -> Field {
+        Field {
+            lattice: [[0; 2]; FIELD_LATTICE * FIELD_LATTICE],
+        }
+    }
 
     /// Interpolates `a`'s control vectors over `domain` and tabulates the
     /// field at the lattice cell centres (clamped to |v| ≤ 1 per
@@ -218,7 +223,7 @@ impl Field {
         let mut w = [[Fx::ZERO; 2]; MAX_CONTROL_VECTORS];
         rbf_weights(&points[..k], &values[..k], a.width, delta, &mut w)?;
         let w2 = a.width * a.width;
-        let mut field = Field::ZERO;
+        let mut field = Field::zero();
         let n = FIELD_LATTICE as i32;
         for (cell, out) in field.lattice.iter_mut().enumerate() {
             let (col, row) = (cell as i32 % n, cell as i32 / n);

@@ -83,7 +83,9 @@ impl Domain {
         let q = if self.periodic[axis] {
             p.rem_euclid(size)
         } else {
-            p.clamp(0, size - 1)
+            // max/min, not clamp: the same for a validated size ≥ 1, and
+            // no panic path (with its formatting code) for reversed bounds.
+            p.max(0).min(size - 1)
         };
         q as i32 // in [0, size) ⊂ i32
     }

@@ -53,12 +53,11 @@ pub use params::{CellType, Frames, MAX_TYPES, Params};
 use crate::Error;
 use crate::fx::Fx;
 use crate::rng::KeyedRng;
-use crate::sim::{Progress, Simulation, Start};
+use crate::sim::{Deferred, Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 use division::{Purpose, stream_id};
 use grid::Grid;
-use relaxation::Forces;
-use store::CellStore;
+use relaxation::{Forces, Relax};
 
 /// The name of the cell-store limit in [`Error::Capacity`].
 pub const CELL_LIMIT: &str = "mosaic cell store (capacity of the preset's CellStore)";
@@ -128,10 +127,10 @@ pub type McuStore = store::ArrayStore<2048, 513>;
 
 /// The capacity (cells) of a host preset's store: comfortably above the
 /// final count of its runs (checked over seeds by the tests); a run that
-/// outgrows it stops with [`Error::Capacity`](crate::Error::Capacity). The
+/// outgrows it stops with [`crate::Error::Capacity`]. The
 /// core has no heap: the big mosaics are host presets, run by the host CLI
 /// on a `Vec`-backed
-/// [`CellStore`] of this many cells and
+/// [`CellStore`](store::CellStore) of this many cells and
 /// `cells / 4 + 1` bin offsets.
 #[must_use]
 pub fn host_capacity(params: &Params) -> usize {
@@ -155,7 +154,7 @@ pub fn host_capacity(params: &Params) -> usize {
 /// cells grown by the fastest type's mean doubling (2^(days / D_T)),
 /// rounded up. Whether a mosaic fits an MCU's inline store is decided by
 /// it ([`crate::preset::Model::fits_mcu`]); a run that outgrows its store
-/// anyway stops with [`Error::Capacity`](crate::Error::Capacity).
+/// anyway stops with [`crate::Error::Capacity`].
 #[must_use]
 pub fn expected_peak_cells(params: &Params) -> u64 {
     let days = u64::from(params.days);
@@ -183,7 +182,7 @@ pub fn expected_peak_cells(params: &Params) -> u64 {
 
 /// A running mosaic over the cell store `S`.
 #[derive(Debug)]
-pub struct Mosaic<'a, S: CellStore> {
+pub struct Mosaic<'a, S: Relax> {
     store: S,
     params: Option<&'a Params<'a>>,
     seed: u64,
@@ -196,10 +195,10 @@ pub struct Mosaic<'a, S: CellStore> {
     field: Field,
     divisions: [[u32; MAX_TYPES]; MAX_TYPES],
     /// A failed [`Mosaic::start`], reported by the next step.
-    pending: Option<Error>,
+    pending: Deferred,
 }
 
-impl<'a, S: CellStore> Mosaic<'a, S> {
+impl<'a, S: Relax> Mosaic<'a, S> {
     /// A mosaic over `store`, not yet started.
     pub const fn new(store: S) -> Mosaic<'a, S> {
         Mosaic {
@@ -211,9 +210,9 @@ impl<'a, S: CellStore> Mosaic<'a, S> {
             done: 0,
             frame: 0,
             radius: 0,
-            field: Field::ZERO,
+            field: Field::zero(),
             divisions: [[0; MAX_TYPES]; MAX_TYPES],
-            pending: None,
+            pending: Deferred::new(),
         }
     }
 
@@ -225,8 +224,7 @@ impl<'a, S: CellStore> Mosaic<'a, S> {
     pub fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
         self.params = None;
         let result = self.try_start(params, seed);
-        self.pending = result.err();
-        result
+        self.pending.keep(result)
     }
 
     fn try_start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
@@ -239,7 +237,7 @@ impl<'a, S: CellStore> Mosaic<'a, S> {
         }
         self.field = match &params.anisotropy {
             Some(a) => Field::interpolate(&params.domain, a).map_err(MosaicError::Control)?,
-            None => Field::ZERO,
+            None => Field::zero(),
         };
         self.params = Some(params);
         self.seed = seed;
@@ -402,11 +400,10 @@ impl<'a, S: CellStore> Mosaic<'a, S> {
             field: params.anisotropy.as_ref().map(|_| &self.field),
         };
         let n = self.cells as usize;
-        let mut cells = self.store.slices();
-        let max_bins = cells.bins.len().saturating_sub(1);
+        let max_bins = self.store.slices().bins.len().saturating_sub(1);
         let grid = Grid::plan(&params.domain, self.radius, max_bins);
         for _ in 0..times {
-            relaxation::relax(&mut cells, n, &grid, &forces);
+            self.store.relax(n, &grid, &forces);
         }
     }
 
@@ -433,7 +430,7 @@ impl<'a, S: CellStore> Mosaic<'a, S> {
     }
 }
 
-impl<'a, S: CellStore> Start<'a> for Mosaic<'a, S> {
+impl<'a, S: Relax> Start<'a> for Mosaic<'a, S> {
     type Params = Params<'a>;
 
     fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
@@ -441,13 +438,11 @@ impl<'a, S: CellStore> Start<'a> for Mosaic<'a, S> {
     }
 }
 
-impl<S: CellStore> Simulation for Mosaic<'_, S> {
+impl<S: Relax> Simulation for Mosaic<'_, S> {
     /// Step 0 places and relaxes the initial cells; step d ≥ 1 simulates
     /// day d. A step streams its day if [`Params::frames`] selects it.
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
-        if let Some(e) = self.pending {
-            return Err(e);
-        }
+        self.pending.check()?;
         let params = self.params()?;
         let total = u32::from(params.days) + 1;
         if self.done >= total {

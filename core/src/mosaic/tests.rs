@@ -3,7 +3,7 @@
 
 use super::*;
 use params::{NO_MUTATION, ORIGINAL_PUSH_WEIGHT, pair_table};
-use store::ArrayStore;
+use store::{ArrayStore, CellStore};
 
 /// The two cell types of the croton (thesis Fig. 4.1): green background,
 /// yellow foreground, both dividing every 10 days.
