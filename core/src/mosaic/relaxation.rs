@@ -170,17 +170,15 @@ impl Snapshot<'_> {
                 let nb = (row * grid.cols + col) as usize;
                 let (lo, hi) = (bins[nb] as usize, bins[nb + 1] as usize);
                 for (t, q) in sorted[lo..hi].iter().enumerate() {
+                    // i32: |p − q| < size ≤ 2^30 and |shift| ≤ size, so the
+                    // difference stays within ±2^31 (and the squares below
+                    // are 32 × 32 → 64-bit products, cheap on a Cortex-M).
                     let (dx, dy) = if SHIFTED {
-                        (
-                            i64::from(p[0]) - i64::from(q[0]) - i64::from(shift_u),
-                            i64::from(p[1]) - i64::from(q[1]) - i64::from(shift_v),
-                        )
+                        (p[0] - q[0] - shift_u, p[1] - q[1] - shift_v)
                     } else {
-                        (
-                            i64::from(domain.delta(0, p[0], q[0])),
-                            i64::from(domain.delta(1, p[1], q[1])),
-                        )
+                        (domain.delta(0, p[0], q[0]), domain.delta(1, p[1], q[1]))
                     };
+                    let (dx, dy) = (i64::from(dx), i64::from(dy));
                     let d2 = dx * dx + dy * dy; // < 2·(2^30)², Q32
                     let t = lo + t;
                     if d2 >= r2 || t == slot {
