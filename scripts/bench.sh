@@ -68,9 +68,9 @@ read -r worst worst_name < <(cat "$ratios" "$work/ratios-ir.md" |
   awk -F'|' 'NR > 2 && $5 ~ /[0-9]/ {gsub(/ /, "", $2); print $5 + 0, $2}' | sort -g | tail -1)
 
 # ---- memory of a long grammar run -------------------------------------------
-say "peak RSS, run --grammar shrub n = 7..10"
+say "peak RSS, run --grammar shrub n = 7..11"
 rss=""
-for n in 7 8 9 10; do
+for n in 7 8 9 10 11; do
   sed "s/^n = 7$/n = $n/" grammars/abop-shrub.lsys >"$work/shrub-$n.lsys"
   kb="$(/usr/bin/time -f %M "$bin" run --grammar "$work/shrub-$n.lsys" --out "$work/g" --max-stream-mb 4096 2>&1 >/dev/null | tail -1)"
   rss="$rss n=$n $((kb / 1024)) MB;"

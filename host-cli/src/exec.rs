@@ -1,9 +1,10 @@
 //! Finding a scenario (a built-in preset by name, or a scenario file) and
-//! running it into an in-memory stream, with a progress bar on runs longer
-//! than a second. The presets are the scenario files of `scenarios/`,
+//! running it into an in-memory stream ([`run`], for fixtures) or straight
+//! into its stream file ([`run_to_file`], for `morphogen run`, whose other
+//! files are then drawn in passes over that file), with a progress bar on
+//! runs longer than a second. The presets are the scenario files of `scenarios/`,
 //! embedded by [`morphogen_scenario`].
 
-use std::fs;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -11,15 +12,19 @@ use anyhow::{Context, Result, anyhow};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use morphogen::preset::{Model, Preset};
 use morphogen::sim::Progress;
-use morphogen::stream::{ByteSink, Decoder, Encoder, Record, SinkError};
+use morphogen::stream::{ByteSink, Encoder, SinkError};
 use morphogen_scenario::Scenario;
 
 use crate::atomic::OutputFile;
+use crate::records::{Place, StreamFile};
 
 /// The default cap on a run's stream, MiB (`--max-stream-mb`): far above
 /// every preset (the largest streams 4 MB), and small enough that a
 /// runaway grammar stops in seconds on a laptop.
 pub const DEFAULT_MAX_STREAM_MB: u32 = 128;
+
+/// The name of a run's stream file in its output folder.
+pub const STREAM_FILE: &str = "stream.bin";
 
 /// A growable byte sink for the host, holding at most `limit` bytes.
 #[derive(Debug)]
@@ -132,8 +137,8 @@ pub fn parse_set(text: &str) -> Result<(String, String)> {
     Ok((key.trim().to_string(), value.trim().to_string()))
 }
 
-/// Runs `scenario` with `seed`; shows a progress bar once the run has
-/// taken more than a second and `progress` is set.
+/// Runs `scenario` with `seed` into memory; shows a progress bar once the
+/// run has taken more than a second and `progress` is set.
 ///
 /// # Errors
 /// The core's error, with the scenario named.
@@ -148,30 +153,143 @@ pub fn run(scenario: &Scenario, seed: u64, progress: bool) -> Result<Run> {
 /// the cap and the flag that raises it.
 pub fn run_limited(scenario: &Scenario, seed: u64, progress: bool, max_mb: u32) -> Result<Run> {
     let bar = Bar::new(scenario.name(), progress);
-    let run = scenario.with_preset(|p| run_preset(p, seed, scenario.name(), &bar, max_mb))?;
+    let mut encoder = Encoder::new(Bytes(Vec::new(), u64::from(max_mb) << 20));
+    scenario.with_preset(|p| run_preset(p, seed, scenario.name(), &bar, max_mb, &mut encoder))?;
+    bar.finish();
+    Ok(Run {
+        digest: encoder.digest(),
+        frames: encoder.frames(),
+        stream: encoder.into_writer().0,
+    })
+}
+
+/// A run written to a stream file as it went.
+#[derive(Debug, Clone)]
+pub struct RunFile {
+    /// The stream file (`stream.bin`), in place once the run ended.
+    pub path: PathBuf,
+    /// Its size in bytes.
+    pub bytes: u64,
+    /// CRC-64/XZ of its bytes.
+    pub digest: u64,
+    /// Frames (= records) written.
+    pub frames: u32,
+}
+
+/// A stream file being written: buffered into a temporary file beside it
+/// (renamed into place by [`FileSink::finish`]), at most `limit` bytes.
+#[derive(Debug)]
+pub struct FileSink {
+    file: OutputFile,
+    written: u64,
+    limit: u64,
+    failure: Option<std::io::Error>,
+}
+
+impl FileSink {
+    /// Starts writing `path`, capped at `max_mb` MiB.
+    ///
+    /// # Errors
+    /// When the folder is not writable.
+    pub fn create(path: &Path, max_mb: u32) -> Result<FileSink> {
+        Ok(FileSink {
+            file: OutputFile::create(path)?,
+            written: 0,
+            limit: u64::from(max_mb) << 20,
+            failure: None,
+        })
+    }
+
+    /// Flushes, syncs and renames the file into place.
+    ///
+    /// # Errors
+    /// When a write, the sync or the rename fails.
+    pub fn finish(self) -> Result<()> {
+        self.file.finish()
+    }
+}
+
+impl ByteSink for FileSink {
+    fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError> {
+        let total = self.written + bytes.len() as u64;
+        if total > self.limit {
+            return Err(SinkError::Full {
+                capacity: u32::try_from(self.limit >> 20).unwrap_or(u32::MAX),
+            });
+        }
+        std::io::Write::write_all(&mut self.file, bytes).map_err(|e| {
+            self.failure = Some(e);
+            SinkError::Write
+        })?;
+        self.written = total;
+        Ok(())
+    }
+}
+
+/// Runs `scenario` with `seed` straight into the stream file `path`
+/// (written whole or not at all), capped at `max_mb` MiB; shows a
+/// progress bar once the run has taken more than a second and `progress`
+/// is set.
+///
+/// # Errors
+/// As [`run_limited`], or when the file cannot be written.
+pub fn run_to_file(
+    scenario: &Scenario,
+    seed: u64,
+    progress: bool,
+    max_mb: u32,
+    path: &Path,
+) -> Result<RunFile> {
+    let bar = Bar::new(scenario.name(), progress);
+    let run =
+        scenario.with_preset(|p| preset_to_file(p, seed, scenario.name(), &bar, max_mb, path))?;
     bar.finish();
     Ok(run)
 }
 
-/// Runs `preset` into a stream of at most `max_mb` MiB; errors name
-/// `what` (the scenario or the file).
-fn run_preset(preset: &Preset<'_>, seed: u64, what: &str, bar: &Bar, max_mb: u32) -> Result<Run> {
-    let mut encoder = Encoder::new(Bytes(Vec::new(), u64::from(max_mb) << 20));
-    morphogen_scenario::run::run(preset, seed, &mut encoder, &mut |p| bar.report(p)).map_err(
+/// Runs `preset` into the stream file `path`; errors name `what`.
+fn preset_to_file(
+    preset: &Preset<'_>,
+    seed: u64,
+    what: &str,
+    bar: &Bar,
+    max_mb: u32,
+    path: &Path,
+) -> Result<RunFile> {
+    let mut encoder = Encoder::new(FileSink::create(path, max_mb)?);
+    let ran = run_preset(preset, seed, what, bar, max_mb, &mut encoder);
+    if let Some(e) = encoder.writer().failure.take() {
+        return Err(anyhow!(e).context(format!("cannot write {}", path.display())));
+    }
+    ran?;
+    let run = RunFile {
+        path: path.to_path_buf(),
+        bytes: encoder.bytes(),
+        digest: encoder.digest(),
+        frames: encoder.frames(),
+    };
+    encoder.into_writer().finish()?;
+    Ok(run)
+}
+
+/// Runs `preset` into `encoder`, whose stream is capped at `max_mb` MiB;
+/// errors name `what` (the scenario or the file).
+fn run_preset<W: ByteSink>(
+    preset: &Preset<'_>,
+    seed: u64,
+    what: &str,
+    bar: &Bar,
+    max_mb: u32,
+    encoder: &mut Encoder<W>,
+) -> Result<()> {
+    morphogen_scenario::run::run(preset, seed, encoder, &mut |p| bar.report(p)).map_err(
         |e| match e {
             morphogen::Error::Sink(SinkError::Full { .. }) => anyhow!(
                 "{what}: the stream passed {max_mb} MiB and was stopped (raise the cap with --max-stream-mb)"
             ),
             e => anyhow!("{what}: {e}"),
         },
-    )?;
-    let digest = encoder.digest();
-    let frames = encoder.frames();
-    Ok(Run {
-        stream: encoder.into_writer().0,
-        digest,
-        frames,
-    })
+    )
 }
 
 /// A progress bar on standard error that appears once a run has taken a
@@ -222,17 +340,26 @@ impl Bar {
 pub const GRAMMAR_PRESET: &str = "grammar";
 
 /// Runs the grammar `text` (read from `file`, named in errors) with
-/// `seed`, as the stream of a preset called [`GRAMMAR_PRESET`]: streaming
-/// when context-free, otherwise buffered
-/// ([`morphogen_scenario::run::HOST_BUFFER_MODULES`] modules a buffer).
+/// `seed` straight into the stream file `path`, as the stream of a preset
+/// called [`GRAMMAR_PRESET`]: streaming when context-free, otherwise
+/// buffered ([`morphogen_scenario::run::HOST_BUFFER_MODULES`] modules a
+/// buffer).
 ///
 /// # Errors
-/// A located parse error (`file:line:column: …`) or a run error.
-pub fn run_grammar(file: &Path, text: &str, seed: u64, max_stream_mb: u32) -> Result<Run> {
+/// A located parse error (`file:line:column: …`), a run error, or a file
+/// that cannot be written.
+pub fn run_grammar(
+    file: &Path,
+    text: &str,
+    seed: u64,
+    max_stream_mb: u32,
+    path: &Path,
+) -> Result<RunFile> {
     let mut probe = Box::new(morphogen::lsys::Grammar::new());
     probe
         .parse(text)
         .map_err(|p| anyhow!("{}:{}:{}: {}", file.display(), p.line, p.column, p.kind))?;
+    drop(probe);
     let preset = Preset {
         name: GRAMMAR_PRESET,
         summary: "",
@@ -240,43 +367,40 @@ pub fn run_grammar(file: &Path, text: &str, seed: u64, max_stream_mb: u32) -> Re
         model: Model::LSystem(text),
     };
     let bar = Bar::new(GRAMMAR_PRESET, true);
-    let run = run_preset(
+    let run = preset_to_file(
         &preset,
         seed,
         &file.display().to_string(),
         &bar,
         max_stream_mb,
+        path,
     )?;
     bar.finish();
     Ok(run)
 }
 
-/// Writes a finished run into `dir` (created if missing): `stream.bin`,
-/// `records.jsonl` (streamed as the frames decode), then the files `model`
-/// draws from the decoded records, with a spinner on standard error once
-/// this has taken a second. Returns every path written, in order.
+/// Writes the rest of a run's files into `dir`, where its stream file
+/// already is: `records.jsonl` (a line per frame as it is read back),
+/// then the files `model` draws in passes over the stream file, with a
+/// spinner on standard error once this has taken a second. Returns every
+/// path written, the stream file first.
 ///
 /// # Errors
-/// When the folder cannot be created or a file cannot be written.
+/// When the stream cannot be read back or a file cannot be written.
 pub fn write_outputs(
     dir: &Path,
-    run: &Run,
-    model: impl FnOnce(&[Record], &Path) -> Result<Vec<PathBuf>>,
+    run: &RunFile,
+    model: impl FnOnce(&StreamFile, &Path) -> Result<Vec<PathBuf>>,
 ) -> Result<Vec<PathBuf>> {
-    fs::create_dir_all(dir)
-        .with_context(|| format!("cannot create output folder {}", dir.display()))?;
     let _spinner = Spinner::after_a_second(&format!("writing {}", dir.display()));
-    let stream_path = dir.join("stream.bin");
-    crate::atomic::write_atomic(&stream_path, &run.stream)?;
+    let stream = StreamFile::new(&run.path);
     let jsonl_path = dir.join("records.jsonl");
-    OutputFile::write_with(&jsonl_path, |file| {
-        crate::jsonl::write_stream(&run.stream, file)
-    })?;
-    let records: Vec<Record> = Decoder::new(&run.stream)
-        .filter_map(|d| d.result.ok())
-        .collect();
-    let mut written = vec![stream_path, jsonl_path];
-    written.extend(model(&records, dir)?);
+    let mut jsonl = OutputFile::create(&jsonl_path)?;
+    crate::jsonl::write_frames(stream.frames(Place::START)?, &mut jsonl)
+        .with_context(|| format!("cannot write {}", jsonl_path.display()))?;
+    jsonl.finish()?;
+    let mut written = vec![run.path.clone(), jsonl_path];
+    written.extend(model(&stream, dir)?);
     Ok(written)
 }
 
@@ -317,29 +441,45 @@ impl Drop for Spinner {
 
 #[cfg(test)]
 mod tests {
+    use morphogen::stream::Record;
+
     use super::*;
     use crate::outputs::plant;
 
     #[test]
     fn grammar_errors_name_the_file_line_and_column() {
-        let e = run_grammar(Path::new("my.lsys"), "n = 2\naxiom: F\nF -> F(1", 0, 128).unwrap_err();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("stream.bin");
+        let e = run_grammar(
+            Path::new("my.lsys"),
+            "n = 2\naxiom: F\nF -> F(1",
+            0,
+            128,
+            &path,
+        )
+        .unwrap_err();
         assert_eq!(e.to_string(), "my.lsys:3:9: expected `,` or `)`");
+        assert!(!path.exists());
     }
 
     #[test]
     fn context_sensitive_grammars_run_buffered_and_draw() {
         let text = include_str!("../../grammars/abop-context-1-31a.lsys");
-        let run = run_grammar(Path::new("ctx.lsys"), text, 0, 128).unwrap();
-        let records: Vec<Record> = morphogen::stream::Decoder::new(&run.stream)
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("stream.bin");
+        let run = run_grammar(Path::new("ctx.lsys"), text, 0, 128, &path).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(bytes.len() as u64, run.bytes);
+        let records: Vec<Record> = morphogen::stream::Decoder::new(&bytes)
             .filter_map(|d| d.result.ok())
             .collect();
+        assert_eq!(records.len() as u32, run.frames);
         let segments = records
             .iter()
             .filter(|r| matches!(r, Record::Segment { .. }))
             .count();
         assert!(segments > 1000, "{segments}");
-        let dir = tempfile::tempdir().unwrap();
-        let written = plant::write(&records, dir.path()).unwrap();
+        let written = plant::write(&StreamFile::new(&path), dir.path()).unwrap();
         assert_eq!(written.len(), 3);
         let obj = std::fs::read_to_string(dir.path().join("plant.obj")).unwrap();
         assert_eq!(
@@ -348,5 +488,29 @@ mod tests {
         );
         let csv = std::fs::read_to_string(dir.path().join("segments.csv")).unwrap();
         assert_eq!(csv.lines().count(), segments + 1);
+        // The same files from the records in memory.
+        let again = tempfile::tempdir().unwrap();
+        plant::write(&records, again.path()).unwrap();
+        for name in ["plant.png", "plant.obj", "segments.csv"] {
+            assert_eq!(
+                std::fs::read(again.path().join(name)).unwrap(),
+                std::fs::read(dir.path().join(name)).unwrap(),
+                "{name}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_stream_file_past_the_cap_is_stopped_and_left_unwritten() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("stream.bin");
+        let text = "n = 12\naxiom: F\nF -> F[+F]F[-F]F\n";
+        let e = run_grammar(Path::new("big.lsys"), text, 0, 1, &path).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "big.lsys: the stream passed 1 MiB and was stopped (raise the cap with --max-stream-mb)"
+        );
+        assert!(!path.exists());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
     }
 }

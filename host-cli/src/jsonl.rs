@@ -168,6 +168,26 @@ pub fn write_stream(bytes: &[u8], w: &mut impl Write) -> io::Result<()> {
     Ok(())
 }
 
+/// Writes the JSONL of the frames `frames` reads (a stream file read
+/// back, [`crate::records::FrameReader`]) to `w`, a line per frame; the
+/// same bytes as [`write_stream`] of the whole stream.
+///
+/// # Errors
+/// When reading the frames or writing to `w` fails.
+pub fn write_frames(
+    frames: impl IntoIterator<Item = io::Result<Decoded>>,
+    w: &mut impl Write,
+) -> io::Result<()> {
+    let mut out = Vec::with_capacity(256);
+    for d in frames {
+        out.clear();
+        decoded(&mut out, &d?);
+        out.push(b'\n');
+        w.write_all(&out)?;
+    }
+    Ok(())
+}
+
 /// The JSONL text of a whole stream (each line ends with `\n`).
 #[must_use]
 pub fn stream(bytes: &[u8]) -> String {

@@ -10,6 +10,7 @@ pub mod exec;
 pub mod fixture;
 pub mod jsonl;
 pub mod outputs;
+pub mod records;
 pub mod rig;
 pub mod stdout;
 pub mod sweep;

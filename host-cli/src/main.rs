@@ -6,7 +6,6 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
-use morphogen::stream::Decoder;
 use morphogen_cli::stdout::StdoutError;
 use morphogen_cli::{
     Outcome, atomic, body_input, capture, exec, fixture, jsonl, outputs, say, sweep, verify,
@@ -294,7 +293,13 @@ fn run(
     let dir = out.unwrap_or_else(|| Path::new("out").join(scenario.name()));
     fs::create_dir_all(&dir)
         .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-    let run = exec::run_limited(scenario, seed, true, max_stream_mb)?;
+    let run = exec::run_to_file(
+        scenario,
+        seed,
+        true,
+        max_stream_mb,
+        &dir.join(exec::STREAM_FILE),
+    )?;
     let written = exec::write_outputs(&dir, &run, |records, dir| {
         let mut files = scenario.with_preset(|p| outputs::write(p, records, dir))?;
         if let Some((w, h)) = rig {
@@ -309,7 +314,7 @@ fn run(
         scenario.name(),
         seed,
         run.frames,
-        run.stream.len(),
+        run.bytes,
         run.digest
     )?;
     for path in written {
@@ -332,15 +337,25 @@ fn run_grammar(
     let stem = file
         .file_stem()
         .map_or_else(|| "grammar".into(), |s| s.to_string_lossy().into_owned());
-    let run = exec::run_grammar(file, &text, seed, max_stream_mb)?;
     let dir = out.unwrap_or_else(|| Path::new("out").join(&stem));
-    let written = exec::write_outputs(&dir, &run, outputs::plant::write)?;
+    fs::create_dir_all(&dir)
+        .with_context(|| format!("cannot create output folder {}", dir.display()))?;
+    let run = exec::run_grammar(
+        file,
+        &text,
+        seed,
+        max_stream_mb,
+        &dir.join(exec::STREAM_FILE),
+    )?;
+    let written = exec::write_outputs(&dir, &run, |records, dir| {
+        outputs::plant::write(records, dir)
+    })?;
     say!(
         "{} seed {}: {} frames, {} bytes, digest {:016x}",
         file.display(),
         seed,
         run.frames,
-        run.stream.len(),
+        run.bytes,
         run.digest
     )?;
     for path in written {
@@ -624,12 +639,18 @@ fn accept(targets: &[String], fixtures: &Path) -> Result<Outcome> {
     Ok(Outcome::Ok)
 }
 
+/// `decode`: the stream file read frame by frame, twice (the format
+/// check, then the lines), never whole.
 fn decode(file: &Path, out: Option<&Path>) -> Result<Outcome> {
-    let bytes = fs::read(file).with_context(|| format!("cannot read {}", file.display()))?;
-    if bytes.is_empty() {
-        bail!("{} holds no frames", file.display());
-    }
-    for d in Decoder::new(&bytes) {
+    let stream = morphogen_cli::records::StreamFile::new(file);
+    let start = morphogen_cli::records::Place::START;
+    let unreadable = |e: std::io::Error| {
+        anyhow::Error::new(e).context(format!("cannot read {}", file.display()))
+    };
+    let mut empty = true;
+    for d in stream.frames(start)? {
+        let d = d.map_err(unreadable)?;
+        empty = false;
         if let Ok(morphogen::stream::Record::Header(h)) = &d.result
             && h.version != morphogen::stream::FORMAT_VERSION
         {
@@ -642,14 +663,44 @@ fn decode(file: &Path, out: Option<&Path>) -> Result<Outcome> {
             );
         }
     }
-    let text = jsonl::stream(&bytes);
-    match out {
-        Some(path) => atomic::write_atomic(path, text.as_bytes())?,
-        None => morphogen_cli::stdout::text(&text)?,
+    if empty {
+        bail!("{} holds no frames", file.display());
     }
-    let corrupt = Decoder::new(&bytes)
-        .filter(|d| d.result.as_ref().is_err_and(|e| e.is_corrupt()))
-        .count();
+    let mut corrupt = 0usize;
+    // Counts the corrupt frames on their way to `w`.
+    let mut lines = |w: &mut dyn std::io::Write| -> Result<(), Written> {
+        let mut line = Vec::with_capacity(256);
+        for d in stream.frames(start).map_err(Written::Input)? {
+            let d = d.map_err(|e| Written::Input(unreadable(e)))?;
+            if d.result.as_ref().is_err_and(|e| e.is_corrupt()) {
+                corrupt += 1;
+            }
+            line.clear();
+            jsonl::decoded(&mut line, &d);
+            line.push(b'\n');
+            w.write_all(&line).map_err(Written::Output)?;
+        }
+        w.flush().map_err(Written::Output)
+    };
+    match out {
+        Some(path) => {
+            let mut file = atomic::OutputFile::create(path)?;
+            lines(&mut file).map_err(|e| match e {
+                Written::Input(e) => e,
+                Written::Output(e) => {
+                    anyhow::Error::new(e).context(format!("cannot write {}", path.display()))
+                }
+            })?;
+            file.finish()?;
+        }
+        None => {
+            let mut stdout = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
+            lines(&mut stdout).map_err(|e| match e {
+                Written::Input(e) => e,
+                Written::Output(e) => StdoutError(e).into(),
+            })?;
+        }
+    }
     if corrupt > 0 {
         bail!(
             "{corrupt} corrupt or truncated frame(s) in {} (shown as \"kind\":\"error\" lines)",
@@ -657,4 +708,12 @@ fn decode(file: &Path, out: Option<&Path>) -> Result<Outcome> {
         );
     }
     Ok(Outcome::Ok)
+}
+
+/// Why `decode` stopped writing lines.
+enum Written {
+    /// The stream file could not be read.
+    Input(anyhow::Error),
+    /// The output could not be written.
+    Output(std::io::Error),
 }

@@ -12,6 +12,8 @@ use morphogen::rig::embedded_graphics::prelude::*;
 use morphogen::rig::{Bounds, CellSlot, PALETTE_RGB888, Rig, View};
 use morphogen::stream::Record;
 
+use crate::records::{Place, Records};
+
 /// The largest rig accepted, per side (a 4096×4096 framebuffer is 48 MiB).
 pub const MAX_RIG_SIDE: u32 = 4096;
 
@@ -119,29 +121,38 @@ pub fn parse_rig_size(text: &str) -> Result<(u32, u32)> {
 
 /// The picture a `width`×`height` rig shows after `records`: the view is
 /// fitted to the whole stream (1 px margin when there is room), each frame
-/// clears the screen, so the last frame is what remains.
+/// clears the screen, so the last frame is what remains. Three passes:
+/// the extent, then the last frame's cell count, then its drawing.
 ///
 /// # Errors
-/// A bad size or a record the renderer refuses.
-pub fn render_rig(records: &[Record], width: u32, height: u32) -> Result<Framebuffer> {
+/// A bad size, a record the renderer refuses, or unreadable records.
+pub fn render_rig<R: Records + ?Sized>(
+    records: &R,
+    width: u32,
+    height: u32,
+) -> Result<Framebuffer> {
     if width == 0 || height == 0 || width > MAX_RIG_SIDE || height > MAX_RIG_SIDE {
         bail!("a rig must be 1..={MAX_RIG_SIDE} pixels per side, not {width}x{height}");
     }
     let mut bounds = Bounds::new();
-    records.iter().for_each(|r| bounds.include(r));
+    // Only the last frame survives the clears: draw from its start (its
+    // place, and its index among the records).
+    let (mut last_frame, mut last_index, mut count) = (Place::START, 0usize, 0usize);
+    records.visit(Place::START, |place, r| {
+        bounds.include(r);
+        if matches!(r, Record::FrameStart { .. }) {
+            (last_frame, last_index) = (place, count);
+        }
+        count += 1;
+        Ok(())
+    })?;
     let margin = u32::from(width.min(height) >= 16);
     let view = View::fit(&bounds, Size::new(width, height), margin);
 
-    // Only the last frame survives the clears: draw from its start.
-    let last_frame = records
-        .iter()
-        .rposition(|r| matches!(r, Record::FrameStart { .. }))
-        .unwrap_or(0);
-    let shown = &records[last_frame..];
     // Exactly as many cell slots as the largest frame needs.
     let mut most_cells = 0usize;
     let mut cells_in_frame = 0usize;
-    for r in shown {
+    records.visit(last_frame, |_, r| {
         match r {
             Record::FrameStart { .. } => cells_in_frame = 0,
             Record::Cell { .. } => {
@@ -150,14 +161,18 @@ pub fn render_rig(records: &[Record], width: u32, height: u32) -> Result<Framebu
             }
             _ => {}
         }
-    }
+        Ok(())
+    })?;
     let mut cells = vec![CellSlot::EMPTY; most_cells];
     let mut screen = Framebuffer::new(width, height);
     let mut rig = Rig::new(view, &PALETTE_RGB888, &mut cells);
-    for (i, r) in shown.iter().enumerate() {
+    let mut i = last_index;
+    records.visit(last_frame, |_, r| {
         rig.draw(r, &mut screen)
-            .map_err(|e| anyhow::anyhow!("record {}: {e}", last_frame + i))?;
-    }
+            .map_err(|e| anyhow::anyhow!("record {i}: {e}"))?;
+        i += 1;
+        Ok(())
+    })?;
     // A stream that does not end its frame still shows its cells.
     rig.draw(&Record::FrameEnd { frame: 0 }, &mut screen)
         .map_err(|e| anyhow::anyhow!("end of stream: {e}"))?;
@@ -168,8 +183,14 @@ pub fn render_rig(records: &[Record], width: u32, height: u32) -> Result<Framebu
 /// `records` (see [`render_rig`]).
 ///
 /// # Errors
-/// A bad size, a frame the renderer refuses, or a failed write.
-pub fn render_rig_png(records: &[Record], width: u32, height: u32, path: &Path) -> Result<()> {
+/// A bad size, a frame the renderer refuses, unreadable records or a
+/// failed write.
+pub fn render_rig_png<R: Records + ?Sized>(
+    records: &R,
+    width: u32,
+    height: u32,
+    path: &Path,
+) -> Result<()> {
     render_rig(records, width, height)?.save_png(path)
 }
 

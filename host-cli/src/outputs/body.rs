@@ -11,13 +11,14 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use morphogen::body::BindingSummary;
 use morphogen::stream::Record;
-use rayon::prelude::*;
 use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
 use super::picture;
+use super::pipeline;
 use super::raster;
 use super::text;
 use crate::atomic::{OutputFile, write_atomic};
+use crate::records::{Place, Records};
 
 /// Pictures are drawn at this many times their size, then averaged down
 /// (anti-aliasing for the triangles of [`raster`]).
@@ -40,22 +41,27 @@ fn fx(v: morphogen::fx::Fx) -> f64 {
     f64::from(v.to_bits()) / 65_536.0
 }
 
-/// Splits a record stream into frames.
-#[must_use]
-pub fn frames(records: &[Record]) -> Vec<Frame> {
-    let mut out = Vec::new();
-    let mut current: Option<Frame> = None;
-    for r in records {
+/// Splits a record stream into frames, one record at a time: a frame
+/// start begins a frame (dropping one left open), a frame end hands it
+/// over.
+#[derive(Debug, Default)]
+pub struct Framer {
+    current: Option<Frame>,
+}
+
+impl Framer {
+    /// Takes the next record; returns the frame it ends, if any.
+    pub fn push(&mut self, r: &Record) -> Option<Frame> {
         match r {
             Record::FrameStart { frame, time } => {
-                current = Some(Frame {
+                self.current = Some(Frame {
                     index: *frame,
                     age: fx(*time),
                     ..Frame::default()
                 });
             }
             Record::MeshVertex { id, p } => {
-                if let Some(f) = current.as_mut() {
+                if let Some(f) = self.current.as_mut() {
                     let i = *id as usize;
                     if f.vertices.len() <= i {
                         f.vertices.resize(i + 1, [0.0; 3]);
@@ -64,15 +70,22 @@ pub fn frames(records: &[Record]) -> Vec<Frame> {
                 }
             }
             Record::Triangle { v } => {
-                if let Some(f) = current.as_mut() {
+                if let Some(f) = self.current.as_mut() {
                     f.triangles.push(*v);
                 }
             }
-            Record::FrameEnd { .. } => out.extend(current.take()),
+            Record::FrameEnd { .. } => return self.current.take(),
             _ => {}
         }
+        None
     }
-    out
+}
+
+/// Splits a record stream into frames.
+#[must_use]
+pub fn frames(records: &[Record]) -> Vec<Frame> {
+    let mut framer = Framer::default();
+    records.iter().filter_map(|r| framer.push(r)).collect()
 }
 
 /// Writes the OBJ of a frame to `path`, headed by the comment `header`
@@ -108,22 +121,51 @@ pub fn obj(frame: &Frame, header: &str, object: &str, path: &Path) -> Result<()>
     })
 }
 
-/// Side-view bounds (x, y) over frames, with a margin.
-pub(crate) fn bounds(frames: &[&Frame]) -> (f64, f64, f64, f64) {
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, 0.0f64, f64::MIN);
-    for f in frames {
-        for v in &f.vertices {
-            x0 = x0.min(v[0]);
-            x1 = x1.max(v[0]);
-            y0 = y0.min(v[1]);
-            y1 = y1.max(v[1]);
+/// The side-view extent (x, y) of frames seen so far; y from 0 at least
+/// (the ground).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Extent {
+    x0: f64,
+    x1: f64,
+    y0: f64,
+    y1: f64,
+}
+
+impl Extent {
+    pub(crate) fn new() -> Extent {
+        Extent {
+            x0: f64::MAX,
+            x1: f64::MIN,
+            y0: 0.0,
+            y1: f64::MIN,
         }
     }
-    if x0 > x1 {
-        return (0.0, 1.0, 0.0, 1.0);
+
+    pub(crate) fn include(&mut self, frame: &Frame) {
+        for v in &frame.vertices {
+            self.x0 = self.x0.min(v[0]);
+            self.x1 = self.x1.max(v[0]);
+            self.y0 = self.y0.min(v[1]);
+            self.y1 = self.y1.max(v[1]);
+        }
     }
-    let m = 0.04 * (x1 - x0).max(y1 - y0);
-    (x0 - m, x1 + m, y0 - m, y1 + m)
+
+    /// The bounds with a margin.
+    pub(crate) fn bounds(&self) -> (f64, f64, f64, f64) {
+        let Extent { x0, x1, y0, y1 } = *self;
+        if x0 > x1 {
+            return (0.0, 1.0, 0.0, 1.0);
+        }
+        let m = 0.04 * (x1 - x0).max(y1 - y0);
+        (x0 - m, x1 + m, y0 - m, y1 + m)
+    }
+}
+
+/// Side-view bounds (x, y) over frames, with a margin.
+pub(crate) fn bounds(frames: &[&Frame]) -> (f64, f64, f64, f64) {
+    let mut extent = Extent::new();
+    frames.iter().for_each(|f| extent.include(f));
+    extent.bounds()
 }
 
 /// Body colour and ground colour per model.
@@ -228,39 +270,54 @@ fn side_view(frame: &Frame, title: &str, b: (f64, f64, f64, f64), width: u32) ->
     Ok(p)
 }
 
-/// Frames at whole years (every 12 months), at most six, for the strip.
-fn yearly(frames: &[Frame]) -> Vec<&Frame> {
-    let picked: Vec<&Frame> = frames
-        .iter()
-        .filter(|f| (f.age / 12.0 - (f.age / 12.0).round()).abs() < 1e-6)
-        .collect();
-    let step = picked.len().div_ceil(6).max(1);
-    picked.into_iter().step_by(step).collect()
+/// Whether a frame of age `age` (months) is at a whole year.
+fn whole_year(age: f64) -> bool {
+    (age / 12.0 - (age / 12.0).round()).abs() < 1e-6
 }
 
 /// All of a body run's files: `frame_NNN.obj`, `side_NNN.png`, `ages.png`
-/// and `summary.txt` (with `binding`, when known).
+/// and `summary.txt` (with `binding`, when known). Two passes, a frame at
+/// a time: the sizes and the common scale, then the files.
 ///
 /// # Errors
-/// When a file cannot be written.
-pub fn write(
+/// When the records cannot be read or a file cannot be written.
+pub fn write<R: Records + ?Sized>(
     title: &str,
-    records: &[Record],
+    records: &R,
     dir: &Path,
     binding: Option<BindingSummary>,
 ) -> Result<Vec<PathBuf>> {
-    let frames = frames(records);
-    let mut written = Vec::new();
-    let all: Vec<&Frame> = frames.iter().collect();
-    let b = bounds(&all);
-    let mut summary = format!("{title}: {} frames\n", frames.len());
-    if let Some(f) = frames.first() {
-        let _ = writeln!(
-            summary,
-            "vertices {}, triangles {}",
-            f.vertices.len(),
-            f.triangles.len()
-        );
+    let mut count = 0usize;
+    let mut extent = Extent::new();
+    let mut first = None;
+    let mut sizes = String::new();
+    // The frames at whole years (by position), at most six of them below.
+    let mut yearly = Vec::new();
+    let mut framer = Framer::default();
+    records.visit(Place::START, |_, r| {
+        if let Some(f) = framer.push(r) {
+            first.get_or_insert((f.vertices.len(), f.triangles.len()));
+            let fb = bounds(&[&f]);
+            let _ = writeln!(
+                sizes,
+                "{:5}  {:11.2}  {:6.2}  {:6.2}",
+                f.index,
+                f.age,
+                fb.1 - fb.0,
+                fb.3 - fb.2
+            );
+            extent.include(&f);
+            if whole_year(f.age) {
+                yearly.push(count);
+            }
+            count += 1;
+        }
+        Ok(())
+    })?;
+    let b = extent.bounds();
+    let mut summary = format!("{title}: {count} frames\n");
+    if let Some((vertices, triangles)) = first {
+        let _ = writeln!(summary, "vertices {vertices}, triangles {triangles}");
     }
     if let Some(s) = binding {
         let _ = writeln!(
@@ -271,44 +328,51 @@ pub fn write(
         );
     }
     summary.push_str("frame  age(months)  length  height  (side-view extent of the body)\n");
-    for f in &frames {
-        let fb = bounds(&[f]);
-        let _ = writeln!(
-            summary,
-            "{:5}  {:11.2}  {:6.2}  {:6.2}",
-            f.index,
-            f.age,
-            fb.1 - fb.0,
-            fb.3 - fb.2
-        );
-    }
-    let per_frame: Vec<[PathBuf; 2]> = frames
-        .par_iter()
-        .map(|f| {
-            let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
-            let header = format!("{title} frame {}, age {:.2} months", f.index, f.age);
-            obj(f, &header, "body", &obj_path)?;
-            let png_path = dir.join(format!("side_{:03}.png", f.index));
-            save(&side_view(f, title, b, 640)?, &png_path)?;
-            Ok([obj_path, png_path])
-        })
-        .collect::<Result<_>>()?;
-    written.extend(per_frame.into_iter().flatten());
-    let strip = yearly(&frames);
-    if !strip.is_empty() {
-        let panel = 300u32;
-        let s = f64::from(panel) / (b.1 - b.0);
+    summary.push_str(&sizes);
+    let step = yearly.len().div_ceil(6).max(1);
+    let strip: Vec<usize> = yearly.into_iter().step_by(step).collect();
+    let panel = 300u32;
+    let s = f64::from(panel) / (b.1 - b.0);
+    let oy = (b.3 * s) as f32;
+    let mut ages = Vec::new();
+    let mut picture = if strip.is_empty() {
+        None
+    } else {
         let height = ((b.3 - b.2) * s).ceil().max(1.0) as u32;
         let mut p = canvas(panel * strip.len() as u32, height)?;
-        let oy = (b.3 * s) as f32;
         ground(&mut p, oy);
-        for (k, f) in strip.iter().enumerate() {
-            let ox = (panel as f64 * k as f64 - b.0 * s) as f32;
-            draw(&mut p, f, colour(title), s as f32, ox, oy);
-        }
+        Some(p)
+    };
+    let per_frame: Vec<[PathBuf; 2]> = pipeline(
+        |send| {
+            let mut framer = Framer::default();
+            let mut k = 0usize;
+            records.visit(Place::START, |_, r| {
+                let Some(f) = framer.push(r) else {
+                    return Ok(());
+                };
+                if let (Some(slot), Some(p)) = (strip.iter().position(|&i| i == k), &mut picture) {
+                    let ox = (f64::from(panel) * slot as f64 - b.0 * s) as f32;
+                    draw(p, &f, colour(title), s as f32, ox, oy);
+                    ages.push(format!("{:.0}", f.age));
+                }
+                k += 1;
+                send(f)
+            })
+        },
+        |f: Frame| {
+            let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
+            let header = format!("{title} frame {}, age {:.2} months", f.index, f.age);
+            obj(&f, &header, "body", &obj_path)?;
+            let png_path = dir.join(format!("side_{:03}.png", f.index));
+            save(&side_view(&f, title, b, 640)?, &png_path)?;
+            Ok([obj_path, png_path])
+        },
+    )?;
+    let mut written: Vec<PathBuf> = per_frame.into_iter().flatten().collect();
+    if let Some(p) = picture {
         let path = dir.join("ages.png");
         save(&p, &path)?;
-        let ages: Vec<String> = strip.iter().map(|f| format!("{:.0}", f.age)).collect();
         let _ = writeln!(summary, "ages.png shows months {}", ages.join(", "));
         written.push(path);
     }

@@ -14,28 +14,36 @@ use morphogen::shrinkwrap::{Element, worst_level_error};
 use morphogen::stream::Record;
 use nalgebra::Vector3;
 
-use super::body::{Frame, bounds, canvas, draw, frames, obj, save};
+use super::body::{self, Extent, Frame, canvas, draw, obj, save};
 use crate::atomic::write_atomic;
+use crate::records::{Place, Records};
 
 /// Bone colour.
 const BONE: [f32; 3] = [0.89, 0.86, 0.78];
 
-/// The skeleton elements of each frame, in f64.
-fn skeletons(records: &[Record]) -> Vec<Vec<Element<f64>>> {
-    let mut out = Vec::new();
-    for r in records {
+/// Splits a bones stream into frames and their skeletons (the segments
+/// since the frame's start, in f64), one record at a time.
+#[derive(Debug, Default)]
+struct Framer {
+    frames: body::Framer,
+    skeleton: Vec<Element<f64>>,
+}
+
+impl Framer {
+    /// Takes the next record; returns the frame it ends and its skeleton.
+    fn push(&mut self, r: &Record) -> Option<(Frame, Vec<Element<f64>>)> {
         match r {
-            Record::FrameStart { .. } => out.push(Vec::new()),
+            Record::FrameStart { .. } => self.skeleton.clear(),
             Record::Segment { a, b, width, .. } => {
-                if let Some(s) = out.last_mut() {
-                    let v = |p: &[Fx; 3]| Vector3::from(p.map(f64::from_fx));
-                    s.push(Element::segment(v(a), v(b), f64::from_fx(*width)));
-                }
+                let v = |p: &[Fx; 3]| Vector3::from(p.map(f64::from_fx));
+                self.skeleton
+                    .push(Element::segment(v(a), v(b), f64::from_fx(*width)));
             }
             _ => {}
         }
+        let frame = self.frames.push(r)?;
+        Some((frame, std::mem::take(&mut self.skeleton)))
     }
-    out
 }
 
 /// A frame's vertices as vectors.
@@ -55,35 +63,50 @@ fn euler(frame: &Frame) -> i64 {
     frame.vertices.len() as i64 - edges.len() as i64 + frame.triangles.len() as i64
 }
 
-/// Writes `frame_NNN.obj`, `bone_NNN.png`, `bones.png` and `summary.txt`.
+/// Writes `frame_NNN.obj`, `bone_NNN.png`, `bones.png` and `summary.txt`,
+/// in two passes a frame at a time: the frame count and the common scale,
+/// then the files.
 ///
 /// # Errors
-/// When a file cannot be written.
-pub fn write(
+/// When the records cannot be read or a file cannot be written.
+pub fn write<R: Records + ?Sized>(
     preset: &str,
     params: &BonesParams,
-    records: &[Record],
+    records: &R,
     dir: &Path,
 ) -> Result<Vec<PathBuf>> {
-    let frames = frames(records);
-    let skeletons = skeletons(records);
+    let mut count = 0usize;
+    let mut extent = Extent::new();
+    let mut frames = body::Framer::default();
+    records.visit(Place::START, |_, r| {
+        if let Some(f) = frames.push(r) {
+            extent.include(&f);
+            count += 1;
+        }
+        Ok(())
+    })?;
+    let b = extent.bounds();
     let level = f64::from_fx(params.wrap.target);
-    let all: Vec<&Frame> = frames.iter().collect();
-    let b = bounds(&all);
-    let mut written = Vec::new();
     let mut summary = format!(
-        "{preset}: {} frames, V0 = {level}\nframe  steps  elements  vertices  triangles  V-E+F  worst |V-V0|/V0\n",
-        frames.len()
+        "{preset}: {count} frames, V0 = {level}\nframe  steps  elements  vertices  triangles  V-E+F  worst |V-V0|/V0\n",
     );
     let width = 360u32;
     let s = f64::from(width) / (b.1 - b.0);
     let height = ((b.3 - b.2) * s).ceil().max(1.0) as u32;
     // The strip: at most 1 440 pixels wide, panels of 120 to 360.
-    let count = frames.len().max(1) as u32;
-    let panel = (1440 / count).clamp(120, width);
+    let panels = count.max(1) as u32;
+    let panel = (1440 / panels).clamp(120, width);
     let ps = f64::from(panel) / (b.1 - b.0);
-    let mut strip = canvas(panel * count, ((b.3 - b.2) * ps).ceil().max(1.0) as u32)?;
-    for (k, (f, skeleton)) in frames.iter().zip(&skeletons).enumerate() {
+    let mut strip = canvas(panel * panels, ((b.3 - b.2) * ps).ceil().max(1.0) as u32)?;
+    // A frame at a time, in order: the check of each mesh in f64 is the
+    // memory-hungry part, and one at a time keeps it so.
+    let mut written = Vec::new();
+    let mut framer = Framer::default();
+    let mut k = 0usize;
+    records.visit(Place::START, |_, r| {
+        let Some((f, skeleton)) = framer.push(r) else {
+            return Ok(());
+        };
         let _ = writeln!(
             summary,
             "{:5}  {:5.0}  {:8}  {:8}  {:9}  {:5}  {:.5}",
@@ -92,25 +115,27 @@ pub fn write(
             skeleton.len(),
             f.vertices.len(),
             f.triangles.len(),
-            euler(f),
-            worst_level_error(skeleton, &points(f), level)
+            euler(&f),
+            worst_level_error(&skeleton, &points(&f), level)
         );
         let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
         let header = format!("{preset} frame {}, {} L-system steps", f.index, f.age);
-        obj(f, &header, "bone", &obj_path)?;
+        obj(&f, &header, "bone", &obj_path)?;
         let mut one = canvas(width, height)?;
         let (ox, oy) = ((-b.0 * s) as f32, (b.3 * s) as f32);
-        draw(&mut one, f, BONE, s as f32, ox, oy);
+        draw(&mut one, &f, BONE, s as f32, ox, oy);
         let png_path = dir.join(format!("bone_{:03}.png", f.index));
         save(&one, &png_path)?;
         let (ox, oy) = (
             (f64::from(panel) * k as f64 - b.0 * ps) as f32,
             (b.3 * ps) as f32,
         );
-        draw(&mut strip, f, BONE, ps as f32, ox, oy);
+        draw(&mut strip, &f, BONE, ps as f32, ox, oy);
+        k += 1;
         written.push(obj_path);
         written.push(png_path);
-    }
+        Ok(())
+    })?;
     let path = dir.join("bones.png");
     save(&strip, &path)?;
     written.push(path);

@@ -13,20 +13,31 @@ use morphogen::stream::Record;
 use super::plot::{Plot, rgb};
 use super::text::{self, Whole};
 use crate::atomic::OutputFile;
+use crate::records::{Place, Records};
 
 /// First day of each month in a non-leap year.
 const MONTH_STARTS: [f64; 12] = [
     0.0, 31.0, 59.0, 90.0, 120.0, 151.0, 181.0, 212.0, 243.0, 273.0, 304.0, 334.0,
 ];
 
-fn series(records: &[Record], which: u16) -> Vec<(Fx, Fx)> {
-    records
-        .iter()
-        .filter_map(|r| match r {
-            Record::Sample { series, x, y } if *series == which => Some((*x, *y)),
-            _ => None,
-        })
-        .collect()
+/// The `(x, y)` samples of one series.
+type Series = Vec<(Fx, Fx)>;
+
+/// The samples of the growth and the daily series, in one pass: the
+/// points of the plot's two lines (a few hundred, one a day).
+fn series<R: Records + ?Sized>(records: &R) -> Result<(Series, Series)> {
+    let (mut growth, mut daily) = (Vec::new(), Vec::new());
+    records.visit(Place::START, |_, r| {
+        if let Record::Sample { series, x, y } = r {
+            match *series {
+                SERIES_GROWTH => growth.push((*x, *y)),
+                SERIES_DAILY => daily.push((*x, *y)),
+                _ => {}
+            }
+        }
+        Ok(())
+    })?;
+    Ok((growth, daily))
 }
 
 fn real((x, y): (Fx, Fx)) -> (f64, f64) {
@@ -38,9 +49,8 @@ fn real((x, y): (Fx, Fx)) -> (f64, f64) {
 ///
 /// # Errors
 /// When a file cannot be written.
-pub fn write(records: &[Record], dir: &Path) -> Result<Vec<PathBuf>> {
-    let growth = series(records, SERIES_GROWTH);
-    let daily = series(records, SERIES_DAILY);
+pub fn write<R: Records + ?Sized>(records: &R, dir: &Path) -> Result<Vec<PathBuf>> {
+    let (growth, daily) = series(records)?;
     let csv_path = dir.join("growth.csv");
     OutputFile::write_with(&csv_path, |file| {
         file.write_all(b"day,growth,daily_increment\n")?;

@@ -15,13 +15,15 @@
 
 use std::path::{Path, PathBuf};
 
+use std::sync::Arc;
+
 use anyhow::{Context, Result, bail};
 use morphogen::stream::Record;
-use rayon::prelude::*;
 use tiny_skia::{Color, Pixmap};
 
-use super::{picture, raster, text};
+use super::{picture, pipeline, raster, text};
 use crate::atomic::OutputFile;
+use crate::records::{Place, Records};
 
 /// A point in cm.
 pub type P3 = [f64; 3];
@@ -52,22 +54,27 @@ fn fx(v: morphogen::fx::Fx) -> f64 {
     f64::from(v.to_bits()) / 65_536.0
 }
 
-/// Groups a horn stream's records into frames.
-///
-/// # Errors
-/// When points arrive outside a ring, a ring is short of points, or frames
-/// do not balance.
-pub fn frames(records: &[Record]) -> Result<Vec<Frame>> {
-    let mut out = Vec::new();
-    let mut current: Option<Frame> = None;
-    let mut expected = 0usize;
-    for r in records {
+/// Groups a horn stream's records into frames, one record at a time.
+#[derive(Debug, Default)]
+pub struct Framer {
+    current: Option<Frame>,
+    /// Points the current ring still announces.
+    expected: usize,
+}
+
+impl Framer {
+    /// Takes the next record; returns the frame it ends, if any.
+    ///
+    /// # Errors
+    /// When points arrive outside a ring, a ring is short of points, or
+    /// frames do not balance.
+    pub fn push(&mut self, r: &Record) -> Result<Option<Frame>> {
         match r {
             Record::FrameStart { frame, time } => {
-                if current.is_some() {
+                if self.current.is_some() {
                     bail!("frame {frame} starts before the previous one ended");
                 }
-                current = Some(Frame {
+                self.current = Some(Frame {
                     index: *frame,
                     years: fx(*time),
                     rings: Vec::new(),
@@ -78,39 +85,69 @@ pub fn frames(records: &[Record]) -> Result<Vec<Frame>> {
                 ring,
                 points,
             } => {
-                let f = current.as_mut().context("a ring outside a frame")?;
-                if expected != 0 {
-                    bail!("frame {}: a ring is short of {expected} points", f.index);
+                let f = self.current.as_mut().context("a ring outside a frame")?;
+                if self.expected != 0 {
+                    bail!(
+                        "frame {}: a ring is short of {} points",
+                        f.index,
+                        self.expected
+                    );
                 }
-                expected = usize::from(*points);
+                self.expected = usize::from(*points);
                 f.rings.push(Ring {
                     module: *module,
                     ring: *ring,
-                    points: Vec::with_capacity(expected),
+                    points: Vec::with_capacity(self.expected),
                 });
             }
             Record::Point { p } => {
-                let f = current.as_mut().context("a point outside a frame")?;
+                let f = self.current.as_mut().context("a point outside a frame")?;
                 let ring = f.rings.last_mut().context("a point before any ring")?;
-                if expected == 0 {
+                if self.expected == 0 {
                     bail!("frame {}: more points than the ring announced", f.index);
                 }
                 ring.points.push([fx(p[0]), fx(p[1]), fx(p[2])]);
-                expected -= 1;
+                self.expected -= 1;
             }
             Record::FrameEnd { frame } => {
-                let f = current.take().context("a frame ends that never started")?;
-                if f.index != *frame || expected != 0 {
+                let f = self
+                    .current
+                    .take()
+                    .context("a frame ends that never started")?;
+                if f.index != *frame || self.expected != 0 {
                     bail!("frame {frame} ends unbalanced");
                 }
-                out.push(f);
+                return Ok(Some(f));
             }
             _ => {}
         }
+        Ok(None)
     }
-    if current.is_some() {
-        bail!("the stream ends inside a frame");
+
+    /// Checks that the stream did not end inside a frame.
+    ///
+    /// # Errors
+    /// When it did.
+    pub fn finish(&self) -> Result<()> {
+        if self.current.is_some() {
+            bail!("the stream ends inside a frame");
+        }
+        Ok(())
     }
+}
+
+/// Groups a horn stream's records into frames.
+///
+/// # Errors
+/// When points arrive outside a ring, a ring is short of points, or frames
+/// do not balance.
+pub fn frames(records: &[Record]) -> Result<Vec<Frame>> {
+    let mut framer = Framer::default();
+    let mut out = Vec::new();
+    for r in records {
+        out.extend(framer.push(r)?);
+    }
+    framer.finish()?;
     Ok(out)
 }
 
@@ -388,32 +425,59 @@ fn render(frame: &Frame, j: u32, width: u32, height: u32) -> Result<Pixmap> {
     Ok(pixmap)
 }
 
-/// Renders the year-end frames side by side (4 per row) to one scale, the
-/// skull end of every horn at the same place in its cell.
-fn montage(frames: &[&Frame], j: u32, cell: u32) -> Result<Pixmap> {
-    let columns = frames.len().clamp(1, 4) as u32;
-    let rows = (frames.len() as u32).div_ceil(columns).max(1);
-    let mut pixmap = Pixmap::new(cell * columns, cell * rows).context("empty montage")?;
-    pixmap.fill(background());
-    let view = camera();
-    let Some(last) = frames.last() else {
-        return Ok(pixmap);
-    };
-    // The full-grown horn sets the scale; the skull origin sits where the
-    // full-grown horn's box puts it.
-    let b = bounds(&view, last);
-    let margin = 0.05 * f64::from(cell);
-    let scale = ((f64::from(cell) - 2.0 * margin) / (b[2] - b[0]).max(1e-6))
-        .min((f64::from(cell) - 2.0 * margin) / (b[3] - b[1]).max(1e-6));
-    for (n, frame) in frames.iter().enumerate() {
-        let (c, r) = (n as u32 % columns, n as u32 / columns);
-        let at = [
-            (f64::from(c * cell) + margin) as f32,
-            (f64::from((r + 1) * cell) - margin) as f32,
-        ];
-        draw(&mut pixmap, &mesh(frame, j), &view, [b[0], b[1]], at, scale);
+/// The year-end frames side by side (4 per row) to one scale, the skull
+/// end of every horn at the same place in its cell, drawn one by one.
+struct Montage {
+    pixmap: Pixmap,
+    columns: u32,
+    cell: u32,
+    view: View,
+    /// The full-grown horn's box: its corner is where the skull origin sits.
+    corner: [f64; 2],
+    margin: f64,
+    scale: f64,
+}
+
+impl Montage {
+    /// A montage of `count` cells of `cell` pixels, to the scale of the
+    /// full-grown horn `last` (the last of them; none, a blank cell).
+    fn new(count: usize, last: Option<&Frame>, cell: u32) -> Result<Montage> {
+        let columns = count.clamp(1, 4) as u32;
+        let rows = (count as u32).div_ceil(columns).max(1);
+        let mut pixmap = Pixmap::new(cell * columns, cell * rows).context("empty montage")?;
+        pixmap.fill(background());
+        let view = camera();
+        let b = last.map_or([0.0, 0.0, 1.0, 1.0], |last| bounds(&view, last));
+        let margin = 0.05 * f64::from(cell);
+        let scale = ((f64::from(cell) - 2.0 * margin) / (b[2] - b[0]).max(1e-6))
+            .min((f64::from(cell) - 2.0 * margin) / (b[3] - b[1]).max(1e-6));
+        Ok(Montage {
+            pixmap,
+            columns,
+            cell,
+            view,
+            corner: [b[0], b[1]],
+            margin,
+            scale,
+        })
     }
-    Ok(pixmap)
+
+    /// Draws `frame` into cell `n`.
+    fn draw(&mut self, n: usize, frame: &Frame, j: u32) {
+        let (c, r) = (n as u32 % self.columns, n as u32 / self.columns);
+        let at = [
+            (f64::from(c * self.cell) + self.margin) as f32,
+            (f64::from((r + 1) * self.cell) - self.margin) as f32,
+        ];
+        draw(
+            &mut self.pixmap,
+            &mesh(frame, j),
+            &self.view,
+            self.corner,
+            at,
+            self.scale,
+        );
+    }
 }
 
 /// Writes a picture drawn at twice its size, averaged down to half.
@@ -421,35 +485,78 @@ fn save(pixmap: &Pixmap, path: &Path) -> Result<()> {
     picture::save(&picture::half(pixmap)?, path)
 }
 
-/// Writes `frame_NNN.obj` for every frame, `horn.png` and `years.png`.
+/// Writes `frame_NNN.obj` for every frame (while the frames are read),
+/// `horn.png` and `years.png` (its frames read again, one at a time, once
+/// the last frame has set the scale).
 ///
 /// # Errors
-/// A malformed stream or a file that cannot be written.
-pub fn write(records: &[Record], dir: &Path, rings_per_module: u16) -> Result<Vec<PathBuf>> {
-    let frames = frames(records)?;
+/// A malformed stream, unreadable records, or a file that cannot be
+/// written.
+pub fn write<R: Records + ?Sized>(
+    records: &R,
+    dir: &Path,
+    rings_per_module: u16,
+) -> Result<Vec<PathBuf>> {
     let j = u32::from(rings_per_module);
-    let mut written: Vec<PathBuf> = frames
-        .par_iter()
-        .map(|f| {
+    let mut last: Option<Arc<Frame>> = None;
+    // Where each year-end frame starts, and the last of them.
+    let mut years: Vec<Place> = Vec::new();
+    let mut last_year: Option<Arc<Frame>> = None;
+    let mut written: Vec<PathBuf> = pipeline(
+        |send| {
+            let mut framer = Framer::default();
+            let mut start = Place::START;
+            records.visit(Place::START, |place, r| {
+                if matches!(r, Record::FrameStart { .. }) {
+                    start = place;
+                }
+                if let Some(f) = framer.push(r)? {
+                    let f = Arc::new(f);
+                    if is_year_end(&f) {
+                        years.push(start);
+                        last_year = Some(Arc::clone(&f));
+                    }
+                    last = Some(Arc::clone(&f));
+                    send(f)?;
+                }
+                Ok(())
+            })?;
+            framer.finish()
+        },
+        |f: Arc<Frame>| {
             let path = dir.join(format!("frame_{:03}.obj", f.index));
             let title = format!("morphogen horn, frame {} at t = {} years", f.index, f.years);
-            OutputFile::write_with(&path, |file| obj(&mesh(f, j), &title, file))?;
+            OutputFile::write_with(&path, |file| obj(&mesh(&f, j), &title, file))?;
             Ok(path)
-        })
-        .collect::<Result<_>>()?;
-    if let Some(last) = frames.last() {
+        },
+    )?;
+    if let Some(last) = last {
         let path = dir.join("horn.png");
-        save(&render(last, j, 2400, 1800)?, &path)?;
+        save(&render(&last, j, 2400, 1800)?, &path)?;
         written.push(path);
-        let years: Vec<&Frame> = frames
-            .iter()
-            .filter(|f| (f.years - f.years.round()).abs() < 1e-6)
-            .collect();
+        drop(last);
+        let mut montage = Montage::new(years.len(), last_year.as_deref(), 800)?;
+        drop(last_year);
+        for (n, &start) in years.iter().enumerate() {
+            let mut framer = Framer::default();
+            let mut frame = None;
+            records.visit_while(start, |_, r| {
+                frame = framer.push(r)?;
+                Ok(frame.is_none())
+            })?;
+            let frame = frame.context("a year-end frame is gone from the stream")?;
+            montage.draw(n, &frame, j);
+        }
         let path = dir.join("years.png");
-        save(&montage(&years, j, 800)?, &path)?;
+        save(&montage.pixmap, &path)?;
         written.push(path);
     }
     Ok(written)
+}
+
+/// Whether `frame` is at the end of a year (shown in `years.png`).
+fn is_year_end(frame: &Frame) -> bool {
+    (frame.years - frame.years.round()).abs() < 1e-6
 }
 
 #[cfg(test)]

@@ -13,16 +13,18 @@
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use anyhow::Result;
 use morphogen::fx::Fx;
 use morphogen::mosaic::{Domain, Params};
 use morphogen::stream::Record;
-use rayon::prelude::*;
 
 use super::picture::save_indexed;
+use super::pipeline;
 use super::text::{self, Whole};
 use crate::atomic::{OutputFile, write_atomic};
+use crate::records::{Place, Records};
 
 /// The longest side of the pictures, in pixels.
 const LONG_SIDE: f64 = 900.0;
@@ -57,26 +59,59 @@ pub fn days(records: &[Record]) -> Vec<Day> {
     out
 }
 
-/// Writes the CSVs, the Voronoi PNGs and the mask of `params`' run.
+/// Writes the CSVs, the Voronoi PNGs and the mask of `params`' run, a day
+/// at a time as the days are read.
 ///
 /// # Errors
-/// When a file cannot be written.
-pub fn write(params: &Params, records: &[Record], dir: &Path) -> Result<Vec<PathBuf>> {
-    let days = days(records);
+/// When the records cannot be read or a file cannot be written.
+pub fn write<R: Records + ?Sized>(
+    params: &Params,
+    records: &R,
+    dir: &Path,
+) -> Result<Vec<PathBuf>> {
     let colours: Vec<[u8; 3]> = params.types.iter().map(|t| t.colour).collect();
     let domain = &params.domain;
-    let per_day: Vec<[PathBuf; 2]> = days
-        .par_iter()
-        .map(|d| {
+    let mut last: Option<Arc<Day>> = None;
+    let per_day: Vec<[PathBuf; 2]> = pipeline(
+        |send| {
+            let mut current: Option<Day> = None;
+            let mut hand_over = |day: Day| {
+                let day = Arc::new(day);
+                last = Some(Arc::clone(&day));
+                send(day)
+            };
+            records.visit(Place::START, |_, r| {
+                match r {
+                    Record::FrameStart { time, .. } => {
+                        let next = Day {
+                            day: time.floor_int(),
+                            cells: Vec::new(),
+                        };
+                        if let Some(done) = current.replace(next) {
+                            hand_over(done)?;
+                        }
+                    }
+                    Record::Cell { id, kind, p } => {
+                        if let Some(d) = current.as_mut() {
+                            d.cells.push((*id, *kind, p[0], p[1]));
+                        }
+                    }
+                    _ => {}
+                }
+                Ok(())
+            })?;
+            current.map_or(Ok(()), hand_over)
+        },
+        |d: Arc<Day>| {
             let csv = dir.join(format!("cells_day{:02}.csv", d.day));
             write_csv(&d.cells, &csv)?;
             let png = dir.join(format!("day_{:02}.png", d.day));
             voronoi(domain, &colours, &d.cells, &png)?;
             Ok([csv, png])
-        })
-        .collect::<Result<_>>()?;
+        },
+    )?;
     let mut written: Vec<PathBuf> = per_day.into_iter().flatten().collect();
-    if let Some(last) = days.last() {
+    if let Some(last) = last {
         let path = dir.join("mosaic.png");
         voronoi(domain, &colours, &last.cells, &path)?;
         written.push(path);

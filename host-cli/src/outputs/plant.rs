@@ -17,6 +17,9 @@ use tiny_skia::{
 use super::picture;
 use super::text::{self, Whole};
 use crate::atomic::OutputFile;
+use crate::records::{Place, Records};
+
+mod depth;
 
 fn f(v: Fx) -> f64 {
     f64::from(v.to_bits()) / 65_536.0
@@ -52,45 +55,58 @@ impl Item {
     }
 }
 
-/// The items of the last frame.
-fn last_frame(records: &[Record]) -> Vec<Item> {
-    let start = records
-        .iter()
-        .rposition(|r| matches!(r, Record::FrameStart { .. }))
-        .map_or(0, |i| i + 1);
-    let mut items = Vec::new();
-    let mut it = records[start..].iter();
-    while let Some(r) = it.next() {
+/// The items of the last frame, read from `last` (the place of the last
+/// frame start, or the first record when there is none): each handed to
+/// `each` in stream order. A polygon takes the points among the records
+/// that follow it, as many records as it has vertices.
+fn last_frame<R: Records + ?Sized>(
+    records: &R,
+    last: Place,
+    mut each: impl FnMut(Item) -> Result<()>,
+) -> Result<()> {
+    // The polygon being filled: records still to take, its points, colour.
+    let mut open: Option<(usize, Vec<[f64; 3]>, u16)> = None;
+    records.visit(last, |_, r| {
+        if let Some((left, points, _)) = &mut open {
+            if let Record::Point { p } = r {
+                points.push(p3(p));
+            }
+            *left -= 1;
+            if *left == 0
+                && let Some((_, points, colour)) = open.take()
+            {
+                each(Item::Polygon { points, colour })?;
+            }
+            return Ok(());
+        }
         match r {
             Record::Segment {
                 a,
                 b,
                 width,
                 colour,
-            } => items.push(Item::Segment {
+            } => each(Item::Segment {
                 a: p3(a),
                 b: p3(b),
                 width: f(*width),
                 colour: *colour,
-            }),
+            })?,
+            Record::Polygon { vertices, colour } if *vertices == 0 => each(Item::Polygon {
+                points: Vec::new(),
+                colour: *colour,
+            })?,
             Record::Polygon { vertices, colour } => {
-                let points = it
-                    .by_ref()
-                    .take(usize::from(*vertices))
-                    .filter_map(|r| match r {
-                        Record::Point { p } => Some(p3(p)),
-                        _ => None,
-                    })
-                    .collect();
-                items.push(Item::Polygon {
-                    points,
-                    colour: *colour,
-                });
+                open = Some((usize::from(*vertices), Vec::new(), *colour));
             }
             _ => {}
         }
+        Ok(())
+    })?;
+    // A polygon cut short by the end of the stream keeps the points it has.
+    match open {
+        Some((_, points, colour)) => each(Item::Polygon { points, colour }),
+        None => Ok(()),
     }
-    items
 }
 
 /// The colour of index `i`: a ramp from bark brown (0) through olive to
@@ -123,24 +139,47 @@ fn paint(colour: u16) -> Paint<'static> {
     paint
 }
 
-/// Draws `items` to a `size`-pixel-wide PNG at `path`.
-fn png(items: &[Item], size: u32, path: &Path) -> Result<()> {
-    let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
-    let mut extend = |p: &[f64; 3]| {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
+/// The x–y bounding box of the items handed to [`Extent::include`].
+#[derive(Debug, Clone, Copy)]
+struct Extent {
+    lo: [f64; 2],
+    hi: [f64; 2],
+}
+
+impl Extent {
+    fn new() -> Extent {
+        Extent {
+            lo: [f64::MAX; 2],
+            hi: [f64::MIN; 2],
         }
-    };
-    for item in items {
+    }
+
+    fn include(&mut self, item: &Item) {
+        let mut extend = |p: &[f64; 3]| {
+            for (k, &v) in p.iter().take(2).enumerate() {
+                self.lo[k] = self.lo[k].min(v);
+                self.hi[k] = self.hi[k].max(v);
+            }
+        };
         match item {
             Item::Segment { a, b, .. } => {
                 extend(a);
                 extend(b);
             }
-            Item::Polygon { points, .. } => points.iter().for_each(&mut extend),
+            Item::Polygon { points, .. } => points.iter().for_each(extend),
         }
     }
+}
+
+/// Draws the items `back_to_front` hands out (in painter's order) to a
+/// `size`-pixel-wide PNG at `path`, framing `extent`.
+fn png(
+    extent: Extent,
+    size: u32,
+    back_to_front: impl FnOnce(&mut dyn FnMut(&Item)) -> Result<()>,
+    path: &Path,
+) -> Result<()> {
+    let Extent { mut lo, mut hi } = extent;
     if lo[0] > hi[0] {
         (lo, hi) = ([-1.0, -1.0], [1.0, 1.0]);
     }
@@ -157,52 +196,48 @@ fn png(items: &[Item], size: u32, path: &Path) -> Result<()> {
             (margin + (hi[1] - p[1]) * scale) as f32,
         )
     };
-    let mut order: Vec<&Item> = items.iter().collect();
-    order.sort_by(|x, y| x.depth().total_cmp(&y.depth()));
-    for item in order {
-        match item {
-            Item::Segment {
-                a,
-                b,
-                width,
-                colour,
-            } => {
-                let mut pb = PathBuilder::new();
-                let (ax, ay) = px(a);
-                let (bx, by) = px(b);
-                pb.move_to(ax, ay);
-                pb.line_to(bx, by);
-                let Some(path) = pb.finish() else { continue };
-                let stroke = Stroke {
-                    width: ((width * scale) as f32).max(0.6),
-                    line_cap: LineCap::Round,
-                    line_join: LineJoin::Round,
-                    ..Stroke::default()
-                };
-                pixmap.stroke_path(&path, &paint(*colour), &stroke, Transform::identity(), None);
-            }
-            Item::Polygon { points, colour } => {
-                let mut pb = PathBuilder::new();
-                for (i, p) in points.iter().enumerate() {
-                    let (x, y) = px(p);
-                    if i == 0 {
-                        pb.move_to(x, y);
-                    } else {
-                        pb.line_to(x, y);
-                    }
-                }
-                pb.close();
-                let Some(path) = pb.finish() else { continue };
-                pixmap.fill_path(
-                    &path,
-                    &paint(*colour),
-                    FillRule::Winding,
-                    Transform::identity(),
-                    None,
-                );
-            }
+    back_to_front(&mut |item| match item {
+        Item::Segment {
+            a,
+            b,
+            width,
+            colour,
+        } => {
+            let mut pb = PathBuilder::new();
+            let (ax, ay) = px(a);
+            let (bx, by) = px(b);
+            pb.move_to(ax, ay);
+            pb.line_to(bx, by);
+            let Some(path) = pb.finish() else { return };
+            let stroke = Stroke {
+                width: ((width * scale) as f32).max(0.6),
+                line_cap: LineCap::Round,
+                line_join: LineJoin::Round,
+                ..Stroke::default()
+            };
+            pixmap.stroke_path(&path, &paint(*colour), &stroke, Transform::identity(), None);
         }
-    }
+        Item::Polygon { points, colour } => {
+            let mut pb = PathBuilder::new();
+            for (i, p) in points.iter().enumerate() {
+                let (x, y) = px(p);
+                if i == 0 {
+                    pb.move_to(x, y);
+                } else {
+                    pb.line_to(x, y);
+                }
+            }
+            pb.close();
+            let Some(path) = pb.finish() else { return };
+            pixmap.fill_path(
+                &path,
+                &paint(*colour),
+                FillRule::Winding,
+                Transform::identity(),
+                None,
+            );
+        }
+    })?;
     picture::save(&pixmap, path)
 }
 
@@ -236,13 +271,29 @@ fn vertex(line: &mut Vec<u8>, p: [f64; 3]) {
     line.push(b'\n');
 }
 
-/// Writes the OBJ: every segment a square prism (4 side faces), every
-/// polygon one face.
-fn obj(items: &[Item], out: &mut impl Write) -> io::Result<()> {
-    out.write_all(b"# morphogen L-system plant: segments as square prisms, polygons as faces\n")?;
-    let mut line = Vec::with_capacity(256);
-    let mut next = 1usize;
-    for item in items {
+/// The OBJ being written: every segment a square prism (4 side faces),
+/// every polygon one face.
+struct Obj<W> {
+    out: W,
+    line: Vec<u8>,
+    /// The index of the next vertex.
+    next: usize,
+}
+
+impl<W: Write> Obj<W> {
+    fn new(mut out: W) -> io::Result<Obj<W>> {
+        out.write_all(
+            b"# morphogen L-system plant: segments as square prisms, polygons as faces\n",
+        )?;
+        Ok(Obj {
+            out,
+            line: Vec::with_capacity(256),
+            next: 1,
+        })
+    }
+
+    fn item(&mut self, item: &Item) -> io::Result<()> {
+        let (line, next) = (&mut self.line, self.next);
         match item {
             Item::Segment { a, b, width, .. } => {
                 let d = sub(*b, *a);
@@ -263,7 +314,7 @@ fn obj(items: &[Item], out: &mut impl Write) -> io::Result<()> {
                 line.clear();
                 for end in [a, b] {
                     for c in &corners {
-                        vertex(&mut line, [end[0] + c[0], end[1] + c[1], end[2] + c[2]]);
+                        vertex(line, [end[0] + c[0], end[1] + c[1], end[2] + c[2]]);
                     }
                 }
                 for k in 0..4 {
@@ -271,43 +322,51 @@ fn obj(items: &[Item], out: &mut impl Write) -> io::Result<()> {
                     line.push(b'f');
                     for corner in [next + k, next + k1, next + 4 + k1, next + 4 + k] {
                         line.push(b' ');
-                        text::int(&mut line, corner);
+                        text::int(line, corner);
                     }
                     line.push(b'\n');
                 }
-                out.write_all(&line)?;
-                next += 8;
+                self.out.write_all(line)?;
+                self.next += 8;
             }
             Item::Polygon { points, .. } => {
                 if points.len() < 3 {
-                    continue;
+                    return Ok(());
                 }
                 line.clear();
                 for p in points {
-                    vertex(&mut line, *p);
+                    vertex(line, *p);
                 }
                 line.push(b'f');
                 for k in 0..points.len() {
                     line.push(b' ');
-                    text::int(&mut line, next + k);
+                    text::int(line, next + k);
                 }
                 line.push(b'\n');
-                out.write_all(&line)?;
-                next += points.len();
+                self.out.write_all(line)?;
+                self.next += points.len();
             }
         }
+        Ok(())
     }
-    Ok(())
 }
 
-/// Writes the CSV of every segment of every frame.
-fn csv(records: &[Record], out: &mut impl Write) -> io::Result<()> {
-    out.write_all(b"frame,ax,ay,az,bx,by,bz,width,colour\n")?;
+/// Writes the CSV of every segment of every frame to `path`; returns the
+/// place of the last frame start (the first record when there is none).
+fn csv<R: Records + ?Sized>(records: &R, path: &Path) -> Result<Place> {
+    let mut out = OutputFile::create(path)?;
+    let cannot = || format!("cannot write {}", path.display());
+    out.write_all(b"frame,ax,ay,az,bx,by,bz,width,colour\n")
+        .with_context(cannot)?;
     let mut line = Vec::with_capacity(160);
     let mut frame = 0u32;
-    for r in records {
+    let mut last = Place::START;
+    records.visit(Place::START, |place, r| {
         match r {
-            Record::FrameStart { frame: k, .. } => frame = *k,
+            Record::FrameStart { frame: k, .. } => {
+                frame = *k;
+                last = place;
+            }
             Record::Segment {
                 a,
                 b,
@@ -323,26 +382,40 @@ fn csv(records: &[Record], out: &mut impl Write) -> io::Result<()> {
                 line.push(b',');
                 text::int(&mut line, *colour);
                 line.push(b'\n');
-                out.write_all(&line)?;
+                out.write_all(&line).with_context(cannot)?;
             }
             _ => {}
         }
-    }
-    Ok(())
+        Ok(())
+    })?;
+    out.finish()?;
+    Ok(last)
 }
 
-/// Writes `plant.png`, `plant.obj` and `segments.csv`.
+/// Writes `plant.png`, `plant.obj` and `segments.csv`: the CSV in a pass
+/// over every record, then the mesh and the picture's extent in a pass
+/// over the last frame, which is drawn back to front from memory or, when
+/// larger than [`depth::BUDGET`], from sorted runs spilled into `dir`.
 ///
 /// # Errors
-/// When a file cannot be written.
-pub fn write(records: &[Record], dir: &Path) -> Result<Vec<PathBuf>> {
-    let items = last_frame(records);
-    let png_path = dir.join("plant.png");
-    png(&items, 1000, &png_path)?;
-    let obj_path = dir.join("plant.obj");
-    OutputFile::write_with(&obj_path, |file| obj(&items, file))?;
+/// When the records cannot be read or a file cannot be written.
+pub fn write<R: Records + ?Sized>(records: &R, dir: &Path) -> Result<Vec<PathBuf>> {
     let csv_path = dir.join("segments.csv");
-    OutputFile::write_with(&csv_path, |file| csv(records, file))?;
+    let last = csv(records, &csv_path)?;
+    let obj_path = dir.join("plant.obj");
+    let mut obj = Obj::new(OutputFile::create(&obj_path)?)
+        .with_context(|| format!("cannot write {}", obj_path.display()))?;
+    let mut extent = Extent::new();
+    let mut sorted = depth::Sort::new(dir);
+    last_frame(records, last, |item| {
+        extent.include(&item);
+        obj.item(&item)
+            .with_context(|| format!("cannot write {}", obj_path.display()))?;
+        sorted.push(item)
+    })?;
+    obj.out.finish()?;
+    let png_path = dir.join("plant.png");
+    png(extent, 1000, |draw| sorted.drain(draw), &png_path)?;
     Ok(vec![png_path, obj_path, csv_path])
 }
 
