@@ -3,10 +3,11 @@
 # and thumbv7em, runs each in QEMU's lm3s6965evb with `-icount shift=0`
 # (UART0 → capture file, defmt over semihosting → defmt-print), verifies every
 # capture bit for bit with `morphogen verify --stream`, checks that a flipped
-# bit is caught, builds and runs the firmware with a user scenario
-# (MORPHOGEN_SCENARIOS: a changed ram-horn made on the fly, verified against a
-# fixture blessed on the host), and rewrites firmware-example/REPORT.md (sizes
-# and costs of the built-in presets).
+# bit is caught, builds and runs the firmware with two user scenarios
+# (MORPHOGEN_SCENARIOS: a changed ram-horn made on the fly and the user body
+# examples/wagging-tail.toml, verified against fixtures blessed on the host),
+# and rewrites firmware-example/REPORT.md (sizes and costs of the built-in
+# presets).
 #
 # Usage: scripts/firmware-check.sh [--capture FILE] [--flip BYTE[:BIT]] [--no-report]
 #   --capture FILE    only verify FILE (e.g. a capture from real hardware)
@@ -17,7 +18,7 @@
 #   MORPHOGEN_VERIFY  the verify command, given the capture as last argument
 #                     (default: cargo run --release -q -p morphogen-cli -- verify --stream;
 #                     the user-scenario step appends `--fixtures DIR` after the capture)
-#   MORPHOGEN_BLESS   the bless command, given `FILE.toml --fixtures DIR`
+#   MORPHOGEN_BLESS   the bless command, given `FILE.toml … --fixtures DIR`
 #                     (default: cargo run --release -q -p morphogen-cli -- bless)
 #   CARGO_TARGET_DIR  honoured (default: firmware-example/target)
 #   QEMU_TIMEOUT      seconds per QEMU run (default 600)
@@ -129,8 +130,9 @@ rm -rf "$work"; mkdir -p "$work"
 user_dir="$(mktemp -d)"; trap 'rm -rf "$user_dir"' EXIT
 cd "$fw"
 
-# A user scenario, made on the fly: ram-horn renamed and shortened (3 years,
-# one frame a year; it names no grammar or mask file).
+# Two user scenarios: ram-horn renamed and shortened (3 years, one frame a
+# year), made on the fly, and examples/wagging-tail.toml, a user's body (an
+# OBJ mesh and a cylinder file of its own, compiled into flash).
 user_name="my-horn"
 user_toml="$user_dir/$user_name.toml"
 python3 - "$root/scenarios/ram-horn.toml" "$user_toml" "$user_name" <<'PY'
@@ -148,8 +150,9 @@ PY
 # First, so that the built-in builds below leave the target dir (the same
 # ELF path for thumbv7m) with the built-in presets: build.rs reruns when
 # MORPHOGEN_SCENARIOS changes. Its ELF is kept aside for the run below.
-say "build thumbv7m-none-eabi with MORPHOGEN_SCENARIOS=$user_toml"
-MORPHOGEN_SCENARIOS="$user_toml" cargo build --release --target thumbv7m-none-eabi
+user_body="$root/examples/wagging-tail.toml"
+say "build thumbv7m-none-eabi with MORPHOGEN_SCENARIOS=$user_toml,$user_body"
+MORPHOGEN_SCENARIOS="$user_toml,$user_body" cargo build --release --target thumbv7m-none-eabi
 cp "$tdir/thumbv7m-none-eabi/release/morphogen-firmware" "$work/user.elf"
 
 # The RTT variant (real hardware) next: it shares the ELF path of the
@@ -189,24 +192,29 @@ for t in "${targets[@]}"; do
   cat "$work/$t.verify.log"
 done
 
-# ---- a user scenario (MORPHOGEN_SCENARIOS) ---------------------------------------
-# The firmware built above from $user_toml alone streams exactly what the host
-# blesses from the same file.
+# ---- user scenarios (MORPHOGEN_SCENARIOS) -----------------------------------------
+# The firmware built above from the two user scenarios alone streams exactly
+# what the host blesses from the same files.
 qemu_run thumbv7m-none-eabi "$work/user.elf" user
-grep -q "all 1 presets streamed" "$work/user.log" || die "user scenario: the firmware did not run exactly one preset"
-grep -q "report preset=$user_name " "$work/user.log" || die "user scenario: the firmware did not run $user_name"
-say "bless $user_name on the host"
-(cd "$root" && "${bless_cmd[@]}" "$user_toml" --fixtures "$user_dir/fixtures") >"$work/user.bless.log" 2>&1 \
-  || { cat "$work/user.bless.log"; die "user scenario: bless $user_toml failed"; }
+grep -q "all 2 presets streamed" "$work/user.log" || die "user scenarios: the firmware did not run exactly two presets"
+for name in "$user_name" wagging-tail; do
+  grep -q "report preset=$name " "$work/user.log" || die "user scenarios: the firmware did not run $name"
+done
+say "bless $user_name and wagging-tail on the host"
+(cd "$root" && "${bless_cmd[@]}" "$user_toml" "$user_body" --fixtures "$user_dir/fixtures") >"$work/user.bless.log" 2>&1 \
+  || { cat "$work/user.bless.log"; die "user scenarios: bless failed"; }
 cat "$work/user.bless.log"
-[ -f "$user_dir/fixtures/$user_name/stream.bin" ] || die "user scenario: bless wrote no $user_name/stream.bin"
+for name in "$user_name" wagging-tail; do
+  [ -f "$user_dir/fixtures/$name/stream.bin" ] || die "user scenarios: bless wrote no $name/stream.bin"
+done
 say "verify the user-scenario capture ($(stat -c %s "$work/user.bin") bytes)"
 verify "$work/user.bin" "$work/user.verify.log" --fixtures "$user_dir/fixtures" \
   || { cat "$work/user.verify.log"; die "user scenario: the capture does not match the blessed fixture"; }
 cat "$work/user.verify.log"
-cmp -s "$work/user.bin" "$user_dir/fixtures/$user_name/stream.bin" \
-  || die "user scenario: the capture differs from the blessed stream.bin"
-echo "user scenario: $user_name streamed on the firmware matches the host's bless, byte for byte"
+cat "$user_dir/fixtures/$user_name/stream.bin" "$user_dir/fixtures/wagging-tail/stream.bin" >"$work/user.expected.bin"
+cmp -s "$work/user.bin" "$work/user.expected.bin" \
+  || die "user scenarios: the capture differs from the blessed stream.bin files"
+echo "user scenarios: $user_name and wagging-tail streamed on the firmware match the host's bless, byte for byte"
 
 # The flipped bit lands in the preset that owns the byte (from the firmware's
 # per-preset byte counts, in stream order).

@@ -8,7 +8,7 @@
 //! `static` [`Preset`]s at the firmware's build time).
 
 use crate::Error;
-use crate::body::{Body, BodyParams};
+use crate::body::{self, Body, BodyParams};
 use crate::bones::{Bones, BonesParams, MCU_TRIANGLES, MCU_VERTICES};
 use crate::growth_curve::{self, GrowthCurve};
 use crate::horn::{Horn, HornParams};
@@ -53,13 +53,15 @@ impl Model<'_> {
 
     /// Whether a run fits the [`Runner`]'s fixed capacity (the MCU's
     /// memory): a mosaic fits when its expected peak cell count
-    /// ([`mosaic::expected_peak_cells`]) fits the inline store; every other
-    /// model's state is bounded by its type (a run that exceeds a limit
-    /// stops with an error naming it).
+    /// ([`mosaic::expected_peak_cells`]) fits the inline store, a body when
+    /// its cylinders fit [`body::MAX_CYLINDERS`]; every other model's state
+    /// is bounded by its type (a run that exceeds a limit stops with an
+    /// error naming it).
     #[must_use]
     pub fn fits_mcu(&self) -> bool {
         match self {
             Model::Mosaic(p) => mosaic::expected_peak_cells(p) <= McuStore::CAPACITY as u64,
+            Model::Body(p) => p.model.cylinders.len() <= body::MAX_CYLINDERS,
             _ => true,
         }
     }

@@ -254,13 +254,7 @@ impl Checked {
                 columns,
                 gait,
             } => {
-                let columns: Vec<CoreColumn<'_>> = columns
-                    .iter()
-                    .map(|(name, values)| CoreColumn {
-                        name: *name,
-                        values,
-                    })
-                    .collect();
+                let columns = core_columns(columns);
                 let table = GrowthTable {
                     unit,
                     ages,
@@ -797,17 +791,11 @@ fn body(b: &schema::Body, files: &dyn Files) -> Result<Checked> {
             .collect::<Result<Vec<_>>>()?;
         columns.push((label(&format!("{key}.name"), &c.name)?, values));
     }
-    let core_columns: Vec<CoreColumn<'_>> = columns
-        .iter()
-        .map(|(name, values)| CoreColumn {
-            name: *name,
-            values,
-        })
-        .collect();
+    let borrowed = core_columns(&columns);
     let table = GrowthTable {
         unit: &t.unit,
         ages: &ages,
-        columns: &core_columns,
+        columns: &borrowed,
         interpolation,
     };
     table.validate().map_err(|e| Invalid {
@@ -910,6 +898,17 @@ fn body(b: &schema::Body, files: &dyn Files) -> Result<Checked> {
         columns,
         gait,
     })
+}
+
+/// A growth table's columns as the core borrows them.
+fn core_columns(columns: &[(Label, Vec<Fx>)]) -> Vec<CoreColumn<'_>> {
+    columns
+        .iter()
+        .map(|(name, values)| CoreColumn {
+            name: *name,
+            values,
+        })
+        .collect()
 }
 
 /// The user's body: the cylinder file read against the growth `table`,

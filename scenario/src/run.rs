@@ -23,42 +23,23 @@ use crate::body_files::USER_CYLINDERS;
 /// relaxation moves the cells side by side on all cores (rayon).
 #[derive(Debug, Default)]
 pub struct VecStore {
+    cells: Cells,
+    /// The new positions of a relaxation step, in grid order.
+    moved: Vec<[i32; 2]>,
+}
+
+/// The arrays of a [`VecStore`].
+#[derive(Debug, Default)]
+struct Cells {
     pos: Vec<[i32; 2]>,
     kind: Vec<u8>,
     next_division: Vec<u16>,
     order: Vec<u32>,
     push: Vec<[i32; 2]>,
     bins: Vec<u32>,
-    /// The new positions of a relaxation step, in grid order.
-    moved: Vec<[i32; 2]>,
 }
 
-/// Cells a thread moves at a time: small enough to share out a 2 000-cell
-/// step, large enough that handing out chunks costs little.
-const RELAX_CHUNK: usize = 512;
-
-impl VecStore {
-    /// A store of `cells` cells and `cells / 4 + 1` grid bin offsets.
-    #[must_use]
-    pub fn new(cells: usize) -> VecStore {
-        let bins = cells / 4 + 1;
-        VecStore {
-            pos: vec![[0; 2]; cells],
-            kind: vec![0; cells],
-            next_division: vec![0; cells],
-            order: vec![0; cells],
-            push: vec![[0; 2]; cells],
-            bins: vec![0; bins],
-            moved: vec![[0; 2]; cells],
-        }
-    }
-}
-
-impl CellStore for VecStore {
-    fn capacity(&self) -> usize {
-        self.pos.len()
-    }
-
+impl Cells {
     fn slices(&mut self) -> CellSlices<'_> {
         CellSlices {
             pos: &mut self.pos,
@@ -69,26 +50,51 @@ impl CellStore for VecStore {
             bins: &mut self.bins,
         }
     }
+}
+
+/// Cells a thread moves at a time: small enough to share out a 2 000-cell
+/// step, large enough that handing out chunks costs little.
+const RELAX_CHUNK: usize = 512;
+
+impl VecStore {
+    /// A store of `cells` cells and `cells / 4 + 1` grid bin offsets.
+    #[must_use]
+    pub fn new(cells: usize) -> VecStore {
+        VecStore {
+            cells: Cells {
+                pos: vec![[0; 2]; cells],
+                kind: vec![0; cells],
+                next_division: vec![0; cells],
+                order: vec![0; cells],
+                push: vec![[0; 2]; cells],
+                bins: vec![0; cells / 4 + 1],
+            },
+            moved: vec![[0; 2]; cells],
+        }
+    }
+}
+
+impl CellStore for VecStore {
+    fn capacity(&self) -> usize {
+        self.cells.pos.len()
+    }
+
+    fn slices(&mut self) -> CellSlices<'_> {
+        self.cells.slices()
+    }
 
     fn positions(&self) -> &[[i32; 2]] {
-        &self.pos
+        &self.cells.pos
     }
 
     fn kinds(&self) -> &[u8] {
-        &self.kind
+        &self.cells.kind
     }
 }
 
 impl Relax for VecStore {
     fn relax(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>) {
-        let mut cells = CellSlices {
-            pos: &mut self.pos,
-            kind: &mut self.kind,
-            next_division: &mut self.next_division,
-            order: &mut self.order,
-            push: &mut self.push,
-            bins: &mut self.bins,
-        };
+        let mut cells = self.cells.slices();
         let (snapshot, pos) = relaxation::snapshot(&mut cells, n, grid, forces);
         let moved = &mut self.moved[..n];
         moved
