@@ -1045,6 +1045,7 @@ fn bones(b: &schema::Bones, files: &dyn Files) -> Result<Checked> {
         target: fx("bones.wrap.target", w.target, 0.01, 1000.0)?,
         step: fx("bones.wrap.step", w.step, 0.0001, 1000.0)?,
         max_iterations: int("bones.wrap.max_iterations", w.max_iterations, 1, 65535)?,
+        split_tolerance: fx("bones.wrap.split_tolerance", w.split_tolerance, 0.001, 1.0)?,
     };
     Ok(Checked::Bones {
         grammar,

@@ -251,13 +251,14 @@ fn user_body(m: &BodyModel<'_>) -> Result<String, String> {
 fn bones(p: &BonesParams<'_>) -> String {
     let w = &p.wrap;
     format!(
-        "BonesParams {{ grammar: {:?}, wrap: WrapParams {{ meridians: {}, parallels: {}, target: {}, step: {}, max_iterations: {} }}, frames: {} }}",
+        "BonesParams {{ grammar: {:?}, wrap: WrapParams {{ meridians: {}, parallels: {}, target: {}, step: {}, max_iterations: {}, split_tolerance: {} }}, frames: {} }}",
         p.grammar,
         w.meridians,
         w.parallels,
         fx(w.target),
         fx(w.step),
         w.max_iterations,
+        fx(w.split_tolerance),
         match p.frames {
             bones::Frames::Final => "bones::Frames::Final".to_string(),
             bones::Frames::EveryStep { first } => {

@@ -284,6 +284,8 @@ pub struct Wrap {
     pub step: f64,
     /// The iteration cap.
     pub max_iterations: i64,
+    /// |V − V0| / V0 beyond which an edge is split (5 % in the paper).
+    pub split_tolerance: f64,
 }
 
 /// Which skeletons are wrapped.

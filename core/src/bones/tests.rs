@@ -26,6 +26,7 @@ const WRAP: WrapParams = WrapParams {
     target: Fx::from_ratio(17, 5),
     step: Fx::from_ratio(3, 20),
     max_iterations: 64,
+    split_tolerance: crate::shrinkwrap::SPLIT_TOLERANCE,
 };
 
 /// The built-in bone scenarios' parameters (`scenarios/long-bone.toml`,

@@ -42,9 +42,22 @@ pub struct WrapParams {
     pub step: Fx,
     /// The most level steps and final passes together.
     pub max_iterations: u16,
+    /// |V − V0| / V0 beyond which an edge midpoint is split, and within
+    /// which a vertex is on the level (the paper's 5 %:
+    /// [`SPLIT_TOLERANCE`]). Left out of the parameter digest at the
+    /// paper's value, so that the digests of runs made before it was a
+    /// parameter stay the same.
+    #[serde(skip_serializing_if = "WrapParams::is_paper_split")]
+    pub split_tolerance: Fx,
 }
 
-/// |V − V0| / V0 beyond which an edge midpoint is split (Sec. 5: 5 %).
+impl WrapParams {
+    fn is_paper_split(split: &Fx) -> bool {
+        *split == SPLIT_TOLERANCE
+    }
+}
+
+/// The paper's split tolerance, |V − V0| / V0 = 5 % (Sec. 5).
 pub const SPLIT_TOLERANCE: Fx = Fx::from_ratio(1, 20);
 /// Passes at the target level without a split that end the run.
 const FINAL_PASSES: u8 = 4;
@@ -81,9 +94,11 @@ pub struct Shrinkwrap<R: Real, const V: usize, const T: usize> {
     max_move: R,
     iterations: u16,
     max_iterations: u16,
+    /// [`WrapParams::split_tolerance`].
+    split: R,
     phase: Phase,
     /// Per vertex: whether it is on the current level (within
-    /// [`SPLIT_TOLERANCE`]) after the last move.
+    /// the split tolerance) after the last move.
     on_level: Vec<bool, V>,
 }
 
@@ -129,10 +144,10 @@ fn toward<R: Real>(elements: &[Element<R>], r: &Vector3<R>, level: R, max_move: 
     r + unit * distance
 }
 
-/// Whether V at `r` is off `level` by more than [`SPLIT_TOLERANCE`].
-fn off<R: Real>(elements: &[Element<R>], r: &Vector3<R>, level: R) -> bool {
+/// Whether V at `r` is off `level` by more than `split` (relative).
+fn off<R: Real>(elements: &[Element<R>], r: &Vector3<R>, level: R, split: R) -> bool {
     let (v, _) = field(elements, r);
-    (v - level).abs() > level * R::from_fx(SPLIT_TOLERANCE)
+    (v - level).abs() > level * split
 }
 
 impl<R: Real, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
@@ -147,6 +162,7 @@ impl<R: Real, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
             max_move: zero,
             iterations: 0,
             max_iterations: 0,
+            split: zero,
             phase: Phase::Idle,
             on_level: Vec::new(),
         }
@@ -205,6 +221,7 @@ impl<R: Real, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
         self.max_move = radius * R::from_ratio(1, 10);
         self.iterations = 0;
         self.max_iterations = params.max_iterations;
+        self.split = R::from_fx(params.split_tolerance);
         let mut sum = R::Wide::default();
         for r in self.mesh.vertices() {
             sum = R::widen(sum, field(elements, r).0);
@@ -227,12 +244,12 @@ impl<R: Real, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
     /// Moves every vertex towards the level; returns how many are not on
     /// it afterwards.
     fn move_all(&mut self, elements: &[Element<R>]) -> usize {
-        let (level, max_move) = (self.level, self.max_move);
+        let (level, max_move, split) = (self.level, self.max_move, self.split);
         self.on_level.clear();
         for r in self.mesh.vertices_mut() {
             *r = toward(elements, r, level, max_move);
             // As many flags as vertices: this cannot fail.
-            let _ = self.on_level.push(!off(elements, r, level));
+            let _ = self.on_level.push(!off(elements, r, level, split));
         }
         self.on_level.iter().filter(|&&on| !on).count()
     }
@@ -264,7 +281,7 @@ impl<R: Real, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
             }
         }
         self.move_all(elements);
-        let (level, max_move) = (self.level, self.max_move);
+        let (level, max_move, tolerance) = (self.level, self.max_move, self.split);
         let on_level = &self.on_level;
         let split = self.mesh.refine(|a, pa, b, pb| {
             // An edge off the surface because its ends are is left to the
@@ -274,7 +291,7 @@ impl<R: Real, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
                 return None;
             }
             let mid = (pa + pb) * R::from_ratio(1, 2);
-            off(elements, &mid, level).then(|| {
+            off(elements, &mid, level, tolerance).then(|| {
                 let mut r = mid;
                 for _ in 0..MIDPOINT_MOVES {
                     r = toward(elements, &r, level, max_move);
