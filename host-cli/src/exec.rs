@@ -16,6 +16,7 @@ use morphogen::stream::{ByteSink, Encoder, SinkError};
 use morphogen_scenario::Scenario;
 
 use crate::atomic::OutputFile;
+use crate::outputs::{Kind, Kinds};
 use crate::records::{Place, StreamFile};
 
 /// The default cap on a run's stream, MiB (`--max-stream-mb`): far above
@@ -354,6 +355,7 @@ pub fn run_grammar(
     seed: u64,
     max_stream_mb: u32,
     path: &Path,
+    progress: bool,
 ) -> Result<RunFile> {
     let mut probe = Box::new(morphogen::lsys::Grammar::new());
     probe
@@ -366,7 +368,7 @@ pub fn run_grammar(
         default_seed: seed,
         model: Model::LSystem(text),
     };
-    let bar = Bar::new(GRAMMAR_PRESET, true);
+    let bar = Bar::new(GRAMMAR_PRESET, progress);
     let run = preset_to_file(
         &preset,
         seed,
@@ -380,26 +382,32 @@ pub fn run_grammar(
 }
 
 /// Writes the rest of a run's files into `dir`, where its stream file
-/// already is: `records.jsonl` (a line per frame as it is read back),
-/// then the files `model` draws in passes over the stream file, with a
-/// spinner on standard error once this has taken a second. Returns every
-/// path written, the stream file first.
+/// already is: `records.jsonl` (a line per frame as it is read back; when
+/// `kinds` has it), then the files `model` draws in passes over the
+/// stream file, with a spinner on standard error once this has taken a
+/// second (when `progress`). Returns every path written, the stream file
+/// first.
 ///
 /// # Errors
 /// When the stream cannot be read back or a file cannot be written.
 pub fn write_outputs(
     dir: &Path,
     run: &RunFile,
+    kinds: Kinds,
+    progress: bool,
     model: impl FnOnce(&StreamFile, &Path) -> Result<Vec<PathBuf>>,
 ) -> Result<Vec<PathBuf>> {
-    let _spinner = Spinner::after_a_second(&format!("writing {}", dir.display()));
+    let _spinner = progress.then(|| Spinner::after_a_second(&format!("writing {}", dir.display())));
     let stream = StreamFile::new(&run.path);
-    let jsonl_path = dir.join("records.jsonl");
-    let mut jsonl = OutputFile::create(&jsonl_path)?;
-    crate::jsonl::write_frames(stream.frames(Place::START)?, &mut jsonl)
-        .with_context(|| format!("cannot write {}", jsonl_path.display()))?;
-    jsonl.finish()?;
-    let mut written = vec![run.path.clone(), jsonl_path];
+    let mut written = vec![run.path.clone()];
+    if kinds.has(Kind::Jsonl) {
+        let jsonl_path = dir.join("records.jsonl");
+        let mut jsonl = OutputFile::create(&jsonl_path)?;
+        crate::jsonl::write_frames(stream.frames(Place::START)?, &mut jsonl)
+            .with_context(|| format!("cannot write {}", jsonl_path.display()))?;
+        jsonl.finish()?;
+        written.push(jsonl_path);
+    }
     written.extend(model(&stream, dir)?);
     Ok(written)
 }
@@ -456,6 +464,7 @@ mod tests {
             0,
             128,
             &path,
+            false,
         )
         .unwrap_err();
         assert_eq!(e.to_string(), "my.lsys:3:9: expected `,` or `)`");
@@ -467,7 +476,7 @@ mod tests {
         let text = include_str!("../../grammars/abop-context-1-31a.lsys");
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("stream.bin");
-        let run = run_grammar(Path::new("ctx.lsys"), text, 0, 128, &path).unwrap();
+        let run = run_grammar(Path::new("ctx.lsys"), text, 0, 128, &path, false).unwrap();
         let bytes = std::fs::read(&path).unwrap();
         assert_eq!(bytes.len() as u64, run.bytes);
         let records: Vec<Record> = morphogen::stream::Decoder::new(&bytes)
@@ -479,8 +488,14 @@ mod tests {
             .filter(|r| matches!(r, Record::Segment { .. }))
             .count();
         assert!(segments > 1000, "{segments}");
-        let written = plant::write(&StreamFile::new(&path), dir.path()).unwrap();
-        assert_eq!(written.len(), 3);
+        let written = plant::write(
+            &StreamFile::new(&path),
+            dir.path(),
+            crate::outputs::Kinds::ALL,
+        )
+        .unwrap();
+        // plant.png, plant.obj, model.glb, segments.csv.
+        assert_eq!(written.len(), 4, "{written:?}");
         let obj = std::fs::read_to_string(dir.path().join("plant.obj")).unwrap();
         assert_eq!(
             obj.lines().filter(|l| l.starts_with("v ")).count(),
@@ -490,8 +505,8 @@ mod tests {
         assert_eq!(csv.lines().count(), segments + 1);
         // The same files from the records in memory.
         let again = tempfile::tempdir().unwrap();
-        plant::write(&records, again.path()).unwrap();
-        for name in ["plant.png", "plant.obj", "segments.csv"] {
+        plant::write(&records, again.path(), crate::outputs::Kinds::ALL).unwrap();
+        for name in ["plant.png", "plant.obj", "model.glb", "segments.csv"] {
             assert_eq!(
                 std::fs::read(again.path().join(name)).unwrap(),
                 std::fs::read(dir.path().join(name)).unwrap(),
@@ -505,7 +520,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("stream.bin");
         let text = "n = 12\naxiom: F\nF -> F[+F]F[-F]F\n";
-        let e = run_grammar(Path::new("big.lsys"), text, 0, 1, &path).unwrap_err();
+        let e = run_grammar(Path::new("big.lsys"), text, 0, 1, &path, false).unwrap_err();
         assert_eq!(
             e.to_string(),
             "big.lsys: the stream passed 1 MiB and was stopped (raise the cap with --max-stream-mb)"

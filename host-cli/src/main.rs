@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
+use morphogen_cli::outputs::Kinds;
 use morphogen_cli::stdout::StdoutError;
 use morphogen_cli::{
     Outcome, atomic, body_input, capture, exec, fixture, jsonl, outputs, say, sweep, verify,
@@ -85,6 +86,18 @@ enum Command {
         /// grammar, a huge mosaic).
         #[arg(long, value_name = "MB", default_value_t = exec::DEFAULT_MAX_STREAM_MB)]
         max_stream_mb: u32,
+        /// Write only these kinds of file, a comma list of png (pictures
+        /// and chart bitmaps), obj (meshes and their .mtl), glb
+        /// (model.glb), anim (animation.png), svg (charts), csv (tables),
+        /// jsonl (records.jsonl); stream.bin and summary.txt are always
+        /// written. Default: all of them.
+        #[arg(long, value_name = "KINDS", value_parser = parse_kinds)]
+        only: Option<Kinds>,
+        /// Print nothing on standard output (no summary, no "wrote"
+        /// lines) and show no progress bar; errors still go to standard
+        /// error.
+        #[arg(long, short)]
+        quiet: bool,
     },
     /// Re-run scenarios and compare their streams with the golden fixtures,
     /// or check a device capture with --stream. Every fixture is checked;
@@ -162,6 +175,17 @@ fn main() -> ExitCode {
     }
 }
 
+fn parse_kinds(list: &str) -> Result<Kinds> {
+    Kinds::parse(list)
+}
+
+/// What `run` writes and says: the kinds of file, and whether it is quiet.
+#[derive(Debug, Clone, Copy)]
+struct Writing {
+    kinds: Kinds,
+    quiet: bool,
+}
+
 fn sets(sets: &[String]) -> Result<Vec<(String, String)>> {
     sets.iter().map(|s| exec::parse_set(s)).collect()
 }
@@ -200,9 +224,20 @@ fn dispatch(command: Command) -> Result<Outcome> {
             seed,
             out,
             max_stream_mb,
+            only,
+            quiet,
             ..
         } => match target.as_deref() {
-            None | Some("custom") => run_grammar(&file, seed, out, max_stream_mb),
+            None | Some("custom") => run_grammar(
+                &file,
+                seed,
+                out,
+                max_stream_mb,
+                Writing {
+                    kinds: only.unwrap_or(Kinds::ALL),
+                    quiet,
+                },
+            ),
             Some(other) => bail!(
                 "--grammar runs a grammar file: give no preset name (got '{other}'), or `custom`"
             ),
@@ -218,7 +253,13 @@ fn dispatch(command: Command) -> Result<Outcome> {
             rig,
             mask,
             max_stream_mb,
+            only,
+            quiet,
         } => {
+            let writing = Writing {
+                kinds: only.unwrap_or(Kinds::ALL),
+                quiet,
+            };
             let scenario = exec::find(&target, &sets(&set_args)?)?;
             let scenario = match &mask {
                 Some(file) => exec::with_mask(&scenario, file)?,
@@ -233,9 +274,16 @@ fn dispatch(command: Command) -> Result<Outcome> {
                     let out = out.unwrap_or_else(|| {
                         Path::new("out").join(format!("{}-{stem}", scenario.name()))
                     });
-                    run(&body, seed, Some(out), rig.as_deref(), max_stream_mb)
+                    run(
+                        &body,
+                        seed,
+                        Some(out),
+                        rig.as_deref(),
+                        max_stream_mb,
+                        writing,
+                    )
                 }
-                _ => run(&scenario, seed, out, rig.as_deref(), max_stream_mb),
+                _ => run(&scenario, seed, out, rig.as_deref(), max_stream_mb, writing),
             }
         }
         Command::Run { target: None, .. } => {
@@ -286,6 +334,7 @@ fn run(
     out: Option<PathBuf>,
     rig: Option<&str>,
     max_stream_mb: u32,
+    writing: Writing,
 ) -> Result<Outcome> {
     let rig = rig.map(morphogen_cli::rig::parse_rig_size).transpose()?;
     warn_unused_seed(scenario, seed);
@@ -296,19 +345,24 @@ fn run(
     let run = exec::run_to_file(
         scenario,
         seed,
-        true,
+        !writing.quiet,
         max_stream_mb,
         &dir.join(exec::STREAM_FILE),
     )?;
-    let written = exec::write_outputs(&dir, &run, |records, dir| {
-        let mut files = scenario.with_preset(|p| outputs::write(p, records, dir))?;
-        if let Some((w, h)) = rig {
-            let path = dir.join(format!("rig-{w}x{h}.png"));
-            morphogen_cli::rig::render_rig_png(records, w, h, &path)?;
-            files.push(path);
-        }
-        Ok(files)
-    })?;
+    let written =
+        exec::write_outputs(&dir, &run, writing.kinds, !writing.quiet, |records, dir| {
+            let mut files =
+                scenario.with_preset(|p| outputs::write(p, records, dir, writing.kinds))?;
+            if let Some((w, h)) = rig {
+                let path = dir.join(format!("rig-{w}x{h}.png"));
+                morphogen_cli::rig::render_rig_png(records, w, h, &path)?;
+                files.push(path);
+            }
+            Ok(files)
+        })?;
+    if writing.quiet {
+        return Ok(Outcome::Ok);
+    }
     say!(
         "{} seed {}: {} frames, {} bytes, digest {:016x}",
         scenario.name(),
@@ -328,6 +382,7 @@ fn run_grammar(
     seed: Option<u64>,
     out: Option<PathBuf>,
     max_stream_mb: u32,
+    writing: Writing,
 ) -> Result<Outcome> {
     let bytes = morphogen_scenario::read_limited(file)
         .map_err(|e| anyhow::anyhow!("cannot read grammar {}: {e}", file.display()))?;
@@ -346,10 +401,15 @@ fn run_grammar(
         seed,
         max_stream_mb,
         &dir.join(exec::STREAM_FILE),
+        !writing.quiet,
     )?;
-    let written = exec::write_outputs(&dir, &run, |records, dir| {
-        outputs::plant::write(records, dir)
-    })?;
+    let written =
+        exec::write_outputs(&dir, &run, writing.kinds, !writing.quiet, |records, dir| {
+            outputs::plant::write(records, dir, writing.kinds)
+        })?;
+    if writing.quiet {
+        return Ok(Outcome::Ok);
+    }
     say!(
         "{} seed {}: {} frames, {} bytes, digest {:016x}",
         file.display(),

@@ -10,7 +10,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use morphogen_cli::exec;
-use morphogen_cli::outputs::plant;
+use morphogen_cli::outputs::{Kinds, plant};
 
 /// The system allocator, counting the bytes live and their peak.
 struct Counting;
@@ -89,11 +89,18 @@ fn shrub(n: u32, dir: &Path) -> Cost {
         0,
         4096,
         &out.join(exec::STREAM_FILE),
+        false,
     )
     .unwrap();
-    let written = exec::write_outputs(&out, &run, plant::write).unwrap();
+    let written = exec::write_outputs(&out, &run, Kinds::ALL, false, |records, dir| {
+        plant::write(records, dir, Kinds::ALL)
+    })
+    .unwrap();
     let peak = PEAK.load(Ordering::SeqCst) - before;
-    assert_eq!(written.len(), 5);
+    // stream.bin, records.jsonl, plant.png, plant.obj, segments.csv, and
+    // model.glb for a plant of at most plant::GLB_MAX_VERTICES vertices.
+    let glb = out.join("model.glb").exists();
+    assert_eq!(written.len(), 5 + usize::from(glb));
     let png = std::fs::read(out.join("plant.png")).unwrap();
     // The PNG's IHDR: width and height, big-endian, from byte 16.
     let side = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap()) as usize;
@@ -130,6 +137,9 @@ fn the_shrub_draws_from_its_stream_file_in_bounded_memory() {
         large.peak < small.peak + (2 << 20),
         "the peak grows with the stream: {report}"
     );
+    // The large shrub is past the glTF budget: no model.glb, whose mesh
+    // would be held whole.
+    assert!(!dir.path().join("shrub-10/model.glb").exists());
     // The runs of the depth sort went where they were spilled, and away.
     let left: Vec<_> = std::fs::read_dir(dir.path().join("shrub-10"))
         .unwrap()

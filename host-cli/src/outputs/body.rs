@@ -1,23 +1,27 @@
 //! Bodies (`horse-growth`, `cow-growth`, `horse-trot`, or an OBJ with a
-//! cylinder file): an OBJ per frame, a side-view PNG per frame (one age
-//! each) at one common scale, a strip of the yearly ages side by side
-//! (`ages.png`), and `summary.txt` with the binding counts and per-frame
-//! sizes.
+//! cylinder file): an OBJ per frame and `model.glb` with every frame, a
+//! side-view PNG per frame (one age each) at one common scale and the
+//! same views as `animation.png`, a strip of the yearly ages side by side
+//! (`ages.png`, each labelled), the growth table's columns over age
+//! (`growth.png`, `growth.svg`) and `summary.txt` with the binding counts
+//! and per-frame sizes.
 
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-use morphogen::body::BindingSummary;
+use morphogen::body::{BindingSummary, GrowthTable};
+use morphogen::fx::{Fx, Real};
 use morphogen::stream::Record;
 use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
-use super::picture;
-use super::pipeline;
-use super::raster;
-use super::text;
-use crate::atomic::{OutputFile, write_atomic};
+use super::chart::{Axis, Chart, Series, series_colour, write_png, write_svg};
+use super::mesh::{self, GlbWriter, ObjStyle, write_obj};
+use super::{
+    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, label_tile, picture,
+    pipeline, raster, rgb_bytes, trimmed,
+};
+use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
 
 /// Pictures are drawn at this many times their size, then averaged down
@@ -88,37 +92,22 @@ pub fn frames(records: &[Record]) -> Vec<Frame> {
     records.iter().filter_map(|r| framer.push(r)).collect()
 }
 
-/// Writes the OBJ of a frame to `path`, headed by the comment `header`
-/// and named `object`.
+/// The mesh of a frame for OBJ and glTF: one group of its triangles,
+/// named `object`, headed by the comment `header`, every vertex `rgb`.
 ///
 /// # Errors
-/// When the file cannot be written.
-pub fn obj(frame: &Frame, header: &str, object: &str, path: &Path) -> Result<()> {
-    OutputFile::write_with(path, |file| {
-        writeln!(file, "# {header}\no {object}")?;
-        let mut line = Vec::with_capacity(64);
-        for v in &frame.vertices {
-            line.clear();
-            line.push(b'v');
-            for &c in v {
-                line.push(b' ');
-                text::decimals_5(&mut line, c);
-            }
-            line.push(b'\n');
-            file.write_all(&line)?;
-        }
-        for t in &frame.triangles {
-            line.clear();
-            line.push(b'f');
-            for &k in t {
-                line.push(b' ');
-                text::int(&mut line, u64::from(k) + 1);
-            }
-            line.push(b'\n');
-            file.write_all(&line)?;
-        }
-        Ok(())
-    })
+/// When a triangle names a vertex the frame lacks.
+pub fn solid(frame: &Frame, header: &str, object: &str, rgb: [u8; 3]) -> Result<mesh::Mesh> {
+    let mut m = mesh::Mesh::from_triangles(frame.vertices.clone(), &frame.triangles)?;
+    m.comment(header);
+    m.set_object(object)?;
+    m.set_colours(vec![rgb; frame.vertices.len()])?;
+    Ok(m)
+}
+
+/// A colour of [`draw`] (0–1) as RGB bytes.
+pub(crate) fn rgb_of(base: [f32; 3]) -> [u8; 3] {
+    base.map(|c| (c * 255.0).round().clamp(0.0, 255.0) as u8)
 }
 
 /// The side-view extent (x, y) of frames seen so far; y from 0 at least
@@ -253,11 +242,6 @@ pub(crate) fn canvas(width: u32, height: u32) -> Result<Pixmap> {
     Ok(p)
 }
 
-/// Saves a [`canvas`] at its own size.
-pub(crate) fn save(pixmap: &Pixmap, path: &Path) -> Result<()> {
-    picture::save(&picture::half(pixmap)?, path)
-}
-
 /// Side view of one frame, `width` pixels wide, at the scale fitting
 /// `bounds`.
 fn side_view(frame: &Frame, title: &str, b: (f64, f64, f64, f64), width: u32) -> Result<Pixmap> {
@@ -275,7 +259,49 @@ fn whole_year(age: f64) -> bool {
     (age / 12.0 - (age / 12.0).round()).abs() < 1e-6
 }
 
-/// All of a body run's files: `frame_NNN.obj`, `side_NNN.png`, `ages.png`
+/// The growth table's columns over age: interpolated lines from the
+/// first to the last age, the measured values as dots of the same colour.
+fn table_chart(table: &GrowthTable<'_>) -> Chart {
+    let age = |v: Fx| f64::from_fx(v);
+    let (first, last) = match (table.ages.first(), table.ages.last()) {
+        (Some(&a), Some(&b)) => (age(a), age(b)),
+        _ => (0.0, 1.0),
+    };
+    let mut chart = Chart::new(
+        "Growth table",
+        Axis::new("age", "months"),
+        Axis::new("length", table.unit),
+    );
+    for (k, column) in table.columns.iter().enumerate() {
+        let colour = series_colour(k);
+        let line = (0..=120)
+            .filter_map(|i| {
+                let a = first + (last - first) * f64::from(i) / 120.0;
+                let v = table.value(u8::try_from(k).ok()?, a)?;
+                Some((a, v))
+            })
+            .collect();
+        let measured = table
+            .ages
+            .iter()
+            .zip(column.values)
+            .map(|(&a, &v)| (age(a), f64::from_fx(v)))
+            .collect();
+        chart = chart
+            .with_series(Series::line(column.name.as_str(), line).with_colour(colour))
+            .with_series(Series::points("", measured).with_colour(colour));
+    }
+    chart
+}
+
+/// A frame's label: its age.
+fn label(age: f64) -> String {
+    format!("age {} months", trimmed(age, 1))
+}
+
+/// All of a body run's files (those of `kinds`): `frame_NNN.obj`,
+/// `model.glb`, `side_NNN.png`, `animation.png` (every frame, or 60
+/// spread evenly), `ages.png`, `growth.png`/`growth.svg` (with `table`)
 /// and `summary.txt` (with `binding`, when known). Two passes, a frame at
 /// a time: the sizes and the common scale, then the files.
 ///
@@ -286,6 +312,8 @@ pub fn write<R: Records + ?Sized>(
     records: &R,
     dir: &Path,
     binding: Option<BindingSummary>,
+    table: Option<&GrowthTable<'_>>,
+    kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
     let mut count = 0usize;
     let mut extent = Extent::new();
@@ -330,7 +358,11 @@ pub fn write<R: Records + ?Sized>(
     summary.push_str("frame  age(months)  length  height  (side-view extent of the body)\n");
     summary.push_str(&sizes);
     let step = yearly.len().div_ceil(6).max(1);
-    let strip: Vec<usize> = yearly.into_iter().step_by(step).collect();
+    let strip: Vec<usize> = if kinds.has(Kind::Png) {
+        yearly.into_iter().step_by(step).collect()
+    } else {
+        Vec::new()
+    };
     let panel = 300u32;
     let s = f64::from(panel) / (b.1 - b.0);
     let oy = (b.3 * s) as f32;
@@ -343,7 +375,29 @@ pub fn write<R: Records + ?Sized>(
         ground(&mut p, oy);
         Some(p)
     };
-    let per_frame: Vec<[PathBuf; 2]> = pipeline(
+    let side_width = 640u32;
+    // As side_view sizes its pictures.
+    let side_scale = f64::from(side_width) / (b.1 - b.0);
+    let side_height = ((b.3 - b.2) * side_scale).ceil().max(1.0) as u32;
+    let picked = if kinds.has(Kind::Anim) && count > 1 {
+        animation_frames(count)
+    } else {
+        Vec::new()
+    };
+    let anim_path = dir.join("animation.png");
+    let apng = if picked.is_empty() {
+        None
+    } else {
+        Some(OrderedAnimation::new(
+            &anim_path,
+            side_width,
+            side_height,
+            picked.len(),
+        )?)
+    };
+    let rgb = rgb_of(colour(title));
+    let mut glb = kinds.has(Kind::Glb).then(|| GlbWriter::new(title, 0.0254));
+    let per_frame: Vec<Vec<PathBuf>> = pipeline(
         |send| {
             let mut framer = Framer::default();
             let mut k = 0usize;
@@ -354,27 +408,78 @@ pub fn write<R: Records + ?Sized>(
                 if let (Some(slot), Some(p)) = (strip.iter().position(|&i| i == k), &mut picture) {
                     let ox = (f64::from(panel) * slot as f64 - b.0 * s) as f32;
                     draw(p, &f, colour(title), s as f32, ox, oy);
-                    ages.push(format!("{:.0}", f.age));
+                    ages.push(f.age);
                 }
+                let header = format!("{title} frame {}, age {:.2} months", f.index, f.age);
+                let m = if kinds.has(Kind::Obj) || glb.is_some() {
+                    Some(solid(&f, &header, "body", rgb)?)
+                } else {
+                    None
+                };
+                if let (Some(glb), Some(m)) = (&mut glb, &m) {
+                    glb.push_frame(m, k as f32 * f32::from(ANIMATION_DELAY_MS) / 1000.0)?;
+                }
+                let slot = picked.binary_search(&k).ok();
                 k += 1;
-                send(f)
+                send((f, m, slot))
             })
         },
-        |f: Frame| {
-            let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
-            let header = format!("{title} frame {}, age {:.2} months", f.index, f.age);
-            obj(&f, &header, "body", &obj_path)?;
-            let png_path = dir.join(format!("side_{:03}.png", f.index));
-            save(&side_view(&f, title, b, 640)?, &png_path)?;
-            Ok([obj_path, png_path])
+        |(f, m, slot): (Frame, Option<mesh::Mesh>, Option<usize>)| {
+            let mut paths = Vec::with_capacity(2);
+            if let Some(m) = m.filter(|_| kinds.has(Kind::Obj)) {
+                let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
+                write_obj(&obj_path, &m, ObjStyle::PLAIN)?;
+                paths.push(obj_path);
+            }
+            let apng = apng.as_ref().zip(slot);
+            if kinds.has(Kind::Png) || apng.is_some() {
+                let view = picture::half(&side_view(&f, title, b, side_width)?)?;
+                if kinds.has(Kind::Png) {
+                    let png_path = dir.join(format!("side_{:03}.png", f.index));
+                    picture::save(&view, &png_path)?;
+                    paths.push(png_path);
+                }
+                if let Some((apng, slot)) = apng {
+                    apng.frame(slot, rgb_bytes(&view), label(f.age))?;
+                }
+            }
+            Ok(paths)
         },
     )?;
     let mut written: Vec<PathBuf> = per_frame.into_iter().flatten().collect();
-    if let Some(p) = picture {
-        let path = dir.join("ages.png");
-        save(&p, &path)?;
-        let _ = writeln!(summary, "ages.png shows months {}", ages.join(", "));
+    if let Some(glb) = glb {
+        let path = dir.join("model.glb");
+        glb.write(&path)?;
         written.push(path);
+    }
+    if let Some(apng) = apng {
+        apng.finish()?;
+        written.push(anim_path);
+    }
+    if let Some(p) = picture {
+        let mut half = picture::half(&p)?;
+        let (w, h) = (half.width() / ages.len().max(1) as u32, half.height());
+        for (n, &age) in ages.iter().enumerate() {
+            label_tile(&mut half, [n as u32 * w, 0, w, h], &label(age))?;
+        }
+        let path = dir.join("ages.png");
+        picture::save(&half, &path)?;
+        let months: Vec<String> = ages.iter().map(|a| format!("{a:.0}")).collect();
+        let _ = writeln!(summary, "ages.png shows months {}", months.join(", "));
+        written.push(path);
+    }
+    if let Some(table) = table.filter(|t| !t.columns.is_empty()) {
+        let chart = table_chart(table);
+        if kinds.has(Kind::Png) {
+            let path = dir.join("growth.png");
+            write_png(&chart, &path, 900, 560)?;
+            written.push(path);
+        }
+        if kinds.has(Kind::Svg) {
+            let path = dir.join("growth.svg");
+            write_svg(&chart, &path, 900, 560)?;
+            written.push(path);
+        }
     }
     let path = dir.join("summary.txt");
     write_atomic(&path, summary.as_bytes())?;

@@ -1,6 +1,8 @@
 //! Bones (`long-bone`, `long-bone-random`, `bone-growth`): an OBJ and a
-//! shaded PNG per wrapped frame, `bones.png` with every frame side by side
-//! at one scale (the paper's Fig. 2 and 3), and `summary.txt`, which
+//! shaded PNG per wrapped frame, `model.glb` with every frame,
+//! `animation.png` of the pictures (several frames), `bones.png` with
+//! every frame side by side at one scale, each labelled with its L-system
+//! steps (the paper's Fig. 2 and 3), and `summary.txt`, which
 //! checks each mesh again in f64: Euler characteristic and the worst
 //! |V − V0| / V0 over its vertices.
 
@@ -14,7 +16,12 @@ use morphogen::shrinkwrap::{Element, worst_level_error};
 use morphogen::stream::Record;
 use nalgebra::Vector3;
 
-use super::body::{self, Extent, Frame, canvas, draw, obj, save};
+use super::animation::{AnimationWriter, Pixels};
+use super::body::{self, Extent, Frame, canvas, draw, rgb_of, solid};
+use super::mesh::{GlbWriter, ObjStyle, write_obj};
+use super::{
+    ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, label_tile, picture, rgb_bytes, trimmed,
+};
 use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
 
@@ -63,9 +70,15 @@ fn euler(frame: &Frame) -> i64 {
     frame.vertices.len() as i64 - edges.len() as i64 + frame.triangles.len() as i64
 }
 
-/// Writes `frame_NNN.obj`, `bone_NNN.png`, `bones.png` and `summary.txt`,
-/// in two passes a frame at a time: the frame count and the common scale,
-/// then the files.
+/// A frame's label: its L-system steps.
+fn label(steps: f64) -> String {
+    format!("step {}", trimmed(steps, 1))
+}
+
+/// Writes (those of `kinds`) `frame_NNN.obj`, `model.glb`,
+/// `bone_NNN.png`, `animation.png` (every frame, or 60 spread evenly),
+/// `bones.png` and `summary.txt`, in two passes a frame at a time: the
+/// frame count and the common scale, then the files.
 ///
 /// # Errors
 /// When the records cannot be read or a file cannot be written.
@@ -74,6 +87,7 @@ pub fn write<R: Records + ?Sized>(
     params: &BonesParams,
     records: &R,
     dir: &Path,
+    kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
     let mut count = 0usize;
     let mut extent = Extent::new();
@@ -98,6 +112,26 @@ pub fn write<R: Records + ?Sized>(
     let panel = (1440 / panels).clamp(120, width);
     let ps = f64::from(panel) / (b.1 - b.0);
     let mut strip = canvas(panel * panels, ((b.3 - b.2) * ps).ceil().max(1.0) as u32)?;
+    let picked = if kinds.has(Kind::Anim) && count > 1 {
+        animation_frames(count)
+    } else {
+        Vec::new()
+    };
+    let anim_path = dir.join("animation.png");
+    let mut apng = if picked.is_empty() {
+        None
+    } else {
+        Some(AnimationWriter::new(
+            &anim_path,
+            width,
+            height,
+            Pixels::Rgb,
+            u32::try_from(picked.len())?,
+            ANIMATION_DELAY_MS,
+        )?)
+    };
+    let mut glb = kinds.has(Kind::Glb).then(|| GlbWriter::new(preset, 1.0));
+    let mut steps = Vec::with_capacity(count);
     // A frame at a time, in order: the check of each mesh in f64 is the
     // memory-hungry part, and one at a time keeps it so.
     let mut written = Vec::new();
@@ -118,27 +152,63 @@ pub fn write<R: Records + ?Sized>(
             euler(&f),
             worst_level_error(&skeleton, &points(&f), level)
         );
-        let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
-        let header = format!("{preset} frame {}, {} L-system steps", f.index, f.age);
-        obj(&f, &header, "bone", &obj_path)?;
-        let mut one = canvas(width, height)?;
-        let (ox, oy) = ((-b.0 * s) as f32, (b.3 * s) as f32);
-        draw(&mut one, &f, BONE, s as f32, ox, oy);
-        let png_path = dir.join(format!("bone_{:03}.png", f.index));
-        save(&one, &png_path)?;
-        let (ox, oy) = (
-            (f64::from(panel) * k as f64 - b.0 * ps) as f32,
-            (b.3 * ps) as f32,
-        );
-        draw(&mut strip, &f, BONE, ps as f32, ox, oy);
+        if kinds.has(Kind::Obj) || glb.is_some() {
+            let header = format!("{preset} frame {}, {} L-system steps", f.index, f.age);
+            let m = solid(&f, &header, "bone", rgb_of(BONE))?;
+            if kinds.has(Kind::Obj) {
+                let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
+                write_obj(&obj_path, &m, ObjStyle::PLAIN)?;
+                written.push(obj_path);
+            }
+            if let Some(glb) = &mut glb {
+                glb.push_frame(&m, k as f32 * f32::from(ANIMATION_DELAY_MS) / 1000.0)?;
+            }
+        }
+        let animated = apng.as_mut().filter(|_| picked.binary_search(&k).is_ok());
+        if kinds.has(Kind::Png) || animated.is_some() {
+            let mut one = canvas(width, height)?;
+            let (ox, oy) = ((-b.0 * s) as f32, (b.3 * s) as f32);
+            draw(&mut one, &f, BONE, s as f32, ox, oy);
+            let one = picture::half(&one)?;
+            if kinds.has(Kind::Png) {
+                let png_path = dir.join(format!("bone_{:03}.png", f.index));
+                picture::save(&one, &png_path)?;
+                written.push(png_path);
+            }
+            if let Some(apng) = animated {
+                apng.frame(&rgb_bytes(&one), &label(f.age))?;
+            }
+        }
+        if kinds.has(Kind::Png) {
+            let (ox, oy) = (
+                (f64::from(panel) * k as f64 - b.0 * ps) as f32,
+                (b.3 * ps) as f32,
+            );
+            draw(&mut strip, &f, BONE, ps as f32, ox, oy);
+        }
+        steps.push(f.age);
         k += 1;
-        written.push(obj_path);
-        written.push(png_path);
         Ok(())
     })?;
-    let path = dir.join("bones.png");
-    save(&strip, &path)?;
-    written.push(path);
+    if let Some(glb) = glb {
+        let path = dir.join("model.glb");
+        glb.write(&path)?;
+        written.push(path);
+    }
+    if let Some(apng) = apng {
+        apng.finish()?;
+        written.push(anim_path);
+    }
+    if kinds.has(Kind::Png) {
+        let mut half = picture::half(&strip)?;
+        let h = half.height();
+        for (n, &age) in steps.iter().enumerate() {
+            label_tile(&mut half, [n as u32 * panel, 0, panel, h], &label(age))?;
+        }
+        let path = dir.join("bones.png");
+        picture::save(&half, &path)?;
+        written.push(path);
+    }
     let path = dir.join("summary.txt");
     write_atomic(&path, summary.as_bytes())?;
     written.push(path);

@@ -149,7 +149,7 @@ pub enum Style {
 /// are left out, and a line or staircase is broken there.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {
-    /// The legend entry.
+    /// The legend entry (none when empty).
     pub name: String,
     /// The points in the order they are joined.
     pub points: Vec<(f64, f64)>,
@@ -157,6 +157,8 @@ pub struct Series {
     pub side: Side,
     /// How the points are drawn.
     pub style: Style,
+    /// Its colour (RGB); `None`: the palette's, by position.
+    pub colour: Option<[u8; 3]>,
 }
 
 impl Series {
@@ -168,7 +170,15 @@ impl Series {
             points,
             side: Side::Left,
             style: Style::Line,
+            colour: None,
         }
+    }
+
+    /// The same series in colour `rgb`.
+    #[must_use]
+    pub fn with_colour(mut self, rgb: [u8; 3]) -> Series {
+        self.colour = Some(rgb);
+        self
     }
 
     /// Dots at `points`, on the left axis.
@@ -401,7 +411,9 @@ fn draw<DB: DrawingBackend>(chart: &Chart, root: &DrawingArea<DB, Shift>) -> Res
     }
 
     for (i, series) in chart.series.iter().enumerate() {
-        let colour = PALETTE[i % PALETTE.len()];
+        let colour = series
+            .colour
+            .map_or(PALETTE[i % PALETTE.len()], |[r, g, b]| RGBColor(r, g, b));
         let stroke = colour.stroke_width(2);
         let runs = series.runs();
         let anno = match (series.style, series.side) {
@@ -416,6 +428,11 @@ fn draw<DB: DrawingBackend>(chart: &Chart, root: &DrawingArea<DB, Shift>) -> Res
                 .draw_secondary_series(runs.into_iter().map(|run| PathElement::new(run, stroke)))
                 .map_err(drawing)?,
         };
+        // A series without a name (the markers of a line named already)
+        // has no legend entry.
+        if series.name.is_empty() {
+            continue;
+        }
         let name = if series.side == Side::Right {
             format!("{} (right axis)", series.name)
         } else {
@@ -496,7 +513,7 @@ pub fn write_png(chart: &Chart, path: &Path, width: u32, height: u32) -> Result<
         let mut encoder = png::Encoder::new(file, width, height);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
-        encoder.set_compression(png::Compression::Best);
+        encoder.set_compression(png::Compression::Default);
         let mut writer = encoder.write_header()?;
         writer.write_image_data(&rgb)?;
         writer.finish()?;

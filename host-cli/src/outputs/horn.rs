@@ -21,8 +21,12 @@ use anyhow::{Context, Result, bail};
 use morphogen::stream::Record;
 use tiny_skia::{Color, Pixmap};
 
-use super::{picture, pipeline, raster, text};
-use crate::atomic::OutputFile;
+use super::chart::{Axis, Chart, Series, write_png, write_svg};
+use super::mesh::{GlbWriter, ObjStyle, write_obj};
+use super::{
+    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, label_tile, mesh, picture,
+    pipeline, raster, rgb_bytes, trimmed,
+};
 use crate::records::{Place, Records};
 
 /// A point in cm.
@@ -261,40 +265,35 @@ pub fn mesh(frame: &Frame, rings_per_year: u32) -> Mesh {
     m
 }
 
-/// Writes the OBJ of a mesh to `out`.
+/// The OBJ and glTF mesh of a frame (its geometry `m`): one group
+/// `module_<i>` per module, vertex colours the horn's with the picture's
+/// monthly bands (so the annual rings show), headed by `title`.
 ///
 /// # Errors
-/// When `out` fails.
-pub fn obj(mesh: &Mesh, title: &str, out: &mut impl std::io::Write) -> std::io::Result<()> {
-    writeln!(
-        out,
-        "# {title}\n# units: cm; skull frame (module k grows along +x)"
-    )?;
-    let mut line = Vec::with_capacity(64);
-    for v in &mesh.vertices {
-        line.clear();
-        line.push(b'v');
-        for &c in v {
-            line.push(b' ');
-            text::decimals_5(&mut line, c);
+/// Never for a mesh of [`mesh`].
+pub fn solid(frame: &Frame, m: &Mesh, title: &str, rings_per_year: u32) -> Result<mesh::Mesh> {
+    let mut out = mesh::Mesh::new();
+    out.comment(title);
+    out.comment("units: cm; skull frame (module k grows along +x)");
+    let shade = |k: f64| HORN.map(|v| (v * k).round().clamp(0.0, 255.0) as u8);
+    let mut vertices = m.vertices.iter();
+    for r in &frame.rings {
+        let month = u32::from(r.ring) * 12 / rings_per_year.max(1);
+        let rgb = shade(if month % 2 == 1 { 0.86 } else { 1.0 });
+        for v in vertices.by_ref().take(r.points.len()) {
+            out.push_coloured_vertex(*v, rgb)?;
         }
-        line.push(b'\n');
-        out.write_all(&line)?;
     }
-    for (module, tris) in &mesh.groups {
-        writeln!(out, "g module_{module}")?;
+    for v in vertices {
+        out.push_coloured_vertex(*v, shade(0.8))?;
+    }
+    for (module, tris) in &m.groups {
+        let g = out.group(Some(&format!("module_{module}")), None)?;
         for (t, _) in tris {
-            line.clear();
-            line.push(b'f');
-            for &k in t {
-                line.push(b' ');
-                text::int(&mut line, k + 1);
-            }
-            line.push(b'\n');
-            out.write_all(&line)?;
+            out.push_face(g, &t.map(|k| k as u32))?;
         }
     }
-    Ok(())
+    Ok(out)
 }
 
 /// A view: rotation of the skull frame into screen axes (x right, y up,
@@ -425,11 +424,10 @@ fn render(frame: &Frame, j: u32, width: u32, height: u32) -> Result<Pixmap> {
     Ok(pixmap)
 }
 
-/// The year-end frames side by side (4 per row) to one scale, the skull
-/// end of every horn at the same place in its cell, drawn one by one.
-struct Montage {
-    pixmap: Pixmap,
-    columns: u32,
+/// Frames drawn to one scale, that of the full-grown horn, the skull end
+/// of every horn at the same place in its cell.
+#[derive(Debug, Clone, Copy)]
+struct Fit {
     cell: u32,
     view: View,
     /// The full-grown horn's box: its corner is where the skull origin sits.
@@ -438,39 +436,32 @@ struct Montage {
     scale: f64,
 }
 
-impl Montage {
-    /// A montage of `count` cells of `cell` pixels, to the scale of the
-    /// full-grown horn `last` (the last of them; none, a blank cell).
-    fn new(count: usize, last: Option<&Frame>, cell: u32) -> Result<Montage> {
-        let columns = count.clamp(1, 4) as u32;
-        let rows = (count as u32).div_ceil(columns).max(1);
-        let mut pixmap = Pixmap::new(cell * columns, cell * rows).context("empty montage")?;
-        pixmap.fill(background());
+impl Fit {
+    /// Cells of `cell` pixels (drawn at that size, saved at half) to the
+    /// scale of `last` (none: a unit box).
+    fn new(last: Option<&Frame>, cell: u32) -> Fit {
         let view = camera();
         let b = last.map_or([0.0, 0.0, 1.0, 1.0], |last| bounds(&view, last));
         let margin = 0.05 * f64::from(cell);
         let scale = ((f64::from(cell) - 2.0 * margin) / (b[2] - b[0]).max(1e-6))
             .min((f64::from(cell) - 2.0 * margin) / (b[3] - b[1]).max(1e-6));
-        Ok(Montage {
-            pixmap,
-            columns,
+        Fit {
             cell,
             view,
             corner: [b[0], b[1]],
             margin,
             scale,
-        })
+        }
     }
 
-    /// Draws `frame` into cell `n`.
-    fn draw(&mut self, n: usize, frame: &Frame, j: u32) {
-        let (c, r) = (n as u32 % self.columns, n as u32 / self.columns);
+    /// Draws `frame` into the cell at column `c`, row `r` of `pixmap`.
+    fn draw(&self, pixmap: &mut Pixmap, (c, r): (u32, u32), frame: &Frame, j: u32) {
         let at = [
             (f64::from(c * self.cell) + self.margin) as f32,
             (f64::from((r + 1) * self.cell) - self.margin) as f32,
         ];
         draw(
-            &mut self.pixmap,
+            pixmap,
             &mesh(frame, j),
             &self.view,
             self.corner,
@@ -480,14 +471,53 @@ impl Montage {
     }
 }
 
+/// A frame's label: its time in years.
+fn label(frame: &Frame) -> String {
+    format!("year {}", trimmed(frame.years, 2))
+}
+
+/// The length of a frame's centre line (through its rings' centres, cm)
+/// and its bend: the total turning of that line, degrees.
+fn centre_line(frame: &Frame) -> (f64, f64) {
+    let centres: Vec<P3> = frame.rings.iter().map(|r| centroid(&r.points)).collect();
+    let steps: Vec<P3> = centres
+        .windows(2)
+        .map(|w| sub(w[1], w[0]))
+        .filter(|d| dot(*d, *d) > 1e-12)
+        .collect();
+    let length = steps.iter().map(|d| dot(*d, *d).sqrt()).sum();
+    let bend = steps
+        .windows(2)
+        .map(|w| {
+            let c = dot(w[0], w[1]) / (dot(w[0], w[0]) * dot(w[1], w[1])).sqrt();
+            c.clamp(-1.0, 1.0).acos().to_degrees()
+        })
+        .sum();
+    (length, bend)
+}
+
 /// Writes a picture drawn at twice its size, averaged down to half.
 fn save(pixmap: &Pixmap, path: &Path) -> Result<()> {
     picture::save(&picture::half(pixmap)?, path)
 }
 
-/// Writes `frame_NNN.obj` for every frame (while the frames are read),
-/// `horn.png` and `years.png` (its frames read again, one at a time, once
-/// the last frame has set the scale).
+/// Re-reads the frame starting at `start`.
+fn frame_at<R: Records + ?Sized>(records: &R, start: Place) -> Result<Frame> {
+    let mut framer = Framer::default();
+    let mut frame = None;
+    records.visit_while(start, |_, r| {
+        frame = framer.push(r)?;
+        Ok(frame.is_none())
+    })?;
+    frame.context("a frame is gone from the stream")
+}
+
+/// Writes (those of `kinds`) `frame_NNN.obj` for every frame and
+/// `model.glb` with all of them (while the frames are read), `horn.png`,
+/// `years.png` (its frames read again, one at a time, once the last frame
+/// has set the scale), `animation.png` (every frame, or 60 spread evenly,
+/// read again) and `bend.png`/`bend.svg`, the centre line's length and
+/// total turning over time.
 ///
 /// # Errors
 /// A malformed stream, unreadable records, or a file that cannot be
@@ -496,13 +526,20 @@ pub fn write<R: Records + ?Sized>(
     records: &R,
     dir: &Path,
     rings_per_module: u16,
+    kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
     let j = u32::from(rings_per_module);
     let mut last: Option<Arc<Frame>> = None;
-    // Where each year-end frame starts, and the last of them.
+    // Where each frame starts, which of them end a year, and the last of
+    // those.
+    let mut starts: Vec<Place> = Vec::new();
     let mut years: Vec<Place> = Vec::new();
     let mut last_year: Option<Arc<Frame>> = None;
-    let mut written: Vec<PathBuf> = pipeline(
+    // Years, centre-line length (cm) and bend (degrees) of every frame.
+    let mut lines: Vec<(f64, f64, f64)> = Vec::new();
+    let mut glb = kinds.has(Kind::Glb).then(|| GlbWriter::new("horn", 0.01));
+    let meshes = kinds.has(Kind::Obj) || kinds.has(Kind::Glb);
+    let objs: Vec<Option<PathBuf>> = pipeline(
         |send| {
             let mut framer = Framer::default();
             let mut start = Place::START;
@@ -512,44 +549,122 @@ pub fn write<R: Records + ?Sized>(
                 }
                 if let Some(f) = framer.push(r)? {
                     let f = Arc::new(f);
+                    starts.push(start);
+                    let (length, bend) = centre_line(&f);
+                    lines.push((f.years, length, bend));
                     if is_year_end(&f) {
                         years.push(start);
                         last_year = Some(Arc::clone(&f));
                     }
                     last = Some(Arc::clone(&f));
-                    send(f)?;
+                    if meshes {
+                        let title =
+                            format!("morphogen horn, frame {} at t = {} years", f.index, f.years);
+                        let solid = solid(&f, &mesh(&f, j), &title, j)?;
+                        if let Some(glb) = &mut glb {
+                            let seconds =
+                                (starts.len() - 1) as f32 * f32::from(ANIMATION_DELAY_MS) / 1000.0;
+                            glb.push_frame(&solid, seconds)?;
+                        }
+                        send((f.index, solid))?;
+                    }
                 }
                 Ok(())
             })?;
             framer.finish()
         },
-        |f: Arc<Frame>| {
-            let path = dir.join(format!("frame_{:03}.obj", f.index));
-            let title = format!("morphogen horn, frame {} at t = {} years", f.index, f.years);
-            OutputFile::write_with(&path, |file| obj(&mesh(&f, j), &title, file))?;
-            Ok(path)
+        |(index, solid): (u32, mesh::Mesh)| {
+            if !kinds.has(Kind::Obj) {
+                return Ok(None);
+            }
+            let path = dir.join(format!("frame_{index:03}.obj"));
+            write_obj(&path, &solid, ObjStyle::PLAIN)?;
+            Ok(Some(path))
         },
     )?;
-    if let Some(last) = last {
+    let mut written: Vec<PathBuf> = objs.into_iter().flatten().collect();
+    if let Some(glb) = glb {
+        let path = dir.join("model.glb");
+        glb.write(&path)?;
+        written.push(path);
+    }
+    let Some(last) = last else {
+        return Ok(written);
+    };
+    if kinds.has(Kind::Png) {
         let path = dir.join("horn.png");
         save(&render(&last, j, 2400, 1800)?, &path)?;
         written.push(path);
-        drop(last);
-        let mut montage = Montage::new(years.len(), last_year.as_deref(), 800)?;
-        drop(last_year);
+        let count = years.len();
+        let columns = count.clamp(1, 4) as u32;
+        let rows = (count as u32).div_ceil(columns).max(1);
+        let fit = Fit::new(last_year.as_deref(), 800);
+        let mut montage = Pixmap::new(800 * columns, 800 * rows).context("empty montage")?;
+        montage.fill(background());
+        let mut labels = Vec::with_capacity(count);
         for (n, &start) in years.iter().enumerate() {
-            let mut framer = Framer::default();
-            let mut frame = None;
-            records.visit_while(start, |_, r| {
-                frame = framer.push(r)?;
-                Ok(frame.is_none())
-            })?;
-            let frame = frame.context("a year-end frame is gone from the stream")?;
-            montage.draw(n, &frame, j);
+            let frame = frame_at(records, start)?;
+            let cell = (n as u32 % columns, n as u32 / columns);
+            fit.draw(&mut montage, cell, &frame, j);
+            labels.push((cell, label(&frame)));
+        }
+        let mut half = picture::half(&montage)?;
+        for ((c, r), text) in labels {
+            label_tile(&mut half, [c * 400, r * 400, 400, 400], &text)?;
         }
         let path = dir.join("years.png");
-        save(&montage.pixmap, &path)?;
+        picture::save(&half, &path)?;
         written.push(path);
+    }
+    drop(last_year);
+    if kinds.has(Kind::Anim) && starts.len() > 1 {
+        let path = dir.join("animation.png");
+        let picked = animation_frames(starts.len());
+        // Every frame to the last one's scale, the skull end fixed.
+        let fit = Fit::new(Some(&last), 800);
+        let apng = OrderedAnimation::new(&path, 400, 400, picked.len())?;
+        pipeline(
+            |send| {
+                picked
+                    .iter()
+                    .enumerate()
+                    .try_for_each(|(slot, &k)| send((slot, frame_at(records, starts[k])?)))
+            },
+            |(slot, frame): (usize, Frame)| {
+                let mut p = Pixmap::new(800, 800).context("empty picture")?;
+                p.fill(background());
+                fit.draw(&mut p, (0, 0), &frame, j);
+                apng.frame(slot, rgb_bytes(&picture::half(&p)?), label(&frame))
+            },
+        )?;
+        apng.finish()?;
+        written.push(path);
+    }
+    drop(last);
+    if lines.len() > 1 {
+        let chart = Chart::new(
+            "Horn centre line",
+            Axis::new("time", "years"),
+            Axis::new("bend (total turning)", "degrees"),
+        )
+        .with_y2(Axis::new("length", "cm"))
+        .with_series(Series::line(
+            "bend",
+            lines.iter().map(|&(t, _, b)| (t, b)).collect(),
+        ))
+        .with_series(
+            Series::line("length", lines.iter().map(|&(t, l, _)| (t, l)).collect()).on_right(),
+        );
+        if kinds.has(Kind::Png) {
+            let path = dir.join("bend.png");
+            write_png(&chart, &path, 900, 500)?;
+            written.push(path);
+        }
+        if kinds.has(Kind::Svg) {
+            let path = dir.join("bend.svg");
+            write_svg(&chart, &path, 900, 500)?;
+            written.push(path);
+        }
     }
     Ok(written)
 }
@@ -607,7 +722,9 @@ mod tests {
             assert!(dot(n, sub(a[0], centroid(a))) > 0.0 || b.is_empty());
         }
         let mut text = Vec::new();
-        obj(&mesh(frames.last().unwrap(), 24), "t", &mut text).unwrap();
+        let f = frames.last().unwrap();
+        let solid = solid(f, &mesh(f, 24), "t", 24).unwrap();
+        mesh::obj(&solid, ObjStyle::PLAIN, None, &mut text).unwrap();
         let text = String::from_utf8(text).unwrap();
         for i in 1..=8 {
             assert!(text.contains(&format!("\ng module_{i}\n")));

@@ -612,6 +612,17 @@ pub fn obj(
     if let Some(o) = &mesh.object {
         writeln!(out, "o {o}")?;
     }
+    obj_part(mesh, style, 0, out)
+}
+
+/// Writes the `v` (and `vn`), `g`, `usemtl` and `f` lines of `mesh` to
+/// `out` as the part of a larger OBJ whose earlier parts hold `before`
+/// vertices: its faces' indices are shifted by that many. Streams a mesh
+/// too large to hold as one, a piece at a time (the plant's segments).
+///
+/// # Errors
+/// When `out` fails.
+pub fn obj_part(mesh: &Mesh, style: ObjStyle, before: u64, out: &mut impl Write) -> io::Result<()> {
     let colours = mesh.colours.as_deref().filter(|_| style.vertex_colours);
     let mut line = Vec::with_capacity(96);
     for (i, p) in mesh.positions.iter().enumerate() {
@@ -654,10 +665,10 @@ pub fn obj(
             line.push(b'f');
             for &k in face {
                 line.push(b' ');
-                text::int(&mut line, u64::from(k) + 1);
+                text::int(&mut line, before + u64::from(k) + 1);
                 if style.normals {
                     line.extend_from_slice(b"//");
-                    text::int(&mut line, u64::from(k) + 1);
+                    text::int(&mut line, before + u64::from(k) + 1);
                 }
             }
             line.push(b'\n');

@@ -5,12 +5,16 @@
 //! time, so their memory is that of a frame and a picture, never that of
 //! the stream.
 
+use std::collections::BTreeMap;
+use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, mpsc};
 
-use anyhow::{Result, anyhow};
+use anyhow::{Result, anyhow, bail};
 use morphogen::preset::{Model, Preset};
+use tiny_skia::Pixmap;
 
+use self::animation::{AnimationWriter, Pixels};
 use crate::records::Records;
 
 pub mod animation;
@@ -23,12 +27,258 @@ pub mod mesh;
 pub mod mosaic;
 pub mod picture;
 pub mod plant;
-pub mod plot;
 pub mod raster;
 pub mod text;
 
-/// Writes the files natural to `preset`'s model into `dir`; returns their
-/// paths.
+/// A kind of output file `run --only` selects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// Still pictures and chart bitmaps (`*.png` but `animation.png`).
+    Png,
+    /// Wavefront meshes (`*.obj`, with their `.mtl`).
+    Obj,
+    /// The binary glTF scene `model.glb`.
+    Glb,
+    /// The animated PNG `animation.png`.
+    Anim,
+    /// Charts as SVG.
+    Svg,
+    /// Tables (`*.csv`).
+    Csv,
+    /// `records.jsonl`.
+    Jsonl,
+}
+
+impl Kind {
+    /// Every kind, in the order `--only` lists them.
+    pub const ALL: [Kind; 7] = [
+        Kind::Png,
+        Kind::Obj,
+        Kind::Glb,
+        Kind::Anim,
+        Kind::Svg,
+        Kind::Csv,
+        Kind::Jsonl,
+    ];
+
+    /// The name `--only` knows it by.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Kind::Png => "png",
+            Kind::Obj => "obj",
+            Kind::Glb => "glb",
+            Kind::Anim => "anim",
+            Kind::Svg => "svg",
+            Kind::Csv => "csv",
+            Kind::Jsonl => "jsonl",
+        }
+    }
+
+    const fn bit(self) -> u8 {
+        1 << self as u8
+    }
+}
+
+/// The kinds of output file a run writes (`stream.bin` always, and the
+/// small text summaries `summary.txt` and `mask.pbm` with any kind).
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub struct Kinds(u8);
+
+impl fmt::Debug for Kinds {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let names: Vec<&str> = Kind::ALL
+            .iter()
+            .filter(|k| self.has(**k))
+            .map(|k| k.name())
+            .collect();
+        write!(f, "Kinds({})", names.join(","))
+    }
+}
+
+impl Kinds {
+    /// Every kind: a run without `--only`.
+    pub const ALL: Kinds = Kinds(0x7f);
+
+    /// The kinds of a comma-separated list (`png,obj`).
+    ///
+    /// # Errors
+    /// When a name is not a kind's (the error lists the allowed ones) or
+    /// the list is empty.
+    pub fn parse(list: &str) -> Result<Kinds> {
+        let mut bits = 0u8;
+        for name in list.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+            let Some(kind) = Kind::ALL.iter().find(|k| k.name() == name) else {
+                let allowed: Vec<&str> = Kind::ALL.iter().map(|k| k.name()).collect();
+                bail!(
+                    "--only: unknown output kind '{name}' (allowed: {})",
+                    allowed.join(", ")
+                );
+            };
+            bits |= kind.bit();
+        }
+        if bits == 0 {
+            bail!("--only needs at least one output kind");
+        }
+        Ok(Kinds(bits))
+    }
+
+    /// Whether files of `kind` are written.
+    #[must_use]
+    pub const fn has(self, kind: Kind) -> bool {
+        self.0 & kind.bit() != 0
+    }
+}
+
+/// The most frames an `animation.png` shows: a run with more frames is
+/// subsampled evenly (first and last kept), each frame labelled with its
+/// own time.
+pub const MAX_ANIMATION_FRAMES: usize = 60;
+
+/// Milliseconds each animation frame is shown.
+pub const ANIMATION_DELAY_MS: u16 = 200;
+
+/// Which of `count` frames (by position) an animation shows, rising: all
+/// of them, or [`MAX_ANIMATION_FRAMES`] spread evenly from the first to
+/// the last.
+#[must_use]
+pub fn animation_frames(count: usize) -> Vec<usize> {
+    if count <= MAX_ANIMATION_FRAMES {
+        return (0..count).collect();
+    }
+    let slots = MAX_ANIMATION_FRAMES - 1;
+    (0..=slots).map(|i| i * (count - 1) / slots).collect()
+}
+
+/// A picture's pixels as RGB bytes (every pixel opaque).
+#[must_use]
+pub fn rgb_bytes(pixmap: &Pixmap) -> Vec<u8> {
+    // Opaque premultiplied pixels are their own RGB.
+    pixmap
+        .pixels()
+        .iter()
+        .flat_map(|p| [p.red(), p.green(), p.blue()])
+        .collect()
+}
+
+/// `x` with at most `decimals` decimals, trailing zeros cut (`2.5`,
+/// `3`, `0.08`): a frame label's number.
+#[must_use]
+pub fn trimmed(x: f64, decimals: usize) -> String {
+    let text = format!("{x:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        text
+    }
+}
+
+/// Draws `label` ([`animation::draw_label`]) into the top-left corner
+/// of the tile `[x, y, width, height]` of `pixmap` (opaque), e.g. one
+/// picture of a montage.
+///
+/// # Errors
+/// When the tile is not inside the picture.
+pub fn label_tile(pixmap: &mut Pixmap, [x, y, w, h]: [u32; 4], label: &str) -> Result<()> {
+    let (pw, ph) = (pixmap.width(), pixmap.height());
+    if x.checked_add(w).is_none_or(|r| r > pw) || y.checked_add(h).is_none_or(|b| b > ph) {
+        bail!("the tile {x},{y} {w}×{h} is outside the {pw}×{ph} picture");
+    }
+    let (w_, x_) = (w as usize, x as usize);
+    let mut tile = Vec::with_capacity(w_ * h as usize * 3);
+    for row in y..y + h {
+        let at = row as usize * pw as usize + x_;
+        tile.extend(
+            pixmap.pixels()[at..at + w_]
+                .iter()
+                .flat_map(|p| [p.red(), p.green(), p.blue()]),
+        );
+    }
+    animation::draw_label(&mut tile, w, h, Pixels::Rgb, label)?;
+    for (k, row) in (y..y + h).enumerate() {
+        let at = row as usize * pw as usize + x_;
+        let line = &tile[k * w_ * 3..(k + 1) * w_ * 3];
+        for (p, rgb) in pixmap.pixels_mut()[at..at + w_]
+            .iter_mut()
+            .zip(line.chunks_exact(3))
+        {
+            if let Some(c) = tiny_skia::PremultipliedColorU8::from_rgba(rgb[0], rgb[1], rgb[2], 255)
+            {
+                *p = c;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// An `animation.png` fed by parallel workers: frame `k` may arrive
+/// before frame `k − 1` and waits (as its RGB bytes) until the frames
+/// before it are written, so only the frames in flight are held.
+pub(crate) struct OrderedAnimation {
+    state: Mutex<OrderedState>,
+}
+
+struct OrderedState {
+    writer: Option<AnimationWriter>,
+    next: usize,
+    waiting: BTreeMap<usize, (Vec<u8>, String)>,
+}
+
+impl OrderedAnimation {
+    /// An animation of `frames` frames of `width × height` RGB pixels at
+    /// `path`.
+    pub(crate) fn new(path: &Path, width: u32, height: u32, frames: usize) -> Result<Self> {
+        let frames = u32::try_from(frames)?;
+        let writer =
+            AnimationWriter::new(path, width, height, Pixels::Rgb, frames, ANIMATION_DELAY_MS)?;
+        Ok(OrderedAnimation {
+            state: Mutex::new(OrderedState {
+                writer: Some(writer),
+                next: 0,
+                waiting: BTreeMap::new(),
+            }),
+        })
+    }
+
+    /// Hands over frame `slot` (0-based among the animation's frames).
+    pub(crate) fn frame(&self, slot: usize, rgb: Vec<u8>, label: String) -> Result<()> {
+        let mut state = self
+            .state
+            .lock()
+            .map_err(|_| anyhow!("an animation writer stopped"))?;
+        state.waiting.insert(slot, (rgb, label));
+        loop {
+            let next = state.next;
+            let Some((rgb, label)) = state.waiting.remove(&next) else {
+                return Ok(());
+            };
+            let writer = state
+                .writer
+                .as_mut()
+                .ok_or_else(|| anyhow!("the animation is finished"))?;
+            writer.frame(&rgb, &label)?;
+            state.next += 1;
+        }
+    }
+
+    /// Ends the file.
+    pub(crate) fn finish(self) -> Result<()> {
+        let state = self
+            .state
+            .into_inner()
+            .map_err(|_| anyhow!("an animation writer stopped"))?;
+        if !state.waiting.is_empty() {
+            bail!("animation frames are missing");
+        }
+        state
+            .writer
+            .ok_or_else(|| anyhow!("the animation is finished"))?
+            .finish()
+    }
+}
+
+/// Writes the files natural to `preset`'s model into `dir`, of the
+/// `kinds` given; returns their paths.
 ///
 /// # Errors
 /// When the records cannot be read or a file cannot be written.
@@ -36,20 +286,21 @@ pub fn write<R: Records + ?Sized>(
     preset: &Preset<'_>,
     records: &R,
     dir: &Path,
+    kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
     match preset.model {
-        Model::GrowthCurve(_) => curve::write(records, dir),
-        Model::Horn(p) => horn::write(records, dir, p.rings_per_module),
-        Model::LSystem(_) => plant::write(records, dir),
+        Model::GrowthCurve(_) => curve::write(records, dir, kinds),
+        Model::Horn(p) => horn::write(records, dir, p.rings_per_module, kinds),
+        Model::LSystem(_) => plant::write(records, dir, kinds),
         Model::Body(p) => {
             let binding = morphogen::body::binding_summary::<
                 { morphogen_scenario::body_files::USER_CYLINDERS },
             >(p.model, p.table)
             .ok();
-            body::write(preset.name, records, dir, binding)
+            body::write(preset.name, records, dir, binding, Some(p.table), kinds)
         }
-        Model::Bones(p) => bones::write(preset.name, p, records, dir),
-        Model::Mosaic(p) => mosaic::write(p, records, dir),
+        Model::Bones(p) => bones::write(preset.name, p, records, dir, kinds),
+        Model::Mosaic(p) => mosaic::write(p, records, dir, kinds),
         _ => Ok(Vec::new()),
     }
 }
@@ -118,6 +369,27 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn kinds_parse_and_name_the_allowed_ones() {
+        let k = Kinds::parse("png,glb").unwrap();
+        assert!(k.has(Kind::Png) && k.has(Kind::Glb) && !k.has(Kind::Obj));
+        let e = Kinds::parse("png,gif").unwrap_err().to_string();
+        assert!(
+            e.contains("'gif'") && e.contains("png, obj, glb, anim, svg, csv, jsonl"),
+            "{e}"
+        );
+        assert!(Kind::ALL.iter().all(|k| Kinds::ALL.has(*k)));
+    }
+
+    #[test]
+    fn animations_keep_at_most_sixty_frames_first_and_last() {
+        assert_eq!(animation_frames(3), vec![0, 1, 2]);
+        let many = animation_frames(97);
+        assert_eq!(many.len(), MAX_ANIMATION_FRAMES);
+        assert_eq!((many[0], many[59]), (0, 96));
+        assert!(many.windows(2).all(|w| w[0] < w[1]));
+    }
 
     #[test]
     fn the_pipeline_keeps_the_order_and_reports_the_first_error() {

@@ -2,8 +2,11 @@
 //! (`cells_dayNN.csv`: `id,type,x,y`) and a Voronoi picture
 //! (`day_NN.png`: every pixel takes the colour of the type of its nearest
 //! cell, distances periodic where the domain wraps, the cylinder unrolled
-//! with u to the right and v down); `mosaic.png` is the last day; the
-//! control mask, if any, as `mask.pbm`. Days are written in parallel.
+//! with u to the right and v down); `mosaic.png` is the last day;
+//! `animation.png` the days in order (every day, or 60 spread evenly);
+//! `cells.png`/`cells.svg` the number of cells of each type per day, in
+//! the types' colours; the control mask, if any, as `mask.pbm`. Days are
+//! written in parallel.
 //!
 //! The picture finds each pixel's nearest cell tile by tile: the cell
 //! nearest the tile's centre bounds how far any pixel of the tile can be
@@ -20,9 +23,10 @@ use morphogen::fx::Fx;
 use morphogen::mosaic::{Domain, Params};
 use morphogen::stream::Record;
 
+use super::chart::{Axis, Chart, Series, write_png, write_svg};
 use super::picture::save_indexed;
-use super::pipeline;
 use super::text::{self, Whole};
+use super::{Kind, Kinds, OrderedAnimation, animation_frames, pipeline};
 use crate::atomic::{OutputFile, write_atomic};
 use crate::records::{Place, Records};
 
@@ -59,8 +63,43 @@ pub fn days(records: &[Record]) -> Vec<Day> {
     out
 }
 
-/// Writes the CSVs, the Voronoi PNGs and the mask of `params`' run, a day
-/// at a time as the days are read.
+/// The number of days a mosaic stream holds.
+fn count_days<R: Records + ?Sized>(records: &R) -> Result<usize> {
+    let mut days = 0usize;
+    records.visit(Place::START, |_, r| {
+        if matches!(r, Record::FrameStart { .. }) {
+            days += 1;
+        }
+        Ok(())
+    })?;
+    Ok(days)
+}
+
+/// The chart of the number of cells of each type per day.
+fn cells_chart(colours: &[[u8; 3]], counts: &[(i32, Vec<usize>)]) -> Chart {
+    let mut chart = Chart::new(
+        "Cells per type",
+        Axis::new("time", "days"),
+        Axis::new("cells", "count"),
+    );
+    let types = counts.iter().map(|(_, c)| c.len()).max().unwrap_or(0);
+    for k in 0..types {
+        let points = counts
+            .iter()
+            .map(|(day, c)| (f64::from(*day), c.get(k).copied().unwrap_or(0) as f64))
+            .collect();
+        let mut series = Series::line(format!("type {k}"), points);
+        if let Some(&rgb) = colours.get(k) {
+            series = series.with_colour(rgb);
+        }
+        chart = chart.with_series(series);
+    }
+    chart
+}
+
+/// Writes (those of `kinds`) the CSVs, the Voronoi PNGs, the animation,
+/// the cell counts chart and the mask of `params`' run, a day at a time
+/// as the days are read.
 ///
 /// # Errors
 /// When the records cannot be read or a file cannot be written.
@@ -68,17 +107,47 @@ pub fn write<R: Records + ?Sized>(
     params: &Params,
     records: &R,
     dir: &Path,
+    kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
     let colours: Vec<[u8; 3]> = params.types.iter().map(|t| t.colour).collect();
     let domain = &params.domain;
+    let picked = if kinds.has(Kind::Anim) {
+        animation_frames(count_days(records)?)
+    } else {
+        Vec::new()
+    };
+    let anim_path = dir.join("animation.png");
+    let apng = if picked.len() > 1 {
+        let (w, h) = picture_size(domain);
+        Some(OrderedAnimation::new(
+            &anim_path,
+            u32::try_from(w)?,
+            u32::try_from(h)?,
+            picked.len(),
+        )?)
+    } else {
+        None
+    };
     let mut last: Option<Arc<Day>> = None;
-    let per_day: Vec<[PathBuf; 2]> = pipeline(
+    // Per day: its number and the cells of each type.
+    let mut counts: Vec<(i32, Vec<usize>)> = Vec::new();
+    let per_day: Vec<Vec<PathBuf>> = pipeline(
         |send| {
             let mut current: Option<Day> = None;
             let mut hand_over = |day: Day| {
+                let mut by_type = vec![0usize; colours.len()];
+                for &(_, kind, _, _) in &day.cells {
+                    let k = usize::from(kind);
+                    if by_type.len() <= k {
+                        by_type.resize(k + 1, 0);
+                    }
+                    by_type[k] += 1;
+                }
+                let slot = picked.binary_search(&counts.len()).ok();
+                counts.push((day.day, by_type));
                 let day = Arc::new(day);
                 last = Some(Arc::clone(&day));
-                send(day)
+                send((day, slot))
             };
             records.visit(Place::START, |_, r| {
                 match r {
@@ -102,19 +171,50 @@ pub fn write<R: Records + ?Sized>(
             })?;
             current.map_or(Ok(()), hand_over)
         },
-        |d: Arc<Day>| {
-            let csv = dir.join(format!("cells_day{:02}.csv", d.day));
-            write_csv(&d.cells, &csv)?;
-            let png = dir.join(format!("day_{:02}.png", d.day));
-            voronoi(domain, &colours, &d.cells, &png)?;
-            Ok([csv, png])
+        |(d, slot): (Arc<Day>, Option<usize>)| {
+            let mut paths = Vec::with_capacity(2);
+            if kinds.has(Kind::Csv) {
+                let csv = dir.join(format!("cells_day{:02}.csv", d.day));
+                write_csv(&d.cells, &csv)?;
+                paths.push(csv);
+            }
+            let animated = apng.as_ref().zip(slot);
+            if kinds.has(Kind::Png) || animated.is_some() {
+                let picture = voronoi(domain, &colours, &d.cells);
+                if kinds.has(Kind::Png) {
+                    let png = dir.join(format!("day_{:02}.png", d.day));
+                    picture.save(&png)?;
+                    paths.push(png);
+                }
+                if let Some((apng, slot)) = animated {
+                    apng.frame(slot, picture.rgb(), format!("day {}", d.day))?;
+                }
+            }
+            Ok(paths)
         },
     )?;
     let mut written: Vec<PathBuf> = per_day.into_iter().flatten().collect();
-    if let Some(last) = last {
+    if let Some(apng) = apng {
+        apng.finish()?;
+        written.push(anim_path);
+    }
+    if let Some(last) = last.filter(|_| kinds.has(Kind::Png)) {
         let path = dir.join("mosaic.png");
-        voronoi(domain, &colours, &last.cells, &path)?;
+        voronoi(domain, &colours, &last.cells).save(&path)?;
         written.push(path);
+    }
+    if counts.len() > 1 {
+        let chart = cells_chart(&colours, &counts);
+        if kinds.has(Kind::Png) {
+            let path = dir.join("cells.png");
+            write_png(&chart, &path, 900, 500)?;
+            written.push(path);
+        }
+        if kinds.has(Kind::Svg) {
+            let path = dir.join("cells.svg");
+            write_svg(&chart, &path, 900, 500)?;
+            written.push(path);
+        }
     }
     if let Some(mask) = &params.mask {
         let path = dir.join("mask.pbm");
@@ -294,17 +394,53 @@ const EMPTY: u8 = 0;
 /// Palette index of cells of a type the parameters do not name: grey.
 const UNKNOWN: u8 = 1;
 
-/// Writes the Voronoi picture of `cells` on `domain` as an indexed PNG at
-/// `path`, type `k` in `colours[k]`.
-///
-/// # Errors
-/// When the file cannot be written.
-pub fn voronoi(
-    domain: &Domain,
-    colours: &[[u8; 3]],
-    cells: &[(u32, u8, Fx, Fx)],
-    path: &Path,
-) -> Result<()> {
+/// The size of a mosaic's pictures, pixels: [`LONG_SIDE`] along the
+/// domain's longer side.
+fn picture_size(domain: &Domain) -> (usize, usize) {
+    let size = domain.size.map(|s| f64::from(s.to_bits()) / 65_536.0);
+    let scale = LONG_SIDE / size[0].max(size[1]);
+    let w = ((size[0] * scale).round() as usize).max(1);
+    let h = ((size[1] * scale).round() as usize).max(1);
+    (w, h)
+}
+
+/// A picture of palette indices, one byte a pixel.
+#[derive(Debug)]
+pub struct Indexed {
+    width: usize,
+    height: usize,
+    palette: Vec<[u8; 3]>,
+    pixels: Vec<u8>,
+}
+
+impl Indexed {
+    /// Writes it as an indexed PNG.
+    ///
+    /// # Errors
+    /// When the file cannot be written.
+    pub fn save(&self, path: &Path) -> Result<()> {
+        save_indexed(
+            self.width as u32,
+            self.height as u32,
+            &self.palette,
+            &self.pixels,
+            path,
+        )
+    }
+
+    /// Its pixels as RGB bytes.
+    #[must_use]
+    pub fn rgb(&self) -> Vec<u8> {
+        self.pixels
+            .iter()
+            .flat_map(|&i| self.palette.get(usize::from(i)).copied().unwrap_or([0; 3]))
+            .collect()
+    }
+}
+
+/// The Voronoi picture of `cells` on `domain`, type `k` in `colours[k]`.
+#[must_use]
+pub fn voronoi(domain: &Domain, colours: &[[u8; 3]], cells: &[(u32, u8, Fx, Fx)]) -> Indexed {
     let mut palette = vec![[255, 255, 255], [128, 128, 128]];
     palette.extend(colours.iter().take(254));
     let sites = cells
@@ -323,8 +459,7 @@ pub fn voronoi(
         .collect();
     let bins = Bins::new(domain, sites);
     let scale = LONG_SIDE / bins.size[0].max(bins.size[1]);
-    let w = ((bins.size[0] * scale).round() as usize).max(1);
-    let h = ((bins.size[1] * scale).round() as usize).max(1);
+    let (w, h) = picture_size(domain);
     let spacing = (w * h) as f64 / bins.sites.len().max(1) as f64;
     let tile = ((spacing.sqrt() * TILE.0) as usize).clamp(TILE.1, TILE.2);
     let mut pixels = vec![EMPTY; w * h];
@@ -370,7 +505,12 @@ pub fn voronoi(
             }
         }
     }
-    save_indexed(w as u32, h as u32, &palette, &pixels, path)
+    Indexed {
+        width: w,
+        height: h,
+        palette,
+        pixels,
+    }
 }
 
 #[cfg(test)]
@@ -421,7 +561,7 @@ mod tests {
                     .collect();
                 let dir = tempfile::tempdir().unwrap();
                 let path = dir.path().join("v.png");
-                voronoi(&domain, &types, &cells, &path).unwrap();
+                voronoi(&domain, &types, &cells).save(&path).unwrap();
                 let picture = tiny_skia::Pixmap::load_png(&path).unwrap();
                 let bins = Bins::new(&domain, Vec::new());
                 let scale = LONG_SIDE / bins.size[0];

@@ -1,10 +1,15 @@
 //! L-system plants (`abop-*` presets and `run --grammar FILE`): a PNG
 //! (orthographic view along −z onto the x–y plane, y up, segments with
 //! their widths, polygons filled, drawn back to front), an OBJ (segments
-//! as square prisms of side `width`, polygons as faces) and a CSV of every
-//! segment. Pictures and meshes show the last frame; the CSV has them all.
+//! as square prisms of side `width`, polygons as faces; streamed a piece
+//! at a time through [`mesh::obj_part`]), `model.glb` (the same mesh in
+//! the palette's colours, for a last frame of at most
+//! [`GLB_MAX_VERTICES`] vertices), a CSV of every segment and, for a
+//! grammar that emits several frames (`animate = 1`), `animation.png` of
+//! its derivation steps (every frame, or 60 spread evenly). Pictures and
+//! meshes show the last frame; the CSV has them all.
 
-use std::io::{self, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
@@ -14,8 +19,10 @@ use tiny_skia::{
     Color, FillRule, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke, Transform,
 };
 
-use super::picture;
+use super::animation::{AnimationWriter, Pixels};
+use super::mesh::{self, GlbWriter, GroupId, Numbers, ObjStyle};
 use super::text::{self, Whole};
+use super::{ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, picture, rgb_bytes};
 use crate::atomic::OutputFile;
 use crate::records::{Place, Records};
 
@@ -55,18 +62,18 @@ impl Item {
     }
 }
 
-/// The items of the last frame, read from `last` (the place of the last
-/// frame start, or the first record when there is none): each handed to
-/// `each` in stream order. A polygon takes the points among the records
-/// that follow it, as many records as it has vertices.
-fn last_frame<R: Records + ?Sized>(
+/// The items of the frame read from `start` (the place of its frame
+/// start, or the first record when there is none) to its end: each
+/// handed to `each` in stream order. A polygon takes the points among the
+/// records that follow it, as many records as it has vertices.
+fn frame_items<R: Records + ?Sized>(
     records: &R,
-    last: Place,
+    start: Place,
     mut each: impl FnMut(Item) -> Result<()>,
 ) -> Result<()> {
     // The polygon being filled: records still to take, its points, colour.
     let mut open: Option<(usize, Vec<[f64; 3]>, u16)> = None;
-    records.visit(last, |_, r| {
+    records.visit_while(start, |_, r| {
         if let Some((left, points, _)) = &mut open {
             if let Record::Point { p } = r {
                 points.push(p3(p));
@@ -77,7 +84,7 @@ fn last_frame<R: Records + ?Sized>(
             {
                 each(Item::Polygon { points, colour })?;
             }
-            return Ok(());
+            return Ok(true);
         }
         match r {
             Record::Segment {
@@ -98,9 +105,10 @@ fn last_frame<R: Records + ?Sized>(
             Record::Polygon { vertices, colour } => {
                 open = Some((usize::from(*vertices), Vec::new(), *colour));
             }
+            Record::FrameEnd { .. } => return Ok(false),
             _ => {}
         }
-        Ok(())
+        Ok(true)
     })?;
     // A polygon cut short by the end of the stream keeps the points it has.
     match open {
@@ -171,14 +179,13 @@ impl Extent {
     }
 }
 
-/// Draws the items `back_to_front` hands out (in painter's order) to a
-/// `size`-pixel-wide PNG at `path`, framing `extent`.
-fn png(
+/// Draws the items `back_to_front` hands out (in painter's order) into a
+/// picture `size` pixels across its longer side, framing `extent`.
+fn render(
     extent: Extent,
     size: u32,
     back_to_front: impl FnOnce(&mut dyn FnMut(&Item)) -> Result<()>,
-    path: &Path,
-) -> Result<()> {
+) -> Result<Pixmap> {
     let Extent { mut lo, mut hi } = extent;
     if lo[0] > hi[0] {
         (lo, hi) = ([-1.0, -1.0], [1.0, 1.0]);
@@ -238,134 +245,83 @@ fn png(
             );
         }
     })?;
-    picture::save(&pixmap, path)
+    Ok(pixmap)
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
+/// The most vertices of a plant's `model.glb` (its last frame, held whole
+/// while the file is built): a larger plant gets none, so the memory of
+/// drawing it stays bounded by its pictures.
+pub const GLB_MAX_VERTICES: usize = 1 << 16;
 
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
+/// How the plant OBJ prints numbers: in full, without normals.
+const PLANT_OBJ: ObjStyle = ObjStyle {
+    numbers: Numbers::Exact,
+    normals: false,
+    vertex_colours: false,
+};
 
-fn scaled(a: [f64; 3], s: f64) -> [f64; 3] {
-    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-    if n == 0.0 {
-        return [0.0; 3];
-    }
-    [a[0] * s / n, a[1] * s / n, a[2] * s / n]
-}
-
-/// Appends the OBJ line `v x y z`.
-fn vertex(line: &mut Vec<u8>, p: [f64; 3]) {
-    line.push(b'v');
-    for c in p {
-        line.push(b' ');
-        text::float(line, c);
-    }
-    line.push(b'\n');
-}
-
-/// The OBJ being written: every segment a square prism (4 side faces),
-/// every polygon one face.
-struct Obj<W> {
-    out: W,
-    line: Vec<u8>,
-    /// The index of the next vertex.
-    next: usize,
-}
-
-impl<W: Write> Obj<W> {
-    fn new(mut out: W) -> io::Result<Obj<W>> {
-        out.write_all(
-            b"# morphogen L-system plant: segments as square prisms, polygons as faces\n",
-        )?;
-        Ok(Obj {
-            out,
-            line: Vec::with_capacity(256),
-            next: 1,
-        })
-    }
-
-    fn item(&mut self, item: &Item) -> io::Result<()> {
-        let (line, next) = (&mut self.line, self.next);
-        match item {
-            Item::Segment { a, b, width, .. } => {
-                let d = sub(*b, *a);
-                let helper = if d[0].abs() < d[1].abs().max(d[2].abs()) {
-                    [1.0, 0.0, 0.0]
-                } else {
-                    [0.0, 1.0, 0.0]
-                };
-                let r = width.max(1e-4) / 2.0;
-                let u = scaled(cross(d, helper), r);
-                let v = scaled(cross(d, u), r);
-                let corners = [
-                    [u[0] + v[0], u[1] + v[1], u[2] + v[2]],
-                    [v[0] - u[0], v[1] - u[1], v[2] - u[2]],
-                    [-u[0] - v[0], -u[1] - v[1], -u[2] - v[2]],
-                    [u[0] - v[0], u[1] - v[1], u[2] - v[2]],
-                ];
-                line.clear();
-                for end in [a, b] {
-                    for c in &corners {
-                        vertex(line, [end[0] + c[0], end[1] + c[1], end[2] + c[2]]);
-                    }
-                }
-                for k in 0..4 {
-                    let k1 = (k + 1) % 4;
-                    line.push(b'f');
-                    for corner in [next + k, next + k1, next + 4 + k1, next + 4 + k] {
-                        line.push(b' ');
-                        text::int(line, corner);
-                    }
-                    line.push(b'\n');
-                }
-                self.out.write_all(line)?;
-                self.next += 8;
-            }
-            Item::Polygon { points, .. } => {
-                if points.len() < 3 {
-                    return Ok(());
-                }
-                line.clear();
-                for p in points {
-                    vertex(line, *p);
-                }
-                line.push(b'f');
-                for k in 0..points.len() {
-                    line.push(b' ');
-                    text::int(line, next + k);
-                }
-                line.push(b'\n');
-                self.out.write_all(line)?;
-                self.next += points.len();
-            }
+/// Adds `item` to `group` of `mesh` (a segment as a square prism, a polygon of 3 or
+/// more points as a face) in the palette's colour when `coloured`.
+fn add(mesh: &mut mesh::Mesh, group: GroupId, item: &Item, coloured: bool) -> Result<()> {
+    match item {
+        Item::Segment {
+            a,
+            b,
+            width,
+            colour,
+        } => {
+            mesh.push_square_prism(group, [*a, *b], *width, coloured.then(|| palette(*colour)))?;
         }
-        Ok(())
+        Item::Polygon { points, colour } => {
+            if points.len() < 3 {
+                return Ok(());
+            }
+            let mut corners = Vec::with_capacity(points.len());
+            for p in points {
+                corners.push(if coloured {
+                    mesh.push_coloured_vertex(*p, palette(*colour))?
+                } else {
+                    mesh.push_vertex(*p)?
+                });
+            }
+            mesh.push_face(group, &corners)?;
+        }
     }
+    Ok(())
 }
 
-/// Writes the CSV of every segment of every frame to `path`; returns the
-/// place of the last frame start (the first record when there is none).
-fn csv<R: Records + ?Sized>(records: &R, path: &Path) -> Result<Place> {
-    let mut out = OutputFile::create(path)?;
-    let cannot = || format!("cannot write {}", path.display());
-    out.write_all(b"frame,ax,ay,az,bx,by,bz,width,colour\n")
-        .with_context(cannot)?;
+/// The frame starts of a plant stream (with each frame's index) and the
+/// extent of all its segments.
+struct Frames {
+    starts: Vec<(Place, u32)>,
+    extent: Extent,
+}
+
+/// Reads every record once: writes the CSV of every segment of every
+/// frame to `path` (when given) and finds the frames.
+fn csv<R: Records + ?Sized>(records: &R, path: Option<&Path>) -> Result<Frames> {
+    let mut out = path.map(OutputFile::create).transpose()?;
+    let cannot = || {
+        format!(
+            "cannot write {}",
+            path.map_or(Path::new(""), |p| p).display()
+        )
+    };
+    if let Some(out) = &mut out {
+        out.write_all(b"frame,ax,ay,az,bx,by,bz,width,colour\n")
+            .with_context(cannot)?;
+    }
     let mut line = Vec::with_capacity(160);
     let mut frame = 0u32;
-    let mut last = Place::START;
+    let mut frames = Frames {
+        starts: Vec::new(),
+        extent: Extent::new(),
+    };
     records.visit(Place::START, |place, r| {
         match r {
             Record::FrameStart { frame: k, .. } => {
                 frame = *k;
-                last = place;
+                frames.starts.push((place, *k));
             }
             Record::Segment {
                 a,
@@ -373,6 +329,15 @@ fn csv<R: Records + ?Sized>(records: &R, path: &Path) -> Result<Place> {
                 width,
                 colour,
             } => {
+                frames.extent.include(&Item::Segment {
+                    a: p3(a),
+                    b: p3(b),
+                    width: 0.0,
+                    colour: 0,
+                });
+                let Some(out) = &mut out else {
+                    return Ok(());
+                };
                 line.clear();
                 text::int(&mut line, frame);
                 for &v in a.iter().chain(b).chain([width]) {
@@ -388,35 +353,140 @@ fn csv<R: Records + ?Sized>(records: &R, path: &Path) -> Result<Place> {
         }
         Ok(())
     })?;
-    out.finish()?;
-    Ok(last)
+    if let Some(out) = out {
+        out.finish()?;
+    }
+    Ok(frames)
 }
 
-/// Writes `plant.png`, `plant.obj` and `segments.csv`: the CSV in a pass
-/// over every record, then the mesh and the picture's extent in a pass
-/// over the last frame, which is drawn back to front from memory or, when
-/// larger than [`depth::BUDGET`], from sorted runs spilled into `dir`.
+/// Writes (those of `kinds`) `plant.png`, `plant.obj`, `model.glb`,
+/// `segments.csv` and `animation.png`: the CSV in a pass over every
+/// record, then the mesh and the picture's extent in a pass over the last
+/// frame, which is drawn back to front from memory or, when larger than
+/// [`depth::BUDGET`], from sorted runs spilled into `dir`; then each
+/// animated frame the same way.
 ///
 /// # Errors
 /// When the records cannot be read or a file cannot be written.
-pub fn write<R: Records + ?Sized>(records: &R, dir: &Path) -> Result<Vec<PathBuf>> {
+pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Result<Vec<PathBuf>> {
     let csv_path = dir.join("segments.csv");
-    let last = csv(records, &csv_path)?;
+    let frames = csv(records, kinds.has(Kind::Csv).then_some(csv_path.as_path()))?;
+    let last = frames.starts.last().map_or(Place::START, |s| s.0);
     let obj_path = dir.join("plant.obj");
-    let mut obj = Obj::new(OutputFile::create(&obj_path)?)
+    let mut obj = if kinds.has(Kind::Obj) {
+        let mut out = OutputFile::create(&obj_path)?;
+        out.write_all(
+            b"# morphogen L-system plant: segments as square prisms, polygons as faces\n",
+        )
         .with_context(|| format!("cannot write {}", obj_path.display()))?;
+        Some(out)
+    } else {
+        None
+    };
+    // The OBJ's vertices so far; the glTF mesh while it stays small.
+    let mut before = 0u64;
+    let mut solid = if kinds.has(Kind::Glb) {
+        let mut m = mesh::Mesh::new();
+        let group = m.group(None, None)?;
+        Some((m, group))
+    } else {
+        None
+    };
     let mut extent = Extent::new();
-    let mut sorted = depth::Sort::new(dir);
-    last_frame(records, last, |item| {
+    let mut sorted = kinds.has(Kind::Png).then(|| depth::Sort::new(dir));
+    frame_items(records, last, |item| {
         extent.include(&item);
-        obj.item(&item)
-            .with_context(|| format!("cannot write {}", obj_path.display()))?;
-        sorted.push(item)
+        if let Some(out) = &mut obj {
+            let mut piece = mesh::Mesh::new();
+            let group = piece.group(None, None)?;
+            add(&mut piece, group, &item, false)?;
+            mesh::obj_part(&piece, PLANT_OBJ, before, out)
+                .with_context(|| format!("cannot write {}", obj_path.display()))?;
+            before += piece.positions().len() as u64;
+        }
+        if let Some((m, group)) = &mut solid {
+            add(m, *group, &item, true)?;
+            if m.positions().len() > GLB_MAX_VERTICES {
+                solid = None;
+            }
+        }
+        match &mut sorted {
+            Some(sorted) => sorted.push(item),
+            None => Ok(()),
+        }
     })?;
-    obj.out.finish()?;
-    let png_path = dir.join("plant.png");
-    png(extent, 1000, |draw| sorted.drain(draw), &png_path)?;
-    Ok(vec![png_path, obj_path, csv_path])
+    let mut written = Vec::new();
+    if let Some(sorted) = sorted {
+        let png_path = dir.join("plant.png");
+        picture::save(&render(extent, 1000, |draw| sorted.drain(draw))?, &png_path)?;
+        written.push(png_path);
+    }
+    if let Some(out) = obj {
+        out.finish()?;
+        written.push(obj_path);
+    }
+    if kinds.has(Kind::Glb) {
+        match solid {
+            Some((m, _)) => {
+                let path = dir.join("model.glb");
+                let mut glb = GlbWriter::new("plant", 1.0);
+                glb.push_frame(&m, 0.0)?;
+                glb.write(&path)?;
+                written.push(path);
+            }
+            None => eprintln!(
+                "note: no model.glb: the plant's last frame has more than {GLB_MAX_VERTICES} vertices"
+            ),
+        }
+    }
+    if kinds.has(Kind::Csv) {
+        written.push(csv_path);
+    }
+    if kinds.has(Kind::Anim) && frames.starts.len() > 1 {
+        let path = dir.join("animation.png");
+        written.push(animate(records, dir, &frames, extent, &path)?);
+    }
+    Ok(written)
+}
+
+/// Writes `animation.png` of a plant's frames (every frame, or 60 spread
+/// evenly), each drawn as `plant.png` is, to the extent of all of them.
+fn animate<R: Records + ?Sized>(
+    records: &R,
+    dir: &Path,
+    frames: &Frames,
+    last: Extent,
+    path: &Path,
+) -> Result<PathBuf> {
+    let mut extent = frames.extent;
+    for k in 0..2 {
+        extent.lo[k] = extent.lo[k].min(last.lo[k]);
+        extent.hi[k] = extent.hi[k].max(last.hi[k]);
+    }
+    let picked = animation_frames(frames.starts.len());
+    let mut apng: Option<AnimationWriter> = None;
+    for &k in &picked {
+        let (start, index) = frames.starts[k];
+        let mut sorted = depth::Sort::new(dir);
+        frame_items(records, start, |item| sorted.push(item))?;
+        let pixmap = render(extent, 480, |draw| sorted.drain(draw))?;
+        let apng = match &mut apng {
+            Some(a) => a,
+            None => apng.insert(AnimationWriter::new(
+                path,
+                pixmap.width(),
+                pixmap.height(),
+                Pixels::Rgb,
+                u32::try_from(picked.len())?,
+                ANIMATION_DELAY_MS,
+            )?),
+        };
+        apng.frame(&rgb_bytes(&pixmap), &format!("step {index}"))?;
+    }
+    if let Some(apng) = apng {
+        apng.finish()?;
+    }
+    Ok(path.to_path_buf())
 }
 
 #[cfg(test)]

@@ -1,0 +1,290 @@
+//! Issue 19: what `morphogen run` writes beyond the stream, through the
+//! binary: animated PNGs with a label per frame, charts with axes (PNG
+//! and SVG), one `model.glb` per run with vertex colours and every frame,
+//! and the `--only` and `--quiet` options.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn morphogen(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_morphogen"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+/// Runs `preset` into a fresh folder under `tmp` with `extra` arguments;
+/// returns the folder and what the command printed.
+fn run(tmp: &Path, preset: &str, extra: &[&str]) -> (PathBuf, Output) {
+    let out = tmp.join(preset);
+    let out_text = out.to_str().unwrap().to_owned();
+    let mut args = vec!["run", preset, "--out", &out_text];
+    args.extend_from_slice(extra);
+    let o = morphogen(&args);
+    assert!(
+        o.status.success(),
+        "run {preset}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    (out, o)
+}
+
+/// An APNG's size, its frames, and each frame's RGB pixels.
+struct Apng {
+    width: u32,
+    height: u32,
+    frames: Vec<Vec<u8>>,
+}
+
+fn read_apng(path: &Path) -> Apng {
+    let file = std::fs::File::open(path).unwrap();
+    let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
+    decoder.set_transformations(png::Transformations::EXPAND);
+    let mut reader = decoder.read_info().unwrap();
+    let info = reader.info();
+    let (width, height) = (info.width, info.height);
+    let control = info
+        .animation_control()
+        .unwrap_or_else(|| panic!("{} is not animated", path.display()));
+    let count = control.num_frames;
+    let mut frames = Vec::new();
+    for _ in 0..count {
+        let mut buf = vec![0; reader.output_buffer_size()];
+        let frame = reader.next_frame(&mut buf).unwrap();
+        assert_eq!((frame.width, frame.height), (width, height));
+        buf.truncate(frame.buffer_size());
+        frames.push(buf);
+    }
+    Apng {
+        width,
+        height,
+        frames,
+    }
+}
+
+/// Which pixels of the top-left `w × h` corner of an RGB frame `width`
+/// wide are pure white: a label's text (white on a darkened box), as no
+/// picture's background or body is pure white.
+fn white_text(frame: &[u8], width: u32, w: u32, h: u32) -> Vec<bool> {
+    let row = width as usize * 3;
+    (0..h as usize)
+        .flat_map(|y| {
+            frame[y * row..y * row + w as usize * 3]
+                .chunks(3)
+                .map(|p| p == [255, 255, 255])
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+/// Checks that frames `a` and `b` of `apng` carry labels (white text in
+/// the top-left corner) and that the labels differ.
+fn check_labels(apng: &Apng, a: usize, b: usize) {
+    let (w, h) = (apng.width / 2, apng.height / 6);
+    let first = white_text(&apng.frames[a], apng.width, w, h);
+    let second = white_text(&apng.frames[b], apng.width, w, h);
+    let count = |m: &[bool]| m.iter().filter(|&&x| x).count();
+    assert!(count(&first) > 20 && count(&second) > 20, "no label text");
+    assert_ne!(
+        first, second,
+        "the labels of frames {a} and {b} are the same"
+    );
+}
+
+/// Checks `dir/animation.png`: `frames` frames of `width × height`, the
+/// first two and the last with labels, all different.
+fn check_animation(dir: &Path, frames: usize, size: (u32, u32)) {
+    let apng = read_apng(&dir.join("animation.png"));
+    assert_eq!(apng.frames.len(), frames, "{}", dir.display());
+    assert_eq!((apng.width, apng.height), size, "{}", dir.display());
+    check_labels(&apng, 0, 1);
+    check_labels(&apng, 1, frames - 1);
+}
+
+/// Parses `dir/model.glb`; checks its frame nodes and that every mesh
+/// has vertex colours.
+fn check_glb(dir: &Path, frames: usize) {
+    let bytes = std::fs::read(dir.join("model.glb")).unwrap();
+    let glb = gltf::Gltf::from_slice(&bytes).unwrap();
+    let doc = &glb.document;
+    let frame_nodes = doc
+        .nodes()
+        .filter(|n| n.name().is_some_and(|s| s.starts_with("frame_")))
+        .count();
+    assert_eq!(frame_nodes, frames, "{}", dir.display());
+    assert_eq!(doc.meshes().count(), frames);
+    for mesh in doc.meshes() {
+        for p in mesh.primitives() {
+            assert!(p.get(&gltf::Semantic::Colors(0)).is_some(), "no COLOR_0");
+            assert!(p.get(&gltf::Semantic::Positions).is_some());
+        }
+    }
+    assert_eq!(doc.animations().count(), usize::from(frames > 1));
+    for a in doc.animations() {
+        for s in a.samplers() {
+            assert_eq!(s.interpolation(), gltf::animation::Interpolation::Step);
+        }
+    }
+}
+
+fn files(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn the_growth_curve_chart_has_axes_in_png_and_svg() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (dir, _) = run(tmp.path(), "growth-curve", &[]);
+    let svg = std::fs::read_to_string(dir.join("growth.svg")).unwrap();
+    for label in ["time (days)", "daily increment", "growth f(t)"] {
+        assert!(svg.contains(label), "{label} missing from growth.svg");
+    }
+    let png = image_size(&dir.join("growth.png"));
+    assert_eq!(png, (900, 500));
+    // One frame: no animation, no mesh.
+    assert!(!dir.join("animation.png").exists());
+    assert!(!dir.join("model.glb").exists());
+}
+
+fn image_size(path: &Path) -> (u32, u32) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let reader = decoder.read_info().unwrap();
+    (reader.info().width, reader.info().height)
+}
+
+#[test]
+fn the_ram_horn_animates_its_frames_and_exports_a_coloured_glb() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (dir, _) = run(tmp.path(), "ram-horn", &[]);
+    check_animation(&dir, 16, (400, 400));
+    check_glb(&dir, 16);
+    let svg = std::fs::read_to_string(dir.join("bend.svg")).unwrap();
+    assert!(svg.contains("time (years)") && svg.contains("length (cm)"));
+    // The OBJ per frame is unchanged: one group per module, no materials.
+    let obj = std::fs::read_to_string(dir.join("frame_015.obj")).unwrap();
+    assert!(obj.starts_with("# morphogen horn, frame 15"));
+    assert!(obj.contains("\ng module_8\n") && !obj.contains("mtllib"));
+}
+
+#[test]
+fn the_trotting_horse_animates_its_side_views_and_charts_its_table() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (dir, _) = run(tmp.path(), "horse-trot", &["--only", "anim,glb,svg"]);
+    let side = (640, 563);
+    check_animation(&dir, 36, side);
+    check_glb(&dir, 36);
+    let svg = std::fs::read_to_string(dir.join("growth.svg")).unwrap();
+    assert!(svg.contains("age (months)") && svg.contains("elbow-to-ground"));
+    assert_eq!(
+        files(&dir),
+        [
+            "animation.png",
+            "growth.svg",
+            "model.glb",
+            "stream.bin",
+            "summary.txt"
+        ]
+    );
+}
+
+#[test]
+fn a_mosaic_animates_its_days_and_counts_its_cells_per_type() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (dir, _) = run(tmp.path(), "croton-mcu", &["--only", "anim,svg,png"]);
+    check_animation(&dir, 36, (900, 720));
+    let svg = std::fs::read_to_string(dir.join("cells.svg")).unwrap();
+    assert!(svg.contains("time (days)") && svg.contains("type 1"));
+    assert!(dir.join("cells.png").exists() && dir.join("day_35.png").exists());
+    assert!(!dir.join("cells_day35.csv").exists());
+}
+
+#[test]
+fn a_single_bone_has_one_glb_frame_and_no_animation() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (dir, _) = run(tmp.path(), "long-bone", &[]);
+    check_glb(&dir, 1);
+    assert!(!dir.join("animation.png").exists());
+    assert!(dir.join("frame_000.obj").exists() && dir.join("bones.png").exists());
+}
+
+#[test]
+fn a_plant_has_a_coloured_glb_and_animates_its_derivation_steps() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (dir, _) = run(tmp.path(), "abop-2d-plant", &[]);
+    check_glb(&dir, 1);
+    assert!(!dir.join("animation.png").exists());
+    // The same grammar emitting every derivation step: 6 frames (n = 5).
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../grammars/abop-2d-plant.lsys"),
+    )
+    .unwrap();
+    let grammar = tmp.path().join("steps.lsys");
+    std::fs::write(&grammar, format!("animate = 1\n{text}")).unwrap();
+    let out = tmp.path().join("steps");
+    let o = morphogen(&[
+        "run",
+        "--grammar",
+        grammar.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--only",
+        "anim",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let apng = read_apng(&out.join("animation.png"));
+    assert_eq!(apng.frames.len(), 6);
+    check_labels(&apng, 0, 5);
+}
+
+#[test]
+fn only_png_writes_no_meshes_and_quiet_prints_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (dir, o) = run(tmp.path(), "ram-horn", &["--only", "png", "--quiet"]);
+    assert!(
+        o.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    let names = files(&dir);
+    assert!(
+        names
+            .iter()
+            .all(|n| n.ends_with(".png") || n == "stream.bin"),
+        "{names:?}"
+    );
+    assert!(!names.contains(&"animation.png".to_owned()));
+    assert!(names.contains(&"horn.png".to_owned()));
+    let (_, loud) = run(tmp.path(), "growth-curve", &[]);
+    assert!(String::from_utf8_lossy(&loud.stdout).contains("wrote"));
+}
+
+#[test]
+fn an_unknown_output_kind_is_an_error_listing_the_allowed_ones() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("x");
+    let o = morphogen(&[
+        "run",
+        "growth-curve",
+        "--out",
+        out.to_str().unwrap(),
+        "--only",
+        "png,gif",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("'gif'") && err.contains("png, obj, glb, anim, svg, csv, jsonl"),
+        "{err}"
+    );
+    let help = morphogen(&["run", "--help"]);
+    let help = String::from_utf8_lossy(&help.stdout);
+    assert!(
+        help.contains("--only") && help.contains("--quiet"),
+        "{help}"
+    );
+}
