@@ -270,7 +270,7 @@ pub fn mesh(frame: &Frame, rings_per_year: u32) -> Mesh {
 /// monthly bands (so the annual rings show), headed by `title`.
 ///
 /// # Errors
-/// Never for a mesh of [`mesh`].
+/// Never for a mesh of [`mesh()`].
 pub fn solid(frame: &Frame, m: &Mesh, title: &str, rings_per_year: u32) -> Result<mesh::Mesh> {
     let mut out = mesh::Mesh::new();
     out.comment(title);

@@ -363,7 +363,7 @@ fn csv<R: Records + ?Sized>(records: &R, path: Option<&Path>) -> Result<Frames> 
 /// `segments.csv` and `animation.png`: the CSV in a pass over every
 /// record, then the mesh and the picture's extent in a pass over the last
 /// frame, which is drawn back to front from memory or, when larger than
-/// [`depth::BUDGET`], from sorted runs spilled into `dir`; then each
+/// a budget of 1 MiB, from sorted runs spilled into `dir`; then each
 /// animated frame the same way.
 ///
 /// # Errors
