@@ -29,7 +29,7 @@ use anyhow::{Context, Result, anyhow, bail};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::atomic::{OutputFile, write_atomic};
+use crate::atomic::write_atomic;
 
 /// The largest width or height of a chart, in pixels: a picture of
 /// `MAX_SIDE²` RGB pixels is 800 MB.
@@ -509,17 +509,8 @@ pub fn render_svg(chart: &Chart, width: u32, height: u32) -> Result<String> {
 /// As [`render_rgb`], or when the file cannot be written.
 pub fn write_png(chart: &Chart, path: &Path, width: u32, height: u32) -> Result<()> {
     let rgb = render_rgb(chart, width, height)?;
-    OutputFile::write_with(path, |file| {
-        let mut encoder = png::Encoder::new(file, width, height);
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        encoder.set_compression(png::Compression::Default);
-        let mut writer = encoder.write_header()?;
-        writer.write_image_data(&rgb)?;
-        writer.finish()?;
-        Ok(())
-    })
-    .with_context(|| format!("cannot write the chart {}", path.display()))
+    super::picture::save_rgb(width, height, &rgb, path)
+        .with_context(|| format!("cannot write the chart {}", path.display()))
 }
 
 /// Writes `chart` as a `width × height` SVG at `path`, whole or not at

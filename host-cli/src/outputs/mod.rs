@@ -154,11 +154,12 @@ pub fn animation_frames(count: usize) -> Vec<usize> {
 #[must_use]
 pub fn rgb_bytes(pixmap: &Pixmap) -> Vec<u8> {
     // Opaque premultiplied pixels are their own RGB.
-    pixmap
-        .pixels()
-        .iter()
-        .flat_map(|p| [p.red(), p.green(), p.blue()])
-        .collect()
+    let mut rgb = vec![0; 3 * pixmap.pixels().len()];
+    let pixels = pixmap.data().as_chunks::<4>().0;
+    for (out, rgba) in rgb.as_chunks_mut::<3>().0.iter_mut().zip(pixels) {
+        *out = [rgba[0], rgba[1], rgba[2]];
+    }
+    rgb
 }
 
 /// `x` with at most `decimals` decimals, trailing zeros cut (`2.5`,

@@ -40,19 +40,20 @@ fn encode(
 /// # Errors
 /// When encoding or writing fails.
 pub fn save(pixmap: &Pixmap, path: &Path) -> Result<()> {
-    // Opaque premultiplied pixels are their own RGB.
-    let rgb: Vec<u8> = pixmap
-        .pixels()
-        .iter()
-        .flat_map(|p| [p.red(), p.green(), p.blue()])
-        .collect();
-    encode(
+    save_rgb(
+        pixmap.width(),
+        pixmap.height(),
+        &super::rgb_bytes(pixmap),
         path,
-        (pixmap.width(), pixmap.height()),
-        png::ColorType::Rgb,
-        None,
-        &rgb,
     )
+}
+
+/// Writes `width × height` RGB bytes, row by row, as a PNG.
+///
+/// # Errors
+/// When encoding or writing fails.
+pub fn save_rgb(width: u32, height: u32, rgb: &[u8], path: &Path) -> Result<()> {
+    encode(path, (width, height), png::ColorType::Rgb, None, rgb)
 }
 
 /// Writes a picture of palette indices (one byte a pixel, row by row) as
@@ -83,20 +84,22 @@ pub fn save_indexed(
 pub fn half(pixmap: &Pixmap) -> Result<Pixmap> {
     let (w, h) = (pixmap.width() / 2, pixmap.height() / 2);
     let mut out = Pixmap::new(w, h).context("picture too small to halve")?;
-    let (src, stride) = (pixmap.data(), 4 * pixmap.width() as usize);
-    // Averages of premultiplied RGBA bytes stay premultiplied.
-    for (y, row) in out.data_mut().chunks_exact_mut(4 * w as usize).enumerate() {
-        let top = &src[2 * y * stride..];
-        let bottom = &src[(2 * y + 1) * stride..];
-        for (i, byte) in row.iter_mut().enumerate() {
-            let (x, channel) = (i / 4, i % 4);
-            let at = 8 * x + channel;
-            let sum = u16::from(top[at])
-                + u16::from(top[at + 4])
-                + u16::from(bottom[at])
-                + u16::from(bottom[at + 4]);
-            // Four bytes sum below 1 024; +2 rounds to nearest.
-            *byte = ((sum + 2) / 4) as u8;
+    let stride = 4 * pixmap.width() as usize;
+    // Row pairs of the source beside rows of the picture; an odd last
+    // row or column of the source is left out. Each pair is summed down
+    // the columns, then pixel pairs across (two passes that vectorise).
+    let mut column = vec![0u16; stride];
+    let pairs = pixmap.data().chunks_exact(2 * stride);
+    for (row, pair) in out.data_mut().chunks_exact_mut(4 * w as usize).zip(pairs) {
+        let (top, bottom) = pair.split_at(stride);
+        for ((sum, t), b) in column.iter_mut().zip(top).zip(bottom) {
+            *sum = u16::from(*t) + u16::from(*b);
+        }
+        let blocks = column.as_chunks::<8>().0;
+        for (pixel, block) in row.as_chunks_mut::<4>().0.iter_mut().zip(blocks) {
+            // Averages of premultiplied RGBA bytes stay premultiplied; four
+            // bytes sum below 1 024, +2 rounds to nearest.
+            *pixel = std::array::from_fn(|c| ((block[c] + block[c + 4] + 2) / 4) as u8);
         }
     }
     Ok(out)

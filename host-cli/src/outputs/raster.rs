@@ -51,18 +51,23 @@ pub fn triangle(pixmap: &mut Pixmap, p: [[f32; 2]; 3], rgb: [u8; 3]) {
         (start, -dy * one, dx * one)
     };
     let edges = [edge(a, b), edge(b, c), edge(c, a)];
-    let stride = width as usize;
     let pixels = pixmap.pixels_mut();
     for row in 0..=(y1 - y0) {
-        let mut e = edges.map(|(start, _, down)| start + down * row);
-        let line = (y0 + row) as usize * stride;
-        for x in x0..=x1 {
-            if e[0] >= 0 && e[1] >= 0 && e[2] >= 0 {
-                pixels[line + x as usize] = colour;
+        // The centres t = x − x0 of this row inside all three edges: each
+        // edge e + across·t ≥ 0 bounds t from one side, exactly.
+        let (mut lo, mut hi) = (0, x1 - x0);
+        for &(start, across, down) in &edges {
+            let e = start + down * row;
+            match across.signum() {
+                1 => lo = lo.max(-e.div_euclid(across)),
+                -1 => hi = hi.min(e.div_euclid(-across)),
+                _ if e < 0 => hi = -1,
+                _ => {}
             }
-            for (k, (_, across, _)) in edges.iter().enumerate() {
-                e[k] += across;
-            }
+        }
+        if lo <= hi {
+            let line = (y0 + row) * width + x0;
+            pixels[(line + lo) as usize..=(line + hi) as usize].fill(colour);
         }
     }
 }
