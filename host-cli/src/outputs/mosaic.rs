@@ -431,10 +431,16 @@ impl Indexed {
     /// Its pixels as RGB bytes.
     #[must_use]
     pub fn rgb(&self) -> Vec<u8> {
-        self.pixels
-            .iter()
-            .flat_map(|&i| self.palette.get(usize::from(i)).copied().unwrap_or([0; 3]))
-            .collect()
+        // Every index a byte can hold, black past the palette.
+        let mut colour = [[0; 3]; 256];
+        for (c, p) in colour.iter_mut().zip(&self.palette) {
+            *c = *p;
+        }
+        let mut rgb = vec![0; 3 * self.pixels.len()];
+        for (out, &i) in rgb.as_chunks_mut::<3>().0.iter_mut().zip(&self.pixels) {
+            *out = colour[usize::from(i)];
+        }
+        rgb
     }
 }
 
