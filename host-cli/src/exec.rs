@@ -494,8 +494,8 @@ mod tests {
             crate::outputs::Kinds::ALL,
         )
         .unwrap();
-        // plant.png, plant.obj, model.glb, segments.csv.
-        assert_eq!(written.len(), 4, "{written:?}");
+        // plant.png, plant.obj, plant.mtl, model.glb, segments.csv.
+        assert_eq!(written.len(), 5, "{written:?}");
         let obj = std::fs::read_to_string(dir.path().join("plant.obj")).unwrap();
         assert_eq!(
             obj.lines().filter(|l| l.starts_with("v ")).count(),

@@ -351,8 +351,7 @@ fn run(
     )?;
     let written =
         exec::write_outputs(&dir, &run, writing.kinds, !writing.quiet, |records, dir| {
-            let mut files =
-                scenario.with_preset(|p| outputs::write(p, records, dir, writing.kinds))?;
+            let mut files = outputs::write(scenario, records, dir, writing.kinds)?;
             if let Some((w, h)) = rig {
                 let path = dir.join(format!("rig-{w}x{h}.png"));
                 morphogen_cli::rig::render_rig_png(records, w, h, &path)?;

@@ -97,10 +97,11 @@ fn shrub(n: u32, dir: &Path) -> Cost {
     })
     .unwrap();
     let peak = PEAK.load(Ordering::SeqCst) - before;
-    // stream.bin, records.jsonl, plant.png, plant.obj, segments.csv, and
-    // model.glb for a plant of at most plant::GLB_MAX_VERTICES vertices.
+    // stream.bin, records.jsonl, plant.png, plant.obj, plant.mtl,
+    // segments.csv, and model.glb for a plant of at most
+    // plant::GLB_MAX_VERTICES vertices.
     let glb = out.join("model.glb").exists();
-    assert_eq!(written.len(), 5 + usize::from(glb));
+    assert_eq!(written.len(), 6 + usize::from(glb));
     let png = std::fs::read(out.join("plant.png")).unwrap();
     // The PNG's IHDR: width and height, big-endian, from byte 16.
     let side = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap()) as usize;
@@ -145,5 +146,5 @@ fn the_shrub_draws_from_its_stream_file_in_bounded_memory() {
         .unwrap()
         .map(|e| e.unwrap().file_name())
         .collect();
-    assert_eq!(left.len(), 5, "{left:?}");
+    assert_eq!(left.len(), 6, "{left:?}");
 }

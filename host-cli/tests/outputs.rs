@@ -165,10 +165,13 @@ fn the_ram_horn_animates_its_frames_and_exports_a_coloured_glb() {
     check_glb(&dir, 16);
     let svg = std::fs::read_to_string(dir.join("bend.svg")).unwrap();
     assert!(svg.contains("time (years)") && svg.contains("length (cm)"));
-    // The OBJ per frame is unchanged: one group per module, no materials.
+    // An OBJ per frame, one group per module, all of them in the horn's
+    // material from the library they share.
     let obj = std::fs::read_to_string(dir.join("frame_015.obj")).unwrap();
     assert!(obj.starts_with("# morphogen horn, frame 15"));
-    assert!(obj.contains("\ng module_8\n") && !obj.contains("mtllib"));
+    assert!(obj.contains("\nmtllib horn.mtl\n") && obj.contains("\ng module_8\nusemtl horn\n"));
+    let mtl = std::fs::read_to_string(dir.join("horn.mtl")).unwrap();
+    assert!(mtl.contains("newmtl horn\nKd 0.87059 0.80000 0.65882\n"));
 }
 
 #[test]
@@ -198,7 +201,7 @@ fn a_mosaic_animates_its_days_and_counts_its_cells_per_type() {
     let (dir, _) = run(tmp.path(), "croton-mcu", &["--only", "anim,svg,png"]);
     check_animation(&dir, 36, (900, 720));
     let svg = std::fs::read_to_string(dir.join("cells.svg")).unwrap();
-    assert!(svg.contains("time (days)") && svg.contains("type 1"));
+    assert!(svg.contains("time (days)") && svg.contains("F (type 1)"));
     assert!(dir.join("cells.png").exists() && dir.join("day_35.png").exists());
     assert!(!dir.join("cells_day35.csv").exists());
 }
@@ -210,6 +213,13 @@ fn a_single_bone_has_one_glb_frame_and_no_animation() {
     check_glb(&dir, 1);
     assert!(!dir.join("animation.png").exists());
     assert!(dir.join("frame_000.obj").exists() && dir.join("bones.png").exists());
+    let obj = std::fs::read_to_string(dir.join("frame_000.obj")).unwrap();
+    assert!(obj.contains("\nmtllib bone.mtl\n") && obj.contains("\nusemtl bone\n"));
+    assert!(
+        std::fs::read_to_string(dir.join("bone.mtl"))
+            .unwrap()
+            .contains("newmtl bone\n")
+    );
 }
 
 #[test]
@@ -218,6 +228,11 @@ fn a_plant_has_a_coloured_glb_and_animates_its_derivation_steps() {
     let (dir, _) = run(tmp.path(), "abop-2d-plant", &[]);
     check_glb(&dir, 1);
     assert!(!dir.join("animation.png").exists());
+    // Each segment in the material of its colour index.
+    let obj = std::fs::read_to_string(dir.join("plant.obj")).unwrap();
+    assert!(obj.contains("\nmtllib plant.mtl\n") && obj.contains("\nusemtl colour_"));
+    let mtl = std::fs::read_to_string(dir.join("plant.mtl")).unwrap();
+    assert_eq!(mtl.matches("newmtl colour_").count(), 13);
     // The same grammar emitting every derivation step: 6 frames (n = 5).
     let text = std::fs::read_to_string(
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../grammars/abop-2d-plant.lsys"),

@@ -16,7 +16,7 @@ use morphogen::stream::Record;
 use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
 use super::chart::{Axis, Chart, Series, series_colour, write_png, write_svg};
-use super::mesh::{self, GlbWriter, ObjStyle, write_obj};
+use super::mesh::{self, GlbWriter, ObjStyle, write_frame_obj, write_mtl};
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, label_tile, picture,
     pipeline, raster, rgb_bytes, trimmed,
@@ -27,6 +27,9 @@ use crate::records::{Place, Records};
 /// Pictures are drawn at this many times their size, then averaged down
 /// (anti-aliasing for the triangles of [`raster`]).
 const OVERSAMPLE: f32 = 2.0;
+
+/// The material library of the frames' OBJ files.
+const LIBRARY: &str = "body.mtl";
 
 /// One decoded frame of a body stream.
 #[derive(Debug, Default, Clone)]
@@ -93,7 +96,8 @@ pub fn frames(records: &[Record]) -> Vec<Frame> {
 }
 
 /// The mesh of a frame for OBJ and glTF: one group of its triangles,
-/// named `object`, headed by the comment `header`, every vertex `rgb`.
+/// named `object`, headed by the comment `header`, every vertex `rgb`,
+/// in the material `object` of that colour.
 ///
 /// # Errors
 /// When a triangle names a vertex the frame lacks.
@@ -102,6 +106,8 @@ pub fn solid(frame: &Frame, header: &str, object: &str, rgb: [u8; 3]) -> Result<
     m.comment(header);
     m.set_object(object)?;
     m.set_colours(vec![rgb; frame.vertices.len()])?;
+    let material = m.material(object, rgb)?;
+    m.paint(material)?;
     Ok(m)
 }
 
@@ -397,6 +403,9 @@ pub fn write<R: Records + ?Sized>(
     };
     let rgb = rgb_of(colour(title));
     let mut glb = kinds.has(Kind::Glb).then(|| GlbWriter::new(title, 0.0254));
+    // The material library every frame's OBJ names, written with the first.
+    let library = dir.join(LIBRARY);
+    let mut library_written = false;
     let per_frame: Vec<Vec<PathBuf>> = pipeline(
         |send| {
             let mut framer = Framer::default();
@@ -419,6 +428,13 @@ pub fn write<R: Records + ?Sized>(
                 if let (Some(glb), Some(m)) = (&mut glb, &m) {
                     glb.push_frame(m, k as f32 * f32::from(ANIMATION_DELAY_MS) / 1000.0)?;
                 }
+                if let Some(m) = m
+                    .as_ref()
+                    .filter(|_| kinds.has(Kind::Obj) && !library_written)
+                {
+                    write_mtl(&library, m)?;
+                    library_written = true;
+                }
                 let slot = picked.binary_search(&k).ok();
                 k += 1;
                 send((f, m, slot))
@@ -428,7 +444,7 @@ pub fn write<R: Records + ?Sized>(
             let mut paths = Vec::with_capacity(2);
             if let Some(m) = m.filter(|_| kinds.has(Kind::Obj)) {
                 let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
-                write_obj(&obj_path, &m, ObjStyle::PLAIN)?;
+                write_frame_obj(&obj_path, &m, ObjStyle::PLAIN, LIBRARY)?;
                 paths.push(obj_path);
             }
             let apng = apng.as_ref().zip(slot);
@@ -447,6 +463,9 @@ pub fn write<R: Records + ?Sized>(
         },
     )?;
     let mut written: Vec<PathBuf> = per_frame.into_iter().flatten().collect();
+    if library_written {
+        written.push(library);
+    }
     if let Some(glb) = glb {
         let path = dir.join("model.glb");
         glb.write(&path)?;

@@ -18,7 +18,7 @@ use nalgebra::Vector3;
 
 use super::animation::{AnimationWriter, Pixels};
 use super::body::{self, Extent, Frame, canvas, draw, rgb_of, solid};
-use super::mesh::{GlbWriter, ObjStyle, write_obj};
+use super::mesh::{GlbWriter, ObjStyle, write_frame_obj, write_mtl};
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, label_tile, picture, rgb_bytes, trimmed,
 };
@@ -27,6 +27,9 @@ use crate::records::{Place, Records};
 
 /// Bone colour.
 const BONE: [f32; 3] = [0.89, 0.86, 0.78];
+
+/// The material library of the frames' OBJ files.
+const LIBRARY: &str = "bone.mtl";
 
 /// Splits a bones stream into frames and their skeletons (the segments
 /// since the frame's start, in f64), one record at a time.
@@ -156,8 +159,13 @@ pub fn write<R: Records + ?Sized>(
             let header = format!("{preset} frame {}, {} L-system steps", f.index, f.age);
             let m = solid(&f, &header, "bone", rgb_of(BONE))?;
             if kinds.has(Kind::Obj) {
+                if k == 0 {
+                    let library = dir.join(LIBRARY);
+                    write_mtl(&library, &m)?;
+                    written.push(library);
+                }
                 let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
-                write_obj(&obj_path, &m, ObjStyle::PLAIN)?;
+                write_frame_obj(&obj_path, &m, ObjStyle::PLAIN, LIBRARY)?;
                 written.push(obj_path);
             }
             if let Some(glb) = &mut glb {

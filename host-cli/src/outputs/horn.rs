@@ -22,7 +22,7 @@ use morphogen::stream::Record;
 use tiny_skia::{Color, Pixmap};
 
 use super::chart::{Axis, Chart, Series, write_png, write_svg};
-use super::mesh::{GlbWriter, ObjStyle, write_obj};
+use super::mesh::{GlbWriter, ObjStyle, write_frame_obj, write_mtl};
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, label_tile, mesh, picture,
     pipeline, raster, rgb_bytes, trimmed,
@@ -267,7 +267,8 @@ pub fn mesh(frame: &Frame, rings_per_year: u32) -> Mesh {
 
 /// The OBJ and glTF mesh of a frame (its geometry `m`): one group
 /// `module_<i>` per module, vertex colours the horn's with the picture's
-/// monthly bands (so the annual rings show), headed by `title`.
+/// monthly bands (so the annual rings show), in the material `horn`,
+/// headed by `title`.
 ///
 /// # Errors
 /// Never for a mesh of [`mesh()`].
@@ -287,8 +288,9 @@ pub fn solid(frame: &Frame, m: &Mesh, title: &str, rings_per_year: u32) -> Resul
     for v in vertices {
         out.push_coloured_vertex(*v, shade(0.8))?;
     }
+    let horn = out.material("horn", shade(1.0))?;
     for (module, tris) in &m.groups {
-        let g = out.group(Some(&format!("module_{module}")), None)?;
+        let g = out.group(Some(&format!("module_{module}")), Some(horn))?;
         for (t, _) in tris {
             out.push_face(g, &t.map(|k| k as u32))?;
         }
@@ -357,6 +359,9 @@ fn bounds(view: &View, frame: &Frame) -> [f64; 4] {
 }
 
 const HORN: [f64; 3] = [222.0, 204.0, 168.0];
+
+/// The material library of the frames' OBJ files.
+const LIBRARY: &str = "horn.mtl";
 fn background() -> Color {
     Color::from_rgba8(250, 249, 246, 255)
 }
@@ -539,6 +544,9 @@ pub fn write<R: Records + ?Sized>(
     let mut lines: Vec<(f64, f64, f64)> = Vec::new();
     let mut glb = kinds.has(Kind::Glb).then(|| GlbWriter::new("horn", 0.01));
     let meshes = kinds.has(Kind::Obj) || kinds.has(Kind::Glb);
+    // The material library every frame's OBJ names, written with the first.
+    let library = dir.join(LIBRARY);
+    let mut library_written = false;
     let objs: Vec<Option<PathBuf>> = pipeline(
         |send| {
             let mut framer = Framer::default();
@@ -561,6 +569,10 @@ pub fn write<R: Records + ?Sized>(
                         let title =
                             format!("morphogen horn, frame {} at t = {} years", f.index, f.years);
                         let solid = solid(&f, &mesh(&f, j), &title, j)?;
+                        if kinds.has(Kind::Obj) && !library_written {
+                            write_mtl(&library, &solid)?;
+                            library_written = true;
+                        }
                         if let Some(glb) = &mut glb {
                             let seconds =
                                 (starts.len() - 1) as f32 * f32::from(ANIMATION_DELAY_MS) / 1000.0;
@@ -578,11 +590,14 @@ pub fn write<R: Records + ?Sized>(
                 return Ok(None);
             }
             let path = dir.join(format!("frame_{index:03}.obj"));
-            write_obj(&path, &solid, ObjStyle::PLAIN)?;
+            write_frame_obj(&path, &solid, ObjStyle::PLAIN, LIBRARY)?;
             Ok(Some(path))
         },
     )?;
     let mut written: Vec<PathBuf> = objs.into_iter().flatten().collect();
+    if library_written {
+        written.push(library);
+    }
     if let Some(glb) = glb {
         let path = dir.join("model.glb");
         glb.write(&path)?;

@@ -233,6 +233,20 @@ impl Mesh {
         Ok(mesh)
     }
 
+    /// Gives `material` to every group that has none yet.
+    ///
+    /// # Errors
+    /// When `material` is not one of the mesh's.
+    pub fn paint(&mut self, material: MaterialId) -> Result<(), MeshError> {
+        if material.0 >= self.materials.len() {
+            return Err(MeshError::UnknownMaterial(material.0));
+        }
+        for g in self.groups.iter_mut().filter(|g| g.material.is_none()) {
+            g.material = Some(material.0);
+        }
+        Ok(())
+    }
+
     /// Adds an OBJ comment line (`# line`) to the header, in order.
     pub fn comment(&mut self, line: &str) {
         self.comments.extend(line.lines().map(str::to_owned));
@@ -725,6 +739,24 @@ pub fn write_obj(path: &Path, mesh: &Mesh, style: ObjStyle) -> Result<Vec<PathBu
     OutputFile::write_with(path, |f| obj(mesh, style, library.as_deref(), f))?;
     written.insert(0, path.to_path_buf());
     Ok(written)
+}
+
+/// Writes the materials of `mesh` as the library `path` (an `.mtl`) that
+/// the OBJ files of many frames share ([`write_frame_obj`]).
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn write_mtl(path: &Path, mesh: &Mesh) -> Result<()> {
+    OutputFile::write_with(path, |f| mtl(&mesh.materials, f))
+}
+
+/// Writes `path` (an `.obj`) of one frame of many, naming the material
+/// library `library` (a file beside it, written once by [`write_mtl`]).
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn write_frame_obj(path: &Path, mesh: &Mesh, style: ObjStyle, library: &str) -> Result<()> {
+    OutputFile::write_with(path, |f| obj(mesh, style, Some(library), f))
 }
 
 // ------------------------------------------------------------------ glTF

@@ -12,6 +12,7 @@ use std::sync::{Arc, Mutex, mpsc};
 
 use anyhow::{Result, anyhow, bail};
 use morphogen::preset::{Model, Preset};
+use morphogen_scenario::Scenario;
 use tiny_skia::Pixmap;
 
 use self::animation::{AnimationWriter, Pixels};
@@ -278,13 +279,27 @@ impl OrderedAnimation {
     }
 }
 
-/// Writes the files natural to `preset`'s model into `dir`, of the
+/// Writes the files natural to `scenario`'s model into `dir`, of the
 /// `kinds` given; returns their paths.
 ///
 /// # Errors
 /// When the records cannot be read or a file cannot be written.
 pub fn write<R: Records + ?Sized>(
+    scenario: &Scenario,
+    records: &R,
+    dir: &Path,
+    kinds: Kinds,
+) -> Result<Vec<PathBuf>> {
+    let names: Vec<&str> = scenario.file().mosaic.as_ref().map_or_else(Vec::new, |m| {
+        m.types.iter().map(|t| t.name.as_str()).collect()
+    });
+    scenario.with_preset(|preset| write_preset(preset, &names, records, dir, kinds))
+}
+
+/// [`write`] for the run `preset`, its mosaic's types named `names`.
+fn write_preset<R: Records + ?Sized>(
     preset: &Preset<'_>,
+    names: &[&str],
     records: &R,
     dir: &Path,
     kinds: Kinds,
@@ -301,7 +316,7 @@ pub fn write<R: Records + ?Sized>(
             body::write(preset.name, records, dir, binding, Some(p.table), kinds)
         }
         Model::Bones(p) => bones::write(preset.name, p, records, dir, kinds),
-        Model::Mosaic(p) => mosaic::write(p, records, dir, kinds),
+        Model::Mosaic(p) => mosaic::write(p, names, records, dir, kinds),
         _ => Ok(Vec::new()),
     }
 }

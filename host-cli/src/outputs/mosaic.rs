@@ -76,7 +76,7 @@ fn count_days<R: Records + ?Sized>(records: &R) -> Result<usize> {
 }
 
 /// The chart of the number of cells of each type per day.
-fn cells_chart(colours: &[[u8; 3]], counts: &[(i32, Vec<usize>)]) -> Chart {
+fn cells_chart(colours: &[[u8; 3]], names: &[&str], counts: &[(i32, Vec<usize>)]) -> Chart {
     let mut chart = Chart::new(
         "Cells per type",
         Axis::new("time", "days"),
@@ -88,7 +88,11 @@ fn cells_chart(colours: &[[u8; 3]], counts: &[(i32, Vec<usize>)]) -> Chart {
             .iter()
             .map(|(day, c)| (f64::from(*day), c.get(k).copied().unwrap_or(0) as f64))
             .collect();
-        let mut series = Series::line(format!("type {k}"), points);
+        let label = match names.get(k).filter(|n| !n.is_empty()) {
+            Some(name) => format!("{name} (type {k})"),
+            None => format!("type {k}"),
+        };
+        let mut series = Series::line(label, points);
         if let Some(&rgb) = colours.get(k) {
             series = series.with_colour(rgb);
         }
@@ -98,13 +102,14 @@ fn cells_chart(colours: &[[u8; 3]], counts: &[(i32, Vec<usize>)]) -> Chart {
 }
 
 /// Writes (those of `kinds`) the CSVs, the Voronoi PNGs, the animation,
-/// the cell counts chart and the mask of `params`' run, a day at a time
-/// as the days are read.
+/// the cell counts chart (its legend by the types' `names`, where given)
+/// and the mask of `params`' run, a day at a time as the days are read.
 ///
 /// # Errors
 /// When the records cannot be read or a file cannot be written.
 pub fn write<R: Records + ?Sized>(
     params: &Params,
+    names: &[&str],
     records: &R,
     dir: &Path,
     kinds: Kinds,
@@ -204,7 +209,7 @@ pub fn write<R: Records + ?Sized>(
         written.push(path);
     }
     if counts.len() > 1 {
-        let chart = cells_chart(&colours, &counts);
+        let chart = cells_chart(&colours, names, &counts);
         if kinds.has(Kind::Png) {
             let path = dir.join("cells.png");
             write_png(&chart, &path, 900, 500)?;

@@ -52,6 +52,12 @@ enum Item {
 }
 
 impl Item {
+    fn colour(&self) -> u16 {
+        match self {
+            Item::Segment { colour, .. } | Item::Polygon { colour, .. } => *colour,
+        }
+    }
+
     fn depth(&self) -> f64 {
         match self {
             Item::Segment { a, b, .. } => (a[2] + b[2]) / 2.0,
@@ -117,6 +123,17 @@ fn frame_items<R: Records + ?Sized>(
     }
 }
 
+/// The largest colour index with a colour of its own; beyond it,
+/// [`palette`] repeats this one.
+const LAST_COLOUR: u16 = 12;
+
+/// The material of colour index `i` in `mesh` (`colour_<i>`, the indices
+/// beyond [`LAST_COLOUR`] sharing its material).
+fn material(mesh: &mut mesh::Mesh, i: u16) -> Result<mesh::MaterialId> {
+    let i = i.min(LAST_COLOUR);
+    Ok(mesh.material(&format!("colour_{i}"), palette(i))?)
+}
+
 /// The colour of index `i`: a ramp from bark brown (0) through olive to
 /// leaf green (8) and yellow-green (12), constant beyond.
 #[must_use]
@@ -127,7 +144,7 @@ pub fn palette(i: u16) -> [u8; 3] {
         (8.0, [50.0, 130.0, 45.0]),
         (12.0, [150.0, 195.0, 70.0]),
     ];
-    let x = f64::from(i.min(12));
+    let x = f64::from(i.min(LAST_COLOUR));
     let k = STOPS
         .iter()
         .rposition(|s| s.0 <= x)
@@ -373,10 +390,17 @@ pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Resu
     let frames = csv(records, kinds.has(Kind::Csv).then_some(csv_path.as_path()))?;
     let last = frames.starts.last().map_or(Place::START, |s| s.0);
     let obj_path = dir.join("plant.obj");
+    let library = dir.join("plant.mtl");
     let mut obj = if kinds.has(Kind::Obj) {
+        // Every colour's material, so that the OBJ can stream.
+        let mut colours = mesh::Mesh::new();
+        for i in 0..=LAST_COLOUR {
+            material(&mut colours, i)?;
+        }
+        mesh::write_mtl(&library, &colours)?;
         let mut out = OutputFile::create(&obj_path)?;
         out.write_all(
-            b"# morphogen L-system plant: segments as square prisms, polygons as faces\n",
+            b"# morphogen L-system plant: segments as square prisms, polygons as faces\nmtllib plant.mtl\n",
         )
         .with_context(|| format!("cannot write {}", obj_path.display()))?;
         Some(out)
@@ -398,7 +422,8 @@ pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Resu
         extent.include(&item);
         if let Some(out) = &mut obj {
             let mut piece = mesh::Mesh::new();
-            let group = piece.group(None, None)?;
+            let colour = material(&mut piece, item.colour())?;
+            let group = piece.group(None, Some(colour))?;
             add(&mut piece, group, &item, false)?;
             mesh::obj_part(&piece, PLANT_OBJ, before, out)
                 .with_context(|| format!("cannot write {}", obj_path.display()))?;
@@ -424,6 +449,7 @@ pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Resu
     if let Some(out) = obj {
         out.finish()?;
         written.push(obj_path);
+        written.push(library);
     }
     if kinds.has(Kind::Glb) {
         match solid {
