@@ -207,6 +207,38 @@ fn a_mosaic_animates_its_days_and_counts_its_cells_per_type() {
 }
 
 #[test]
+fn a_mosaic_gives_each_types_share_of_the_cells_and_of_the_area() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (dir, _) = run(tmp.path(), "croton-mcu", &["--only", "csv"]);
+    let text = std::fs::read_to_string(dir.join("types.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("day,type,name,cells,cell_share,area_share")
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    // Two types on each of the 36 streamed days.
+    assert_eq!(rows.len(), 2 * 36);
+    for day in rows.chunks(2) {
+        assert_eq!((day[0][2], day[1][2]), ("B", "F"));
+        let share = |k: usize| -> f64 {
+            day[0][k].parse::<f64>().unwrap() + day[1][k].parse::<f64>().unwrap()
+        };
+        assert!(
+            (share(4) - 1.0).abs() < 2e-4 && (share(5) - 1.0).abs() < 2e-4,
+            "{day:?}"
+        );
+        // Every type with cells covers some of the area.
+        for row in day {
+            assert!(
+                row[3] == "0" || row[5].parse::<f64>().unwrap() > 0.0,
+                "{row:?}"
+            );
+        }
+    }
+}
+
+#[test]
 fn a_single_bone_has_one_glb_frame_and_no_animation() {
     let tmp = tempfile::tempdir().unwrap();
     let (dir, _) = run(tmp.path(), "long-bone", &[]);

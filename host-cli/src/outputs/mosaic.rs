@@ -101,6 +101,35 @@ fn cells_chart(colours: &[[u8; 3]], names: &[&str], counts: &[(i32, Vec<usize>)]
     chart
 }
 
+/// Writes `types.csv`: per streamed day and type, its cells and their
+/// share of all cells, and its share of the area (the Voronoi regions of
+/// its cells, counted in the day's picture): where the two differ, the
+/// type's cells are packed denser or looser than the rest.
+fn write_shares(
+    names: &[&str],
+    counts: &[(i32, Vec<usize>)],
+    areas: &[Option<Vec<u64>>],
+    path: &Path,
+) -> Result<()> {
+    OutputFile::write_with(path, |file| {
+        file.write_all(b"day,type,name,cells,cell_share,area_share\n")?;
+        for ((day, cells), area) in counts.iter().zip(areas) {
+            let all_cells = cells.iter().sum::<usize>().max(1) as f64;
+            let all_area = area.as_ref().map_or(0, |a| a.iter().sum::<u64>()).max(1) as f64;
+            for (k, &n) in cells.iter().enumerate() {
+                let name = names.get(k).copied().unwrap_or("");
+                let share = n as f64 / all_cells;
+                let area = area
+                    .as_ref()
+                    .and_then(|a| a.get(k))
+                    .map_or(0.0, |&a| a as f64 / all_area);
+                writeln!(file, "{day},{k},{name},{n},{share:.4},{area:.4}")?;
+            }
+        }
+        Ok(())
+    })
+}
+
 /// Writes (those of `kinds`) the CSVs, the Voronoi PNGs, the animation,
 /// the cell counts chart (its legend by the types' `names`, where given)
 /// and the mask of `params`' run, a day at a time as the days are read.
@@ -136,7 +165,7 @@ pub fn write<R: Records + ?Sized>(
     let mut last: Option<Arc<Day>> = None;
     // Per day: its number and the cells of each type.
     let mut counts: Vec<(i32, Vec<usize>)> = Vec::new();
-    let per_day: Vec<Vec<PathBuf>> = pipeline(
+    let per_day: Vec<(Vec<PathBuf>, Option<Vec<u64>>)> = pipeline(
         |send| {
             let mut current: Option<Day> = None;
             let mut hand_over = |day: Day| {
@@ -184,8 +213,10 @@ pub fn write<R: Records + ?Sized>(
                 paths.push(csv);
             }
             let animated = apng.as_ref().zip(slot);
-            if kinds.has(Kind::Png) || animated.is_some() {
+            let mut areas = None;
+            if kinds.has(Kind::Png) || kinds.has(Kind::Csv) || animated.is_some() {
                 let picture = voronoi(domain, &colours, &d.cells);
+                areas = Some(picture.areas(colours.len()));
                 if kinds.has(Kind::Png) {
                     let png = dir.join(format!("day_{:02}.png", d.day));
                     picture.save(&png)?;
@@ -195,10 +226,16 @@ pub fn write<R: Records + ?Sized>(
                     apng.frame(slot, picture.rgb(), format!("day {}", d.day))?;
                 }
             }
-            Ok(paths)
+            Ok((paths, areas))
         },
     )?;
-    let mut written: Vec<PathBuf> = per_day.into_iter().flatten().collect();
+    let (paths, areas): (Vec<_>, Vec<_>) = per_day.into_iter().unzip();
+    let mut written: Vec<PathBuf> = paths.into_iter().flatten().collect();
+    if kinds.has(Kind::Csv) {
+        let path = dir.join("types.csv");
+        write_shares(names, &counts, &areas, &path)?;
+        written.push(path);
+    }
     if let Some(apng) = apng {
         apng.finish()?;
         written.push(anim_path);
@@ -431,6 +468,17 @@ impl Indexed {
             &self.pixels,
             path,
         )
+    }
+
+    /// The pixels of each of the first `types` types (the Voronoi area of
+    /// its cells, in pixels).
+    #[must_use]
+    pub fn areas(&self, types: usize) -> Vec<u64> {
+        let mut by_index = [0u64; 256];
+        for &i in &self.pixels {
+            by_index[usize::from(i)] += 1;
+        }
+        by_index[2..].iter().take(types).copied().collect()
     }
 
     /// Its pixels as RGB bytes.
