@@ -19,8 +19,9 @@ const GUESS: [u8; 192] = {
     table
 };
 
-/// ⌊√n⌋, exactly.
-#[inline]
+/// ⌊√n⌋, exactly. Not inlined: one copy in flash for both relaxation
+/// loops.
+#[inline(never)]
 #[must_use]
 pub(crate) fn isqrt_u32(n: u32) -> u32 {
     if n == 0 {
