@@ -16,6 +16,7 @@ mod angle;
 pub(crate) mod func;
 mod number;
 mod real;
+pub(crate) mod root;
 mod tables;
 mod wide;
 

@@ -6,6 +6,18 @@
 
 use super::domain::Domain;
 
+/// Consecutive bins `first..end` along one axis whose cells all lie
+/// `shift` (Q16 bits) away from where they are stored ([`Grid::span`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BinRun {
+    /// The first bin.
+    pub first: u32,
+    /// One past the last bin.
+    pub end: u32,
+    /// What to add to the cells' coordinates: 0, or ±size across the wrap.
+    pub shift: i32,
+}
+
 /// Bin layout for one relaxation step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Grid {
@@ -105,54 +117,47 @@ impl Grid {
     }
 
     /// The bins along `axis` that hold every point within `radius` of
-    /// coordinate `x` (periodic where the domain wraps): up to 3 distinct
-    /// bins, in order, each with the shift that takes its cells next to `x`
-    /// (`−size` or `+size` for a bin reached across the wrap, else 0), so
-    /// that `x − (q + shift)` is the shortest displacement from any q
-    /// within `radius` ([`Domain::delta`] without its branches). Returns
-    /// how many are used. Needs `2·radius` below the domain size and bins
-    /// wider than `radius`.
+    /// coordinate `x` (periodic where the domain wraps), as at most two runs
+    /// of consecutive bins `first..end`, each with the shift that takes its
+    /// cells next to `x` (`−size` or `+size` for the run reached across the
+    /// wrap, else 0), so that `x − (q + shift)` is the shortest displacement
+    /// from any q within `radius` ([`Domain::delta`] without its branches).
+    /// Returns how many runs are used. Needs `2·radius` below the domain
+    /// size and bins wider than `radius`.
     #[inline]
     #[must_use]
-    pub fn span(&self, axis: usize, x: i32, radius: i32, size: i32) -> ([(u32, i32); 3], usize) {
+    pub fn span(&self, axis: usize, x: i32, radius: i32, size: i32) -> ([BinRun; 2], usize) {
         let n = if axis == 0 { self.cols } else { self.rows };
+        let run = |first, end, shift| BinRun { first, end, shift };
         if self.periodic[axis] && n < 3 {
             // Every bin, unshifted: see `Grid::shifts_exact`.
-            return ([(0, 0), (1, 0), (0, 0)], n as usize);
+            return ([run(0, n, 0), run(0, 0, 0)], 1);
         }
         let at = |p: i32| {
             let c = ((p as u64 * self.scale[axis]) >> 32) as u32;
             c.min(n - 1)
         };
-        let (lo, hi, shift) = if self.periodic[axis] {
-            let (lo, shift) = if x < radius {
-                (x - radius + size, -size)
-            } else {
-                (x - radius, 0)
-            };
-            let hi = if x >= size - radius {
-                x + radius - size
-            } else {
-                x + radius
-            };
-            (at(lo), at(hi), shift)
-        } else {
-            (at((x - radius).max(0)), at((x + radius).min(size - 1)), 0)
-        };
-        let gap = if hi >= lo { hi - lo } else { hi + n - lo };
-        let count = (gap + 1).min(3) as usize;
-        let mut out = [(lo, shift), (0, 0), (0, 0)];
-        let (mut c, mut shift) = (lo, shift);
-        for slot in out.iter_mut().take(count).skip(1) {
-            if c + 1 == n {
-                // Across the wrap: the next bins lie one size further on.
-                (c, shift) = (0, shift + size);
-            } else {
-                c += 1;
-            }
-            *slot = (c, shift);
+        if !self.periodic[axis] {
+            let (lo, hi) = (at((x - radius).max(0)), at((x + radius).min(size - 1)));
+            return ([run(lo, hi + 1, 0), run(0, 0, 0)], 1);
         }
-        (out, count)
+        // x ∈ [0, size) and 2·radius < size ≤ 2^30: no sum below overflows.
+        let (lo, shift) = if x < radius {
+            (at(x - radius + size), -size)
+        } else {
+            (at(x - radius), 0)
+        };
+        let hi = if x >= size - radius {
+            at(x + radius - size)
+        } else {
+            at(x + radius)
+        };
+        if hi >= lo {
+            ([run(lo, hi + 1, shift), run(0, 0, 0)], 1)
+        } else {
+            // Across the wrap: the bins from 0 on lie one size further on.
+            ([run(lo, n, shift), run(0, hi + 1, shift + size)], 2)
+        }
     }
 
     /// The distinct columns (or rows) next to `c` along `axis`, `c`'s own

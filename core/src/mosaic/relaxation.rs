@@ -11,6 +11,7 @@ use super::domain::Domain;
 use super::grid::Grid;
 use super::params::MAX_TYPES;
 use super::store::{ArrayStore, CellSlices, CellStore};
+use crate::fx::root::isqrt_u32;
 
 /// Q16 one.
 const ONE: i64 = 1 << 16;
@@ -48,13 +49,17 @@ impl Forces<'_> {
             return [s * repel * r, 0];
         }
         // Q16, 1 ≤ d < r; the 32-bit root is much cheaper when it fits.
-        let d = if d2 <= i64::from(u32::MAX) {
-            i64::from((d2 as u32).isqrt())
-        } else {
-            (d2 as u64).isqrt() as i64
+        let d = match u32::try_from(d2) {
+            Ok(d2) => i64::from(isqrt_u32(d2)),
+            Err(_) => (d2 as u64).isqrt() as i64,
         };
-        // (r − d)/d as Q16: (r − d) < 2^30, so the shift fits in i64.
-        let k = ((r - d) << 16) / d;
+        // (r − d)/d as Q16: (r − d) < 2^30, so the shift fits in i64; in 32
+        // bits (no 64-bit division, a library call on a Cortex-M) when the
+        // quotient's numerator fits, as it does for r below 1.0.
+        let k = match u32::try_from((r - d) << 16) {
+            Ok(n) => i64::from(n / d as u32), // 1 ≤ d < r < 2^31
+            Err(_) => ((r - d) << 16) / d,
+        };
         // |k·dx| ≤ (r − d)·2^16·(1 + 1/d) < 2^47 since |dx| ≤ d.
         let fx = (k * dx) >> 16;
         let fy = (k * dy) >> 16;
@@ -109,6 +114,8 @@ pub struct Snapshot<'s> {
     bins: &'s [u32],
     kind: &'s [u8],
     grid: &'s Grid,
+    /// [`Grid::shifts_exact`], once for every cell.
+    shifted: bool,
     forces: &'s Forces<'s>,
 }
 
@@ -135,7 +142,7 @@ impl Snapshot<'_> {
     /// moved by the pushes of its neighbours within the radius.
     #[must_use]
     pub fn moved(&self, slot: usize) -> [i32; 2] {
-        let sum = if self.grid.shifts_exact() {
+        let sum = if self.shifted {
             self.pushes::<true>(slot)
         } else {
             self.pushes::<false>(slot)
@@ -151,7 +158,8 @@ impl Snapshot<'_> {
 
     /// The sum of the pushes on the cell in grid slot `slot`; `SHIFTED`:
     /// displacements from the bins' shifts ([`Grid::span`]), else from
-    /// [`Domain::delta`](super::domain::Domain::delta).
+    /// [`Domain::delta`](super::domain::Domain::delta). A row's run of
+    /// bins is one slice of the sorted positions.
     #[inline(always)]
     fn pushes<const SHIFTED: bool>(&self, slot: usize) -> [i64; 2] {
         let (forces, grid, bins, sorted) = (self.forces, self.grid, self.bins, self.sorted);
@@ -165,30 +173,40 @@ impl Snapshot<'_> {
         let (cols, nc) = grid.span(0, p[0], r, size[0]);
         let (rows, nr) = grid.span(1, p[1], r, size[1]);
         let mut sum = [0i64; 2];
-        for &(row, shift_v) in &rows[..nr] {
-            for &(col, shift_u) in &cols[..nc] {
-                let nb = (row * grid.cols + col) as usize;
-                let (lo, hi) = (bins[nb] as usize, bins[nb + 1] as usize);
-                for (t, q) in sorted[lo..hi].iter().enumerate() {
-                    // i32: |p − q| < size ≤ 2^30 and |shift| ≤ size, so the
-                    // difference stays within ±2^31 (and the squares below
-                    // are 32 × 32 → 64-bit products, cheap on a Cortex-M).
-                    let (dx, dy) = if SHIFTED {
-                        (p[0] - q[0] - shift_u, p[1] - q[1] - shift_v)
-                    } else {
-                        (domain.delta(0, p[0], q[0]), domain.delta(1, p[1], q[1]))
-                    };
-                    let (dx, dy) = (i64::from(dx), i64::from(dy));
-                    let d2 = dx * dx + dy * dy; // < 2·(2^30)², Q32
-                    let t = lo + t;
-                    if d2 >= r2 || t == slot {
-                        continue;
+        for rows in &rows[..nr] {
+            // i32: p ∈ [0, size), size ≤ 2^30 and |shift| ≤ size.
+            let v = p[1] - rows.shift;
+            for row in rows.first..rows.end {
+                let row_start = (row * grid.cols) as usize;
+                for cols in &cols[..nc] {
+                    let u = p[0] - cols.shift;
+                    let lo = bins[row_start + cols.first as usize] as usize;
+                    let hi = bins[row_start + cols.end as usize] as usize;
+                    for (t, q) in sorted[lo..hi].iter().enumerate() {
+                        // i32: u, v ∈ (−2^30, 2^31) and q ∈ [0, 2^30), so
+                        // the differences stay within ±2^31 (and the
+                        // squares below are 32 × 32 → 64-bit products,
+                        // cheap on a Cortex-M).
+                        let (dx, dy) = if SHIFTED {
+                            (u - q[0], v - q[1])
+                        } else {
+                            (domain.delta(0, p[0], q[0]), domain.delta(1, p[1], q[1]))
+                        };
+                        let (dx, dy) = (i64::from(dx), i64::from(dy));
+                        let d2 = dx * dx + dy * dy; // < 2·(2^31)² = 2^63, Q32
+                        if d2 >= r2 {
+                            continue;
+                        }
+                        let t = lo + t;
+                        if t == slot {
+                            continue; // the cell itself
+                        }
+                        let j = self.cell(t);
+                        let rep = repel[self.kind[j] as usize % MAX_TYPES];
+                        let f = forces.push(i, j, dx, dy, d2, rep);
+                        sum[0] += f[0];
+                        sum[1] += f[1];
                     }
-                    let j = self.cell(t);
-                    let rep = repel[self.kind[j] as usize % MAX_TYPES];
-                    let f = forces.push(i, j, dx, dy, d2, rep);
-                    sum[0] += f[0];
-                    sum[1] += f[1];
                 }
             }
         }
@@ -218,6 +236,7 @@ pub fn snapshot<'s>(
         bins: &cells.bins[..=grid.bins()],
         kind: &cells.kind[..n],
         grid,
+        shifted: grid.shifts_exact(),
         forces,
     };
     (snapshot, &mut cells.pos[..n])
