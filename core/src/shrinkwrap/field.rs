@@ -93,12 +93,12 @@ impl FieldReal for f64 {}
 
 impl FieldReal for Fx {
     fn field(elements: &[Element<Fx>], r: &Vector3<Fx>) -> (Fx, Vector3<Fx>) {
-        let (v, g) = fixed_field::<true>(elements, r);
+        let (v, g) = fixed_field(elements, r, true);
         (v, Vector3::from(g))
     }
 
     fn potential(elements: &[Element<Fx>], r: &Vector3<Fx>) -> Fx {
-        fixed_field::<false>(elements, r).0
+        fixed_field(elements, r, false).0
     }
 }
 
@@ -171,11 +171,12 @@ fn dot_near(u: &[i32; 3], w: &[i32; 3]) -> i64 {
     u[0] as i64 * w[0] as i64 + u[1] as i64 * w[1] as i64 + u[2] as i64 * w[2] as i64
 }
 
-/// [`summed_field`] on [`Fx`], with ∇V only when `GRADIENT`: elements
+/// [`summed_field`] on [`Fx`], with ∇V only when `gradient` (one copy of
+/// the code for both, for the firmware's flash): elements
 /// and points within ±[`NEAR`] take the same roundings and saturations on
 /// Q16 bits without the saturation of sums that cannot overflow; others
 /// take [`contribution`].
-fn fixed_field<const GRADIENT: bool>(elements: &[Element<Fx>], r: &Vector3<Fx>) -> (Fx, [Fx; 3]) {
+fn fixed_field(elements: &[Element<Fx>], r: &Vector3<Fx>, gradient: bool) -> (Fx, [Fx; 3]) {
     let rb = [r.x, r.y, r.z].map(Fx::to_bits);
     let r_near = spread(&rb) < NEAR;
     let mut v = 0i64;
@@ -230,7 +231,7 @@ fn fixed_field<const GRADIENT: bool>(elements: &[Element<Fx>], r: &Vector3<Fx>) 
         // Below 2³¹ · 2²⁸ per term and fewer than 2³² terms: the
         // saturation of `Real::widen` never acts, but stays its policy.
         v = v.saturating_add(vi as i64);
-        if GRADIENT {
+        if gradient {
             let s = weight_times(Fx::from_bits(vi), inverse);
             for (gk, pk) in g.iter_mut().zip(p) {
                 // |p_k| ≤ |p| ≤ distance + ½ and inverse ≤ 2³²/distance + ½,
