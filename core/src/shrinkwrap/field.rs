@@ -228,8 +228,7 @@ fn fixed_field(elements: &[Element<Fx>], r: &Vector3<Fx>, gradient: bool) -> (Fx
         let distance = distance.to_bits() as i64;
         let inverse = ((1i64 << 32) + distance / 2) / distance;
         let vi = weight_times(e.weight, inverse);
-        // Below 2³¹ · 2²⁸ per term and fewer than 2³² terms: the
-        // saturation of `Real::widen` never acts, but stays its policy.
+        // As `Real::widen`: saturating, like the generic terms above.
         v = v.saturating_add(vi as i64);
         if gradient {
             let s = weight_times(Fx::from_bits(vi), inverse);
