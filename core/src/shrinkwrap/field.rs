@@ -5,6 +5,7 @@
 use nalgebra::Vector3;
 
 use crate::fx::{Fx, Real};
+use crate::geom::length_of_squared;
 
 /// One skeleton element: the segment from `a` to `b` (a point when
 /// `a == b`) with weight ρ.
@@ -72,33 +73,180 @@ fn min_distance<R: Real>() -> R {
     R::from_ratio(1, 4096)
 }
 
-/// V(r) and ∇V(r), each summed in a wide accumulator.
+/// The number types the field is evaluated in: `f64` in its own
+/// arithmetic ([`summed_field`]), [`Fx`] by an integer kernel that rounds
+/// and saturates exactly as [`summed_field`] does on [`Fx`] but skips the
+/// saturation where the range is proven (issue 15).
+pub trait FieldReal: Real {
+    /// V(r) and ∇V(r).
+    fn field(elements: &[Element<Self>], r: &Vector3<Self>) -> (Self, Vector3<Self>) {
+        summed_field(elements, r)
+    }
+
+    /// V(r) alone, as [`FieldReal::field`] gives it.
+    fn potential(elements: &[Element<Self>], r: &Vector3<Self>) -> Self {
+        Self::field(elements, r).0
+    }
+}
+
+impl FieldReal for f64 {}
+
+impl FieldReal for Fx {
+    fn field(elements: &[Element<Fx>], r: &Vector3<Fx>) -> (Fx, Vector3<Fx>) {
+        let (v, g) = fixed_field(elements, r, true);
+        (v, Vector3::from(g))
+    }
+
+    fn potential(elements: &[Element<Fx>], r: &Vector3<Fx>) -> Fx {
+        fixed_field(elements, r, false).0
+    }
+}
+
+/// V(r) and ∇V(r).
 #[must_use]
-pub fn field<R: Real>(elements: &[Element<R>], r: &Vector3<R>) -> (R, Vector3<R>) {
+pub fn field<R: FieldReal>(elements: &[Element<R>], r: &Vector3<R>) -> (R, Vector3<R>) {
+    R::field(elements, r)
+}
+
+/// V(r) alone: where only the level is asked, a third of the work.
+#[must_use]
+pub fn potential<R: FieldReal>(elements: &[Element<R>], r: &Vector3<R>) -> R {
+    R::potential(elements, r)
+}
+
+/// V(r) and ∇V(r) in `R`'s own arithmetic, each summed in a wide
+/// accumulator: the definition the [`Fx`] kernel of [`FieldReal`] follows
+/// bit for bit.
+#[must_use]
+pub fn summed_field<R: Real>(elements: &[Element<R>], r: &Vector3<R>) -> (R, Vector3<R>) {
     let mut v = R::Wide::default();
     let mut g = [R::Wide::default(); 3];
     for e in elements {
-        let p = r - e.nearest(r);
-        let d = R::norm(&p);
-        let d = if d < min_distance() {
-            min_distance()
-        } else {
-            d
-        };
-        // One division per element (the MCU has no 64-bit divider).
-        let inverse = R::one().div(d);
-        let vi = e.weight * inverse;
+        let (vi, gi) = contribution(e, r);
         v = R::widen(v, vi);
-        // ∇(ρ/|p|) = −ρ p / |p|³ = −(vi / d) · (p / d)
-        let s = vi * inverse;
-        for (gk, pk) in g.iter_mut().zip(p.iter()) {
-            *gk = R::widen(*gk, -(s * (*pk * inverse)));
+        for (gk, gik) in g.iter_mut().zip(gi.iter()) {
+            *gk = R::widen(*gk, *gik);
         }
     }
     (
         R::narrow(v),
         Vector3::new(R::narrow(g[0]), R::narrow(g[1]), R::narrow(g[2])),
     )
+}
+
+/// One element's term of V(r) and of ∇V(r).
+fn contribution<R: Real>(e: &Element<R>, r: &Vector3<R>) -> (R, Vector3<R>) {
+    let p = r - e.nearest(r);
+    let d = R::norm(&p);
+    let d = if d < min_distance() {
+        min_distance()
+    } else {
+        d
+    };
+    // One division per element (the MCU has no 64-bit divider).
+    let inverse = R::one().div(d);
+    let vi = e.weight * inverse;
+    // ∇(ρ/|p|) = −ρ p / |p|³ = −(vi / d) · (p / d)
+    let s = vi * inverse;
+    (vi, p.map(|pk| -(s * (pk * inverse))))
+}
+
+/// Coordinates (Q16 bits) of magnitude below this, 2¹³ units, keep every
+/// difference below 2³⁰ and every sum of three squares below 2⁶²: the
+/// range in which [`fixed_field`] needs no saturating sum.
+const NEAR: u32 = 1 << 29;
+
+/// The bitwise or of the magnitudes: below [`NEAR`] exactly when each is.
+fn spread(c: &[i32; 3]) -> u32 {
+    c.iter().fold(0, |acc, x| acc | x.unsigned_abs())
+}
+
+/// `Real::dot` of Q32 bits: rounded half up to Q16, saturated.
+fn q32_to_q16(q32: i64) -> i32 {
+    Fx::narrow(q32.saturating_add(1 << 15) >> 16).to_bits()
+}
+
+/// u·w of Q16 bits within ±2³⁰, exact in Q32 (below 3·2⁶⁰).
+fn dot_near(u: &[i32; 3], w: &[i32; 3]) -> i64 {
+    u[0] as i64 * w[0] as i64 + u[1] as i64 * w[1] as i64 + u[2] as i64 * w[2] as i64
+}
+
+/// [`summed_field`] on [`Fx`], with ∇V only when `gradient` (one copy of
+/// the code for both, for the firmware's flash): elements
+/// and points within ±[`NEAR`] take the same roundings and saturations on
+/// Q16 bits without the saturation of sums that cannot overflow; others
+/// take [`contribution`].
+fn fixed_field(elements: &[Element<Fx>], r: &Vector3<Fx>, gradient: bool) -> (Fx, [Fx; 3]) {
+    let rb = [r.x, r.y, r.z].map(Fx::to_bits);
+    let r_near = spread(&rb) < NEAR;
+    let mut v = 0i64;
+    let mut g = [0i64; 3];
+    for e in elements {
+        let a = e.a.map(Fx::to_bits);
+        let b = e.b.map(Fx::to_bits);
+        if !r_near || (spread(&a) | spread(&b)) >= NEAR {
+            let (vi, gi) = contribution(e, r);
+            v = v.saturating_add(vi.to_bits() as i64);
+            for (gk, gik) in g.iter_mut().zip(gi.iter()) {
+                *gk = gk.saturating_add(gik.to_bits() as i64);
+            }
+            continue;
+        }
+        // Every coordinate is below 2²⁹ in magnitude, so each difference
+        // below is below 2³⁰, and each sum of three products below 2⁶².
+        let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let dd = q32_to_q16(dot_near(&d, &d));
+        // `Element::nearest`.
+        let nearest = if dd <= 0 {
+            a
+        } else {
+            let ra = [rb[0] - a[0], rb[1] - a[1], rb[2] - a[2]];
+            let along = q32_to_q16(dot_near(&ra, &d));
+            // t = along / dd rounded as `Fx::saturating_div` (dd > 0); the
+            // ends are compared before the saturation, which keeps them.
+            let (n, dd) = ((along as i64) << 16, dd as i64);
+            let t = if n >= 0 {
+                (n + dd / 2) / dd
+            } else {
+                -((dd / 2 - n) / dd)
+            };
+            if t <= 0 {
+                a
+            } else if t >= 1 << 16 {
+                b
+            } else {
+                // 0 < t < 1: a + d·t lies between a and b.
+                let t = Fx::from_bits(t as i32);
+                [0, 1, 2].map(|k| a[k] + Fx::from_bits(d[k]).saturating_mul(t).to_bits())
+            }
+        };
+        // The nearest point lies between a and b: |p| < 2³⁰.
+        let p = [rb[0] - nearest[0], rb[1] - nearest[1], rb[2] - nearest[2]];
+        let distance = length_of_squared(dot_near(&p, &p) as u64).max(min_distance());
+        // 1 / distance rounded as `Fx::saturating_div`: distance ≥ 2⁻¹²,
+        // so the quotient is positive and at most 2¹².
+        let distance = distance.to_bits() as i64;
+        let inverse = ((1i64 << 32) + distance / 2) / distance;
+        let vi = weight_times(e.weight, inverse);
+        // As `Real::widen`: saturating, like the generic terms above.
+        v = v.saturating_add(vi as i64);
+        if gradient {
+            let s = weight_times(Fx::from_bits(vi), inverse);
+            for (gk, pk) in g.iter_mut().zip(p) {
+                // |p_k| ≤ |p| ≤ distance + ½ and inverse ≤ 2³²/distance + ½,
+                // so |p_k · inverse| < 2³³ and p_k / distance fits in Q16.
+                let unit = ((pk as i64 * inverse + (1 << 15)) >> 16) as i32;
+                let term = Fx::from_bits(s).saturating_mul(Fx::from_bits(unit));
+                *gk = gk.saturating_add((-term).to_bits() as i64);
+            }
+        }
+    }
+    (Fx::narrow(v), g.map(Fx::narrow))
+}
+
+/// `x · inverse` rounded and saturated as `Fx` multiplication (inverse ≤ 2²⁸).
+fn weight_times(x: Fx, inverse: i64) -> i32 {
+    x.saturating_mul(Fx::from_bits(inverse as i32)).to_bits()
 }
 
 #[cfg(test)]
@@ -117,6 +265,50 @@ mod tests {
         assert_eq!(v, Fx::HALF);
         // −ρ/d² along +y
         assert_eq!(g, fx3(0.0, -0.125, 0.0));
+    }
+
+    /// The integer kernel is [`summed_field`] on [`Fx`] bit for bit: for
+    /// skeletons from a unit to the edge of the range (inside and outside
+    /// the kernel's near range), points on, near and far from them,
+    /// segments of every length down to none, and any weight.
+    #[test]
+    fn the_fixed_kernel_is_the_summed_field() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for case in 0..20_000 {
+            // Coordinates of magnitude up to 2^scale LSB.
+            let scale = 8 + case % 24;
+            let coordinate =
+                |next: &mut dyn FnMut() -> u64| Fx::from_bits((next() as i32) >> (31 - scale));
+            let point = |next: &mut dyn FnMut() -> u64| {
+                Vector3::new(coordinate(next), coordinate(next), coordinate(next))
+            };
+            let elements: std::vec::Vec<Element<Fx>> = (0..1 + case % 5)
+                .map(|k| {
+                    let a = point(&mut next);
+                    let weight = Fx::from_bits((next() as i32) >> (next() % 32));
+                    match k % 3 {
+                        0 => Element::point(a, weight),
+                        1 => Element::segment(a, point(&mut next), weight),
+                        _ => {
+                            let tiny = Vector3::new(Fx::DELTA, Fx::ZERO, -Fx::DELTA);
+                            Element::segment(a, a + tiny, weight)
+                        }
+                    }
+                })
+                .collect();
+            let near = Vector3::from(elements[0].a).map(|c| c + Fx::from_bits(next() as i32 >> 20));
+            for r in [point(&mut next), near, Vector3::from(elements[0].b)] {
+                let summed = summed_field(&elements, &r);
+                assert_eq!(field(&elements, &r), summed, "{elements:?} at {r:?}");
+                assert_eq!(potential(&elements, &r), summed.0, "{elements:?} at {r:?}");
+            }
+        }
     }
 
     #[test]

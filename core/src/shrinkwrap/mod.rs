@@ -15,7 +15,7 @@ mod field;
 mod mesh;
 mod wrap;
 
-pub use field::{Element, field};
+pub use field::{Element, FieldReal, field, potential, summed_field};
 pub use mesh::{Mesh, VertexId};
 pub use wrap::{Phase, SPLIT_TOLERANCE, Shrinkwrap, WrapParams, worst_level_error};
 

@@ -25,7 +25,7 @@ use crate::Error;
 use crate::fx::{Fx, Real};
 
 use super::ShrinkwrapError;
-use super::field::{Element, field};
+use super::field::{Element, FieldReal, field, potential};
 use super::mesh::{Mesh, VertexId};
 
 /// The shrinkwrap parameters of a run.
@@ -128,7 +128,12 @@ fn bounds<R: Real>(elements: &[Element<R>]) -> (Vector3<R>, R) {
 }
 
 /// r moved towards the level `level` along ∇V, by at most `max_move`.
-fn toward<R: Real>(elements: &[Element<R>], r: &Vector3<R>, level: R, max_move: R) -> Vector3<R> {
+fn toward<R: FieldReal>(
+    elements: &[Element<R>],
+    r: &Vector3<R>,
+    level: R,
+    max_move: R,
+) -> Vector3<R> {
     let (v, g) = field(elements, r);
     let norm = R::norm(&g);
     if norm <= R::zero() {
@@ -145,12 +150,11 @@ fn toward<R: Real>(elements: &[Element<R>], r: &Vector3<R>, level: R, max_move: 
 }
 
 /// Whether V at `r` is off `level` by more than `split` (relative).
-fn off<R: Real>(elements: &[Element<R>], r: &Vector3<R>, level: R, split: R) -> bool {
-    let (v, _) = field(elements, r);
-    (v - level).abs() > level * split
+fn off<R: FieldReal>(elements: &[Element<R>], r: &Vector3<R>, level: R, split: R) -> bool {
+    (potential(elements, r) - level).abs() > level * split
 }
 
-impl<R: Real, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
+impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
     /// An idle run (`const`, for a `static`).
     #[must_use]
     pub const fn new(zero: R) -> Shrinkwrap<R, V, T> {
@@ -224,7 +228,7 @@ impl<R: Real, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
         self.split = R::from_fx(params.split_tolerance);
         let mut sum = R::Wide::default();
         for r in self.mesh.vertices() {
-            sum = R::widen(sum, field(elements, r).0);
+            sum = R::widen(sum, potential(elements, r));
         }
         let mean = R::narrow(sum).div(R::from_int(self.mesh.vertices().len() as i32));
         self.level = if mean < self.target {
@@ -322,10 +326,14 @@ impl<R: Real, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
 
 /// The largest |V(r) − V0| / V0 over `points` (a quality measure).
 #[must_use]
-pub fn worst_level_error<R: Real>(elements: &[Element<R>], points: &[Vector3<R>], level: R) -> R {
+pub fn worst_level_error<R: FieldReal>(
+    elements: &[Element<R>],
+    points: &[Vector3<R>],
+    level: R,
+) -> R {
     let mut worst = R::zero();
     for r in points {
-        let e = (field(elements, r).0 - level).abs().div(level);
+        let e = (potential(elements, r) - level).abs().div(level);
         if e > worst {
             worst = e;
         }
