@@ -6,70 +6,10 @@
 use nalgebra::{Matrix3, Matrix4, Vector3};
 
 use crate::fx::{Angle, Fx, Real};
-pub use crate::fx::{dot_wide, length};
+pub use crate::fx::{dot_wide, length, length_of_squared};
 
 /// A 3-vector of any [`Real`].
 pub type Vec3<R = Fx> = Vector3<R>;
-
-/// First estimates of √n for n = k·2⁵⁶ + f (k = 64‥255, f < 2⁵⁶): round(√(k + ½)·2¹²)
-/// (192 × 2 B = 384 B, computed by the compiler), within 0.4 % of √n / 2¹⁶.
-const ROOT_ESTIMATES: [u16; 192] = {
-    let mut table = [0u16; 192];
-    let mut k = 0;
-    while k < 192 {
-        // round(√y) = ⌈⌊√(4y)⌋ / 2⌉ with y = (k + 64 + ½)·2²⁴.
-        let four_y = (2 * (k as u64 + 64) + 1) << 25;
-        table[k] = four_y.isqrt().div_ceil(2) as u16;
-        k += 1;
-    }
-    table
-};
-
-/// ⌊√x⌋ in a few instructions where `u64::isqrt` needs a few dozen: x is
-/// scaled by 4ʲ into [2⁶², 2⁶⁴), √ of that is estimated from
-/// [`ROOT_ESTIMATES`] to ε ≤ 0.004, two Newton steps take the error to
-/// ε²/2 ≈ 8·10⁻⁶ and then below 0.2 (of a result < 2³²), and one
-/// correction after scaling back gives the floor.
-#[must_use]
-fn floor_sqrt(x: u64) -> u64 {
-    if x == 0 {
-        return 0;
-    }
-    // Even, so that √ scales back by a shift; x << shift has one of its
-    // top two bits set.
-    let shift = x.leading_zeros() & !1;
-    let n = x << shift;
-    // n ≥ 2⁶², so the top byte is 64‥255.
-    let estimate = ROOT_ESTIMATES
-        .get((n >> 56) as usize - 64)
-        .map_or(u64::from(u32::MAX), |&e| u64::from(e) << 16);
-    // Newton steps from any y > 0 stay ≥ ⌊√n⌋ and, from y ≥ 2³¹, below
-    // 2³³ + 2³², so the sums cannot overflow (n / y ≤ 2³³).
-    let y = (estimate + n / estimate) / 2;
-    // y ≥ 2³¹; `max` spares the division its zero check.
-    let y = (y + n / y.max(1)) / 2;
-    // y ∈ {⌊√n⌋, ⌊√n⌋ + 1}, so r ∈ {⌊√x⌋, ⌊√x⌋ + 1}.
-    let r = y >> (shift / 2);
-    // r² > x implies r ≥ 1: no underflow.
-    if r.checked_mul(r).is_none_or(|square| square > x) {
-        r - 1
-    } else {
-        r
-    }
-}
-
-/// The length whose square is `squared_q32` (Q32 bits, as [`dot_wide`]
-/// gives it), rounded to nearest and saturated exactly as [`length`]
-/// rounds it, by [`floor_sqrt`]: the shrinkwrap takes one per skeleton
-/// element per field evaluation (issue 15).
-#[must_use]
-pub fn length_of_squared(squared_q32: u64) -> Fx {
-    let r = floor_sqrt(squared_q32); // Q16
-    // r² ≤ squared_q32: no underflow. Round up when the rest exceeds r,
-    // i.e. squared_q32 ≥ (r + ½)².
-    let rounded = if squared_q32 - r * r > r { r + 1 } else { r };
-    Fx::from_bits(rounded.min(i32::MAX as u64) as i32)
-}
 
 /// The rotation about the x axis by `a` (standard right-handed).
 #[must_use]
@@ -296,55 +236,6 @@ mod tests {
                 assert!((x.to_f64() - y).abs() < 4.0 * 15.0 / 65536.0, "{x} vs {y}");
             }
         }
-    }
-
-    /// `floor_sqrt` is `u64::isqrt` at every bucket edge of the table, at
-    /// squares and their neighbours over the whole range, and at random.
-    #[test]
-    fn floor_sqrt_is_isqrt() {
-        let check = |x: u64| assert_eq!(floor_sqrt(x), x.isqrt(), "{x}");
-        for x in 0..1 << 16 {
-            check(x);
-        }
-        for k in 64..=256u64 {
-            for shift in 0..=56 {
-                let edge = (k << 56) >> shift;
-                for x in [edge.wrapping_sub(1), edge, edge.wrapping_add(1)] {
-                    check(x);
-                }
-            }
-        }
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        for _ in 0..200_000 {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            let x = state >> (state % 64);
-            let r = x.isqrt();
-            for y in [x, r * r, (r * r).wrapping_sub(1), r * r + 2 * r] {
-                check(y);
-            }
-        }
-        check(u64::MAX);
-        check(u64::from(u32::MAX) * u64::from(u32::MAX));
-    }
-
-    #[test]
-    fn length_of_squared_is_length() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        for _ in 0..100_000 {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            let c = |k: u32| Fx::from_bits((state >> k) as i32 >> (state % 31));
-            let v = Vector3::new(c(0), c(16), c(32));
-            assert_eq!(length_of_squared(dot_wide(&v, &v) as u64), length(&v));
-        }
-        let extreme = Vector3::new(Fx::MIN, Fx::MIN, Fx::MIN);
-        assert_eq!(
-            length_of_squared(dot_wide(&extreme, &extreme) as u64),
-            Fx::MAX
-        );
     }
 
     #[test]

@@ -76,7 +76,7 @@ pub(super) fn sqrt(x: Fx) -> Fx {
         return Fx::ZERO;
     }
     let n = (x.to_bits() as u64) << 16;
-    let r = n.isqrt();
+    let r = super::root::isqrt_u64(n);
     // Round to nearest: r + 1 when n − r² > r (i.e. n ≥ (r + ½)²).
     let rounded = if n - r * r > r { r + 1 } else { r };
     Fx::from_bits(rounded as i32)

@@ -28,4 +28,4 @@ mod tables_gen;
 pub use angle::Angle;
 pub use number::Fx;
 pub use real::Real;
-pub use wide::{dot_wide, length};
+pub use wide::{dot_wide, length, length_of_squared};

@@ -5,6 +5,7 @@
 use nalgebra::Vector3;
 
 use super::Fx;
+use super::root::isqrt_u64;
 
 /// The dot product of two fixed-point vectors in a wide accumulator: the
 /// exact sum of products as Q32 bits (no rounding; it saturates only
@@ -20,8 +21,42 @@ pub fn dot_wide(a: &Vector3<Fx>, b: &Vector3<Fx>) -> i64 {
 /// (exactly rounded up to saturation).
 #[must_use]
 pub fn length(v: &Vector3<Fx>) -> Fx {
-    let squared_q32 = dot_wide(v, v) as u64; // a sum of squares is non-negative
-    let r = squared_q32.isqrt(); // Q16
+    // A sum of squares is non-negative.
+    length_of_squared(dot_wide(v, v) as u64)
+}
+
+/// The length whose square is `squared_q32` (Q32 bits, as [`dot_wide`]
+/// gives it), rounded to nearest and saturated: [`length`] for a square
+/// already at hand (the shrinkwrap's field takes one per skeleton element
+/// per evaluation).
+#[must_use]
+pub fn length_of_squared(squared_q32: u64) -> Fx {
+    let r = isqrt_u64(squared_q32); // Q16
+    // r² ≤ squared_q32: no underflow. Round up when the rest exceeds r,
+    // i.e. squared_q32 ≥ (r + ½)².
     let rounded = if squared_q32 - r * r > r { r + 1 } else { r };
     Fx::from_bits(rounded.min(i32::MAX as u64) as i32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn length_of_squared_is_length() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        for _ in 0..100_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let c = |k: u32| Fx::from_bits((state >> k) as i32 >> (state % 31));
+            let v = Vector3::new(c(0), c(16), c(32));
+            assert_eq!(length_of_squared(dot_wide(&v, &v) as u64), length(&v));
+        }
+        let extreme = Vector3::new(Fx::MIN, Fx::MIN, Fx::MIN);
+        assert_eq!(
+            length_of_squared(dot_wide(&extreme, &extreme) as u64),
+            Fx::MAX
+        );
+    }
 }

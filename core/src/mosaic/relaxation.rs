@@ -51,7 +51,7 @@ impl Forces<'_> {
         // Q16, 1 ≤ d < r; the 32-bit root is much cheaper when it fits.
         let d = match u32::try_from(d2) {
             Ok(d2) => i64::from(isqrt_u32(d2)),
-            Err(_) => (d2 as u64).isqrt() as i64,
+            Err(_) => crate::fx::root::isqrt_u64(d2 as u64) as i64,
         };
         // (r − d)/d as Q16: (r − d) < 2^30, so the shift fits in i64; in 32
         // bits (no 64-bit division, a library call on a Cortex-M) when the
