@@ -252,6 +252,15 @@ fn a_single_bone_has_one_glb_frame_and_no_animation() {
             .unwrap()
             .contains("newmtl bone\n")
     );
+    // How the wrap converged: the run done again, iteration by iteration.
+    let svg = std::fs::read_to_string(dir.join("wrap.svg")).unwrap();
+    assert!(svg.contains("iteration (count)") && svg.contains("split tolerance"));
+    assert!(dir.join("wrap.png").exists());
+    let summary = std::fs::read_to_string(dir.join("summary.txt")).unwrap();
+    assert!(
+        summary.contains("the shrinkwrap of frame 0: 17 iterations"),
+        "{summary}"
+    );
 }
 
 #[test]

@@ -2,22 +2,24 @@
 //! shaded PNG per wrapped frame, `model.glb` with every frame,
 //! `animation.png` of the pictures (several frames), `bones.png` with
 //! every frame side by side at one scale, each labelled with its L-system
-//! steps (the paper's Fig. 2 and 3), and `summary.txt`, which
+//! steps (the paper's Fig. 2 and 3), `summary.txt`, which
 //! checks each mesh again in f64: Euler characteristic and the worst
-//! |V − V0| / V0 over its vertices.
+//! |V − V0| / V0 over its vertices, and `wrap.png`/`.svg`: how the
+//! shrinkwrap of the last frame converged, iteration by iteration.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
-use morphogen::bones::BonesParams;
+use morphogen::bones::{BonesParams, MCU_TRIANGLES, MCU_VERTICES};
 use morphogen::fx::{Fx, Real};
-use morphogen::shrinkwrap::{Element, worst_level_error};
+use morphogen::shrinkwrap::{Element, Phase, Shrinkwrap, WrapParams, worst_level_error};
 use morphogen::stream::Record;
 use nalgebra::Vector3;
 
 use super::animation::{AnimationWriter, Pixels};
 use super::body::{self, Extent, Frame, canvas, draw, rgb_of, solid};
+use super::chart::{Axis, Chart, Series, write_png, write_svg};
 use super::mesh::{GlbWriter, ObjStyle, write_frame_obj, write_mtl};
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, label_tile, picture, rgb_bytes, trimmed,
@@ -31,29 +33,112 @@ const BONE: [f32; 3] = [0.89, 0.86, 0.78];
 /// The material library of the frames' OBJ files.
 const LIBRARY: &str = "bone.mtl";
 
+/// A frame's skeleton as streamed.
+type Skeleton = Vec<Element<Fx>>;
+
 /// Splits a bones stream into frames and their skeletons (the segments
 /// since the frame's start, in f64), one record at a time.
 #[derive(Debug, Default)]
 struct Framer {
     frames: body::Framer,
-    skeleton: Vec<Element<f64>>,
+    /// The skeleton of the frame being read, as streamed.
+    fixed: Skeleton,
 }
 
 impl Framer {
-    /// Takes the next record; returns the frame it ends and its skeleton.
-    fn push(&mut self, r: &Record) -> Option<(Frame, Vec<Element<f64>>)> {
+    /// Takes the next record; returns the frame it ends and its skeleton
+    /// (as streamed, and in f64).
+    fn push(&mut self, r: &Record) -> Option<(Frame, Skeleton, Vec<Element<f64>>)> {
         match r {
-            Record::FrameStart { .. } => self.skeleton.clear(),
+            Record::FrameStart { .. } => self.fixed.clear(),
             Record::Segment { a, b, width, .. } => {
-                let v = |p: &[Fx; 3]| Vector3::from(p.map(f64::from_fx));
-                self.skeleton
-                    .push(Element::segment(v(a), v(b), f64::from_fx(*width)));
+                let v = |p: &[Fx; 3]| Vector3::from(*p);
+                self.fixed.push(Element::segment(v(a), v(b), *width));
             }
             _ => {}
         }
         let frame = self.frames.push(r)?;
-        Some((frame, std::mem::take(&mut self.skeleton)))
+        let fixed = std::mem::take(&mut self.fixed);
+        let skeleton = fixed.iter().map(in_f64).collect();
+        Some((frame, fixed, skeleton))
     }
+}
+
+/// A skeleton element in f64.
+fn in_f64(e: &Element<Fx>) -> Element<f64> {
+    let v = |p: &[Fx; 3]| Vector3::from(p.map(f64::from_fx));
+    Element::segment(v(&e.a), v(&e.b), f64::from_fx(e.weight))
+}
+
+/// One iteration of a shrinkwrap run: its level V0, its mesh's vertices
+/// and the worst |V − V0| / V0 over them (in f64).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct WrapStep {
+    level: f64,
+    vertices: usize,
+    worst: f64,
+}
+
+/// The shrinkwrap of `skeleton` with `params` done again, as the device
+/// does it (bones paper Sec. 5: raise V0 by ΔV, move, split), measured
+/// after its start and after every iteration.
+///
+/// # Errors
+/// As the run's own errors (a capacity, the iteration limit).
+fn wrap_steps(skeleton: &[Element<Fx>], params: &WrapParams) -> Result<Vec<WrapStep>> {
+    let mut wrap = Box::new(Shrinkwrap::<Fx, MCU_VERTICES, MCU_TRIANGLES>::new(Fx::ZERO));
+    let reference: Vec<Element<f64>> = skeleton.iter().map(in_f64).collect();
+    let measure = |wrap: &Shrinkwrap<Fx, MCU_VERTICES, MCU_TRIANGLES>| {
+        let level = f64::from_fx(wrap.level());
+        let points: Vec<Vector3<f64>> = wrap
+            .mesh()
+            .vertices()
+            .iter()
+            .map(|p| p.map(f64::from_fx))
+            .collect();
+        WrapStep {
+            level,
+            vertices: points.len(),
+            worst: worst_level_error(&reference, &points, level),
+        }
+    };
+    wrap.start(skeleton, params)?;
+    let mut steps = vec![measure(&wrap)];
+    loop {
+        let phase = wrap.iterate(skeleton)?;
+        steps.push(measure(&wrap));
+        if phase == Phase::Done {
+            return Ok(steps);
+        }
+    }
+}
+
+/// The chart of a shrinkwrap run: the worst level error (%) against the
+/// split tolerance, and the mesh's vertices on the right.
+fn wrap_chart(steps: &[WrapStep], tolerance: f64, frame: u32) -> Chart {
+    let along = |f: &dyn Fn(&WrapStep) -> f64| -> Vec<(f64, f64)> {
+        steps
+            .iter()
+            .enumerate()
+            .map(|(i, s)| (i as f64, f(s)))
+            .collect()
+    };
+    let last = steps.len().saturating_sub(1) as f64;
+    Chart::new(
+        format!("Shrinkwrap of frame {frame}, iteration by iteration"),
+        Axis::new("iteration", "count"),
+        Axis::new("worst |V − V0| / V0", "%"),
+    )
+    .with_y2(Axis::new("mesh vertices", "count"))
+    .with_series(Series::line(
+        "worst level error",
+        along(&|s| 100.0 * s.worst),
+    ))
+    .with_series(Series::line(
+        "split tolerance",
+        vec![(0.0, 100.0 * tolerance), (last, 100.0 * tolerance)],
+    ))
+    .with_series(Series::line("vertices", along(&|s| s.vertices as f64)).on_right())
 }
 
 /// A frame's vertices as vectors.
@@ -138,10 +223,12 @@ pub fn write<R: Records + ?Sized>(
     // A frame at a time, in order: the check of each mesh in f64 is the
     // memory-hungry part, and one at a time keeps it so.
     let mut written = Vec::new();
+    // The last frame: its index, vertices and skeleton.
+    let mut last = None;
     let mut framer = Framer::default();
     let mut k = 0usize;
     records.visit(Place::START, |_, r| {
-        let Some((f, skeleton)) = framer.push(r) else {
+        let Some((f, fixed, skeleton)) = framer.push(r) else {
             return Ok(());
         };
         let _ = writeln!(
@@ -196,8 +283,36 @@ pub fn write<R: Records + ?Sized>(
         }
         steps.push(f.age);
         k += 1;
+        last = Some((f.index, f.vertices.len(), fixed));
         Ok(())
     })?;
+    if let Some((frame, vertices, skeleton)) = last
+        && (kinds.has(Kind::Png) || kinds.has(Kind::Svg))
+    {
+        let run = wrap_steps(&skeleton, &params.wrap)?;
+        // The run done again is the one streamed.
+        anyhow::ensure!(
+            run.last().map(|s| s.vertices) == Some(vertices),
+            "the shrinkwrap of frame {frame} done again differs from the stream"
+        );
+        let _ = writeln!(
+            summary,
+            "the shrinkwrap of frame {frame}: {} iterations, worst |V-V0|/V0 {:.5} after the last",
+            run.len() - 1,
+            run.last().map_or(0.0, |s| s.worst)
+        );
+        let chart = wrap_chart(&run, params.wrap.split_tolerance.to_f64(), frame);
+        for (kind, name) in [(Kind::Png, "wrap.png"), (Kind::Svg, "wrap.svg")] {
+            if kinds.has(kind) {
+                let path = dir.join(name);
+                match kind {
+                    Kind::Png => write_png(&chart, &path, 900, 500)?,
+                    _ => write_svg(&chart, &path, 900, 500)?,
+                }
+                written.push(path);
+            }
+        }
+    }
     if let Some(glb) = glb {
         let path = dir.join("model.glb");
         glb.write(&path)?;
