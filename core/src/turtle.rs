@@ -248,13 +248,8 @@ impl Turning for f64 {}
 
 impl Turning for Fx {
     fn turn(state: &mut State<Fx>, axis: Axis, c: Fx, s: Fx) {
-        match exact_turn(state, axis, c, s) {
-            Some((heading, left, up)) => {
-                state.heading = heading;
-                state.left = left;
-                state.up = up;
-            }
-            None => turn(state, axis, c, s),
+        if !exact_turn(state, axis, c, s) {
+            turn(state, axis, c, s);
         }
     }
 }
@@ -299,10 +294,35 @@ fn narrow(v: [i64; 3]) -> Vector3<Fx> {
     Vector3::new(x, y, z)
 }
 
+/// [`rotate`] on widened bits: `(a·c + b·s, b·c − a·s)`, each product
+/// rounded as [`mul`] rounds it.
+fn rotate_bits(a: &[i64; 3], b: &[i64; 3], c: i64, s: i64) -> ([i64; 3], [i64; 3]) {
+    let (ac, bs) = (a.map(|x| mul(x, c)), b.map(|x| mul(x, s)));
+    let (bc, as_) = (b.map(|x| mul(x, c)), a.map(|x| mul(x, s)));
+    (
+        [
+            ac[0].wrapping_add(bs[0]),
+            ac[1].wrapping_add(bs[1]),
+            ac[2].wrapping_add(bs[2]),
+        ],
+        [
+            bc[0].wrapping_sub(as_[0]),
+            bc[1].wrapping_sub(as_[1]),
+            bc[2].wrapping_sub(as_[2]),
+        ],
+    )
+}
+
+/// `v·k` as [`mul`] rounds it; a factor of exactly 1 leaves every
+/// component as it is, so those products are skipped.
+fn scale(v: [i64; 3], k: i64) -> [i64; 3] {
+    if k == ONE { v } else { v.map(|x| mul(x, k)) }
+}
+
 /// [`turn`] for [`Fx`] in plain `i64` arithmetic, with each product
 /// rounded as `Fx`'s `*` rounds it: the same bits wherever no saturating
 /// operator of the generic code would saturate, which the guards below
-/// prove; `None` (the generic code then runs) where they do not hold.
+/// prove; false, with `state` untouched, where they do not hold.
 ///
 /// Range proof, in units of 1 (2¹⁶ bits):
 /// 1. `|c|, |s| ≤ 1` and `|c| + |s| ≤ 3/2` (a sine and cosine of one angle
@@ -318,48 +338,47 @@ fn narrow(v: [i64; 3]) -> Vector3<Fx> {
 ///    each product in `U = H′ × L′` ≤ 13 000 and their difference ≤ 26 000:
 ///    all below 32 768, so nothing saturates, and every product is below
 ///    2⁴⁶ bits.
-fn exact_turn(
-    state: &State<Fx>,
-    axis: Axis,
-    c: Fx,
-    s: Fx,
-) -> Option<(Vector3<Fx>, Vector3<Fx>, Vector3<Fx>)> {
+fn exact_turn(state: &mut State<Fx>, axis: Axis, c: Fx, s: Fx) -> bool {
     let (c, s) = (i64::from(c.to_bits()), i64::from(s.to_bits()));
     if c.abs() > ONE || s.abs() > ONE || c.abs() + s.abs() > 3 * ONE / 2 {
-        return None;
+        return false;
     }
     let (h, l, u) = (widen(&state.heading), widen(&state.left), widen(&state.up));
-    // The rotations of `rotate`, keeping only what the orthonormalisation
-    // reads (it rebuilds U).
+    // `rotate`, keeping only what the orthonormalisation reads (it
+    // rebuilds U).
     let (h, l) = match axis {
-        Axis::Up => (
-            core::array::from_fn(|i| mul(h[i], c).wrapping_add(mul(l[i], s))),
-            core::array::from_fn(|i| mul(l[i], c).wrapping_sub(mul(h[i], s))),
-        ),
-        Axis::Left => (
-            core::array::from_fn(|i| mul(h[i], c).wrapping_sub(mul(u[i], s))),
-            l,
-        ),
-        Axis::Heading => (
-            h,
-            core::array::from_fn(|i| mul(l[i], c).wrapping_add(mul(u[i], s))),
-        ),
+        Axis::Up => rotate_bits(&h, &l, c, s),
+        Axis::Left => (rotate_bits(&u, &h, c, s).1, l),
+        Axis::Heading => (h, rotate_bits(&l, &u, c, s).0),
     };
     let hh = square(&h);
     if hh > 4 * ONE || square(&l) > 4 * ONE {
-        return None;
+        return false;
     }
     let newton = |squared: i64| mul((3 * ONE).wrapping_sub(squared), ONE / 2);
-    let h = h.map(|x| mul(x, newton(hh)));
+    let h = scale(h, newton(hh));
     let along = dot(&h, &l);
-    let l: [i64; 3] = core::array::from_fn(|i| l[i].wrapping_sub(mul(h[i], along)));
-    let l = l.map(|x| mul(x, newton(square(&l))));
+    // L − H·0 is L: skipped.
+    let l = if along == 0 {
+        l
+    } else {
+        let [x, y, z] = h.map(|x| mul(x, along));
+        [
+            l[0].wrapping_sub(x),
+            l[1].wrapping_sub(y),
+            l[2].wrapping_sub(z),
+        ]
+    };
+    let l = scale(l, newton(square(&l)));
     let u = [
         mul(h[1], l[2]).wrapping_sub(mul(h[2], l[1])),
         mul(h[2], l[0]).wrapping_sub(mul(h[0], l[2])),
         mul(h[0], l[1]).wrapping_sub(mul(h[1], l[0])),
     ];
-    Some((narrow(h), narrow(l), narrow(u)))
+    state.heading = narrow(h);
+    state.left = narrow(l);
+    state.up = narrow(u);
+    true
 }
 
 impl Turtle<Fx> {
@@ -770,7 +789,7 @@ mod tests {
                 <Fx as Turning>::turn(&mut fast, axis, c, s);
                 turn(&mut generic, axis, c, s);
                 assert_eq!(fast, generic, "{axis:?} by ({c}, {s}) of {state:?}");
-                exact += usize::from(exact_turn(&state, axis, c, s).is_some());
+                exact += usize::from(exact_turn(&mut state.clone(), axis, c, s));
                 total += 1;
             }
         }
