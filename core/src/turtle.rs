@@ -192,12 +192,193 @@ fn push_vertex<R: Real>(
     polygon.push(*p).map_err(|_| TurtleError::TooManyVertices)
 }
 
+/// An axis of the turtle's own frame, which a turn rotates about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Axis {
+    /// H: `\` and `/` roll (L towards U).
+    Heading,
+    /// L: `&` and `^` pitch (U towards H).
+    Left,
+    /// U: `+` and `-` turn (H towards L).
+    Up,
+}
+
 /// `(a, b) ← (a·c + b·s, b·c − a·s)`: the rotation of the plane (a, b) that
 /// turns a towards b.
 fn rotate<R: Real>(a: &mut Vector3<R>, b: &mut Vector3<R>, c: R, s: R) {
     let (x, y) = (*a, *b);
     *a = x * c + y * s;
     *b = y * c - x * s;
+}
+
+/// Rotates the frame about `axis` by the angle whose cosine and sine are
+/// `c` and `s`, then pulls it back to orthonormal: one Newton step towards
+/// unit length for H, L made orthogonal to H and unit, U = H × L. Without
+/// the second part the sin/cos rounding (≤ 2 LSB) scales the frame by up to
+/// ~3·10⁻⁵ per turn, which compounds along a branch.
+fn turn<R: Real>(state: &mut State<R>, axis: Axis, c: R, s: R) {
+    match axis {
+        Axis::Up => rotate(&mut state.heading, &mut state.left, c, s),
+        Axis::Left => rotate(&mut state.up, &mut state.heading, c, s),
+        Axis::Heading => rotate(&mut state.left, &mut state.up, c, s),
+    }
+    let (three, half) = (R::from_int(3), R::from_ratio(1, 2));
+    let h = state.heading;
+    let h = h * ((three - h.dot(&h)) * half);
+    let l = state.left - h * h.dot(&state.left);
+    let l = l * ((three - l.dot(&l)) * half);
+    state.heading = h;
+    state.left = l;
+    state.up = h.cross(&l);
+}
+
+/// The [`Real`]s a turtle computes with. A turn of the frame is the
+/// turtle's hot path: by default it is the generic rotation and
+/// orthonormalisation above; [`Fx`] computes the same bits with fewer
+/// operations ([`exact_turn`]).
+pub trait Turning: Real {
+    /// Rotates the frame of `state` about `axis` by the angle whose cosine
+    /// and sine are `c` and `s`, and pulls it back to orthonormal.
+    fn turn(state: &mut State<Self>, axis: Axis, c: Self, s: Self) {
+        turn(state, axis, c, s);
+    }
+}
+
+impl Turning for f64 {}
+
+impl Turning for Fx {
+    fn turn(state: &mut State<Fx>, axis: Axis, c: Fx, s: Fx) {
+        if !exact_turn(state, axis, c, s) {
+            turn(state, axis, c, s);
+        }
+    }
+}
+
+/// [`Fx::ONE`] as widened bits.
+const ONE: i64 = 1 << 16;
+
+/// `a·b` of two Q16 numbers rounded as [`Fx`]'s `*` rounds it (+½ LSB, then
+/// down), without saturating: the same bits whenever they fit an `i32`.
+/// Every caller's product is below 2⁴⁸ (see [`exact_turn`]): nothing
+/// wraps.
+fn mul(a: i64, b: i64) -> i64 {
+    a.wrapping_mul(b).wrapping_add(ONE / 2) >> 16
+}
+
+/// `v·v` as [`Fx`]'s `v.dot(&v)` rounds it, without saturating, for `|vᵢ|`
+/// below 2³²: the squares are taken unsigned, where they do not wrap.
+fn square(v: &[i64; 3]) -> i64 {
+    v.iter()
+        .map(|x| {
+            let m = x.unsigned_abs();
+            (m.wrapping_mul(m).wrapping_add(ONE as u64 / 2) >> 16) as i64
+        })
+        .fold(0, i64::wrapping_add)
+}
+
+/// `a·b` as [`Fx`]'s `a.dot(&b)` rounds it, without saturating.
+fn dot(a: &[i64; 3], b: &[i64; 3]) -> i64 {
+    mul(a[0], b[0])
+        .wrapping_add(mul(a[1], b[1]))
+        .wrapping_add(mul(a[2], b[2]))
+}
+
+/// The widened bits of a vector.
+fn widen(v: &Vector3<Fx>) -> [i64; 3] {
+    [v.x, v.y, v.z].map(|x| i64::from(x.to_bits()))
+}
+
+/// Bits proven to fit an `i32` back into a vector.
+fn narrow(v: [i64; 3]) -> Vector3<Fx> {
+    let [x, y, z] = v.map(|x| Fx::from_bits(x as i32));
+    Vector3::new(x, y, z)
+}
+
+/// [`rotate`] on widened bits: `(a·c + b·s, b·c − a·s)`, each product
+/// rounded as [`mul`] rounds it.
+fn rotate_bits(a: &[i64; 3], b: &[i64; 3], c: i64, s: i64) -> ([i64; 3], [i64; 3]) {
+    let (ac, bs) = (a.map(|x| mul(x, c)), b.map(|x| mul(x, s)));
+    let (bc, as_) = (b.map(|x| mul(x, c)), a.map(|x| mul(x, s)));
+    (
+        [
+            ac[0].wrapping_add(bs[0]),
+            ac[1].wrapping_add(bs[1]),
+            ac[2].wrapping_add(bs[2]),
+        ],
+        [
+            bc[0].wrapping_sub(as_[0]),
+            bc[1].wrapping_sub(as_[1]),
+            bc[2].wrapping_sub(as_[2]),
+        ],
+    )
+}
+
+/// `v·k` as [`mul`] rounds it; a factor of exactly 1 leaves every
+/// component as it is, so those products are skipped.
+fn scale(v: [i64; 3], k: i64) -> [i64; 3] {
+    if k == ONE { v } else { v.map(|x| mul(x, k)) }
+}
+
+/// [`turn`] for [`Fx`] in plain `i64` arithmetic, with each product
+/// rounded as `Fx`'s `*` rounds it: the same bits wherever no saturating
+/// operator of the generic code would saturate, which the guards below
+/// prove; false, with `state` untouched, where they do not hold.
+///
+/// Range proof, in units of 1 (2¹⁶ bits):
+/// 1. `|c|, |s| ≤ 1` and `|c| + |s| ≤ 3/2` (a sine and cosine of one angle
+///    have `|c| + |s| ≤ √2` plus rounding). A product `x·c` (or `y·s`)
+///    then fits an `i32` unless `x = −32768`, `c = −1`; there `|s| ≤ 1/2`,
+///    so the rotated component is beyond ±16 383 whatever saturated.
+///    Rotated components are below 1.5·2³¹ bits, products below 2⁴⁷.
+/// 2. `H·H ≤ 4` and `L·L ≤ 4` (the frame of a turtle has unit vectors):
+///    every component of H and L is within ±2.01, so step 1 saturated
+///    nothing, and from `|H|, |L| ≤ 2.001`: the Newton factor for H is in
+///    [−0.51, 1.5], `|H′| ≤ 3.01`, `|H′·L| ≤ 6.1`, `|L − H′(H′·L)| ≤ 20.5`,
+///    its square ≤ 421, the factor for L within ±210, `|L′| ≤ 4 310`,
+///    each product in `U = H′ × L′` ≤ 13 000 and their difference ≤ 26 000:
+///    all below 32 768, so nothing saturates, and every product is below
+///    2⁴⁶ bits.
+fn exact_turn(state: &mut State<Fx>, axis: Axis, c: Fx, s: Fx) -> bool {
+    let (c, s) = (i64::from(c.to_bits()), i64::from(s.to_bits()));
+    if c.abs() > ONE || s.abs() > ONE || c.abs() + s.abs() > 3 * ONE / 2 {
+        return false;
+    }
+    let (h, l, u) = (widen(&state.heading), widen(&state.left), widen(&state.up));
+    // `rotate`, keeping only what the orthonormalisation reads (it
+    // rebuilds U).
+    let (h, l) = match axis {
+        Axis::Up => rotate_bits(&h, &l, c, s),
+        Axis::Left => (rotate_bits(&u, &h, c, s).1, l),
+        Axis::Heading => (h, rotate_bits(&l, &u, c, s).0),
+    };
+    let hh = square(&h);
+    if hh > 4 * ONE || square(&l) > 4 * ONE {
+        return false;
+    }
+    let newton = |squared: i64| mul((3 * ONE).wrapping_sub(squared), ONE / 2);
+    let h = scale(h, newton(hh));
+    let along = dot(&h, &l);
+    // L − H·0 is L: skipped.
+    let l = if along == 0 {
+        l
+    } else {
+        let [x, y, z] = h.map(|x| mul(x, along));
+        [
+            l[0].wrapping_sub(x),
+            l[1].wrapping_sub(y),
+            l[2].wrapping_sub(z),
+        ]
+    };
+    let l = scale(l, newton(square(&l)));
+    let u = [
+        mul(h[1], l[2]).wrapping_sub(mul(h[2], l[1])),
+        mul(h[2], l[0]).wrapping_sub(mul(h[0], l[2])),
+        mul(h[0], l[1]).wrapping_sub(mul(h[1], l[0])),
+    ];
+    state.heading = narrow(h);
+    state.left = narrow(l);
+    state.up = narrow(u);
+    true
 }
 
 impl Turtle<Fx> {
@@ -231,7 +412,7 @@ impl Turtle<Fx> {
     }
 }
 
-impl<R: Real> Turtle<R> {
+impl<R: Turning> Turtle<R> {
     /// A turtle at the origin in the initial frame.
     #[must_use]
     pub fn new(params: Params<R>) -> Turtle<R> {
@@ -329,22 +510,6 @@ impl<R: Real> Turtle<R> {
         Ok(from)
     }
 
-    /// Pulls the frame back to orthonormal after a rotation: one Newton
-    /// step towards unit length for H, L made orthogonal to H and unit,
-    /// U = H × L. Without it the sin/cos rounding (≤ 2 LSB) scales the
-    /// frame by up to ~3·10⁻⁵ per turn, which compounds along a branch.
-    fn orthonormalise(&mut self) {
-        let s = &mut self.state;
-        let (three, half) = (R::from_int(3), R::from_ratio(1, 2));
-        let h = s.heading;
-        let h = h * ((three - h.dot(&h)) * half);
-        let l = s.left - h * h.dot(&s.left);
-        let l = l * ((three - l.dot(&l)) * half);
-        s.heading = h;
-        s.left = l;
-        s.up = h.cross(&l);
-    }
-
     /// `$`: rolls about H so that L is horizontal (left unchanged when H is
     /// within ~0.2° of vertical).
     fn level(&mut self) {
@@ -387,18 +552,17 @@ impl<R: Real> Turtle<R> {
             }
             b'+' | b'-' | b'&' | b'^' | b'\\' | b'/' => {
                 let (c, sin) = self.angle(m);
-                let s = &mut self.state;
                 let sin = if matches!(m.symbol, b'-' | b'^' | b'/') {
                     -sin
                 } else {
                     sin
                 };
-                match m.symbol {
-                    b'+' | b'-' => rotate(&mut s.heading, &mut s.left, c, sin),
-                    b'&' | b'^' => rotate(&mut s.up, &mut s.heading, c, sin),
-                    _ => rotate(&mut s.left, &mut s.up, c, sin),
-                }
-                self.orthonormalise();
+                let axis = match m.symbol {
+                    b'+' | b'-' => Axis::Up,
+                    b'&' | b'^' => Axis::Left,
+                    _ => Axis::Heading,
+                };
+                R::turn(&mut self.state, axis, c, sin);
             }
             b'|' => {
                 s.heading = -s.heading;
@@ -468,7 +632,7 @@ mod tests {
         }
     }
 
-    fn run<R: Real>(text: &str, delta_deg: i32) -> (Turtle<R>, std::vec::Vec<Drawn<R>>) {
+    fn run<R: Turning>(text: &str, delta_deg: i32) -> (Turtle<R>, std::vec::Vec<Drawn<R>>) {
         let mut t = Turtle::new(params::<R>(delta_deg));
         let drawn = text
             .bytes()
@@ -581,5 +745,58 @@ mod tests {
         far.arity = 1;
         far.params[0] = Fx::from_int(20_000);
         assert_eq!(t.apply(&far), Err(TurtleError::OutOfRange));
+    }
+
+    #[test]
+    fn exact_turn_is_the_generic_turn_bit_for_bit() {
+        // Frames near unit, larger, and anywhere in the I16F16 range (where
+        // the guards send the turn to the generic code), turned about every
+        // axis by sine/cosine pairs and by raw extremes.
+        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = move || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 32) as i32
+        };
+        let extremes = [i32::MIN, i32::MAX, -65_536, 65_536, 0, 98_304];
+        let (mut exact, mut total) = (0, 0);
+        for k in 0..30_000 {
+            let mut component = || match k % 4 {
+                0 => Fx::from_bits(next() >> 15),
+                1 => Fx::from_bits(next() >> 13),
+                2 => Fx::from_bits(next()),
+                _ => Fx::from_bits(extremes[next().unsigned_abs() as usize % 6]),
+            };
+            let mut vector = || Vector3::new(component(), component(), component());
+            let state = State {
+                position: Vector3::zeros(),
+                heading: vector(),
+                left: vector(),
+                up: vector(),
+                width: Fx::ONE,
+                colour: 0,
+            };
+            let (c, s) = if k % 3 == 0 {
+                let raw = |r: i32| Fx::from_bits(extremes[r.unsigned_abs() as usize % 6]);
+                (raw(next()), raw(next()))
+            } else {
+                let a = Angle(next() as u32);
+                (<Fx as Real>::cos(a), <Fx as Real>::sin(a))
+            };
+            for axis in [Axis::Heading, Axis::Left, Axis::Up] {
+                let (mut fast, mut generic) = (state, state);
+                <Fx as Turning>::turn(&mut fast, axis, c, s);
+                turn(&mut generic, axis, c, s);
+                assert_eq!(fast, generic, "{axis:?} by ({c}, {s}) of {state:?}");
+                exact += usize::from(exact_turn(&mut state.clone(), axis, c, s));
+                total += 1;
+            }
+        }
+        // Both paths are exercised.
+        assert!(
+            exact > total / 10 && exact < total / 2,
+            "{exact} of {total}"
+        );
     }
 }
