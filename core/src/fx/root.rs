@@ -58,14 +58,27 @@ const ROOT_ESTIMATES: [u16; 192] = {
     table
 };
 
-/// ⌊√x⌋, exactly, in a few instructions where `u64::isqrt` needs a few
-/// dozen: x is
-/// scaled by 4ʲ into [2⁶², 2⁶⁴), √ of that is estimated from
-/// [`ROOT_ESTIMATES`] to ε ≤ 0.004, two Newton steps take the error to
-/// ε²/2 ≈ 8·10⁻⁶ and then below 0.2 (of a result < 2³²), and one
-/// correction after scaling back gives the floor.
+/// ⌊√x⌋, exactly: by [`newton_u64`] where a 64-bit division is an
+/// instruction, and by the standard library's bit-by-bit root on 32-bit
+/// targets, where each of Newton's divisions would be a library call of
+/// ~100 cycles (the Cortex-M firmware ran its bodies 60 % slower with
+/// them). Both give the same bits.
 #[must_use]
 pub(crate) fn isqrt_u64(x: u64) -> u64 {
+    if cfg!(target_pointer_width = "64") {
+        newton_u64(x)
+    } else {
+        x.isqrt()
+    }
+}
+
+/// ⌊√x⌋, exactly, in a few instructions where `u64::isqrt` needs a few
+/// dozen on a 64-bit machine: x is scaled by 4ʲ into [2⁶², 2⁶⁴), √ of that
+/// is estimated from [`ROOT_ESTIMATES`] to ε ≤ 0.004, two Newton steps
+/// take the error to ε²/2 ≈ 8·10⁻⁶ and then below 0.2 (of a result
+/// < 2³²), and one correction after scaling back gives the floor.
+#[must_use]
+fn newton_u64(x: u64) -> u64 {
     if x == 0 {
         return 0;
     }
@@ -124,11 +137,11 @@ mod tests {
         }
     }
 
-    /// `isqrt_u64` is `u64::isqrt` at every bucket edge of the table, at
+    /// `newton_u64` is `u64::isqrt` at every bucket edge of the table, at
     /// squares and their neighbours over the whole range, and at random.
     #[test]
-    fn isqrt_u64_is_isqrt() {
-        let check = |x: u64| assert_eq!(isqrt_u64(x), x.isqrt(), "{x}");
+    fn newton_u64_is_isqrt() {
+        let check = |x: u64| assert_eq!(newton_u64(x), x.isqrt(), "{x}");
         for x in 0..1 << 16 {
             check(x);
         }
