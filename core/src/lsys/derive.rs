@@ -152,6 +152,9 @@ fn choose(
     position: u64,
     seed: u64,
 ) -> Option<(u8, [Fx; MAX_FORMALS])> {
+    if !g.is_rewritten(m.symbol) {
+        return None;
+    }
     let mut candidates = Vec::<(u8, Fx), MAX_PRODUCTIONS>::new();
     let mut weighted = false;
     for (k, p) in g.productions.iter().enumerate() {
@@ -314,7 +317,13 @@ impl Derivation for Streaming {
             if level >= self.steps as usize {
                 return Ok(Some(m));
             }
-            match choose(grammar, &m, None, level as u8 + 1, position, self.seed) {
+            // Most modules have no production: skip the call to `choose`.
+            let chosen = if grammar.is_rewritten(m.symbol) {
+                choose(grammar, &m, None, level as u8 + 1, position, self.seed)
+            } else {
+                None
+            };
+            match chosen {
                 Some((production, formals)) => {
                     let mut f = [Fx::ZERO; MAX_PARAMS];
                     f.copy_from_slice(&formals[..MAX_PARAMS]);
