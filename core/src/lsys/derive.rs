@@ -294,7 +294,33 @@ impl Derivation for Streaming {
         Ok(())
     }
 
+    #[inline]
     fn next_module(&mut self, grammar: &Grammar) -> Result<Option<Module>, LsysError> {
+        // Fast path: a frame at the last level hands out its successor's
+        // modules in order, with no choice to make.
+        let last = self.steps as usize;
+        if self.frames.len() == last + 1
+            && let Some(frame) = self.frames.last_mut()
+            && let Some(counter) = self.positions.get_mut(last)
+        {
+            let span = grammar.successor(frame.production);
+            if frame.next < span.len {
+                let m =
+                    grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
+                frame.next += 1;
+                *counter += 1;
+                return Ok(Some(m));
+            }
+        }
+        self.descend(grammar)
+    }
+}
+
+impl Streaming {
+    /// [`Derivation::next_module`] past its fast path: pops finished frames,
+    /// pushes a frame for each production chosen on the way down, and
+    /// carries a module that no production rewrites to the last level.
+    fn descend(&mut self, grammar: &Grammar) -> Result<Option<Module>, LsysError> {
         loop {
             let Some(level) = self.frames.len().checked_sub(1) else {
                 return Ok(None);

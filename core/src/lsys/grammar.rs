@@ -233,6 +233,7 @@ impl Grammar {
     }
 
     /// Instantiates successor template `index` with `formals`.
+    #[inline]
     pub(crate) fn instantiate(&self, index: usize, formals: &[Fx]) -> Module {
         let Some(t) = self.templates.get(index) else {
             return Module::default();
