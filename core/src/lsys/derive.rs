@@ -237,11 +237,14 @@ struct Frame {
 /// Positions: the frames visit every level's string in order, so a running
 /// counter per level gives each module its index in its level's string —
 /// the same index [`Buffered`] sees. A module that no production rewrites
-/// is carried to the last level at once, advancing the deeper counters.
+/// is carried to the last level at once: it is counted once in `carried`
+/// at its level, and a module's index at level `k` is its level's counter
+/// plus the modules carried from levels above `k`.
 #[derive(Clone, Debug)]
 pub struct Streaming {
     frames: Vec<Frame, { MAX_STEPS + 1 }>,
     positions: [u64; MAX_STEPS + 1],
+    carried: [u64; MAX_STEPS + 1],
     steps: u8,
     seed: u64,
 }
@@ -259,16 +262,28 @@ impl Streaming {
         Streaming {
             frames: Vec::new(),
             positions: [0; MAX_STEPS + 1],
+            carried: [0; MAX_STEPS + 1],
             steps: 0,
             seed: 0,
         }
     }
 
-    /// The number of modules of each level's string produced so far; after
-    /// a complete derivation, the length of every intermediate string.
+    /// After a complete derivation, the length of every intermediate
+    /// string (before, each level's counter without the modules carried
+    /// into it).
     #[must_use]
     pub fn positions(&self) -> &[u64] {
         self.positions.get(..=self.steps as usize).unwrap_or(&[])
+    }
+
+    /// Adds to every level's counter the modules carried into it from the
+    /// levels above, once the derivation is complete.
+    fn settle_carried(&mut self) {
+        let mut above = 0u64;
+        for (counter, carried) in self.positions.iter_mut().zip(&mut self.carried) {
+            *counter = counter.saturating_add(above);
+            above = above.saturating_add(core::mem::take(carried));
+        }
     }
 }
 
@@ -285,6 +300,7 @@ impl Derivation for Streaming {
         }
         self.frames.clear();
         self.positions = [0; MAX_STEPS + 1];
+        self.carried = [0; MAX_STEPS + 1];
         self.steps = steps;
         self.seed = seed;
         let _ = self.frames.push(Frame {
@@ -323,6 +339,7 @@ impl Streaming {
     fn descend(&mut self, grammar: &Grammar) -> Result<Option<Module>, LsysError> {
         loop {
             let Some(level) = self.frames.len().checked_sub(1) else {
+                self.settle_carried();
                 return Ok(None);
             };
             let Some(frame) = self.frames.last_mut() else {
@@ -338,13 +355,15 @@ impl Streaming {
             let Some(counter) = self.positions.get_mut(level) else {
                 return Ok(None);
             };
-            let position = *counter;
+            let own = *counter;
             *counter += 1;
             if level >= self.steps as usize {
                 return Ok(Some(m));
             }
             // Most modules have no production: skip the call to `choose`.
             let chosen = if grammar.is_rewritten(m.symbol) {
+                let above = self.carried.get(..level).unwrap_or(&[]);
+                let position = above.iter().fold(own, |p, &c| p.saturating_add(c));
                 choose(grammar, &m, None, level as u8 + 1, position, self.seed)
             } else {
                 None
@@ -365,9 +384,8 @@ impl Streaming {
                         })?;
                 }
                 None => {
-                    let deeper = level + 1..=self.steps as usize;
-                    for counter in self.positions.get_mut(deeper).unwrap_or(&mut []) {
-                        *counter += 1;
+                    if let Some(carried) = self.carried.get_mut(level) {
+                        *carried += 1;
                     }
                     return Ok(Some(m));
                 }
