@@ -312,20 +312,28 @@ impl Derivation for Streaming {
 
     #[inline]
     fn next_module(&mut self, grammar: &Grammar) -> Result<Option<Module>, LsysError> {
-        // Fast path: a frame at the last level hands out its successor's
-        // modules in order, with no choice to make.
+        // Fast path: the top frame's next module needs no choice (the
+        // frame is at the last level, or no production rewrites the
+        // module), so it is counted and returned as it is.
         let last = self.steps as usize;
-        if self.frames.len() == last + 1
+        if let Some(level) = self.frames.len().checked_sub(1)
             && let Some(frame) = self.frames.last_mut()
-            && let Some(counter) = self.positions.get_mut(last)
         {
             let span = grammar.successor(frame.production);
             if frame.next < span.len {
                 let m =
                     grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
-                frame.next += 1;
-                *counter += 1;
-                return Ok(Some(m));
+                let carried = level < last;
+                if !carried || !grammar.is_rewritten(m.symbol) {
+                    frame.next += 1;
+                    if let Some(counter) = self.positions.get_mut(level) {
+                        *counter += 1;
+                    }
+                    if carried && let Some(count) = self.carried.get_mut(level) {
+                        *count += 1;
+                    }
+                    return Ok(Some(m));
+                }
             }
         }
         self.descend(grammar)
