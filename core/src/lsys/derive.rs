@@ -18,7 +18,7 @@ use heapless::Vec;
 use crate::fx::Fx;
 use crate::rng::KeyedRng;
 
-use super::grammar::{AXIOM, Grammar, Production, bind, matches};
+use super::grammar::{AXIOM, Grammar, Production, Span, bind, matches};
 use super::{LsysError, MAX_FORMALS, MAX_PARAMS, MAX_PRODUCTIONS, MAX_STEPS, Module};
 
 /// The RNG stream of the choice for the module at `position` of the string
@@ -220,11 +220,12 @@ fn choose(
 }
 
 /// One level of the depth-first expansion: which successor is being
-/// expanded (the axiom's or a production's), how far, and the bound
-/// parameters of the module it replaced.
+/// expanded (the axiom's or a production's, looked up once when the frame
+/// is pushed), how far, and the bound parameters of the module it
+/// replaced.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 struct Frame {
-    production: u8,
+    successor: Span,
     next: u16,
     formals: [Fx; MAX_PARAMS],
 }
@@ -304,7 +305,7 @@ impl Derivation for Streaming {
         self.steps = steps;
         self.seed = seed;
         let _ = self.frames.push(Frame {
-            production: AXIOM,
+            successor: grammar.successor(AXIOM),
             ..Frame::default()
         });
         Ok(())
@@ -319,7 +320,7 @@ impl Derivation for Streaming {
         if let Some(level) = self.frames.len().checked_sub(1)
             && let Some(frame) = self.frames.last_mut()
         {
-            let span = grammar.successor(frame.production);
+            let span = frame.successor;
             if frame.next < span.len {
                 let m =
                     grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
@@ -353,7 +354,7 @@ impl Streaming {
             let Some(frame) = self.frames.last_mut() else {
                 return Ok(None);
             };
-            let span = grammar.successor(frame.production);
+            let span = frame.successor;
             if frame.next >= span.len {
                 self.frames.pop();
                 continue;
@@ -382,7 +383,7 @@ impl Streaming {
                     f.copy_from_slice(&formals[..MAX_PARAMS]);
                     self.frames
                         .push(Frame {
-                            production,
+                            successor: grammar.successor(production),
                             next: 0,
                             formals: f,
                         })
