@@ -286,65 +286,11 @@ impl Streaming {
             above = above.saturating_add(core::mem::take(carried));
         }
     }
-}
 
-impl Derivation for Streaming {
-    fn restart(&mut self, grammar: &Grammar, steps: u8, seed: u64) -> Result<(), LsysError> {
-        if grammar.is_context_sensitive() {
-            return Err(LsysError::NeedsBuffer);
-        }
-        if steps as usize > MAX_STEPS {
-            return Err(LsysError::Capacity {
-                limit: "MAX_STEPS",
-                capacity: MAX_STEPS as u32,
-            });
-        }
-        self.frames.clear();
-        self.positions = [0; MAX_STEPS + 1];
-        self.carried = [0; MAX_STEPS + 1];
-        self.steps = steps;
-        self.seed = seed;
-        let _ = self.frames.push(Frame {
-            successor: grammar.successor(AXIOM),
-            ..Frame::default()
-        });
-        Ok(())
-    }
-
-    #[inline]
-    fn next_module(&mut self, grammar: &Grammar) -> Result<Option<Module>, LsysError> {
-        // Fast path: the top frame's next module needs no choice (the
-        // frame is at the last level, or no production rewrites the
-        // module), so it is counted and returned as it is.
-        let last = self.steps as usize;
-        if let Some(level) = self.frames.len().checked_sub(1)
-            && let Some(frame) = self.frames.last_mut()
-        {
-            let span = frame.successor;
-            if frame.next < span.len {
-                let m =
-                    grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
-                let carried = level < last;
-                if !carried || !grammar.is_rewritten(m.symbol) {
-                    frame.next += 1;
-                    if let Some(counter) = self.positions.get_mut(level) {
-                        *counter += 1;
-                    }
-                    if carried && let Some(count) = self.carried.get_mut(level) {
-                        *count += 1;
-                    }
-                    return Ok(Some(m));
-                }
-            }
-        }
-        self.descend(grammar)
-    }
-}
-
-impl Streaming {
-    /// [`Derivation::next_module`] past its fast path: pops finished frames,
-    /// pushes a frame for each production chosen on the way down, and
-    /// carries a module that no production rewrites to the last level.
+    /// [`Derivation::next_module`] past its fast path: pops finished
+    /// frames, pushes a frame for each production chosen on the way down,
+    /// and carries a module with no applicable production to the last
+    /// level.
     fn descend(&mut self, grammar: &Grammar) -> Result<Option<Module>, LsysError> {
         loop {
             let Some(level) = self.frames.len().checked_sub(1) else {
@@ -400,6 +346,59 @@ impl Streaming {
                 }
             }
         }
+    }
+}
+
+impl Derivation for Streaming {
+    fn restart(&mut self, grammar: &Grammar, steps: u8, seed: u64) -> Result<(), LsysError> {
+        if grammar.is_context_sensitive() {
+            return Err(LsysError::NeedsBuffer);
+        }
+        if steps as usize > MAX_STEPS {
+            return Err(LsysError::Capacity {
+                limit: "MAX_STEPS",
+                capacity: MAX_STEPS as u32,
+            });
+        }
+        self.frames.clear();
+        self.positions = [0; MAX_STEPS + 1];
+        self.carried = [0; MAX_STEPS + 1];
+        self.steps = steps;
+        self.seed = seed;
+        let _ = self.frames.push(Frame {
+            successor: grammar.successor(AXIOM),
+            ..Frame::default()
+        });
+        Ok(())
+    }
+
+    #[inline]
+    fn next_module(&mut self, grammar: &Grammar) -> Result<Option<Module>, LsysError> {
+        // Fast path: the top frame's next module needs no choice (the
+        // frame is at the last level, or no production rewrites the
+        // module), so it is counted and returned as it is.
+        let last = self.steps as usize;
+        if let Some(level) = self.frames.len().checked_sub(1)
+            && let Some(frame) = self.frames.last_mut()
+        {
+            let span = frame.successor;
+            if frame.next < span.len {
+                let m =
+                    grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
+                let carried = level < last;
+                if !carried || !grammar.is_rewritten(m.symbol) {
+                    frame.next += 1;
+                    if let Some(counter) = self.positions.get_mut(level) {
+                        *counter += 1;
+                    }
+                    if carried && let Some(count) = self.carried.get_mut(level) {
+                        *count += 1;
+                    }
+                    return Ok(Some(m));
+                }
+            }
+        }
+        self.descend(grammar)
     }
 }
 
