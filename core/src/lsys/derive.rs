@@ -18,7 +18,7 @@ use heapless::Vec;
 use crate::fx::Fx;
 use crate::rng::KeyedRng;
 
-use super::grammar::{AXIOM, Grammar, Production, bind, matches};
+use super::grammar::{AXIOM, Grammar, Production, Span, bind, matches};
 use super::{LsysError, MAX_FORMALS, MAX_PARAMS, MAX_PRODUCTIONS, MAX_STEPS, Module};
 
 /// The RNG stream of the choice for the module at `position` of the string
@@ -152,6 +152,9 @@ fn choose(
     position: u64,
     seed: u64,
 ) -> Option<(u8, [Fx; MAX_FORMALS])> {
+    if !g.is_rewritten(m.symbol) {
+        return None;
+    }
     let mut candidates = Vec::<(u8, Fx), MAX_PRODUCTIONS>::new();
     let mut weighted = false;
     for (k, p) in g.productions.iter().enumerate() {
@@ -217,11 +220,12 @@ fn choose(
 }
 
 /// One level of the depth-first expansion: which successor is being
-/// expanded (the axiom's or a production's), how far, and the bound
-/// parameters of the module it replaced.
+/// expanded (the axiom's or a production's, looked up once when the frame
+/// is pushed), how far, and the bound parameters of the module it
+/// replaced.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 struct Frame {
-    production: u8,
+    successor: Span,
     next: u16,
     formals: [Fx; MAX_PARAMS],
 }
@@ -234,11 +238,14 @@ struct Frame {
 /// Positions: the frames visit every level's string in order, so a running
 /// counter per level gives each module its index in its level's string —
 /// the same index [`Buffered`] sees. A module that no production rewrites
-/// is carried to the last level at once, advancing the deeper counters.
+/// is carried to the last level at once: it is counted once in `carried`
+/// at its level, and a module's index at level `k` is its level's counter
+/// plus the modules carried from levels above `k`.
 #[derive(Clone, Debug)]
 pub struct Streaming {
     frames: Vec<Frame, { MAX_STEPS + 1 }>,
     positions: [u64; MAX_STEPS + 1],
+    carried: [u64; MAX_STEPS + 1],
     steps: u8,
     seed: u64,
 }
@@ -256,16 +263,89 @@ impl Streaming {
         Streaming {
             frames: Vec::new(),
             positions: [0; MAX_STEPS + 1],
+            carried: [0; MAX_STEPS + 1],
             steps: 0,
             seed: 0,
         }
     }
 
-    /// The number of modules of each level's string produced so far; after
-    /// a complete derivation, the length of every intermediate string.
+    /// After a complete derivation, the length of every intermediate
+    /// string (before, each level's counter without the modules carried
+    /// into it).
     #[must_use]
     pub fn positions(&self) -> &[u64] {
         self.positions.get(..=self.steps as usize).unwrap_or(&[])
+    }
+
+    /// Adds to every level's counter the modules carried into it from the
+    /// levels above, once the derivation is complete.
+    fn settle_carried(&mut self) {
+        let mut above = 0u64;
+        for (counter, carried) in self.positions.iter_mut().zip(&mut self.carried) {
+            *counter = counter.saturating_add(above);
+            above = above.saturating_add(core::mem::take(carried));
+        }
+    }
+
+    /// [`Derivation::next_module`] past its fast path: pops finished
+    /// frames, pushes a frame for each production chosen on the way down,
+    /// and carries a module with no applicable production to the last
+    /// level.
+    fn descend(&mut self, grammar: &Grammar) -> Result<Option<Module>, LsysError> {
+        loop {
+            let Some(level) = self.frames.len().checked_sub(1) else {
+                self.settle_carried();
+                return Ok(None);
+            };
+            let Some(frame) = self.frames.last_mut() else {
+                return Ok(None);
+            };
+            let span = frame.successor;
+            if frame.next >= span.len {
+                self.frames.pop();
+                continue;
+            }
+            let m = grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
+            frame.next += 1;
+            let Some(counter) = self.positions.get_mut(level) else {
+                return Ok(None);
+            };
+            let own = *counter;
+            *counter += 1;
+            if level >= self.steps as usize {
+                return Ok(Some(m));
+            }
+            // Most modules have no production: skip the call to `choose`.
+            let chosen = if grammar.is_rewritten(m.symbol) {
+                let above = self.carried.get(..level).unwrap_or(&[]);
+                let position = above.iter().fold(own, |p, &c| p.saturating_add(c));
+                choose(grammar, &m, None, level as u8 + 1, position, self.seed)
+            } else {
+                None
+            };
+            match chosen {
+                Some((production, formals)) => {
+                    let mut f = [Fx::ZERO; MAX_PARAMS];
+                    f.copy_from_slice(&formals[..MAX_PARAMS]);
+                    self.frames
+                        .push(Frame {
+                            successor: grammar.successor(production),
+                            next: 0,
+                            formals: f,
+                        })
+                        .map_err(|_| LsysError::Capacity {
+                            limit: "MAX_STEPS",
+                            capacity: MAX_STEPS as u32,
+                        })?;
+                }
+                None => {
+                    if let Some(carried) = self.carried.get_mut(level) {
+                        *carried += 1;
+                    }
+                    return Ok(Some(m));
+                }
+            }
+        }
     }
 }
 
@@ -282,62 +362,43 @@ impl Derivation for Streaming {
         }
         self.frames.clear();
         self.positions = [0; MAX_STEPS + 1];
+        self.carried = [0; MAX_STEPS + 1];
         self.steps = steps;
         self.seed = seed;
         let _ = self.frames.push(Frame {
-            production: AXIOM,
+            successor: grammar.successor(AXIOM),
             ..Frame::default()
         });
         Ok(())
     }
 
+    #[inline]
     fn next_module(&mut self, grammar: &Grammar) -> Result<Option<Module>, LsysError> {
-        loop {
-            let Some(level) = self.frames.len().checked_sub(1) else {
-                return Ok(None);
-            };
-            let Some(frame) = self.frames.last_mut() else {
-                return Ok(None);
-            };
-            let span = grammar.successor(frame.production);
-            if frame.next >= span.len {
-                self.frames.pop();
-                continue;
-            }
-            let m = grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
-            frame.next += 1;
-            let Some(counter) = self.positions.get_mut(level) else {
-                return Ok(None);
-            };
-            let position = *counter;
-            *counter += 1;
-            if level >= self.steps as usize {
-                return Ok(Some(m));
-            }
-            match choose(grammar, &m, None, level as u8 + 1, position, self.seed) {
-                Some((production, formals)) => {
-                    let mut f = [Fx::ZERO; MAX_PARAMS];
-                    f.copy_from_slice(&formals[..MAX_PARAMS]);
-                    self.frames
-                        .push(Frame {
-                            production,
-                            next: 0,
-                            formals: f,
-                        })
-                        .map_err(|_| LsysError::Capacity {
-                            limit: "MAX_STEPS",
-                            capacity: MAX_STEPS as u32,
-                        })?;
-                }
-                None => {
-                    let deeper = level + 1..=self.steps as usize;
-                    for counter in self.positions.get_mut(deeper).unwrap_or(&mut []) {
+        // Fast path: the top frame's next module needs no choice (the
+        // frame is at the last level, or no production rewrites the
+        // module), so it is counted and returned as it is.
+        let last = self.steps as usize;
+        if let Some(level) = self.frames.len().checked_sub(1)
+            && let Some(frame) = self.frames.last_mut()
+        {
+            let span = frame.successor;
+            if frame.next < span.len {
+                let m =
+                    grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
+                let carried = level < last;
+                if !carried || !grammar.is_rewritten(m.symbol) {
+                    frame.next += 1;
+                    if let Some(counter) = self.positions.get_mut(level) {
                         *counter += 1;
+                    }
+                    if carried && let Some(count) = self.carried.get_mut(level) {
+                        *count += 1;
                     }
                     return Ok(Some(m));
                 }
             }
         }
+        self.descend(grammar)
     }
 }
 

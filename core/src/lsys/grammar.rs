@@ -114,6 +114,9 @@ pub struct Grammar {
     pub(crate) axiom: Span,
     /// Symbols skipped when matching contexts, as a 128-bit set.
     pub(crate) ignored: [u32; 4],
+    /// Symbols that some production's predecessor has, as a 128-bit set:
+    /// a module whose symbol is not in it is copied without a choice.
+    pub(crate) rewritten: [u32; 4],
     pub(crate) settings: Settings,
 }
 
@@ -135,6 +138,7 @@ impl Grammar {
             literals: Vec::new(),
             axiom: Span { start: 0, len: 0 },
             ignored: [0; 4],
+            rewritten: [0; 4],
             settings: Settings::DEFAULT,
         }
     }
@@ -151,6 +155,7 @@ impl Grammar {
             literals: Vec::new(),
             axiom: Span { start: 0, len: 0 },
             ignored: [0; 4],
+            rewritten: [0; 4],
             settings: Settings {
                 steps: 0,
                 delta: Fx::ZERO,
@@ -205,6 +210,16 @@ impl Grammar {
         }
     }
 
+    /// Whether some production may rewrite `symbol` (always true past the
+    /// 128-bit set, which a parsed grammar never reaches).
+    #[must_use]
+    pub fn is_rewritten(&self, symbol: u8) -> bool {
+        match self.rewritten.get(symbol as usize / 32) {
+            Some(word) => word & (1 << (symbol % 32)) != 0,
+            None => true,
+        }
+    }
+
     /// The number of modules in the axiom.
     #[must_use]
     pub fn axiom_len(&self) -> usize {
@@ -218,6 +233,7 @@ impl Grammar {
     }
 
     /// Instantiates successor template `index` with `formals`.
+    #[inline]
     pub(crate) fn instantiate(&self, index: usize, formals: &[Fx]) -> Module {
         let Some(t) = self.templates.get(index) else {
             return Module::default();

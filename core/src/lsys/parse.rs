@@ -675,6 +675,9 @@ impl Grammar {
             c.expect(b')', "`)` after the probability")?;
         }
         let successor = self.parse_successor(c, &formals, constants)?;
+        if let Some(word) = self.rewritten.get_mut(predecessor.symbol as usize / 32) {
+            *word |= 1 << (predecessor.symbol % 32);
+        }
         self.productions
             .push(Production {
                 predecessor: *predecessor,

@@ -88,6 +88,17 @@ fn shrub_symbol_counts_match_the_hand_computed_reference() {
 }
 
 #[test]
+fn only_predecessor_symbols_are_rewritten() {
+    let g = grammar(SHRUB);
+    let rewritten: String = (0..=u8::MAX)
+        .filter(|&s| s.is_ascii_graphic() && g.is_rewritten(s))
+        .map(char::from)
+        .collect();
+    assert_eq!(rewritten, "AFLS");
+    assert!(g.is_rewritten(200), "past the set: conservatively true");
+}
+
+#[test]
 fn streaming_and_buffered_derivations_agree() {
     for (name, source) in ALL {
         let g = grammar(source);
