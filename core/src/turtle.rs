@@ -235,7 +235,7 @@ fn turn<R: Real>(state: &mut State<R>, axis: Axis, c: R, s: R) {
 /// The [`Real`]s a turtle computes with. A turn of the frame is the
 /// turtle's hot path: by default it is the generic rotation and
 /// orthonormalisation above; [`Fx`] computes the same bits with fewer
-/// operations ([`exact_turn`]).
+/// operations in plain `i64` where no product can saturate.
 pub trait Turning: Real {
     /// Rotates the frame of `state` about `axis` by the angle whose cosine
     /// and sine are `c` and `s`, and pulls it back to orthonormal.
