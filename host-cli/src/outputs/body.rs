@@ -16,7 +16,7 @@ use morphogen::stream::Record;
 use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
 use super::chart::{Axis, Chart, Series, series_colour, write_png, write_svg};
-use super::mesh::{self, GlbWriter, ObjStyle, write_frame_obj, write_mtl};
+use super::mesh::{self, GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, label_tile, picture,
     pipeline, raster, rgb_bytes, trimmed,
@@ -403,9 +403,7 @@ pub fn write<R: Records + ?Sized>(
     };
     let rgb = rgb_of(colour(title));
     let mut glb = kinds.has(Kind::Glb).then(|| GlbWriter::new(title, 0.0254));
-    // The material library every frame's OBJ names, written with the first.
-    let library = dir.join(LIBRARY);
-    let mut library_written = false;
+    let mut library = Library::new(dir, LIBRARY);
     let per_frame: Vec<Vec<PathBuf>> = pipeline(
         |send| {
             let mut framer = Framer::default();
@@ -428,12 +426,8 @@ pub fn write<R: Records + ?Sized>(
                 if let (Some(glb), Some(m)) = (&mut glb, &m) {
                     glb.push_frame(m, k as f32 * f32::from(ANIMATION_DELAY_MS) / 1000.0)?;
                 }
-                if let Some(m) = m
-                    .as_ref()
-                    .filter(|_| kinds.has(Kind::Obj) && !library_written)
-                {
-                    write_mtl(&library, m)?;
-                    library_written = true;
+                if let Some(m) = m.as_ref().filter(|_| kinds.has(Kind::Obj)) {
+                    library.write_once(m)?;
                 }
                 let slot = picked.binary_search(&k).ok();
                 k += 1;
@@ -463,9 +457,7 @@ pub fn write<R: Records + ?Sized>(
         },
     )?;
     let mut written: Vec<PathBuf> = per_frame.into_iter().flatten().collect();
-    if library_written {
-        written.push(library);
-    }
+    written.extend(library.written());
     if let Some(glb) = glb {
         let path = dir.join("model.glb");
         glb.write(&path)?;

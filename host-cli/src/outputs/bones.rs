@@ -20,7 +20,7 @@ use nalgebra::Vector3;
 use super::animation::{AnimationWriter, Pixels};
 use super::body::{self, Extent, Frame, canvas, draw, rgb_of, solid};
 use super::chart::{Axis, Chart, Series, write_png, write_svg};
-use super::mesh::{GlbWriter, ObjStyle, write_frame_obj, write_mtl};
+use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, label_tile, picture, rgb_bytes, trimmed,
 };
@@ -223,6 +223,7 @@ pub fn write<R: Records + ?Sized>(
     // A frame at a time, in order: the check of each mesh in f64 is the
     // memory-hungry part, and one at a time keeps it so.
     let mut written = Vec::new();
+    let mut library = Library::new(dir, LIBRARY);
     // The last frame: its index, vertices and skeleton.
     let mut last = None;
     let mut framer = Framer::default();
@@ -246,11 +247,7 @@ pub fn write<R: Records + ?Sized>(
             let header = format!("{preset} frame {}, {} L-system steps", f.index, f.age);
             let m = solid(&f, &header, "bone", rgb_of(BONE))?;
             if kinds.has(Kind::Obj) {
-                if k == 0 {
-                    let library = dir.join(LIBRARY);
-                    write_mtl(&library, &m)?;
-                    written.push(library);
-                }
+                library.write_once(&m)?;
                 let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
                 write_frame_obj(&obj_path, &m, ObjStyle::PLAIN, LIBRARY)?;
                 written.push(obj_path);
@@ -313,6 +310,7 @@ pub fn write<R: Records + ?Sized>(
             }
         }
     }
+    written.extend(library.written());
     if let Some(glb) = glb {
         let path = dir.join("model.glb");
         glb.write(&path)?;

@@ -22,7 +22,7 @@ use morphogen::stream::Record;
 use tiny_skia::{Color, Pixmap};
 
 use super::chart::{Axis, Chart, Series, write_png, write_svg};
-use super::mesh::{GlbWriter, ObjStyle, write_frame_obj, write_mtl};
+use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, label_tile, mesh, picture,
     pipeline, raster, rgb_bytes, trimmed,
@@ -544,9 +544,7 @@ pub fn write<R: Records + ?Sized>(
     let mut lines: Vec<(f64, f64, f64)> = Vec::new();
     let mut glb = kinds.has(Kind::Glb).then(|| GlbWriter::new("horn", 0.01));
     let meshes = kinds.has(Kind::Obj) || kinds.has(Kind::Glb);
-    // The material library every frame's OBJ names, written with the first.
-    let library = dir.join(LIBRARY);
-    let mut library_written = false;
+    let mut library = Library::new(dir, LIBRARY);
     let objs: Vec<Option<PathBuf>> = pipeline(
         |send| {
             let mut framer = Framer::default();
@@ -569,9 +567,8 @@ pub fn write<R: Records + ?Sized>(
                         let title =
                             format!("morphogen horn, frame {} at t = {} years", f.index, f.years);
                         let solid = solid(&f, &mesh(&f, j), &title, j)?;
-                        if kinds.has(Kind::Obj) && !library_written {
-                            write_mtl(&library, &solid)?;
-                            library_written = true;
+                        if kinds.has(Kind::Obj) {
+                            library.write_once(&solid)?;
                         }
                         if let Some(glb) = &mut glb {
                             let seconds =
@@ -595,9 +592,7 @@ pub fn write<R: Records + ?Sized>(
         },
     )?;
     let mut written: Vec<PathBuf> = objs.into_iter().flatten().collect();
-    if library_written {
-        written.push(library);
-    }
+    written.extend(library.written());
     if let Some(glb) = glb {
         let path = dir.join("model.glb");
         glb.write(&path)?;

@@ -741,17 +741,45 @@ pub fn write_obj(path: &Path, mesh: &Mesh, style: ObjStyle) -> Result<Vec<PathBu
     Ok(written)
 }
 
-/// Writes the materials of `mesh` as the library `path` (an `.mtl`) that
-/// the OBJ files of many frames share ([`write_frame_obj`]).
-///
-/// # Errors
-/// When the file cannot be written.
-pub fn write_mtl(path: &Path, mesh: &Mesh) -> Result<()> {
-    OutputFile::write_with(path, |f| mtl(&mesh.materials, f))
+/// The material library (an `.mtl`) that the OBJ files of a run's frames
+/// share ([`write_frame_obj`]): written from the first frame's mesh.
+#[derive(Debug)]
+pub struct Library {
+    path: PathBuf,
+    written: bool,
+}
+
+impl Library {
+    /// The library `name` in `dir`, not written yet.
+    #[must_use]
+    pub fn new(dir: &Path, name: &str) -> Library {
+        Library {
+            path: dir.join(name),
+            written: false,
+        }
+    }
+
+    /// Writes the materials of `mesh`, unless a frame already did.
+    ///
+    /// # Errors
+    /// When the file cannot be written.
+    pub fn write_once(&mut self, mesh: &Mesh) -> Result<()> {
+        if !self.written {
+            OutputFile::write_with(&self.path, |f| mtl(&mesh.materials, f))?;
+            self.written = true;
+        }
+        Ok(())
+    }
+
+    /// Its path, once written.
+    #[must_use]
+    pub fn written(self) -> Option<PathBuf> {
+        self.written.then_some(self.path)
+    }
 }
 
 /// Writes `path` (an `.obj`) of one frame of many, naming the material
-/// library `library` (a file beside it, written once by [`write_mtl`]).
+/// library `library` (a file beside it, written once by a [`Library`]).
 ///
 /// # Errors
 /// When the file cannot be written.

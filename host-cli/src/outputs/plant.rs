@@ -390,14 +390,14 @@ pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Resu
     let frames = csv(records, kinds.has(Kind::Csv).then_some(csv_path.as_path()))?;
     let last = frames.starts.last().map_or(Place::START, |s| s.0);
     let obj_path = dir.join("plant.obj");
-    let library = dir.join("plant.mtl");
+    let mut library = mesh::Library::new(dir, "plant.mtl");
     let mut obj = if kinds.has(Kind::Obj) {
         // Every colour's material, so that the OBJ can stream.
         let mut colours = mesh::Mesh::new();
         for i in 0..=LAST_COLOUR {
             material(&mut colours, i)?;
         }
-        mesh::write_mtl(&library, &colours)?;
+        library.write_once(&colours)?;
         let mut out = OutputFile::create(&obj_path)?;
         out.write_all(
             b"# morphogen L-system plant: segments as square prisms, polygons as faces\nmtllib plant.mtl\n",
@@ -449,7 +449,7 @@ pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Resu
     if let Some(out) = obj {
         out.finish()?;
         written.push(obj_path);
-        written.push(library);
+        written.extend(library.written());
     }
     if kinds.has(Kind::Glb) {
         match solid {
