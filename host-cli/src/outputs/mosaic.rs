@@ -216,7 +216,7 @@ pub fn write<R: Records + ?Sized>(
             let mut areas = None;
             if kinds.has(Kind::Png) || kinds.has(Kind::Csv) || animated.is_some() {
                 let picture = voronoi(domain, &colours, &d.cells);
-                areas = Some(picture.areas(colours.len()));
+                areas = kinds.has(Kind::Csv).then(|| picture.areas(colours.len()));
                 if kinds.has(Kind::Png) {
                     let png = dir.join(format!("day_{:02}.png", d.day));
                     picture.save(&png)?;
