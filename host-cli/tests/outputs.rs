@@ -207,6 +207,73 @@ fn a_mosaic_animates_its_days_and_counts_its_cells_per_type() {
 }
 
 #[test]
+fn a_mosaic_on_an_unrolled_cylinder_is_put_back_on_the_cylinder() {
+    let tmp = tempfile::tempdir().unwrap();
+    // croton-mcu's 15 × 12 leaf, its u axis wrapped round a stem.
+    let (dir, _) = run(
+        tmp.path(),
+        "croton-mcu",
+        &[
+            "--set",
+            "mosaic.domain.periodic=[true, false]",
+            "--only",
+            "csv,png,obj",
+        ],
+    );
+    let radius = 15.0 / std::f64::consts::TAU;
+    let text = std::fs::read_to_string(dir.join("cells_day35.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("id,type,x,y,z"));
+    let mut cells = 0;
+    for line in lines {
+        let p: Vec<f64> = line
+            .split(',')
+            .skip(2)
+            .map(|x| x.parse().unwrap())
+            .collect();
+        let off = ((p[0] * p[0] + p[2] * p[2]).sqrt() - radius).abs();
+        assert!(
+            off < 1e-9 && (0.0..12.0).contains(&p[1]),
+            "{line}: {off} off the stem"
+        );
+        cells += 1;
+    }
+    assert!(cells > 1000, "{cells} cells");
+    // The bare stem, the mosaic coloured on it, the object on every day.
+    let faces = |name: &str| {
+        let obj = std::fs::read_to_string(dir.join(name)).unwrap();
+        assert!(obj.lines().filter(|l| l.starts_with("v ")).all(|l| {
+            let v: Vec<f64> = l.split(' ').skip(1).map(|x| x.parse().unwrap()).collect();
+            ((v[0] * v[0] + v[2] * v[2]).sqrt() - radius).abs() < 1e-4
+        }));
+        obj.lines().filter(|l| l.starts_with("f ")).count()
+    };
+    assert!(faces("surface.obj") > 100 && faces("mosaic.obj") > 10_000);
+    let mosaic = std::fs::read_to_string(dir.join("mosaic.obj")).unwrap();
+    let coloured = mosaic.lines().find(|l| l.starts_with("v ")).unwrap();
+    assert_eq!(
+        coloured.split(' ').count(),
+        7,
+        "a colour per vertex: {coloured}"
+    );
+    for day in ["surface_day00.png", "surface_day35.png", "surface.png"] {
+        assert!(dir.join(day).exists(), "{day}");
+    }
+}
+
+#[test]
+fn a_flat_mosaic_has_its_cells_at_z_0_and_no_object_picture() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (dir, _) = run(tmp.path(), "croton-mcu", &["--only", "csv,png"]);
+    let text = std::fs::read_to_string(dir.join("cells_day00.csv")).unwrap();
+    assert!(
+        text.lines().skip(1).all(|l| l.ends_with(",0")),
+        "z = 0 on the plane"
+    );
+    assert!(!dir.join("surface.png").exists() && !dir.join("surface_day00.png").exists());
+}
+
+#[test]
 fn a_mosaic_gives_each_types_share_of_the_cells_and_of_the_area() {
     let tmp = tempfile::tempdir().unwrap();
     let (dir, _) = run(tmp.path(), "croton-mcu", &["--only", "csv"]);

@@ -29,6 +29,7 @@ pub mod mosaic;
 pub mod picture;
 pub mod plant;
 pub mod raster;
+pub mod surface;
 pub mod text;
 
 /// A kind of output file `run --only` selects.

@@ -1,8 +1,11 @@
 //! Mosaic presets (MClone): per streamed day a CSV of the cells
-//! (`cells_dayNN.csv`: `id,type,x,y`) and a Voronoi picture
-//! (`day_NN.png`: every pixel takes the colour of the type of its nearest
-//! cell, distances periodic where the domain wraps, the cylinder unrolled
-//! with u to the right and v down); `mosaic.png` is the last day;
+//! (`cells_dayNN.csv`: `id,type,x,y,z`, their points on the
+//! [`Surface`]) and a Voronoi picture (`day_NN.png`: every pixel takes the
+//! colour of the type of its nearest cell, distances periodic where the
+//! domain wraps, the cylinder unrolled with u to the right and v down);
+//! on a cylinder also the shaded object (`surface_dayNN.png`);
+//! `mosaic.png` (and `surface.png`) is the last day; `surface.obj` the
+//! bare surface and `mosaic.obj` the last day coloured on it;
 //! `animation.png` the days in order (every day, or 60 spread evenly);
 //! `cells.png`/`cells.svg` the number of cells of each type per day, in
 //! the types' colours; the control mask, if any, as `mask.pbm`. Days are
@@ -24,8 +27,10 @@ use morphogen::mosaic::{Domain, Params};
 use morphogen::stream::Record;
 
 use super::chart::{Axis, Chart, Series, write_png, write_svg};
-use super::picture::save_indexed;
-use super::text::{self, Whole};
+use super::mesh::{ObjStyle, write_obj};
+use super::picture::{self, save_indexed};
+use super::surface::Surface;
+use super::text;
 use super::{Kind, Kinds, OrderedAnimation, animation_frames, pipeline};
 use crate::atomic::{OutputFile, write_atomic};
 use crate::records::{Place, Records};
@@ -145,6 +150,7 @@ pub fn write<R: Records + ?Sized>(
 ) -> Result<Vec<PathBuf>> {
     let colours: Vec<[u8; 3]> = params.types.iter().map(|t| t.colour).collect();
     let domain = &params.domain;
+    let surface = Surface::of(domain);
     let picked = if kinds.has(Kind::Anim) {
         animation_frames(count_days(records)?)
     } else {
@@ -209,7 +215,7 @@ pub fn write<R: Records + ?Sized>(
             let mut paths = Vec::with_capacity(2);
             if kinds.has(Kind::Csv) {
                 let csv = dir.join(format!("cells_day{:02}.csv", d.day));
-                write_csv(&d.cells, &csv)?;
+                write_csv(&surface, &d.cells, &csv)?;
                 paths.push(csv);
             }
             let animated = apng.as_ref().zip(slot);
@@ -221,6 +227,11 @@ pub fn write<R: Records + ?Sized>(
                     let png = dir.join(format!("day_{:02}.png", d.day));
                     picture.save(&png)?;
                     paths.push(png);
+                    if let Some(object) = surface.picture(&picture)? {
+                        let png = dir.join(format!("surface_day{:02}.png", d.day));
+                        picture::save(&object, &png)?;
+                        paths.push(png);
+                    }
                 }
                 if let Some((apng, slot)) = animated {
                     apng.frame(slot, picture.rgb(), format!("day {}", d.day))?;
@@ -240,10 +251,30 @@ pub fn write<R: Records + ?Sized>(
         apng.finish()?;
         written.push(anim_path);
     }
-    if let Some(last) = last.filter(|_| kinds.has(Kind::Png)) {
-        let path = dir.join("mosaic.png");
-        voronoi(domain, &colours, &last.cells).save(&path)?;
-        written.push(path);
+    if kinds.has(Kind::Obj) {
+        let path = dir.join("surface.obj");
+        written.extend(write_obj(&path, &surface.mesh(None)?, ObjStyle::PLAIN)?);
+    }
+    if let Some(last) = last.filter(|_| kinds.has(Kind::Png) || kinds.has(Kind::Obj)) {
+        let picture = voronoi(domain, &colours, &last.cells);
+        if kinds.has(Kind::Png) {
+            let path = dir.join("mosaic.png");
+            picture.save(&path)?;
+            written.push(path);
+            if let Some(object) = surface.picture(&picture)? {
+                let path = dir.join("surface.png");
+                picture::save(&object, &path)?;
+                written.push(path);
+            }
+        }
+        if kinds.has(Kind::Obj) {
+            let path = dir.join("mosaic.obj");
+            let style = ObjStyle {
+                vertex_colours: true,
+                ..ObjStyle::PLAIN
+            };
+            written.extend(write_obj(&path, &surface.mesh(Some(&picture))?, style)?);
+        }
     }
     if counts.len() > 1 {
         let chart = cells_chart(&colours, names, &counts);
@@ -266,20 +297,22 @@ pub fn write<R: Records + ?Sized>(
     Ok(written)
 }
 
-/// Writes `cells` as `id,type,x,y` lines under a header.
-fn write_csv(cells: &[(u32, u8, Fx, Fx)], path: &Path) -> Result<()> {
+/// Writes `cells` as `id,type,x,y,z` lines under a header: their points
+/// on `surface` (on the plane the exact positions, z = 0).
+fn write_csv(surface: &Surface, cells: &[(u32, u8, Fx, Fx)], path: &Path) -> Result<()> {
     OutputFile::write_with(path, |file| {
-        file.write_all(b"id,type,x,y\n")?;
+        file.write_all(b"id,type,x,y,z\n")?;
         let mut line = Vec::with_capacity(64);
-        for &(id, kind, x, y) in cells {
+        let unit = |v: Fx| f64::from(v.to_bits()) / 65_536.0;
+        for &(id, kind, u, v) in cells {
             line.clear();
             text::int(&mut line, id);
             line.push(b',');
             text::int(&mut line, kind);
-            line.push(b',');
-            text::fx(&mut line, x, Whole::Bare);
-            line.push(b',');
-            text::fx(&mut line, y, Whole::Bare);
+            for c in surface.point(unit(u), unit(v)) {
+                line.push(b',');
+                text::float(&mut line, c);
+            }
             line.push(b'\n');
             file.write_all(&line)?;
         }
@@ -479,6 +512,15 @@ impl Indexed {
             by_index[usize::from(i)] += 1;
         }
         by_index[2..].iter().take(types).copied().collect()
+    }
+
+    /// The colour at the fractions (`u`, `v`) of its width and height
+    /// (clamped into the picture).
+    #[must_use]
+    pub fn at(&self, u: f64, v: f64) -> [u8; 3] {
+        let pixel = |f: f64, n: usize| ((f * n as f64) as usize).min(n.saturating_sub(1));
+        let i = self.pixels[pixel(v, self.height) * self.width + pixel(u, self.width)];
+        self.palette.get(usize::from(i)).copied().unwrap_or([0; 3])
     }
 
     /// Its pixels as RGB bytes.

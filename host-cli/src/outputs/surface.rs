@@ -1,0 +1,230 @@
+//! The surface a mosaic's cells live on (MClone thesis Sec. 3.2: the
+//! cells grow on the object itself, so the pattern needs no texture
+//! mapping): the domain's rectangle, or, when exactly one axis wraps, the
+//! cylinder whose side the domain is unrolled from (a cactus stem, a
+//! watermelon, Figs. 4.8, 4.16). It gives the cells' 3D positions
+//! (`cells_dayNN.csv`), the bare mesh (`surface.obj`), the mosaic
+//! coloured on it (`mosaic.obj`, a colour per vertex) and, for a cylinder,
+//! a shaded picture of the object (`surface_dayNN.png`, `surface.png`).
+
+use std::f64::consts::TAU;
+
+use anyhow::Result;
+use morphogen::mosaic::Domain;
+use tiny_skia::{Pixmap, PremultipliedColorU8};
+
+use super::mesh::{Mesh, Rgb};
+use super::mosaic::Indexed;
+use super::picture;
+
+/// Quads along the longer side of the coloured mesh: fine enough to show
+/// the clones, small enough for an OBJ a viewer opens at once.
+const MOSAIC_SIDE: usize = 256;
+/// Quads along the longer side of the bare surface.
+const SURFACE_SIDE: usize = 64;
+/// The picture's height in pixels (drawn at twice the size and halved).
+const PICTURE_HEIGHT: f64 = 600.0;
+/// The view's elevation above the cylinder's equator, radians.
+const ELEVATION: f64 = 0.35;
+/// The light's direction (towards the light), normalised when used.
+const LIGHT: [f64; 3] = [-0.45, -0.55, 0.7];
+/// The picture's background.
+const BACKGROUND: Rgb = [246, 244, 238];
+
+/// A mosaic's surface in its domain's units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Surface {
+    size: [f64; 2],
+    /// The axis that wraps around a cylinder, if exactly one does.
+    wrap: Option<usize>,
+}
+
+impl Surface {
+    /// The surface of `domain`: a cylinder when one axis is periodic, else
+    /// the rectangle (a domain periodic both ways is a flat torus, drawn
+    /// flat).
+    #[must_use]
+    pub fn of(domain: &Domain) -> Surface {
+        let size = domain.size.map(|s| f64::from(s.to_bits()) / 65_536.0);
+        let wrap = match domain.periodic {
+            [true, false] => Some(0),
+            [false, true] => Some(1),
+            _ => None,
+        };
+        Surface { size, wrap }
+    }
+
+    /// Whether it is a cylinder.
+    #[must_use]
+    pub fn is_cylinder(&self) -> bool {
+        self.wrap.is_some()
+    }
+
+    /// The 3D point of the domain position (u, v): (u, v, 0) on the plane;
+    /// on a cylinder of circumference `size[a]` around the other axis
+    /// (y when u wraps, x when v does), the angle u·2π/size (0 facing +z).
+    #[must_use]
+    pub fn point(&self, u: f64, v: f64) -> [f64; 3] {
+        match self.wrap {
+            None => [u, v, 0.0],
+            Some(a) => {
+                let (around, along) = if a == 0 { (u, v) } else { (v, u) };
+                let radius = self.size[a] / TAU;
+                let (s, c) = (around / radius).sin_cos();
+                if a == 0 {
+                    [radius * s, along, radius * c]
+                } else {
+                    [along, radius * s, radius * c]
+                }
+            }
+        }
+    }
+
+    /// A grid of quads over the surface (64 along the longer side), or,
+    /// with a `picture`, 256 with each vertex coloured by the picture at
+    /// its position.
+    ///
+    /// # Errors
+    /// When the mesh cannot be built (never for these sizes).
+    pub fn mesh(&self, picture: Option<&Indexed>) -> Result<Mesh> {
+        let long = self.size[0].max(self.size[1]);
+        let side = if picture.is_some() {
+            MOSAIC_SIDE
+        } else {
+            SURFACE_SIDE
+        };
+        let quads = self
+            .size
+            .map(|s| ((s / long * side as f64).round() as usize).max(1));
+        let mut mesh = Mesh::new();
+        mesh.set_object(if picture.is_some() {
+            "mosaic"
+        } else {
+            "surface"
+        })?;
+        for j in 0..=quads[1] {
+            for i in 0..=quads[0] {
+                let (fu, fv) = (i as f64 / quads[0] as f64, j as f64 / quads[1] as f64);
+                let p = self.point(fu * self.size[0], fv * self.size[1]);
+                match picture {
+                    // The last row and column sample just inside the edge.
+                    Some(pic) => mesh.push_coloured_vertex(p, pic.at(fu, fv))?,
+                    None => mesh.push_vertex(p)?,
+                };
+            }
+        }
+        let group = mesh.group(None, None)?;
+        let row = quads[0] as u32 + 1;
+        for j in 0..quads[1] as u32 {
+            for i in 0..quads[0] as u32 {
+                let a = j * row + i;
+                // Counter-clockwise seen from +z (the plane) or from outside
+                // the cylinder.
+                mesh.push_face(group, &[a, a + 1, a + row + 1, a + row])?;
+            }
+        }
+        Ok(mesh)
+    }
+
+    /// The cylinder seen from a little above its equator, shaded, its side
+    /// coloured by `picture` (v = 0 at the top, as in the flat pictures);
+    /// the inside of the far wall shows through the open top. `None` for a
+    /// flat surface, whose picture is the mosaic itself.
+    ///
+    /// # Errors
+    /// When the picture cannot be allocated.
+    pub fn picture(&self, picture: &Indexed) -> Result<Option<Pixmap>> {
+        let Some(a) = self.wrap else {
+            return Ok(None);
+        };
+        let (circumference, height) = (self.size[a], self.size[1 - a]);
+        let radius = circumference / TAU;
+        let (sin_e, cos_e) = ELEVATION.sin_cos();
+        // Orthographic: a screen point (s, w) sees along the view direction;
+        // the side's extent on the screen, w = h·cos e ± r·sin e.
+        let (w_lo, w_hi) = (-radius * sin_e, height * cos_e + radius * sin_e);
+        let scale = 2.0 * PICTURE_HEIGHT / ((w_hi - w_lo) * 1.1);
+        let margin = 0.05 * (w_hi - w_lo);
+        let width = ((2.0 * radius + 2.0 * margin) * scale).ceil() as u32;
+        let rows = ((w_hi - w_lo + 2.0 * margin) * scale).ceil() as u32;
+        let mut pixmap = Pixmap::new(width.max(1), rows.max(1))
+            .ok_or_else(|| anyhow::anyhow!("a {width}×{rows} picture is too large"))?;
+        let light = normalised(LIGHT);
+        let bg = PremultipliedColorU8::from_rgba(BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 255)
+            .unwrap_or(PremultipliedColorU8::TRANSPARENT);
+        let w = pixmap.width() as usize;
+        for (k, px) in pixmap.pixels_mut().iter_mut().enumerate() {
+            let s = ((k % w) as f64 + 0.5) / scale - radius - margin;
+            let screen = ((k / w) as f64 + 0.5) / scale + w_lo - margin;
+            *px = bg;
+            if s.abs() >= radius {
+                continue;
+            }
+            let depth = (radius * radius - s * s).sqrt();
+            // The near side (z = +depth), then the far wall's inside.
+            for z in [depth, -depth] {
+                // Screen rows go down the axis: w = h·cos e + z·sin e.
+                let h = (screen - z * sin_e) / cos_e;
+                if !(0.0..height).contains(&h) {
+                    continue;
+                }
+                let angle = s.atan2(z).rem_euclid(TAU);
+                let (fu, fv) = (angle / TAU, h / height);
+                let rgb = if a == 0 {
+                    picture.at(fu, fv)
+                } else {
+                    picture.at(fv, fu)
+                };
+                // Outward normal (s, 0, z)/r in view space; the inside faces
+                // the other way and gets less light.
+                let n = [s / radius, 0.0, z / radius];
+                let lit = (n[0] * light[0] + n[2] * light[2]).abs();
+                let shade = if z > 0.0 {
+                    0.35 + 0.65 * lit
+                } else {
+                    0.25 + 0.35 * lit
+                };
+                let c = rgb.map(|x| (f64::from(x) * shade).round().clamp(0.0, 255.0) as u8);
+                *px = PremultipliedColorU8::from_rgba(c[0], c[1], c[2], 255)
+                    .unwrap_or(PremultipliedColorU8::TRANSPARENT);
+                break;
+            }
+        }
+        Ok(Some(picture::half(&pixmap)?))
+    }
+}
+
+fn normalised(v: [f64; 3]) -> [f64; 3] {
+    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    v.map(|x| x / n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use morphogen::fx::Fx;
+
+    #[test]
+    fn a_stem_rolls_up_into_a_cylinder_of_its_circumference() {
+        let d = Domain {
+            size: [Fx::from_int(50), Fx::from_int(100)],
+            periodic: [true, false],
+        };
+        let s = Surface::of(&d);
+        assert!(s.is_cylinder());
+        let r = 50.0 / TAU;
+        for (u, v) in [(0.0, 0.0), (12.5, 30.0), (37.0, 99.0)] {
+            let p = s.point(u, v);
+            assert!(((p[0] * p[0] + p[2] * p[2]).sqrt() - r).abs() < 1e-9);
+            assert_eq!(p[1], v);
+        }
+        // A quarter of the way round is a quarter turn.
+        let p = s.point(12.5, 0.0);
+        assert!((p[0] - r).abs() < 1e-9 && p[2].abs() < 1e-9);
+        let flat = Surface::of(&Domain {
+            size: [Fx::from_int(10), Fx::from_int(10)],
+            periodic: [true, true],
+        });
+        assert_eq!(flat.point(3.0, 4.0), [3.0, 4.0, 0.0]);
+    }
+}
