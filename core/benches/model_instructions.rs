@@ -82,6 +82,7 @@ fn croton_cells() -> Relaxation {
             push_weight: params.push_weight.to_bits(),
             anisotropy_weight: 0,
             field: None,
+            momentum: 0,
         },
         mosaic,
     }

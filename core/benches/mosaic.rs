@@ -148,6 +148,7 @@ fn grid_vs_naive(c: &mut Criterion) {
                 push_weight: params.push_weight.to_bits(),
                 anisotropy_weight: 0,
                 field: None,
+                momentum: 0,
             };
             let store = m.store_mut();
             let bins = store.slices().bins.len() - 1;

@@ -53,14 +53,18 @@ impl Model<'_> {
 
     /// Whether a run fits the [`Runner`]'s fixed capacity (the MCU's
     /// memory): a mosaic fits when its expected peak cell count
-    /// ([`mosaic::expected_peak_cells`]) fits the inline store, a body when
+    /// ([`mosaic::expected_peak_cells`]) fits the inline store and it needs
+    /// no velocities ([`mosaic::Params::momentum`] 0), a body when
     /// its cylinders fit [`body::MAX_CYLINDERS`]; every other model's state
     /// is bounded by its type (a run that exceeds a limit stops with an
     /// error naming it).
     #[must_use]
     pub fn fits_mcu(&self) -> bool {
         match self {
-            Model::Mosaic(p) => mosaic::expected_peak_cells(p) <= McuStore::CAPACITY as u64,
+            Model::Mosaic(p) => {
+                p.momentum == crate::fx::Fx::ZERO
+                    && mosaic::expected_peak_cells(p) <= McuStore::CAPACITY as u64
+            }
             Model::Body(p) => p.model.cylinders.len() <= body::MAX_CYLINDERS,
             _ => true,
         }

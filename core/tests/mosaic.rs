@@ -131,6 +131,7 @@ fn growth<'a>(croton_mcu: &Params<'a>) -> Params<'a> {
         days: 12,
         initial_relaxations: 1,
         daily_relaxations: 1,
+        momentum: Fx::ZERO,
         frames: Frames::Days(&[]),
         ..*croton_mcu
     }

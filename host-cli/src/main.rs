@@ -197,11 +197,18 @@ fn dispatch(command: Command) -> Result<Outcome> {
             let width = all.iter().map(|s| s.name().len()).max().unwrap_or(0);
             for s in &all {
                 let note = s.with_preset(|p| match p.model {
-                    morphogen::preset::Model::Mosaic(m) if !p.model.fits_mcu() => format!(
-                        "  (host only: up to ~{} cells at the fastest type's doubling, an MCU store holds {})",
-                        morphogen::mosaic::expected_peak_cells(m),
-                        morphogen::mosaic::McuStore::CAPACITY
-                    ),
+                    morphogen::preset::Model::Mosaic(m) if !p.model.fits_mcu() => {
+                        let peak = morphogen::mosaic::expected_peak_cells(m);
+                        let capacity = morphogen::mosaic::McuStore::CAPACITY;
+                        if peak > capacity as u64 {
+                            format!(
+                                "  (host only: up to ~{peak} cells at the fastest type's doubling, an MCU store holds {capacity})"
+                            )
+                        } else {
+                            "  (host only: momentum needs a velocity per cell, an MCU store keeps none)"
+                                .to_owned()
+                        }
+                    }
                     _ => String::new(),
                 });
                 say!(

@@ -15,7 +15,8 @@ use morphogen::growth_curve;
 use morphogen::horn::{HornParams, MAX_MODULES, MAX_RING_POINTS, Module};
 use morphogen::mosaic::{
     self, Anisotropy as CoreAnisotropy, CellType as CoreCellType, ControlVector as CoreVector,
-    Domain as CoreDomain, Frames as DayFramesCore, MAX_TYPES, Mask, Params as MosaicParams,
+    Domain as CoreDomain, Frames as DayFramesCore, MAX_SELF_ADHESION, MAX_TYPES, Mask,
+    Params as MosaicParams,
 };
 use morphogen::preset::{Model, Preset};
 use morphogen::shrinkwrap::WrapParams;
@@ -624,6 +625,12 @@ fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
             "adhesion is symmetric: α[i][j] must equal α[j][i]",
         );
     }
+    if let Some(i) = (0..n).find(|&i| adhesion[i][i] > MAX_SELF_ADHESION) {
+        return invalid(
+            format!("mosaic.adhesion[{i}][{i}]"),
+            "a type's adhesion with itself is at most 0.95: its cells must repel each other to keep their size",
+        );
+    }
     let mutation = match &m.mutation {
         Some(rows) => matrix("mosaic.mutation", rows, n)?,
         None => [[Fx::ZERO; MAX_TYPES]; MAX_TYPES],
@@ -720,6 +727,7 @@ fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
             10000,
         )?,
         daily_relaxations: int("mosaic.daily_relaxations", m.daily_relaxations, 0, 10000)?,
+        momentum: fx("mosaic.momentum", m.momentum.unwrap_or(0.0), 0.0, 0.95)?,
         days,
         mask: None,
         anisotropy: None,

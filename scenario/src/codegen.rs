@@ -125,7 +125,7 @@ fn mosaic(p: &MosaicParams<'_>) -> String {
     let matrix =
         |t: &[[Fx; mosaic::MAX_TYPES]; mosaic::MAX_TYPES]| list(t, |row| list(row, |v| fx(*v)));
     format!(
-        "mosaic::Params {{ domain: Domain {{ size: {}, periodic: {:?} }}, initial_cells: {}, types: &{}, adhesion: {}, mutation: {}, radius_weight: {}, push_weight: {}, initial_relaxations: {}, daily_relaxations: {}, days: {}, mask: {}, anisotropy: {}, frames: {} }}",
+        "mosaic::Params {{ domain: Domain {{ size: {}, periodic: {:?} }}, initial_cells: {}, types: &{}, adhesion: {}, mutation: {}, radius_weight: {}, push_weight: {}, initial_relaxations: {}, daily_relaxations: {}, momentum: {}, days: {}, mask: {}, anisotropy: {}, frames: {} }}",
         list(&p.domain.size, |v| fx(*v)),
         p.domain.periodic,
         p.initial_cells,
@@ -141,6 +141,7 @@ fn mosaic(p: &MosaicParams<'_>) -> String {
         fx(p.push_weight),
         p.initial_relaxations,
         p.daily_relaxations,
+        fx(p.momentum),
         p.days,
         p.mask.map_or("None".into(), |m| format!(
             "Some(Mask {{ width: {}, height: {}, bits: &{:?} }})",

@@ -24,8 +24,8 @@ use crate::body_files::USER_CYLINDERS;
 #[derive(Debug, Default)]
 pub struct VecStore {
     cells: Cells,
-    /// The new positions of a relaxation step, in grid order.
-    moved: Vec<[i32; 2]>,
+    /// The new positions and moves of a relaxation step, in grid order.
+    moved: Vec<([i32; 2], [i32; 2])>,
 }
 
 /// The arrays of a [`VecStore`].
@@ -37,6 +37,7 @@ struct Cells {
     order: Vec<u32>,
     push: Vec<[i32; 2]>,
     bins: Vec<u32>,
+    velocity: Vec<[i32; 2]>,
 }
 
 impl Cells {
@@ -48,6 +49,7 @@ impl Cells {
             order: &mut self.order,
             push: &mut self.push,
             bins: &mut self.bins,
+            velocity: &mut self.velocity,
         }
     }
 }
@@ -57,7 +59,8 @@ impl Cells {
 const RELAX_CHUNK: usize = 512;
 
 impl VecStore {
-    /// A store of `cells` cells and `cells / 4 + 1` grid bin offsets.
+    /// A store of `cells` cells (with their last moves, for momentum) and
+    /// `cells / 4 + 1` grid bin offsets.
     #[must_use]
     pub fn new(cells: usize) -> VecStore {
         VecStore {
@@ -68,8 +71,9 @@ impl VecStore {
                 order: vec![0; cells],
                 push: vec![[0; 2]; cells],
                 bins: vec![0; cells / 4 + 1],
+                velocity: vec![[0; 2]; cells],
             },
-            moved: vec![[0; 2]; cells],
+            moved: vec![([0; 2], [0; 2]); cells],
         }
     }
 }
@@ -95,19 +99,26 @@ impl CellStore for VecStore {
 impl Relax for VecStore {
     fn relax(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>) {
         let mut cells = self.cells.slices();
-        let (snapshot, pos) = relaxation::snapshot(&mut cells, n, grid, forces);
+        let (snapshot, moves) = relaxation::snapshot(&mut cells, n, grid, forces);
+        let velocity = &*moves.velocity;
         let moved = &mut self.moved[..n];
         moved
             .par_chunks_mut(RELAX_CHUNK)
             .enumerate()
             .for_each(|(chunk, out)| {
                 let first = chunk * RELAX_CHUNK;
-                for (k, p) in out.iter_mut().enumerate() {
-                    *p = snapshot.moved(first + k);
+                for (k, m) in out.iter_mut().enumerate() {
+                    let slot = first + k;
+                    let last = velocity.get(snapshot.cell(slot)).copied();
+                    *m = snapshot.moved(slot, last.unwrap_or([0; 2]));
                 }
             });
-        for (slot, p) in moved.iter().enumerate() {
-            pos[snapshot.cell(slot)] = *p;
+        for (slot, (p, v)) in moved.iter().enumerate() {
+            let i = snapshot.cell(slot);
+            moves.pos[i] = *p;
+            if let Some(last) = moves.velocity.get_mut(i) {
+                *last = *v;
+            }
         }
     }
 }

@@ -187,6 +187,9 @@ pub struct Mosaic {
     pub initial_relaxations: i64,
     /// ρ_s.
     pub daily_relaxations: i64,
+    /// β of the heavy-ball relaxation (absent: 0, the thesis's plain step).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub momentum: Option<f64>,
     /// Which days are streamed.
     pub frames: DayFrames,
     /// The cell types, background first.

@@ -2,10 +2,10 @@
 //! build writes equals, byte for byte, the one this (debug) test build
 //! computes in process.
 
-use std::path::Path;
 use std::process::Command;
 
 use morphogen_cli::exec;
+use morphogen_tests::release_binary;
 
 /// Presets whose release stream is compared with the debug one: one per
 /// model, small enough to run unoptimised.
@@ -17,32 +17,6 @@ const PROBES: &[&str] = &[
     "horse-growth",
     "long-bone",
 ];
-
-/// The release `morphogen`: `$MORPHOGEN_RELEASE_BIN` when set (CI builds
-/// it once for every check), else built here into `target/determinism`.
-fn release_binary() -> std::path::PathBuf {
-    if let Some(path) = std::env::var_os("MORPHOGEN_RELEASE_BIN") {
-        return path.into();
-    }
-    let workspace = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let target = workspace.join("target/determinism");
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let status = Command::new(cargo)
-        .args([
-            "build",
-            "--release",
-            "--quiet",
-            "-p",
-            "morphogen-cli",
-            "--target-dir",
-        ])
-        .arg(&target)
-        .current_dir(&workspace)
-        .status()
-        .expect("start cargo");
-    assert!(status.success(), "release build failed");
-    target.join("release/morphogen")
-}
 
 #[test]
 #[cfg_attr(

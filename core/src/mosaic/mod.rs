@@ -48,7 +48,7 @@ pub mod store;
 
 pub use control::{Anisotropy, ControlError, ControlVector, Field, Mask};
 pub use domain::Domain;
-pub use params::{CellType, Frames, MAX_TYPES, Params};
+pub use params::{CellType, Frames, MAX_MOMENTUM, MAX_SELF_ADHESION, MAX_TYPES, Params};
 
 use crate::Error;
 use crate::fx::Fx;
@@ -61,6 +61,11 @@ use relaxation::{Forces, Relax};
 
 /// The name of the cell-store limit in [`Error::Capacity`].
 pub const CELL_LIMIT: &str = "mosaic cell store (capacity of the preset's CellStore)";
+
+/// The name of the limit in [`Error::Capacity`] when a run with momentum
+/// meets a store that keeps no velocities (the MCU's [`McuStore`]).
+pub const VELOCITY_LIMIT: &str =
+    "mosaic velocities for momentum (the preset's CellStore keeps none; an MCU store has no room)";
 
 /// An invalid mosaic setup.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -115,10 +120,41 @@ pub fn validate(params: &Params) -> Result<(), MosaicError> {
     if params.initial_cells == 0 {
         return bad("initial_cells (at least 1)");
     }
+    if params.momentum < Fx::ZERO || params.momentum > MAX_MOMENTUM {
+        return bad("momentum [0, 0.95]");
+    }
+    let n = params.types.len();
+    if params.adhesion[..n]
+        .iter()
+        .flat_map(|row| &row[..n])
+        .any(|a| *a < Fx::ZERO || *a > Fx::ONE)
+        || (0..n).any(|i| params.adhesion[i][i] > MAX_SELF_ADHESION)
+    {
+        return bad("adhesion [0, 1], of a type with itself [0, 0.95]");
+    }
     if params.mask.is_some_and(|m| !m.is_valid()) {
         return Err(MosaicError::Control(ControlError::BadMask));
     }
     Ok(())
+}
+
+/// The repulsion of each pair of types (Q16) for the adhesion `alpha`:
+/// 1 for like pairs, (1 − α_pq)/√((1 − α_pp)(1 − α_qq)) for unlike ones
+/// ([`Params::adhesion`]). Under the pressure of a wide repulsion radius
+/// the thesis's plain 1 − α packs the type with the higher self-adhesion
+/// denser; measured against the like pairs, adhesion only sorts.
+fn repulsion(alpha: &[[Fx; MAX_TYPES]; MAX_TYPES]) -> [[i32; MAX_TYPES]; MAX_TYPES] {
+    // 1 − α as Q16, at least 1 − MAX_SELF_ADHESION on the diagonal once
+    // validated (the max keeps the division defined regardless).
+    let free = |a: Fx| i64::from((Fx::ONE - a.clamp(Fx::ZERO, Fx::ONE)).to_bits());
+    core::array::from_fn(|p| {
+        core::array::from_fn(|q| {
+            let like = (free(alpha[p][p]) * free(alpha[q][q])) as u64; // Q32, ≤ 2^32
+            let scale = (like.isqrt() as i64).max(1); // Q16
+            // ≤ 2^16 · 2^16 / (0.05 · 2^16) < 2^21: fits i32.
+            ((free(alpha[p][q]) << 16) / scale) as i32
+        })
+    })
 }
 
 /// The inline store of the MCU presets: 2 048 cells, 512 grid bins, 24 B
@@ -235,6 +271,13 @@ impl<'a, S: Relax> Mosaic<'a, S> {
                 capacity: self.store.capacity() as u32,
             });
         }
+        let velocities = self.store.slices().velocity.len();
+        if params.momentum != Fx::ZERO && velocities < self.store.capacity() {
+            return Err(Error::Capacity {
+                limit: VELOCITY_LIMIT,
+                capacity: velocities as u32,
+            });
+        }
         self.field = match &params.anisotropy {
             Some(a) => Field::interpolate(&params.domain, a).map_err(MosaicError::Control)?,
             None => Field::zero(),
@@ -314,6 +357,7 @@ impl<'a, S: Relax> Mosaic<'a, S> {
     /// Spreads the initial cells (day 0).
     fn place(&mut self, params: &Params) -> Result<(), Error> {
         let cells = self.store.slices();
+        cells.velocity.fill([0; 2]);
         let size = params.domain.size.map(|s| s.to_bits() as u32);
         for id in 0..params.initial_cells {
             let mut rng = KeyedRng::new(self.seed, stream_id(Purpose::Place, 0, id));
@@ -365,6 +409,9 @@ impl<'a, S: Relax> Mosaic<'a, S> {
                     .confine(1, i64::from(p[1]) + i64::from(off[1])),
             ];
             cells.kind[n] = child;
+            if let Some(v) = cells.velocity.get_mut(n) {
+                *v = [0; 2]; // a newborn cell has not moved
+            }
             let later = |k: u8, rng: &mut KeyedRng| -> Result<u16, Error> {
                 let t = &params.types[k as usize % ntypes];
                 Ok(day.saturating_add(division::interval(rng, t)?))
@@ -381,14 +428,11 @@ impl<'a, S: Relax> Mosaic<'a, S> {
     /// `times` relaxation steps at the current radius, with or without
     /// adhesion.
     fn relax(&mut self, params: &Params, times: u16, adhesion: bool) {
-        let mut repel = [[1 << 16; MAX_TYPES]; MAX_TYPES];
-        if adhesion {
-            for (row, a) in repel.iter_mut().zip(&params.adhesion) {
-                for (x, alpha) in row.iter_mut().zip(a) {
-                    *x = (Fx::ONE - (*alpha).clamp(Fx::ZERO, Fx::ONE)).to_bits();
-                }
-            }
-        }
+        let repel = if adhesion {
+            repulsion(&params.adhesion)
+        } else {
+            [[1 << 16; MAX_TYPES]; MAX_TYPES]
+        };
         let forces = Forces {
             domain: &params.domain,
             radius: self.radius,
@@ -398,6 +442,7 @@ impl<'a, S: Relax> Mosaic<'a, S> {
                 .anisotropy
                 .map_or(0, |a| a.weight.clamp(Fx::ZERO, Fx::ONE).to_bits()),
             field: params.anisotropy.as_ref().map(|_| &self.field),
+            momentum: params.momentum.to_bits(),
         };
         let n = self.cells as usize;
         let max_bins = self.store.slices().bins.len().saturating_sub(1);

@@ -56,8 +56,11 @@ pub struct Params<'a> {
     pub initial_cells: u32,
     /// The cell types (1 to [`MAX_TYPES`]).
     pub types: &'a [CellType],
-    /// α for each pair of types (symmetric, in [0, 1]); 1 − α scales the
-    /// repulsion.
+    /// α for each pair of types (symmetric, in [0, 1]; a type with itself
+    /// at most [`MAX_SELF_ADHESION`]). Like pairs all repel alike; a pair
+    /// p, q repels with (1 − α_pq)/√((1 − α_pp)(1 − α_qq)) of that, so
+    /// adhesion sorts the types without packing one denser than another
+    /// (DESIGN.md "Clonal mosaic"; the thesis scales by 1 − α alone).
     pub adhesion: [[Fx; MAX_TYPES]; MAX_TYPES],
     /// `mutation[parent][child]`: probability that a child of `parent` is of
     /// type `child` (off the diagonal; the rest of the row keeps the
@@ -71,6 +74,13 @@ pub struct Params<'a> {
     pub initial_relaxations: u16,
     /// ρ_s: relaxations per day.
     pub daily_relaxations: u16,
+    /// β of the heavy-ball relaxation, 0 to [`MAX_MOMENTUM`]: each step
+    /// also moves a cell β times its last move, so pressure crosses a
+    /// clone in fewer steps to the same equilibrium (DESIGN.md "Clonal
+    /// mosaic"). 0 is the thesis's plain step and needs no velocities
+    /// (and leaves the parameter digest as it was before β existed).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub momentum: Fx,
     /// Days simulated after the initial relaxation.
     pub days: u16,
     /// Where foreground cells may start, if anywhere restricted.
@@ -80,6 +90,18 @@ pub struct Params<'a> {
     /// Which days are streamed.
     pub frames: Frames<'a>,
 }
+
+fn is_zero(x: &Fx) -> bool {
+    *x == Fx::ZERO
+}
+
+/// The largest adhesion α of a type with itself: its cells must still
+/// repel each other, since every pair's repulsion is measured against the
+/// like pairs' ([`Params::adhesion`]).
+pub const MAX_SELF_ADHESION: Fx = Fx::from_ratio(95, 100);
+
+/// The largest momentum β: below 1, so that every move dies out.
+pub const MAX_MOMENTUM: Fx = Fx::from_ratio(95, 100);
 
 /// w_d of the original MClone code (DESIGN.md).
 pub const ORIGINAL_PUSH_WEIGHT: Fx = Fx::from_ratio(66, 1000);

@@ -1,10 +1,14 @@
 //! Relaxation (thesis Sec. 3.2.1.1, DESIGN.md "Clonal mosaic"): every
 //! neighbour q of p within the repulsion radius r pushes p by
-//! (1 − d/r)·(1 − α_pq)·r·(p − q)/d = (1 − α_pq)·(r − d)·(p − q)/d; the sum
+//! (1 − d/r)·ρ_pq·r·(p − q)/d = ρ_pq·(r − d)·(p − q)/d, with the pair's
+//! repulsion ρ_pq from the adhesion (1 − α_pq in the thesis; 1 for like
+//! pairs here, [`Params::adhesion`](super::Params::adhesion)); the sum
 //! Σ is scaled by w_d and blended with the anisotropy field v by w_a:
-//! Δp = w_d·((1 − w_a)·Σ + w_a·r·v). All pushes are computed (a Jacobi
-//! step) before any cell moves, so the order of the loops does not matter
-//! and integer sums make the result exact on every machine.
+//! Δp = w_d·((1 − w_a)·Σ + w_a·r·v). With momentum β (heavy-ball
+//! relaxation) a cell also moves β times its last move, the sum held
+//! within ±r. All pushes are computed (a Jacobi step) before any cell
+//! moves, so the order of the loops does not matter and integer sums make
+//! the result exact on every machine.
 
 use super::control::Field;
 use super::domain::Domain;
@@ -24,7 +28,8 @@ pub struct Forces<'a> {
     pub domain: &'a Domain,
     /// The repulsion radius r.
     pub radius: i32,
-    /// 1 − α for each pair of types.
+    /// The repulsion ρ of each pair of types (from the adhesion; 1 during
+    /// the initial relaxation).
     pub repel: [[i32; MAX_TYPES]; MAX_TYPES],
     /// w_d.
     pub push_weight: i32,
@@ -32,6 +37,8 @@ pub struct Forces<'a> {
     pub anisotropy_weight: i32,
     /// The anisotropy field v (Q14), if any.
     pub field: Option<&'a Field>,
+    /// β, the share of its last move a cell moves again (Q16, below 1).
+    pub momentum: i32,
 }
 
 impl Forces<'_> {
@@ -138,10 +145,11 @@ impl Snapshot<'_> {
         self.order[slot] as usize
     }
 
-    /// The new position of the cell in grid slot `slot`: its old one
-    /// moved by the pushes of its neighbours within the radius.
+    /// The new position of the cell in grid slot `slot` and its move: its
+    /// old position moved by the pushes of its neighbours within the
+    /// radius and β times its `last` move, within ±r.
     #[must_use]
-    pub fn moved(&self, slot: usize) -> [i32; 2] {
+    pub fn moved(&self, slot: usize, last: [i32; 2]) -> ([i32; 2], [i32; 2]) {
         let sum = if self.shifted {
             self.pushes::<true>(slot)
         } else {
@@ -149,11 +157,19 @@ impl Snapshot<'_> {
         };
         let p = self.sorted[slot];
         let d = self.forces.displacement(sum, p);
-        let domain = self.forces.domain;
-        [
-            domain.confine(0, i64::from(p[0]) + i64::from(d[0])),
-            domain.confine(1, i64::from(p[1]) + i64::from(d[1])),
-        ]
+        let (domain, beta) = (self.forces.domain, i64::from(self.forces.momentum));
+        let r = i64::from(self.forces.radius);
+        let mut to = [0; 2];
+        let mut step = [0; 2];
+        for c in 0..2 {
+            // |d| ≤ r and |β·last| < r: the sum fits easily in i64.
+            let carry = (beta * i64::from(last[c]) + (ONE >> 1)) >> 16;
+            let s = (i64::from(d[c]) + carry).max(-r).min(r);
+            to[c] = domain.confine(c, i64::from(p[c]) + s);
+            // The move made: less than s against a wall.
+            step[c] = domain.delta(c, to[c], p[c]);
+        }
+        (to, step)
     }
 
     /// The sum of the pushes on the cell in grid slot `slot`; `SHIFTED`:
@@ -214,17 +230,28 @@ impl Snapshot<'_> {
     }
 }
 
+/// Where a relaxation step writes: the positions, which the
+/// [`Snapshot`] no longer reads (writing a new position there keeps the
+/// step a Jacobi step), and the cells' last moves (empty in a store
+/// without momentum).
+#[derive(Debug)]
+pub struct Moves<'s> {
+    /// Positions by cell index.
+    pub pos: &'s mut [[i32; 2]],
+    /// Last moves by cell index.
+    pub velocity: &'s mut [[i32; 2]],
+}
+
 /// Takes the snapshot of one relaxation step over the first `n` cells with
 /// the grid `grid` (already planned for `forces.radius`): builds the grid
 /// and gathers the positions in bin order into the push scratch. Returns it
-/// with the positions, which the snapshot no longer reads: writing a new
-/// position there keeps the step a Jacobi step.
+/// with what the step writes.
 pub fn snapshot<'s>(
     cells: &'s mut CellSlices<'_>,
     n: usize,
     grid: &'s Grid,
     forces: &'s Forces<'s>,
-) -> (Snapshot<'s>, &'s mut [[i32; 2]]) {
+) -> (Snapshot<'s>, Moves<'s>) {
     grid.build(&cells.pos[..n], &mut cells.order[..n], cells.bins);
     let order = &cells.order[..n];
     for (s, &i) in cells.push[..n].iter_mut().zip(order) {
@@ -239,14 +266,28 @@ pub fn snapshot<'s>(
         shifted: grid.shifts_exact(),
         forces,
     };
-    (snapshot, &mut cells.pos[..n])
+    let velocity = match cells.velocity.get_mut(..n) {
+        Some(v) => v,
+        None => &mut [],
+    };
+    let moves = Moves {
+        pos: &mut cells.pos[..n],
+        velocity,
+    };
+    (snapshot, moves)
 }
 
 /// One relaxation step over the first `n` cells, one cell after another.
 pub fn relax(cells: &mut CellSlices<'_>, n: usize, grid: &Grid, forces: &Forces<'_>) {
-    let (snapshot, pos) = snapshot(cells, n, grid, forces);
+    let (snapshot, moves) = snapshot(cells, n, grid, forces);
     for slot in 0..snapshot.len() {
-        pos[snapshot.cell(slot)] = snapshot.moved(slot);
+        let i = snapshot.cell(slot);
+        let last = moves.velocity.get(i).copied().unwrap_or([0; 2]);
+        let (p, step) = snapshot.moved(slot, last);
+        moves.pos[i] = p;
+        if let Some(v) = moves.velocity.get_mut(i) {
+            *v = step;
+        }
     }
 }
 
@@ -263,8 +304,9 @@ pub trait Relax: CellStore {
 
 impl<const N: usize, const G: usize> Relax for ArrayStore<N, G> {}
 
-/// The same step by brute force, O(N²): the reference for tests and the
-/// bench. Integer sums are exact, so it gives bit-identical positions.
+/// The same step by brute force, O(N²), without momentum: the reference
+/// for tests and the bench. Integer sums are exact, so it gives
+/// bit-identical positions.
 pub fn relax_naive(cells: &mut CellSlices<'_>, n: usize, forces: &Forces<'_>) {
     let pos = &cells.pos[..n];
     let kind = &cells.kind[..n];

@@ -6,7 +6,10 @@
 //! 1 B, next division day 2 B, grid order (counting-sort permutation) 4 B,
 //! push scratch (2 × i32, every force is computed before any cell moves) 8 B
 //! = 23 B, plus the grid's bin offsets (4 B each, a quarter as many bins as
-//! cells in the presets) = **24 B per cell**.
+//! cells in the presets) = **24 B per cell**. A store may also keep each
+//! cell's last move (2 × i32) for the heavy-ball relaxation
+//! ([`Params::momentum`](super::Params::momentum)); [`ArrayStore`] does
+//! not, to stay within an MCU's RAM.
 
 /// The arrays of a cell store, borrowed for one operation.
 #[derive(Debug)]
@@ -23,6 +26,9 @@ pub struct CellSlices<'a> {
     pub push: &'a mut [[i32; 2]],
     /// Grid bin offsets into `order` (`bins.len() − 1` bins at most).
     pub bins: &'a mut [u32],
+    /// The last move of each cell, Q16 bits; empty in a store without
+    /// momentum.
+    pub velocity: &'a mut [[i32; 2]],
 }
 
 /// Storage for cells: capacity is fixed when the store is made.
@@ -92,6 +98,7 @@ impl<const N: usize, const G: usize> CellStore for ArrayStore<N, G> {
             order: &mut self.order,
             push: &mut self.push,
             bins: &mut self.bins,
+            velocity: &mut [],
         }
     }
 

@@ -41,6 +41,7 @@ fn croton_mcu_day_0(initial_cells: u32) -> Params<'static> {
         push_weight: ORIGINAL_PUSH_WEIGHT,
         initial_relaxations: 40,
         daily_relaxations: 8,
+        momentum: Fx::ZERO,
         days: 0,
         mask: None,
         anisotropy: None,
@@ -66,6 +67,7 @@ fn grid_and_naive_relaxation_agree_bit_for_bit() {
         push_weight: params.push_weight.to_bits(),
         anisotropy_weight: 0,
         field: None,
+        momentum: 0,
     };
     for _ in 0..5 {
         let f = forces(a.radius);
@@ -111,6 +113,7 @@ fn coarse_grids_find_every_neighbour_on_both_sides_of_the_wrap() {
                 push_weight: params.push_weight.to_bits(),
                 anisotropy_weight: 0,
                 field: None,
+                momentum: 0,
             };
             let grid = Grid::plan(&params.domain, f.radius, max_bins);
             let n = a.len();
@@ -128,4 +131,157 @@ fn coarse_grids_find_every_neighbour_on_both_sides_of_the_wrap() {
             );
         }
     }
+}
+
+/// A store that keeps each cell's last move, as the host's does (the MCU's
+/// [`ArrayStore`] has no room for them).
+struct Moving {
+    cells: [[i32; 2]; 512],
+    kind: [u8; 512],
+    next_division: [u16; 512],
+    order: [u32; 512],
+    push: [[i32; 2]; 512],
+    bins: [u32; 129],
+    velocity: [[i32; 2]; 512],
+}
+
+impl Moving {
+    fn new() -> Box<Moving> {
+        Box::new(Moving {
+            cells: [[0; 2]; 512],
+            kind: [0; 512],
+            next_division: [0; 512],
+            order: [0; 512],
+            push: [[0; 2]; 512],
+            bins: [0; 129],
+            velocity: [[0; 2]; 512],
+        })
+    }
+}
+
+impl CellStore for Box<Moving> {
+    fn capacity(&self) -> usize {
+        512
+    }
+    fn slices(&mut self) -> store::CellSlices<'_> {
+        store::CellSlices {
+            pos: &mut self.cells,
+            kind: &mut self.kind,
+            next_division: &mut self.next_division,
+            order: &mut self.order,
+            push: &mut self.push,
+            bins: &mut self.bins,
+            velocity: &mut self.velocity,
+        }
+    }
+    fn positions(&self) -> &[[i32; 2]] {
+        &self.cells
+    }
+    fn kinds(&self) -> &[u8] {
+        &self.kind
+    }
+}
+
+impl Relax for Box<Moving> {}
+
+#[test]
+fn momentum_needs_a_store_that_keeps_velocities() {
+    let params = &Params {
+        momentum: Fx::from_ratio(9, 10),
+        ..croton_mcu_day_0(100)
+    };
+    let mut m = Mosaic::new(ArrayStore::<512, 129>::EMPTY);
+    assert_eq!(
+        m.start(params, 1),
+        Err(Error::Capacity {
+            limit: VELOCITY_LIMIT,
+            capacity: 0
+        })
+    );
+    assert!(Mosaic::new(Moving::new()).start(params, 1).is_ok());
+    let too_much = &Params {
+        momentum: Fx::ONE,
+        ..*params
+    };
+    assert!(Mosaic::new(Moving::new()).start(too_much, 1).is_err());
+}
+
+#[test]
+fn a_heavy_ball_step_adds_beta_times_the_last_move_to_the_plain_step() {
+    let params = &croton_mcu_day_0(300);
+    let beta = Fx::from_ratio(9, 10).to_bits();
+    let mut m = Mosaic::new(Moving::new());
+    m.start(params, 3).unwrap();
+    m.place(params).unwrap();
+    m.update_radius(params);
+    let forces = |momentum| Forces {
+        domain: &params.domain,
+        radius: m.radius,
+        repel: [[40_000; MAX_TYPES]; MAX_TYPES],
+        push_weight: params.push_weight.to_bits(),
+        anisotropy_weight: 0,
+        field: None,
+        momentum,
+    };
+    let (heavy, plain) = (forces(beta), forces(0));
+    let n = m.len();
+    let mut store = m.store;
+    let grid = Grid::plan(&params.domain, m.radius, 128);
+    for step in 0..4 {
+        let before = store.cells;
+        let last = store.velocity;
+        // The plain step from the same positions, on a copy.
+        let mut copy = Moving::new();
+        copy.cells = before;
+        copy.kind = store.kind;
+        relaxation::relax(&mut copy.slices(), n, &grid, &plain);
+        relaxation::relax(&mut store.slices(), n, &grid, &heavy);
+        for i in 0..n {
+            for c in 0..2 {
+                let d = i64::from(params.domain.delta(c, copy.cells[i][c], before[i][c]));
+                let carry = (i64::from(beta) * i64::from(last[i][c]) + (1 << 15)) >> 16;
+                let r = i64::from(m.radius);
+                let s = (d + carry).clamp(-r, r);
+                let want = params.domain.confine(c, i64::from(before[i][c]) + s);
+                assert_eq!(store.cells[i][c], want, "step {step} cell {i}");
+                assert_eq!(
+                    store.velocity[i][c],
+                    params.domain.delta(c, want, before[i][c])
+                );
+            }
+        }
+        if step == 0 {
+            // No last move yet: the first step is the plain one.
+            assert_eq!(store.cells[..n], copy.cells[..n]);
+        }
+    }
+    assert!(store.velocity[..n].iter().any(|v| *v != [0, 0]));
+}
+
+#[test]
+fn like_pairs_repel_alike_and_unlike_ones_relative_to_them() {
+    let alpha = pair_table(
+        [
+            Fx::from_ratio(8, 10),
+            Fx::from_ratio(5, 10),
+            Fx::ZERO,
+            Fx::from_ratio(95, 100),
+        ],
+        Fx::ZERO,
+    );
+    let r = repulsion(&alpha);
+    for (p, row) in r.iter().enumerate() {
+        assert_eq!(row[p], 1 << 16, "type {p} with itself");
+        for (q, x) in row.iter().enumerate() {
+            assert_eq!(*x, r[q][p], "symmetric");
+            let free = |a: Fx| 1.0 - f64::from(a.to_bits()) / 65_536.0;
+            let want = free(alpha[p][q]) / (free(alpha[p][p]) * free(alpha[q][q])).sqrt();
+            assert!(
+                (f64::from(*x) / 65_536.0 - want).abs() < 1e-3 * want.max(1.0),
+                "{p},{q}: {x} for {want}"
+            );
+        }
+    }
+    // B (α .8) and F (α .5) of the croton: 1/√(.2·.5) = 3.16.
+    assert!((f64::from(r[0][1]) / 65_536.0 - 0.1f64.sqrt().recip()).abs() < 1e-3);
 }
