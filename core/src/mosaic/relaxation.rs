@@ -181,12 +181,12 @@ impl Snapshot<'_> {
         };
         let (cols, nc) = grid.span(0, p[0], r, size[0]);
         let (rows, nr) = grid.span(1, p[1], r, size[1]);
-        for rows in rows.iter().take(nr) {
+        for rows in &rows[..nr.min(2)] {
             // i32: p ∈ [0, size), size ≤ 2^30 and |shift| ≤ size.
             let edge_v = (p[1] - rows.shift).wrapping_sub(probe.reach) as u32;
             for row in rows.first..rows.end {
                 let row_start = (row * grid.cols) as usize;
-                for cols in cols.iter().take(nc) {
+                for cols in &cols[..nc.min(2)] {
                     let bin = |c: u32| bins.get(row_start + c as usize).map_or(0, |&b| b as usize);
                     let edge = [(p[0] - cols.shift).wrapping_sub(probe.reach) as u32, edge_v];
                     let run = bin(cols.first)..bin(cols.end);
