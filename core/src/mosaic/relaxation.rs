@@ -291,11 +291,13 @@ pub fn snapshot<'s>(
     grid: &'s Grid,
     forces: &'s Forces<'s>,
 ) -> (Snapshot<'s>, &'s mut [[i32; 2]]) {
-    grid.build(&cells.pos[..n], &mut cells.order[..n], cells.bins);
+    grid.build(
+        &cells.pos[..n],
+        &mut cells.order[..n],
+        cells.bins,
+        &mut cells.push[..n],
+    );
     let order = &cells.order[..n];
-    for (s, &i) in cells.push[..n].iter_mut().zip(order) {
-        *s = cells.pos[i as usize];
-    }
     let snapshot = Snapshot {
         sorted: &cells.push[..n],
         order,
