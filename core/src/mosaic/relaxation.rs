@@ -171,7 +171,6 @@ impl Snapshot<'_> {
         let r = forces.radius;
         let cell = self.cell(slot);
         let probe = Probe {
-            slot,
             cell,
             p,
             reach: r - 1,
@@ -222,10 +221,10 @@ impl Snapshot<'_> {
                     .wrapping_sub(domain.delta(axis, probe.p[axis], q)) as u32
             }
         };
-        let Some(cells) = self.sorted.get(run.clone()) else {
+        let (Some(cells), Some(order)) = (self.sorted.get(run.clone()), self.order.get(run)) else {
             return sum;
         };
-        for (q, t) in cells.iter().zip(run) {
+        for (q, &j) in cells.iter().zip(order) {
             // |dx| ≥ r: beyond the radius whatever dy is.
             let ox = offset(0, q[0]);
             if ox >= probe.window {
@@ -242,10 +241,10 @@ impl Snapshot<'_> {
             if d2 >= probe.r2 {
                 continue;
             }
-            if d2 == 0 && t == probe.slot {
+            let j = j as usize;
+            if d2 == 0 && j == probe.cell {
                 continue; // the cell itself
             }
-            let j = self.cell(t);
             let repel = probe.repel[self.kind_of(j)];
             let f = self.forces.push(probe.cell, j, dx, dy, d2, repel);
             sum = [sum[0] + f[0], sum[1] + f[1]];
@@ -264,8 +263,6 @@ impl Snapshot<'_> {
 /// candidate neighbour is compared with, computed once per cell.
 #[derive(Debug)]
 struct Probe<'f> {
-    /// The cell's grid slot.
-    slot: usize,
     /// The cell's index.
     cell: usize,
     /// Its position.
