@@ -19,9 +19,10 @@ const GUESS: [u8; 192] = {
     table
 };
 
-/// ⌊√n⌋, exactly. Not inlined: one copy in flash for both relaxation
-/// loops.
-#[inline(never)]
+/// ⌊√n⌋, exactly. Not inlined on 32-bit targets: one copy in flash for
+/// both relaxation loops.
+#[cfg_attr(target_pointer_width = "64", inline)]
+#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
 #[must_use]
 pub(crate) fn isqrt_u32(n: u32) -> u32 {
     if n == 0 {

@@ -80,7 +80,9 @@ impl Domain {
     #[must_use]
     pub fn confine(&self, axis: usize, p: i64) -> i32 {
         let size = i64::from(self.size[axis].to_bits());
-        let q = if self.periodic[axis] {
+        let q = if (0..size).contains(&p) {
+            p // already inside: no division (a library call on a Cortex-M)
+        } else if self.periodic[axis] {
             p.rem_euclid(size)
         } else {
             // max/min, not clamp: the same for a validated size ≥ 1, and

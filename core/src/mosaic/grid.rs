@@ -82,17 +82,30 @@ impl Grid {
         r as usize * self.cols as usize + c as usize
     }
 
-    /// Counting sort of `pos` into `order`; afterwards the cells of bin `b`
-    /// are `order[bins[b]..bins[b + 1]]`, in increasing index order.
-    /// `bins` needs `self.bins() + 1` entries and `order` `pos.len()`.
-    pub fn build(&self, pos: &[[i32; 2]], order: &mut [u32], bins: &mut [u32]) {
+    /// Counting sort of `pos` into `order`, and the positions gathered in
+    /// that order into `sorted`; afterwards the cells of bin `b` are
+    /// `order[bins[b]..bins[b + 1]]`, in increasing index order. `bins`
+    /// needs `self.bins() + 1` entries, `order` and `sorted` `pos.len()`.
+    /// Each cell's bin is computed once: `order` holds it until the cells
+    /// are placed, `sorted` holds the placed indices until the gather.
+    pub fn build(
+        &self,
+        pos: &[[i32; 2]],
+        order: &mut [u32],
+        bins: &mut [u32],
+        sorted: &mut [[i32; 2]],
+    ) {
         let nb = self.bins();
         let Some(bins) = bins.get_mut(..=nb) else {
             return;
         };
         bins.fill(0);
-        for p in pos {
-            bins[self.bin_of(*p)] += 1;
+        for (b, p) in order.iter_mut().zip(pos) {
+            // bin_of < nb ≤ u32::MAX (cols, rows ≤ 2^15).
+            *b = self.bin_of(*p) as u32;
+            if let Some(count) = bins.get_mut(*b as usize) {
+                *count += 1;
+            }
         }
         let mut sum = 0u32;
         for b in bins.iter_mut().take(nb) {
@@ -100,10 +113,17 @@ impl Grid {
             *b = sum; // end of the bin
         }
         bins[nb] = sum;
-        for (i, p) in pos.iter().enumerate().rev() {
-            let b = self.bin_of(*p);
-            bins[b] -= 1; // ends as the start of the bin
-            order[bins[b] as usize] = i as u32;
+        for (i, &b) in order.iter().enumerate().rev() {
+            if let Some(end) = bins.get_mut(b as usize) {
+                *end -= 1; // ends as the start of the bin
+                if let Some(slot) = sorted.get_mut(*end as usize) {
+                    slot[0] = i as i32; // i < pos.len() ≤ u32::MAX: lossless
+                }
+            }
+        }
+        for (i, slot) in order.iter_mut().zip(sorted.iter_mut()) {
+            *i = slot[0] as u32;
+            *slot = pos.get(*i as usize).copied().unwrap_or_default();
         }
     }
 
@@ -201,8 +221,10 @@ mod tests {
         let pos = [[1, 1], [9 << 16, 9 << 16], [2 << 16, 1], [5 << 16, 5 << 16]];
         let mut order = [0u32; 4];
         let mut bins = [0u32; 10];
-        g.build(&pos, &mut order, &mut bins);
+        let mut sorted = [[0; 2]; 4];
+        g.build(&pos, &mut order, &mut bins, &mut sorted);
         assert_eq!(order, [0, 2, 3, 1]);
+        assert_eq!(sorted, [pos[0], pos[2], pos[3], pos[1]]);
         assert_eq!(bins, [0, 2, 2, 2, 2, 3, 3, 3, 3, 4]);
         // Wrapped neighbours of column 0 are 2 and 1; a walled axis has none.
         assert_eq!(g.around(0, 0), ([0, 2, 1], 3));

@@ -175,59 +175,122 @@ impl Snapshot<'_> {
     /// The sum of the pushes on the cell in grid slot `slot`; `SHIFTED`:
     /// displacements from the bins' shifts ([`Grid::span`]), else from
     /// [`Domain::delta`](super::domain::Domain::delta). A row's run of
-    /// bins is one slice of the sorted positions.
+    /// bins is one slice of the sorted positions ([`Snapshot::run_pushes`]).
     #[inline(always)]
     fn pushes<const SHIFTED: bool>(&self, slot: usize) -> [i64; 2] {
-        let (forces, grid, bins, sorted) = (self.forces, self.grid, self.bins, self.sorted);
-        let p = sorted[slot];
-        let i = self.cell(slot);
-        let repel = &forces.repel[self.kind[i] as usize % MAX_TYPES];
-        let domain = forces.domain;
-        let size = domain.size.map(|s| s.to_bits());
+        let mut sum = [0i64; 2];
+        let Some(&p) = self.sorted.get(slot) else {
+            return sum;
+        };
+        let (grid, bins, forces) = (self.grid, self.bins, self.forces);
+        let size = forces.domain.size.map(|s| s.to_bits());
         let r = forces.radius;
-        let r2 = i64::from(r) * i64::from(r);
+        let cell = self.cell(slot);
+        let probe = Probe {
+            cell,
+            p,
+            reach: r - 1,
+            window: (r as u32).wrapping_mul(2).wrapping_sub(1),
+            r2: i64::from(r) * i64::from(r),
+            repel: &forces.repel[self.kind_of(cell)],
+        };
         let (cols, nc) = grid.span(0, p[0], r, size[0]);
         let (rows, nr) = grid.span(1, p[1], r, size[1]);
-        let mut sum = [0i64; 2];
-        for rows in &rows[..nr] {
+        for rows in &rows[..nr.min(2)] {
             // i32: p ∈ [0, size), size ≤ 2^30 and |shift| ≤ size.
-            let v = p[1] - rows.shift;
+            let edge_v = (p[1] - rows.shift).wrapping_sub(probe.reach) as u32;
             for row in rows.first..rows.end {
                 let row_start = (row * grid.cols) as usize;
-                for cols in &cols[..nc] {
-                    let u = p[0] - cols.shift;
-                    let lo = bins[row_start + cols.first as usize] as usize;
-                    let hi = bins[row_start + cols.end as usize] as usize;
-                    for (t, q) in sorted[lo..hi].iter().enumerate() {
-                        // i32: u, v ∈ (−2^30, 2^31) and q ∈ [0, 2^30), so
-                        // the differences stay within ±2^31 (and the
-                        // squares below are 32 × 32 → 64-bit products,
-                        // cheap on a Cortex-M).
-                        let (dx, dy) = if SHIFTED {
-                            (u - q[0], v - q[1])
-                        } else {
-                            (domain.delta(0, p[0], q[0]), domain.delta(1, p[1], q[1]))
-                        };
-                        let (dx, dy) = (i64::from(dx), i64::from(dy));
-                        let d2 = dx * dx + dy * dy; // < 2·(2^31)² = 2^63, Q32
-                        if d2 >= r2 {
-                            continue;
-                        }
-                        let t = lo + t;
-                        if t == slot {
-                            continue; // the cell itself
-                        }
-                        let j = self.cell(t);
-                        let rep = repel[self.kind[j] as usize % MAX_TYPES];
-                        let f = forces.push(i, j, dx, dy, d2, rep);
-                        sum[0] += f[0];
-                        sum[1] += f[1];
-                    }
+                for cols in &cols[..nc.min(2)] {
+                    let bin = |c: u32| bins.get(row_start + c as usize).map_or(0, |&b| b as usize);
+                    let edge = [(p[0] - cols.shift).wrapping_sub(probe.reach) as u32, edge_v];
+                    let run = bin(cols.first)..bin(cols.end);
+                    sum = self.run_pushes::<SHIFTED>(&probe, edge, run, sum);
                 }
             }
         }
         sum
     }
+
+    /// `sum` plus the pushes on the probed cell of the cells in the slots
+    /// `run` within the radius. Most of them lie beyond it and cost a
+    /// comparison or two: |d| < r ⇔ r − 1 − d ∈ [0, 2r − 1), one unsigned
+    /// comparison, exact in wrapping u32 as r − 1 − d stays within ±2^31.
+    /// With shifts, r − 1 − d = q − `edge` where `edge` is the cell's
+    /// position less the run's shifts and r − 1: no subtraction first.
+    #[inline(always)]
+    fn run_pushes<const SHIFTED: bool>(
+        &self,
+        probe: &Probe<'_>,
+        edge: [u32; 2],
+        run: core::ops::Range<usize>,
+        mut sum: [i64; 2],
+    ) -> [i64; 2] {
+        let domain = self.forces.domain;
+        // r − 1 − d.
+        let offset = |axis: usize, q: i32| {
+            if SHIFTED {
+                (q as u32).wrapping_sub(edge[axis])
+            } else {
+                probe
+                    .reach
+                    .wrapping_sub(domain.delta(axis, probe.p[axis], q)) as u32
+            }
+        };
+        let (Some(cells), Some(order)) = (self.sorted.get(run.clone()), self.order.get(run)) else {
+            return sum;
+        };
+        for (q, &j) in cells.iter().zip(order) {
+            // |dx| ≥ r: beyond the radius whatever dy is.
+            let ox = offset(0, q[0]);
+            if ox >= probe.window {
+                continue;
+            }
+            let oy = offset(1, q[1]);
+            if oy >= probe.window {
+                continue;
+            }
+            // |d| < r: the offsets are below 2r − 1 < 2^31.
+            let dx = i64::from(probe.reach - ox as i32);
+            let dy = i64::from(probe.reach - oy as i32);
+            let d2 = dx * dx + dy * dy; // < 2·r² ≤ 2^61, Q32
+            if d2 >= probe.r2 {
+                continue;
+            }
+            let j = j as usize;
+            if d2 == 0 && j == probe.cell {
+                continue; // the cell itself
+            }
+            let repel = probe.repel[self.kind_of(j)];
+            let f = self.forces.push(probe.cell, j, dx, dy, d2, repel);
+            sum = [sum[0] + f[0], sum[1] + f[1]];
+        }
+        sum
+    }
+
+    /// The type of cell `i`, as an index into the repulsion table.
+    #[inline(always)]
+    fn kind_of(&self, i: usize) -> usize {
+        self.kind.get(i).map_or(0, |&k| k as usize % MAX_TYPES)
+    }
+}
+
+/// The cell whose pushes [`Snapshot::run_pushes`] sums up, and what each
+/// candidate neighbour is compared with, computed once per cell.
+#[derive(Debug)]
+struct Probe<'f> {
+    /// The cell's index.
+    cell: usize,
+    /// Its position.
+    p: [i32; 2],
+    /// r − 1.
+    reach: i32,
+    /// 2r − 1 (wrapping u32).
+    window: u32,
+    /// r² (Q32).
+    r2: i64,
+    /// The repulsion between its type and each other.
+    repel: &'f [i32; MAX_TYPES],
 }
 
 /// Where a relaxation step writes: the positions, which the
@@ -252,11 +315,13 @@ pub fn snapshot<'s>(
     grid: &'s Grid,
     forces: &'s Forces<'s>,
 ) -> (Snapshot<'s>, Moves<'s>) {
-    grid.build(&cells.pos[..n], &mut cells.order[..n], cells.bins);
+    grid.build(
+        &cells.pos[..n],
+        &mut cells.order[..n],
+        cells.bins,
+        &mut cells.push[..n],
+    );
     let order = &cells.order[..n];
-    for (s, &i) in cells.push[..n].iter_mut().zip(order) {
-        *s = cells.pos[i as usize];
-    }
     let snapshot = Snapshot {
         sorted: &cells.push[..n],
         order,
