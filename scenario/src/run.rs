@@ -112,8 +112,12 @@ impl Relax for VecStore {
                 let first = chunk * RELAX_CHUNK;
                 for (k, m) in out.iter_mut().enumerate() {
                     let slot = first + k;
-                    let last = velocity.get(snapshot.cell(slot)).copied();
-                    *m = snapshot.moved(slot, last.unwrap_or([0; 2]));
+                    *m = if forces.momentum == 0 {
+                        (snapshot.moved(slot), [0; 2])
+                    } else {
+                        let last = velocity.get(snapshot.cell(slot)).copied();
+                        snapshot.carried(slot, last.unwrap_or([0; 2]))
+                    };
                 }
             });
         for (slot, (p, v)) in moved.iter().enumerate() {

@@ -145,18 +145,24 @@ impl Snapshot<'_> {
         self.order[slot] as usize
     }
 
-    /// The new position of the cell in grid slot `slot` and its move: its
-    /// old position moved by the pushes of its neighbours within the
-    /// radius and β times its `last` move, within ±r.
+    /// The new position of the cell in grid slot `slot`: its old one
+    /// moved by the pushes of its neighbours within the radius.
     #[must_use]
-    pub fn moved(&self, slot: usize, last: [i32; 2]) -> ([i32; 2], [i32; 2]) {
-        let sum = if self.shifted {
-            self.pushes::<true>(slot)
-        } else {
-            self.pushes::<false>(slot)
-        };
-        let p = self.sorted[slot];
-        let d = self.forces.displacement(sum, p);
+    pub fn moved(&self, slot: usize) -> [i32; 2] {
+        let (p, d) = self.displaced(slot);
+        let domain = self.forces.domain;
+        [
+            domain.confine(0, i64::from(p[0]) + i64::from(d[0])),
+            domain.confine(1, i64::from(p[1]) + i64::from(d[1])),
+        ]
+    }
+
+    /// With momentum ([`Forces::momentum`]), the new position of the cell
+    /// in grid slot `slot` and the move it made: its old position moved by
+    /// the pushes of its neighbours and β times its `last` move, within ±r.
+    #[must_use]
+    pub fn carried(&self, slot: usize, last: [i32; 2]) -> ([i32; 2], [i32; 2]) {
+        let (p, d) = self.displaced(slot);
         let (domain, beta) = (self.forces.domain, i64::from(self.forces.momentum));
         let r = i64::from(self.forces.radius);
         let mut to = [0; 2];
@@ -170,6 +176,19 @@ impl Snapshot<'_> {
             step[c] = domain.delta(c, to[c], p[c]);
         }
         (to, step)
+    }
+
+    /// The old position of the cell in grid slot `slot` and its
+    /// displacement by its neighbours' pushes.
+    #[inline(always)]
+    fn displaced(&self, slot: usize) -> ([i32; 2], [i32; 2]) {
+        let sum = if self.shifted {
+            self.pushes::<true>(slot)
+        } else {
+            self.pushes::<false>(slot)
+        };
+        let p = self.sorted[slot];
+        (p, self.forces.displacement(sum, p))
     }
 
     /// The sum of the pushes on the cell in grid slot `slot`; `SHIFTED`:
@@ -345,10 +364,16 @@ pub fn snapshot<'s>(
 /// One relaxation step over the first `n` cells, one cell after another.
 pub fn relax(cells: &mut CellSlices<'_>, n: usize, grid: &Grid, forces: &Forces<'_>) {
     let (snapshot, moves) = snapshot(cells, n, grid, forces);
+    if forces.momentum == 0 {
+        for slot in 0..snapshot.len() {
+            moves.pos[snapshot.cell(slot)] = snapshot.moved(slot);
+        }
+        return;
+    }
     for slot in 0..snapshot.len() {
         let i = snapshot.cell(slot);
         let last = moves.velocity.get(i).copied().unwrap_or([0; 2]);
-        let (p, step) = snapshot.moved(slot, last);
+        let (p, step) = snapshot.carried(slot, last);
         moves.pos[i] = p;
         if let Some(v) = moves.velocity.get_mut(i) {
             *v = step;
