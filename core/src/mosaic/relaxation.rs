@@ -179,8 +179,11 @@ impl Snapshot<'_> {
     }
 
     /// The old position of the cell in grid slot `slot` and its
-    /// displacement by its neighbours' pushes.
-    #[inline(always)]
+    /// displacement by its neighbours' pushes. Inlined into both steps on a
+    /// computer; one copy on an MCU, where the neighbour scan is 2 KB of
+    /// flash and a call per cell costs little.
+    #[cfg_attr(target_pointer_width = "64", inline(always))]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     fn displaced(&self, slot: usize) -> ([i32; 2], [i32; 2]) {
         let sum = if self.shifted {
             self.pushes::<true>(slot)
