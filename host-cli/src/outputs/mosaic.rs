@@ -227,7 +227,7 @@ pub fn write<R: Records + ?Sized>(
                     let png = dir.join(format!("day_{:02}.png", d.day));
                     picture.save(&png)?;
                     paths.push(png);
-                    if let Some(object) = surface.picture(&picture)? {
+                    if let Some(object) = surface.picture(&|u, v| picture.at(u, v))? {
                         let png = dir.join(format!("surface_day{:02}.png", d.day));
                         picture::save(&object, &png)?;
                         paths.push(png);
@@ -261,7 +261,7 @@ pub fn write<R: Records + ?Sized>(
             let path = dir.join("mosaic.png");
             picture.save(&path)?;
             written.push(path);
-            if let Some(object) = surface.picture(&picture)? {
+            if let Some(object) = surface.picture(&|u, v| picture.at(u, v))? {
                 let path = dir.join("surface.png");
                 picture::save(&object, &path)?;
                 written.push(path);
@@ -273,7 +273,11 @@ pub fn write<R: Records + ?Sized>(
                 vertex_colours: true,
                 ..ObjStyle::PLAIN
             };
-            written.extend(write_obj(&path, &surface.mesh(Some(&picture))?, style)?);
+            written.extend(write_obj(
+                &path,
+                &surface.mesh(Some(&|u, v| picture.at(u, v)))?,
+                style,
+            )?);
         }
     }
     if counts.len() > 1 {

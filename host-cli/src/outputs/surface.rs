@@ -14,8 +14,11 @@ use morphogen::mosaic::Domain;
 use tiny_skia::{Pixmap, PremultipliedColorU8};
 
 use super::mesh::{Mesh, Rgb};
-use super::mosaic::Indexed;
 use super::picture;
+
+/// The colour of the mosaic at the fractions (u, v) of the domain's
+/// width and height (its Voronoi picture).
+pub type Pattern<'a> = &'a dyn Fn(f64, f64) -> Rgb;
 
 /// Quads along the longer side of the coloured mesh: fine enough to show
 /// the clones, small enough for an OBJ a viewer opens at once.
@@ -86,7 +89,7 @@ impl Surface {
     ///
     /// # Errors
     /// When the mesh cannot be built (never for these sizes).
-    pub fn mesh(&self, picture: Option<&Indexed>) -> Result<Mesh> {
+    pub fn mesh(&self, picture: Option<Pattern<'_>>) -> Result<Mesh> {
         let long = self.size[0].max(self.size[1]);
         let side = if picture.is_some() {
             MOSAIC_SIDE
@@ -108,7 +111,7 @@ impl Surface {
                 let p = self.point(fu * self.size[0], fv * self.size[1]);
                 match picture {
                     // The last row and column sample just inside the edge.
-                    Some(pic) => mesh.push_coloured_vertex(p, pic.at(fu, fv))?,
+                    Some(colour) => mesh.push_coloured_vertex(p, colour(fu, fv))?,
                     None => mesh.push_vertex(p)?,
                 };
             }
@@ -127,13 +130,13 @@ impl Surface {
     }
 
     /// The cylinder seen from a little above its equator, shaded, its side
-    /// coloured by `picture` (v = 0 at the top, as in the flat pictures);
+    /// coloured by the `picture` (v = 0 at the top, as in the flat pictures);
     /// the inside of the far wall shows through the open top. `None` for a
     /// flat surface, whose picture is the mosaic itself.
     ///
     /// # Errors
     /// When the picture cannot be allocated.
-    pub fn picture(&self, picture: &Indexed) -> Result<Option<Pixmap>> {
+    pub fn picture(&self, picture: Pattern<'_>) -> Result<Option<Pixmap>> {
         let Some(a) = self.wrap else {
             return Ok(None);
         };
@@ -171,9 +174,9 @@ impl Surface {
                 let angle = s.atan2(z).rem_euclid(TAU);
                 let (fu, fv) = (angle / TAU, h / height);
                 let rgb = if a == 0 {
-                    picture.at(fu, fv)
+                    picture(fu, fv)
                 } else {
-                    picture.at(fv, fu)
+                    picture(fv, fu)
                 };
                 // Outward normal (s, 0, z)/r in view space; the inside faces
                 // the other way and gets less light.
