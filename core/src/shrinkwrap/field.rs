@@ -2,6 +2,7 @@
 //! `003_…`, eq. (6) and (12)), where R_i is the point of element i nearest
 //! to r.
 
+use heapless::Vec;
 use nalgebra::Vector3;
 
 use crate::fx::{Fx, Real};
@@ -87,6 +88,29 @@ pub trait FieldReal: Real {
     fn potential(elements: &[Element<Self>], r: &Vector3<Self>) -> Self {
         Self::field(elements, r).0
     }
+
+    /// The element in the integer form of the kernel, if this number type
+    /// has one and the element is in its range.
+    fn prepare(_element: &Element<Self>) -> Option<PreparedElement> {
+        None
+    }
+
+    /// [`FieldReal::field`] of `field`'s skeleton, with ∇V only when
+    /// `gradient` (zero otherwise).
+    fn field_of(
+        field: &SkeletonField<'_, Self>,
+        r: &Vector3<Self>,
+        gradient: bool,
+    ) -> (Self, Vector3<Self>) {
+        if gradient {
+            Self::field(field.elements, r)
+        } else {
+            (
+                Self::potential(field.elements, r),
+                Vector3::from([Self::zero(); 3]),
+            )
+        }
+    }
 }
 
 impl FieldReal for f64 {}
@@ -99,6 +123,82 @@ impl FieldReal for Fx {
 
     fn potential(elements: &[Element<Fx>], r: &Vector3<Fx>) -> Fx {
         fixed_field(elements, r, false).0
+    }
+
+    fn prepare(element: &Element<Fx>) -> Option<PreparedElement> {
+        PreparedElement::new(element)
+    }
+
+    fn field_of(
+        field: &SkeletonField<'_, Fx>,
+        r: &Vector3<Fx>,
+        gradient: bool,
+    ) -> (Fx, Vector3<Fx>) {
+        let rb = [r.x, r.y, r.z].map(Fx::to_bits);
+        let (v, g) = if field.prepared.len() == field.elements.len() && spread(&rb) < NEAR {
+            let mut sum = FieldSum::default();
+            for e in field.prepared {
+                sum.add(e, &rb, gradient);
+            }
+            sum.narrow()
+        } else {
+            fixed_field(field.elements, r, gradient)
+        };
+        (v, Vector3::from(g))
+    }
+}
+
+/// Elements a [`SkeletonField`] prepares, as many as a bone skeleton
+/// holds ([`crate::bones::MAX_ELEMENTS`]); a longer skeleton is evaluated
+/// unprepared.
+pub const PREPARED_ELEMENTS: usize = 64;
+
+/// A skeleton's field, ready to be evaluated at many points (the vertices
+/// and edge midpoints of a shrinkwrap pass): for [`Fx`], each element's
+/// integer form is computed once here rather than at every point.
+#[derive(Debug)]
+pub struct SkeletonField<'a, R: Real> {
+    elements: &'a [Element<R>],
+    /// The elements' integer forms, all of them or none.
+    prepared: &'a [PreparedElement],
+}
+
+impl<'a, R: FieldReal> SkeletonField<'a, R> {
+    /// The field of `elements`, prepared in `storage`.
+    pub fn new(
+        elements: &'a [Element<R>],
+        storage: &'a mut Vec<PreparedElement, PREPARED_ELEMENTS>,
+    ) -> SkeletonField<'a, R> {
+        storage.clear();
+        for e in elements {
+            let prepared = R::prepare(e).map(|p| storage.push(p));
+            if !matches!(prepared, Some(Ok(()))) {
+                storage.clear();
+                break;
+            }
+        }
+        SkeletonField {
+            elements,
+            prepared: storage,
+        }
+    }
+
+    /// The elements.
+    #[must_use]
+    pub fn elements(&self) -> &'a [Element<R>] {
+        self.elements
+    }
+
+    /// V(r) and ∇V(r), as [`field`] gives them.
+    #[must_use]
+    pub fn at(&self, r: &Vector3<R>) -> (R, Vector3<R>) {
+        R::field_of(self, r, true)
+    }
+
+    /// V(r) alone, as [`potential`] gives it.
+    #[must_use]
+    pub fn potential_at(&self, r: &Vector3<R>) -> R {
+        R::field_of(self, r, false).0
     }
 }
 
@@ -179,74 +279,135 @@ fn dot_near(u: &[i32; 3], w: &[i32; 3]) -> i64 {
 fn fixed_field(elements: &[Element<Fx>], r: &Vector3<Fx>, gradient: bool) -> (Fx, [Fx; 3]) {
     let rb = [r.x, r.y, r.z].map(Fx::to_bits);
     let r_near = spread(&rb) < NEAR;
-    let mut v = 0i64;
-    let mut g = [0i64; 3];
+    let mut sum = FieldSum::default();
     for e in elements {
+        match PreparedElement::new(e) {
+            Some(prepared) if r_near => sum.add(&prepared, &rb, gradient),
+            _ => {
+                let (vi, gi) = contribution(e, r);
+                sum.v = sum.v.saturating_add(vi.to_bits() as i64);
+                for (gk, gik) in sum.g.iter_mut().zip(gi.iter()) {
+                    *gk = gk.saturating_add(gik.to_bits() as i64);
+                }
+            }
+        }
+    }
+    sum.narrow()
+}
+
+/// An element within ±[`NEAR`] in the integer form of the [`Fx`] kernel:
+/// Q16 bits of one end `a`, of `d` = b − a, and of d·d as `Real::dot`
+/// rounds it.
+#[derive(Clone, Copy, Debug)]
+pub struct PreparedElement {
+    a: [i32; 3],
+    d: [i32; 3],
+    /// d·d in Q16, below 2⁴⁵ before saturation: at most 0 for a point (or
+    /// a segment too short for `Element::nearest` to see).
+    dd: i32,
+    weight: Fx,
+}
+
+impl PreparedElement {
+    /// The element's integer form, if both ends are within ±[`NEAR`].
+    fn new(e: &Element<Fx>) -> Option<PreparedElement> {
         let a = e.a.map(Fx::to_bits);
         let b = e.b.map(Fx::to_bits);
-        if !r_near || (spread(&a) | spread(&b)) >= NEAR {
-            let (vi, gi) = contribution(e, r);
-            v = v.saturating_add(vi.to_bits() as i64);
-            for (gk, gik) in g.iter_mut().zip(gi.iter()) {
-                *gk = gk.saturating_add(gik.to_bits() as i64);
-            }
-            continue;
+        if (spread(&a) | spread(&b)) >= NEAR {
+            return None;
         }
         // Every coordinate is below 2²⁹ in magnitude, so each difference
-        // below is below 2³⁰, and each sum of three products below 2⁶².
+        // is below 2³⁰, and each sum of three products below 2⁶².
         let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let dd = q32_to_q16(dot_near(&d, &d));
-        // `Element::nearest`.
-        let nearest = if dd <= 0 {
-            a
-        } else {
-            let ra = [rb[0] - a[0], rb[1] - a[1], rb[2] - a[2]];
-            let along = q32_to_q16(dot_near(&ra, &d));
-            // t = along / dd rounded as `Fx::saturating_div` (dd > 0); the
-            // ends are compared before the saturation, which keeps them.
-            let (n, dd) = ((along as i64) << 16, dd as i64);
-            let t = if n >= 0 {
-                (n + dd / 2) / dd
-            } else {
-                -((dd / 2 - n) / dd)
-            };
-            if t <= 0 {
-                a
-            } else if t >= 1 << 16 {
-                b
-            } else {
-                // 0 < t < 1: a + d·t lies between a and b.
-                let t = Fx::from_bits(t as i32);
-                [0, 1, 2].map(|k| a[k] + Fx::from_bits(d[k]).saturating_mul(t).to_bits())
+        Some(PreparedElement {
+            a,
+            d,
+            dd: q32_to_q16(dot_near(&d, &d)),
+            weight: e.weight,
+        })
+    }
+
+    /// r − R: `r` (within ±[`NEAR`]) minus the point of the element
+    /// nearest to it as `Element::nearest` rounds it; below 2³⁰ in each
+    /// coordinate.
+    fn offset(&self, r: &[i32; 3]) -> [i32; 3] {
+        let (a, d, dd) = (&self.a, &self.d, self.dd);
+        let ra = [r[0] - a[0], r[1] - a[1], r[2] - a[2]];
+        if dd <= 0 {
+            return ra;
+        }
+        let along = q32_to_q16(dot_near(&ra, d));
+        // t = along / dd rounded as `Fx::saturating_div` (dd > 0): at most
+        // 0 for along ≤ 0, at least 1 for along ≥ dd; the ends are
+        // compared before the saturation, which keeps them.
+        if along <= 0 {
+            return ra;
+        }
+        if along < dd {
+            // 0 < along < dd < 2³¹: n < 2⁴⁷, and t ≤ 2¹⁶.
+            let (n, dd) = ((along as u64) << 16, dd as u64);
+            let t = (n + dd / 2) / dd;
+            if t == 0 {
+                return ra;
             }
-        };
-        // The nearest point lies between a and b: |p| < 2³⁰.
-        let p = [rb[0] - nearest[0], rb[1] - nearest[1], rb[2] - nearest[2]];
-        let distance = length_of_squared(dot_near(&p, &p) as u64).max(min_distance());
-        // 1 / distance rounded as `Fx::saturating_div`: distance ≥ 2⁻¹²,
-        // so the quotient is positive and at most 2¹².
-        let distance = distance.to_bits() as i64;
-        let inverse = ((1i64 << 32) + distance / 2) / distance;
+            if t < 1 << 16 {
+                // 0 < t < 1: |d_k·t| < 2⁴⁶, and a + d·t lies between a and b.
+                return [0, 1, 2]
+                    .map(|k| ra[k] - ((d[k] as i64 * t as i64 + (1 << 15)) >> 16) as i32);
+            }
+        }
+        // r − b = (r − a) − d.
+        [ra[0] - d[0], ra[1] - d[1], ra[2] - d[2]]
+    }
+}
+
+/// The wide sums of V and ∇V, as `Real::widen` keeps them.
+#[derive(Default)]
+struct FieldSum {
+    v: i64,
+    g: [i64; 3],
+}
+
+impl FieldSum {
+    /// Adds the terms of `e` at `r` (within ±[`NEAR`]), ∇V's only when
+    /// `gradient`.
+    fn add(&mut self, e: &PreparedElement, r: &[i32; 3], gradient: bool) {
+        let p = e.offset(r);
+        // |p_k| < 2³⁰: the sum of squares is below 2⁶², non-negative.
+        let inverse = inverse_distance(length_of_squared(dot_near(&p, &p) as u64));
         let vi = weight_times(e.weight, inverse);
-        // As `Real::widen`: saturating, like the generic terms above.
-        v = v.saturating_add(vi as i64);
+        // As `Real::widen`: saturating, like the generic terms.
+        self.v = self.v.saturating_add(vi as i64);
         if gradient {
             let s = weight_times(Fx::from_bits(vi), inverse);
-            for (gk, pk) in g.iter_mut().zip(p) {
+            for (gk, pk) in self.g.iter_mut().zip(p) {
                 // |p_k| ≤ |p| ≤ distance + ½ and inverse ≤ 2³²/distance + ½,
                 // so |p_k · inverse| < 2³³ and p_k / distance fits in Q16.
-                let unit = ((pk as i64 * inverse + (1 << 15)) >> 16) as i32;
+                let unit = ((pk as i64 * inverse as i64 + (1 << 15)) >> 16) as i32;
                 let term = Fx::from_bits(s).saturating_mul(Fx::from_bits(unit));
                 *gk = gk.saturating_add((-term).to_bits() as i64);
             }
         }
     }
-    (Fx::narrow(v), g.map(Fx::narrow))
+
+    /// The sums as `Real::narrow` gives them.
+    fn narrow(&self) -> (Fx, [Fx; 3]) {
+        (Fx::narrow(self.v), self.g.map(Fx::narrow))
+    }
+}
+
+/// 1 / max(distance, 2⁻¹²) rounded as `Fx::saturating_div`, in Q16 bits:
+/// at most 2²⁸, in one 32-bit division, since for d ≥ 16 bits
+/// 2³² + ⌊d/2⌋ = d + (2³² − ⌈d/2⌉) and the latter fits in 32 bits (a
+/// 64-bit division is a library call on the MCU).
+fn inverse_distance(distance: Fx) -> u32 {
+    let d = distance.max(min_distance()).to_bits().unsigned_abs();
+    1 + 0u32.wrapping_sub(d - d / 2) / d
 }
 
 /// `x · inverse` rounded and saturated as `Fx` multiplication (inverse ≤ 2²⁸).
-fn weight_times(x: Fx, inverse: i64) -> i32 {
-    x.saturating_mul(Fx::from_bits(inverse as i32)).to_bits()
+fn weight_times(x: Fx, inverse: u32) -> i32 {
+    Fx::narrow((x.to_bits() as i64 * inverse as i64 + (1 << 15)) >> 16).to_bits()
 }
 
 #[cfg(test)]
@@ -303,12 +464,55 @@ mod tests {
                 })
                 .collect();
             let near = Vector3::from(elements[0].a).map(|c| c + Fx::from_bits(next() as i32 >> 20));
-            for r in [point(&mut next), near, Vector3::from(elements[0].b)] {
+            // Beside the middle of a segment, where t is strictly between 0 and 1.
+            let last = elements[elements.len() - 1];
+            let beside = Vector3::from(last.a).zip_map(&Vector3::from(last.b), |a, b| {
+                Fx::from_bits(((a.to_bits() as i64 + b.to_bits() as i64) / 2) as i32)
+                    + Fx::from_bits(next() as i32 >> 16)
+            });
+            let mut storage = Vec::new();
+            let prepared = SkeletonField::new(&elements, &mut storage);
+            for r in [point(&mut next), near, Vector3::from(elements[0].b), beside] {
                 let summed = summed_field(&elements, &r);
                 assert_eq!(field(&elements, &r), summed, "{elements:?} at {r:?}");
                 assert_eq!(potential(&elements, &r), summed.0, "{elements:?} at {r:?}");
+                assert_eq!(prepared.at(&r), summed, "{elements:?} at {r:?}");
+                assert_eq!(prepared.potential_at(&r), summed.0, "{elements:?} at {r:?}");
             }
         }
+    }
+
+    /// A skeleton is prepared whole or not at all: one element out of the
+    /// kernel's range, or more elements than [`PREPARED_ELEMENTS`], leave
+    /// it unprepared, with the same field.
+    #[test]
+    fn a_skeleton_is_prepared_whole_or_not_at_all() {
+        let rod = |k: i32| {
+            Element::segment(
+                fx3(0.0, k as f64 / 8.0, 0.0),
+                fx3(0.5, k as f64 / 8.0, 1.0),
+                Fx::from_ratio(1, 8),
+            )
+        };
+        let far = Element::point(fx3(9000.0, 0.0, 0.0), Fx::ONE);
+        let r = fx3(0.25, 2.0, -0.75);
+        let mut storage = Vec::new();
+        for (elements, prepared) in [
+            ((0..64).map(rod).collect::<std::vec::Vec<_>>(), 64),
+            ((0..65).map(rod).collect(), 0),
+            ((0..3).map(rod).chain([far]).collect(), 0),
+            (std::vec::Vec::new(), 0),
+        ] {
+            let field_of = SkeletonField::new(&elements, &mut storage);
+            assert_eq!(field_of.prepared.len(), prepared);
+            assert_eq!(field_of.at(&r), summed_field(&elements, &r));
+        }
+        // f64 has no integer form: its field is its own.
+        let elements = [rod(1).convert(f64::from_fx)];
+        let field_of = SkeletonField::new(&elements, &mut storage);
+        let r = r.map(f64::from_fx);
+        assert_eq!(field_of.at(&r), field(&elements, &r));
+        assert_eq!(field_of.potential_at(&r), potential(&elements, &r));
     }
 
     #[test]
