@@ -75,82 +75,88 @@ fn min_distance<R: Real>() -> R {
 }
 
 /// The number types the field is evaluated in: `f64` in its own
-/// arithmetic ([`summed_field`]), [`Fx`] by an integer kernel that rounds
-/// and saturates exactly as [`summed_field`] does on [`Fx`] but skips the
-/// saturation where the range is proven (issue 15).
+/// arithmetic ([`summed_field`]), [`Fx`] by an integer kernel on prepared
+/// elements that rounds and saturates exactly as [`summed_field`] does on
+/// [`Fx`] but skips the saturation where the range is proven (issue 15).
 pub trait FieldReal: Real {
-    /// V(r) and ∇V(r).
-    fn field(elements: &[Element<Self>], r: &Vector3<Self>) -> (Self, Vector3<Self>) {
-        summed_field(elements, r)
-    }
-
-    /// V(r) alone, as [`FieldReal::field`] gives it.
-    fn potential(elements: &[Element<Self>], r: &Vector3<Self>) -> Self {
-        Self::field(elements, r).0
-    }
-
     /// The element in the integer form of the kernel, if this number type
     /// has one and the element is in its range.
     fn prepare(_element: &Element<Self>) -> Option<PreparedElement> {
         None
     }
 
-    /// [`FieldReal::field`] of `field`'s skeleton, with ∇V only when
-    /// `gradient` (zero otherwise).
+    /// V(r) of `field`'s skeleton, and ∇V(r) when `gradient` (zero
+    /// otherwise).
     fn field_of(
         field: &SkeletonField<'_, Self>,
         r: &Vector3<Self>,
         gradient: bool,
     ) -> (Self, Vector3<Self>) {
-        if gradient {
-            Self::field(field.elements, r)
-        } else {
-            (
-                Self::potential(field.elements, r),
-                Vector3::from([Self::zero(); 3]),
-            )
-        }
+        let (v, g) = summed_field(field.elements, r);
+        (
+            v,
+            if gradient {
+                g
+            } else {
+                Vector3::from([Self::zero(); 3])
+            },
+        )
     }
 }
 
 impl FieldReal for f64 {}
 
 impl FieldReal for Fx {
-    fn field(elements: &[Element<Fx>], r: &Vector3<Fx>) -> (Fx, Vector3<Fx>) {
-        let (v, g) = fixed_field(elements, r, true);
-        (v, Vector3::from(g))
-    }
-
-    fn potential(elements: &[Element<Fx>], r: &Vector3<Fx>) -> Fx {
-        fixed_field(elements, r, false).0
-    }
-
     fn prepare(element: &Element<Fx>) -> Option<PreparedElement> {
         PreparedElement::new(element)
     }
 
+    /// The kernel on the prepared elements at points within ±[`NEAR`];
+    /// elsewhere, and for a skeleton left unprepared, [`summed_field`]
+    /// itself.
     fn field_of(
         field: &SkeletonField<'_, Fx>,
         r: &Vector3<Fx>,
         gradient: bool,
     ) -> (Fx, Vector3<Fx>) {
         let rb = [r.x, r.y, r.z].map(Fx::to_bits);
-        let (v, g) = if field.prepared.len() == field.elements.len() && spread(&rb) < NEAR {
-            let mut sum = FieldSum::default();
-            for e in field.prepared {
-                sum.add(e, &rb, gradient);
+        if field.prepared.len() != field.elements.len() || spread(&rb) >= NEAR {
+            let (v, g) = summed_field(field.elements, r);
+            return (v, if gradient { g } else { Vector3::zeros() });
+        }
+        // At most PREPARED_ELEMENTS = 2⁶ terms, each an i32: the sums stay
+        // below 2³⁷, where `Real::widen`'s saturation never acts.
+        let mut v = 0i64;
+        let mut g = [0i64; 3];
+        for e in field.prepared {
+            let p = e.offset(&rb);
+            let inverse = inverse_distance(length_of_squared(dot_near(&p, &p) as u64));
+            let vi = weight_times(e.weight, inverse);
+            v = v.wrapping_add(vi as i64);
+            if gradient {
+                // ∇(ρ/|p|) = −ρ p / |p|³ = −(vi / d) · (p / d), as
+                // `contribution` rounds it.
+                let s = Fx::from_bits(weight_times(Fx::from_bits(vi), inverse));
+                for (gk, pk) in g.iter_mut().zip(p) {
+                    // |p_k| ≤ |p| ≤ distance + ½ and inverse ≤ 2³²/distance
+                    // + ½, so |p_k · inverse| < 2³³ and p_k / distance fits
+                    // in Q16.
+                    let unit = (pk as i64)
+                        .wrapping_mul(inverse as i64)
+                        .wrapping_add(1 << 15)
+                        >> 16;
+                    let term = s.saturating_mul(Fx::from_bits(unit as i32));
+                    *gk = gk.wrapping_add((-term).to_bits() as i64);
+                }
             }
-            sum.narrow()
-        } else {
-            fixed_field(field.elements, r, gradient)
-        };
-        (v, Vector3::from(g))
+        }
+        (Fx::narrow(v), Vector3::from(g.map(Fx::narrow)))
     }
 }
 
 /// Elements a [`SkeletonField`] prepares, as many as a bone skeleton
 /// holds ([`crate::bones::MAX_ELEMENTS`]); a longer skeleton is evaluated
-/// unprepared.
+/// unprepared, by [`summed_field`].
 pub const PREPARED_ELEMENTS: usize = 64;
 
 /// A skeleton's field, ready to be evaluated at many points (the vertices
@@ -183,12 +189,6 @@ impl<'a, R: FieldReal> SkeletonField<'a, R> {
         }
     }
 
-    /// The elements.
-    #[must_use]
-    pub fn elements(&self) -> &'a [Element<R>] {
-        self.elements
-    }
-
     /// V(r) and ∇V(r), as [`field`] gives them.
     #[must_use]
     pub fn at(&self, r: &Vector3<R>) -> (R, Vector3<R>) {
@@ -202,16 +202,17 @@ impl<'a, R: FieldReal> SkeletonField<'a, R> {
     }
 }
 
-/// V(r) and ∇V(r).
+/// V(r) and ∇V(r) (the skeleton prepared for this one point: for many,
+/// [`SkeletonField`]).
 #[must_use]
 pub fn field<R: FieldReal>(elements: &[Element<R>], r: &Vector3<R>) -> (R, Vector3<R>) {
-    R::field(elements, r)
+    SkeletonField::new(elements, &mut Vec::new()).at(r)
 }
 
 /// V(r) alone: where only the level is asked, a third of the work.
 #[must_use]
 pub fn potential<R: FieldReal>(elements: &[Element<R>], r: &Vector3<R>) -> R {
-    R::potential(elements, r)
+    SkeletonField::new(elements, &mut Vec::new()).potential_at(r)
 }
 
 /// V(r) and ∇V(r) in `R`'s own arithmetic, each summed in a wide
@@ -253,7 +254,7 @@ fn contribution<R: Real>(e: &Element<R>, r: &Vector3<R>) -> (R, Vector3<R>) {
 
 /// Coordinates (Q16 bits) of magnitude below this, 2¹³ units, keep every
 /// difference below 2³⁰ and every sum of three squares below 2⁶²: the
-/// range in which [`fixed_field`] needs no saturating sum.
+/// range in which the [`Fx`] kernel needs no saturating sum.
 const NEAR: u32 = 1 << 29;
 
 /// The bitwise or of the magnitudes: below [`NEAR`] exactly when each is.
@@ -261,38 +262,21 @@ fn spread(c: &[i32; 3]) -> u32 {
     c.iter().fold(0, |acc, x| acc | x.unsigned_abs())
 }
 
-/// `Real::dot` of Q32 bits: rounded half up to Q16, saturated.
+/// `Real::dot` of Q32 bits below 2⁶² in magnitude: rounded half up to
+/// Q16, saturated.
 fn q32_to_q16(q32: i64) -> i32 {
-    Fx::narrow(q32.saturating_add(1 << 15) >> 16).to_bits()
+    Fx::narrow(q32.wrapping_add(1 << 15) >> 16).to_bits()
 }
 
 /// u·w of Q16 bits within ±2³⁰, exact in Q32 (below 3·2⁶⁰).
 fn dot_near(u: &[i32; 3], w: &[i32; 3]) -> i64 {
-    u[0] as i64 * w[0] as i64 + u[1] as i64 * w[1] as i64 + u[2] as i64 * w[2] as i64
+    let product = |k: usize| (u[k] as i64).wrapping_mul(w[k] as i64);
+    product(0).wrapping_add(product(1)).wrapping_add(product(2))
 }
 
-/// [`summed_field`] on [`Fx`], with ∇V only when `gradient` (one copy of
-/// the code for both, for the firmware's flash): elements
-/// and points within ±[`NEAR`] take the same roundings and saturations on
-/// Q16 bits without the saturation of sums that cannot overflow; others
-/// take [`contribution`].
-fn fixed_field(elements: &[Element<Fx>], r: &Vector3<Fx>, gradient: bool) -> (Fx, [Fx; 3]) {
-    let rb = [r.x, r.y, r.z].map(Fx::to_bits);
-    let r_near = spread(&rb) < NEAR;
-    let mut sum = FieldSum::default();
-    for e in elements {
-        match PreparedElement::new(e) {
-            Some(prepared) if r_near => sum.add(&prepared, &rb, gradient),
-            _ => {
-                let (vi, gi) = contribution(e, r);
-                sum.v = sum.v.saturating_add(vi.to_bits() as i64);
-                for (gk, gik) in sum.g.iter_mut().zip(gi.iter()) {
-                    *gk = gk.saturating_add(gik.to_bits() as i64);
-                }
-            }
-        }
-    }
-    sum.narrow()
+/// `a − b` of Q16 bits within ±2³⁰ whose difference is too.
+fn difference(a: &[i32; 3], b: &[i32; 3]) -> [i32; 3] {
+    [0, 1, 2].map(|k| a[k].wrapping_sub(b[k]))
 }
 
 /// An element within ±[`NEAR`] in the integer form of the [`Fx`] kernel:
@@ -302,8 +286,8 @@ fn fixed_field(elements: &[Element<Fx>], r: &Vector3<Fx>, gradient: bool) -> (Fx
 pub struct PreparedElement {
     a: [i32; 3],
     d: [i32; 3],
-    /// d·d in Q16, below 2⁴⁵ before saturation: at most 0 for a point (or
-    /// a segment too short for `Element::nearest` to see).
+    /// d·d in Q16, saturated: at most 0 for a point (or a segment too
+    /// short for `Element::nearest` to see).
     dd: i32,
     weight: Fx,
 }
@@ -316,9 +300,8 @@ impl PreparedElement {
         if (spread(&a) | spread(&b)) >= NEAR {
             return None;
         }
-        // Every coordinate is below 2²⁹ in magnitude, so each difference
-        // is below 2³⁰, and each sum of three products below 2⁶².
-        let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        // Both ends within ±2²⁹: d within ±2³⁰.
+        let d = difference(&b, &a);
         Some(PreparedElement {
             a,
             d,
@@ -328,11 +311,11 @@ impl PreparedElement {
     }
 
     /// r − R: `r` (within ±[`NEAR`]) minus the point of the element
-    /// nearest to it as `Element::nearest` rounds it; below 2³⁰ in each
-    /// coordinate.
+    /// nearest to it as `Element::nearest` rounds it; within ±2³⁰, since R
+    /// lies between a and b.
     fn offset(&self, r: &[i32; 3]) -> [i32; 3] {
-        let (a, d, dd) = (&self.a, &self.d, self.dd);
-        let ra = [r[0] - a[0], r[1] - a[1], r[2] - a[2]];
+        let (d, dd) = (&self.d, self.dd);
+        let ra = difference(r, &self.a);
         if dd <= 0 {
             return ra;
         }
@@ -346,53 +329,20 @@ impl PreparedElement {
         if along < dd {
             // 0 < along < dd < 2³¹: n < 2⁴⁷, and t ≤ 2¹⁶.
             let (n, dd) = ((along as u64) << 16, dd as u64);
-            let t = (n + dd / 2) / dd;
+            let t = n.wrapping_add(dd / 2) / dd;
             if t == 0 {
                 return ra;
             }
             if t < 1 << 16 {
-                // 0 < t < 1: |d_k·t| < 2⁴⁶, and a + d·t lies between a and b.
-                return [0, 1, 2]
-                    .map(|k| ra[k] - ((d[k] as i64 * t as i64 + (1 << 15)) >> 16) as i32);
+                // 0 < t < 1: |d_k·t| < 2⁴⁶, rounded as `Fx` multiplication.
+                let along_d = |k: usize| {
+                    ((d[k] as i64).wrapping_mul(t as i64).wrapping_add(1 << 15) >> 16) as i32
+                };
+                return difference(&ra, &[0, 1, 2].map(along_d));
             }
         }
         // r − b = (r − a) − d.
-        [ra[0] - d[0], ra[1] - d[1], ra[2] - d[2]]
-    }
-}
-
-/// The wide sums of V and ∇V, as `Real::widen` keeps them.
-#[derive(Default)]
-struct FieldSum {
-    v: i64,
-    g: [i64; 3],
-}
-
-impl FieldSum {
-    /// Adds the terms of `e` at `r` (within ±[`NEAR`]), ∇V's only when
-    /// `gradient`.
-    fn add(&mut self, e: &PreparedElement, r: &[i32; 3], gradient: bool) {
-        let p = e.offset(r);
-        // |p_k| < 2³⁰: the sum of squares is below 2⁶², non-negative.
-        let inverse = inverse_distance(length_of_squared(dot_near(&p, &p) as u64));
-        let vi = weight_times(e.weight, inverse);
-        // As `Real::widen`: saturating, like the generic terms.
-        self.v = self.v.saturating_add(vi as i64);
-        if gradient {
-            let s = weight_times(Fx::from_bits(vi), inverse);
-            for (gk, pk) in self.g.iter_mut().zip(p) {
-                // |p_k| ≤ |p| ≤ distance + ½ and inverse ≤ 2³²/distance + ½,
-                // so |p_k · inverse| < 2³³ and p_k / distance fits in Q16.
-                let unit = ((pk as i64 * inverse as i64 + (1 << 15)) >> 16) as i32;
-                let term = Fx::from_bits(s).saturating_mul(Fx::from_bits(unit));
-                *gk = gk.saturating_add((-term).to_bits() as i64);
-            }
-        }
-    }
-
-    /// The sums as `Real::narrow` gives them.
-    fn narrow(&self) -> (Fx, [Fx; 3]) {
-        (Fx::narrow(self.v), self.g.map(Fx::narrow))
+        difference(&ra, d)
     }
 }
 
@@ -402,12 +352,14 @@ impl FieldSum {
 /// 64-bit division is a library call on the MCU).
 fn inverse_distance(distance: Fx) -> u32 {
     let d = distance.max(min_distance()).to_bits().unsigned_abs();
-    1 + 0u32.wrapping_sub(d - d / 2) / d
+    (0u32.wrapping_sub(d.wrapping_sub(d / 2)) / d).wrapping_add(1)
 }
 
-/// `x · inverse` rounded and saturated as `Fx` multiplication (inverse ≤ 2²⁸).
+/// `x · inverse` rounded and saturated as `Fx` multiplication (inverse ≤
+/// 2²⁸, so the product is below 2⁵⁹).
 fn weight_times(x: Fx, inverse: u32) -> i32 {
-    Fx::narrow((x.to_bits() as i64 * inverse as i64 + (1 << 15)) >> 16).to_bits()
+    let product = (x.to_bits() as i64).wrapping_mul(inverse as i64);
+    Fx::narrow(product.wrapping_add(1 << 15) >> 16).to_bits()
 }
 
 #[cfg(test)]

@@ -25,9 +25,7 @@ use crate::Error;
 use crate::fx::{Fx, Real};
 
 use super::ShrinkwrapError;
-use super::field::{
-    Element, FieldReal, PREPARED_ELEMENTS, PreparedElement, SkeletonField, potential,
-};
+use super::field::{Element, FieldReal, PREPARED_ELEMENTS, PreparedElement, SkeletonField};
 use super::mesh::{Mesh, VertexId};
 
 /// The shrinkwrap parameters of a run.
@@ -360,9 +358,11 @@ pub fn worst_level_error<R: FieldReal>(
     points: &[Vector3<R>],
     level: R,
 ) -> R {
+    let mut storage = Vec::new();
+    let field = SkeletonField::new(elements, &mut storage);
     let mut worst = R::zero();
     for r in points {
-        let e = (potential(elements, r) - level).abs().div(level);
+        let e = (field.potential_at(r) - level).abs().div(level);
         if e > worst {
             worst = e;
         }
