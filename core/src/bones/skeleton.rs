@@ -15,6 +15,8 @@ use crate::turtle::{Drawn, Turtle};
 
 /// Skeleton elements of one bone.
 pub const MAX_ELEMENTS: usize = 64;
+/// Every bone skeleton fits the shrinkwrap's prepared field (issue 15).
+const _: () = assert!(MAX_ELEMENTS <= crate::shrinkwrap::PREPARED_ELEMENTS);
 /// Modules of one derived skeleton string (so that a grammar that grows
 /// without drawing still ends).
 pub const MAX_SKELETON_MODULES: u32 = 8192;

@@ -1,8 +1,9 @@
 //! Exact integer square roots from a first guess in a table and Newton
 //! steps: [`isqrt_u32`] for the relaxation's squared distances (thesis
 //! Sec. 3.2.1.1; one division where `u32::isqrt` takes two, each a library
-//! call on a Cortex-M0) and [`isqrt_u64`] for fixed-point lengths and
-//! square roots (the shrinkwrap's field, the turtle; issue 15).
+//! call on a Cortex-M0) and [`isqrt_u64`] / [`rounded_isqrt_u64`] for
+//! fixed-point lengths and square roots (the shrinkwrap's field, the
+//! turtle; issue 15).
 
 /// Newton's starting point for `x` in `[2^30, 2^32)`, indexed by
 /// `(x >> 24) − 64`: `(⌊√(b·2^24 + 2^23)⌋ − 2^15) >> 7` for the top byte `b`,
@@ -45,15 +46,17 @@ pub(crate) fn isqrt_u32(n: u32) -> u32 {
     root >> (shift >> 1)
 }
 
-/// First estimates of √n for n = k·2⁵⁶ + f (k = 64‥255, f < 2⁵⁶): round(√(k + ½)·2¹²)
-/// (192 × 2 B = 384 B, computed by the compiler), within 0.4 % of √n / 2¹⁶.
-const ROOT_ESTIMATES: [u16; 192] = {
-    let mut table = [0u16; 192];
-    let mut k = 0;
-    while k < 192 {
-        // round(√y) = ⌈⌊√(4y)⌋ / 2⌉ with y = (k + 64 + ½)·2²⁴.
-        let four_y = (2 * (k as u64 + 64) + 1) << 25;
-        table[k] = four_y.isqrt().div_ceil(2) as u16;
+/// √n at the knots n = k·2⁵⁶ (k = 0‥256), less 2³¹: round(√k·2²⁸) − 2³¹
+/// for k ≥ 64 (0‥2³¹), 0 below (never read). 1 KB, computed by the
+/// compiler, only on 64-bit targets; indexed by the top byte, so that no
+/// index needs a bounds check.
+const ROOT_KNOTS: [u32; 257] = {
+    let mut table = [0u32; 257];
+    let mut k = 64;
+    while k <= 256 {
+        // round(√y) = ⌈⌊√(4y)⌋ / 2⌉ with y = k·2⁵⁶.
+        let four_y = (k as u128) << 58;
+        table[k] = (four_y.isqrt().div_ceil(2) - (1 << 31)) as u32;
         k += 1;
     }
     table
@@ -73,37 +76,68 @@ pub(crate) fn isqrt_u64(x: u64) -> u64 {
     }
 }
 
+/// ⌊√x + ½⌋, exactly (√x is never an integer and a half): the root of
+/// [`isqrt_u64`] rounded to nearest, on 64-bit targets with one square
+/// for both the floor's correction and the rounding.
+#[must_use]
+pub(crate) fn rounded_isqrt_u64(x: u64) -> u64 {
+    if cfg!(target_pointer_width = "64") {
+        if x == 0 {
+            return 0;
+        }
+        // y ∈ {⌊√x⌋, ⌊√x⌋ + 1} ∩ [1, 2³²): y² and y² + y fit.
+        let y = newton_candidate(x).min(u64::from(u32::MAX));
+        let square = y * y;
+        // Below y²: ⌊√x⌋ = y − 1, rounded up when x > (y − 1)² + (y − 1)
+        // = y² − y; else ⌊√x⌋ = y, rounded up when x > y² + y.
+        y - 1 + u64::from(x > square - y) + u64::from(x > square + y)
+    } else {
+        let r = x.isqrt();
+        // r² ≤ x: no underflow. Round up when the rest exceeds r, i.e.
+        // x ≥ (r + ½)².
+        if x - r * r > r { r + 1 } else { r }
+    }
+}
+
 /// ⌊√x⌋, exactly, in a few instructions where `u64::isqrt` needs a few
-/// dozen on a 64-bit machine: x is scaled by 4ʲ into [2⁶², 2⁶⁴), √ of that
-/// is estimated from [`ROOT_ESTIMATES`] to ε ≤ 0.004, two Newton steps
-/// take the error to ε²/2 ≈ 8·10⁻⁶ and then below 0.2 (of a result
-/// < 2³²), and one correction after scaling back gives the floor.
+/// dozen on a 64-bit machine: [`newton_candidate`] and one correction.
 #[must_use]
 fn newton_u64(x: u64) -> u64 {
     if x == 0 {
         return 0;
     }
-    // Even, so that √ scales back by a shift; x << shift has one of its
-    // top two bits set.
-    let shift = x.leading_zeros() & !1;
-    let n = x << shift;
-    // n ≥ 2⁶², so the top byte is 64‥255.
-    let estimate = ROOT_ESTIMATES
-        .get((n >> 56) as usize - 64)
-        .map_or(u64::from(u32::MAX), |&e| u64::from(e) << 16);
-    // Newton steps from any y > 0 stay ≥ ⌊√n⌋ and, from y ≥ 2³¹, below
-    // 2³³ + 2³², so the sums cannot overflow (n / y ≤ 2³³).
-    let y = (estimate + n / estimate) / 2;
-    // y ≥ 2³¹; `max` spares the division its zero check.
-    let y = (y + n / y.max(1)) / 2;
-    // y ∈ {⌊√n⌋, ⌊√n⌋ + 1}, so r ∈ {⌊√x⌋, ⌊√x⌋ + 1}.
-    let r = y >> (shift / 2);
+    let r = newton_candidate(x);
     // r² > x implies r ≥ 1: no underflow.
     if r.checked_mul(r).is_none_or(|square| square > x) {
         r - 1
     } else {
         r
     }
+}
+
+/// ⌊√x⌋ or ⌊√x⌋ + 1, for x > 0, in one division: x is scaled by 4ʲ into
+/// n ∈ [2⁶², 2⁶⁴), √n is interpolated between the [`ROOT_KNOTS`] either
+/// side to within 2¹⁴ + 300 (the chord of a concave root lies below it by
+/// at most h²·|f″|/8 = 2²⁸/(32·64^{3/2}) = 2¹⁴ at k = 64; the table, the
+/// 16-bit fraction and the floors add under 300), one Newton step takes
+/// the error to at most (2¹⁴ + 300)²/(2·(2³¹ − 2¹⁵)) < 0.07 above √n
+/// (never below ⌊√n⌋ with floors), and scaling back keeps
+/// {⌊√n⌋, ⌊√n⌋ + 1} within {⌊√x⌋, ⌊√x⌋ + 1}.
+fn newton_candidate(x: u64) -> u64 {
+    // Even, so that √ scales back by a shift; x << shift has one of its
+    // top two bits set.
+    let shift = x.leading_zeros() & !1;
+    let n = x << shift;
+    // n ≥ 2⁶², so the top byte k is 64‥255; k + 1 ≤ 256.
+    let k = (n >> 56) as usize;
+    let (low, high) = (ROOT_KNOTS[k], ROOT_KNOTS[k + 1]);
+    // high − low < 2²⁴ (the root's slope), the fraction < 2¹⁶.
+    let fraction = (n >> 40) & 0xFFFF;
+    let rise = (u64::from(high.wrapping_sub(low)) * fraction) >> 16;
+    // estimate ∈ [2³¹ − 2¹⁵, 2³²]: n / estimate < 2³³, the sum < 2³⁴.
+    let estimate = (1 << 31) + u64::from(low) + rise;
+    let y = (estimate + n / estimate.max(1)) / 2;
+    y >> (shift / 2)
 }
 
 #[cfg(test)]
@@ -138,11 +172,23 @@ mod tests {
         }
     }
 
-    /// `newton_u64` is `u64::isqrt` at every bucket edge of the table, at
-    /// squares and their neighbours over the whole range, and at random.
+    /// Where `newton_candidate` is worst: in the middle of every interval
+    /// between two knots (and a quarter either side), at every scale.
+    fn interval_middles() -> impl Iterator<Item = u64> {
+        (64..256u64).flat_map(|k| {
+            (0..=56).flat_map(move |shift| {
+                [1, 2, 3].map(|quarter| ((k << 56) + (quarter << 54)) >> shift)
+            })
+        })
+    }
+
+    /// `newton_u64` is `u64::isqrt` at every knot of the table and between
+    /// knots, at squares and their neighbours over the whole range, and at
+    /// random.
     #[test]
     fn newton_u64_is_isqrt() {
         let check = |x: u64| assert_eq!(newton_u64(x), x.isqrt(), "{x}");
+        interval_middles().for_each(check);
         for x in 0..1 << 16 {
             check(x);
         }
@@ -162,6 +208,43 @@ mod tests {
             let x = state >> (state % 64);
             let r = x.isqrt();
             for y in [x, r * r, (r * r).wrapping_sub(1), r * r + 2 * r] {
+                check(y);
+            }
+        }
+        check(u64::MAX);
+        check(u64::from(u32::MAX) * u64::from(u32::MAX));
+    }
+
+    /// `rounded_isqrt_u64` is ⌈⌊√(4x)⌋ / 2⌉ (round half up, in 128 bits) on
+    /// the same values as `newton_u64_is_isqrt`, and on the neighbours of
+    /// the half-way points (r + ½)².
+    #[test]
+    fn rounded_isqrt_u64_rounds_to_nearest() {
+        let check = |x: u64| {
+            let reference = ((u128::from(x) << 2).isqrt().div_ceil(2)) as u64;
+            assert_eq!(rounded_isqrt_u64(x), reference, "{x}");
+        };
+        for x in 0..1 << 16 {
+            check(x);
+        }
+        interval_middles().for_each(check);
+        for k in 64..=256u64 {
+            for shift in 0..=56 {
+                let edge = (k << 56) >> shift;
+                for x in [edge.wrapping_sub(1), edge, edge.wrapping_add(1)] {
+                    check(x);
+                }
+            }
+        }
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        for _ in 0..200_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let x = state >> (state % 64);
+            // r² + r and r² + r + 1 straddle (r + ½)².
+            let r = x.isqrt().min(u64::from(u32::MAX) - 1);
+            for y in [x, r * r, (r * r).wrapping_sub(1), r * r + r, r * r + r + 1] {
                 check(y);
             }
         }

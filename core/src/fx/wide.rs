@@ -5,7 +5,7 @@
 use nalgebra::Vector3;
 
 use super::Fx;
-use super::root::isqrt_u64;
+use super::root::rounded_isqrt_u64;
 
 /// The dot product of two fixed-point vectors in a wide accumulator: the
 /// exact sum of products as Q32 bits (no rounding; it saturates only
@@ -31,10 +31,7 @@ pub fn length(v: &Vector3<Fx>) -> Fx {
 /// per evaluation).
 #[must_use]
 pub fn length_of_squared(squared_q32: u64) -> Fx {
-    let r = isqrt_u64(squared_q32); // Q16
-    // r² ≤ squared_q32: no underflow. Round up when the rest exceeds r,
-    // i.e. squared_q32 ≥ (r + ½)².
-    let rounded = if squared_q32 - r * r > r { r + 1 } else { r };
+    let rounded = rounded_isqrt_u64(squared_q32); // Q16
     Fx::from_bits(rounded.min(i32::MAX as u64) as i32)
 }
 

@@ -2,6 +2,7 @@
 //! `003_…`, eq. (6) and (12)), where R_i is the point of element i nearest
 //! to r.
 
+use heapless::Vec;
 use nalgebra::Vector3;
 
 use crate::fx::{Fx, Real};
@@ -74,44 +75,144 @@ fn min_distance<R: Real>() -> R {
 }
 
 /// The number types the field is evaluated in: `f64` in its own
-/// arithmetic ([`summed_field`]), [`Fx`] by an integer kernel that rounds
-/// and saturates exactly as [`summed_field`] does on [`Fx`] but skips the
-/// saturation where the range is proven (issue 15).
+/// arithmetic ([`summed_field`]), [`Fx`] by an integer kernel on prepared
+/// elements that rounds and saturates exactly as [`summed_field`] does on
+/// [`Fx`] but skips the saturation where the range is proven (issue 15).
 pub trait FieldReal: Real {
-    /// V(r) and ∇V(r).
-    fn field(elements: &[Element<Self>], r: &Vector3<Self>) -> (Self, Vector3<Self>) {
-        summed_field(elements, r)
+    /// The element in the integer form of the kernel, if this number type
+    /// has one and the element is in its range.
+    fn prepare(_element: &Element<Self>) -> Option<PreparedElement> {
+        None
     }
 
-    /// V(r) alone, as [`FieldReal::field`] gives it.
-    fn potential(elements: &[Element<Self>], r: &Vector3<Self>) -> Self {
-        Self::field(elements, r).0
+    /// V(r) of `field`'s skeleton, and ∇V(r) when `gradient` (zero
+    /// otherwise).
+    fn field_of(
+        field: &SkeletonField<'_, Self>,
+        r: &Vector3<Self>,
+        gradient: bool,
+    ) -> (Self, Vector3<Self>) {
+        let (v, g) = summed_field(field.elements, r);
+        (
+            v,
+            if gradient {
+                g
+            } else {
+                Vector3::from([Self::zero(); 3])
+            },
+        )
     }
 }
 
 impl FieldReal for f64 {}
 
 impl FieldReal for Fx {
-    fn field(elements: &[Element<Fx>], r: &Vector3<Fx>) -> (Fx, Vector3<Fx>) {
-        let (v, g) = fixed_field(elements, r, true);
-        (v, Vector3::from(g))
+    fn prepare(element: &Element<Fx>) -> Option<PreparedElement> {
+        PreparedElement::new(element)
     }
 
-    fn potential(elements: &[Element<Fx>], r: &Vector3<Fx>) -> Fx {
-        fixed_field(elements, r, false).0
+    /// The kernel on the prepared elements at points within ±[`NEAR`];
+    /// elsewhere, and for a skeleton left unprepared, [`summed_field`]
+    /// itself.
+    fn field_of(
+        field: &SkeletonField<'_, Fx>,
+        r: &Vector3<Fx>,
+        gradient: bool,
+    ) -> (Fx, Vector3<Fx>) {
+        let rb = [r.x, r.y, r.z].map(Fx::to_bits);
+        if field.prepared.len() != field.elements.len() || spread(&rb) >= NEAR {
+            let (v, g) = summed_field(field.elements, r);
+            return (v, if gradient { g } else { Vector3::zeros() });
+        }
+        // At most PREPARED_ELEMENTS = 2⁶ terms, each an i32: the sums stay
+        // below 2³⁷, where `Real::widen`'s saturation never acts.
+        let mut v = 0i64;
+        let mut g = [0i64; 3];
+        for e in field.prepared {
+            let p = e.offset(&rb);
+            let inverse = inverse_distance(length_of_squared(dot_near(&p, &p) as u64));
+            let vi = weight_times(e.weight, inverse);
+            v = v.wrapping_add(vi as i64);
+            if gradient {
+                // ∇(ρ/|p|) = −ρ p / |p|³ = −(vi / d) · (p / d), as
+                // `contribution` rounds it.
+                let s = Fx::from_bits(weight_times(Fx::from_bits(vi), inverse));
+                for (gk, pk) in g.iter_mut().zip(p) {
+                    // |p_k| ≤ |p| ≤ distance + ½ and inverse ≤ 2³²/distance
+                    // + ½, so |p_k · inverse| < 2³³ and p_k / distance fits
+                    // in Q16.
+                    let unit = (pk as i64)
+                        .wrapping_mul(inverse as i64)
+                        .wrapping_add(1 << 15)
+                        >> 16;
+                    let term = s.saturating_mul(Fx::from_bits(unit as i32));
+                    *gk = gk.wrapping_add((-term).to_bits() as i64);
+                }
+            }
+        }
+        (Fx::narrow(v), Vector3::from(g.map(Fx::narrow)))
     }
 }
 
-/// V(r) and ∇V(r).
+/// Elements a [`SkeletonField`] prepares, as many as a bone skeleton
+/// holds ([`crate::bones::MAX_ELEMENTS`]); a longer skeleton is evaluated
+/// unprepared, by [`summed_field`].
+pub const PREPARED_ELEMENTS: usize = 64;
+
+/// A skeleton's field, ready to be evaluated at many points (the vertices
+/// and edge midpoints of a shrinkwrap pass): for [`Fx`], each element's
+/// integer form is computed once here rather than at every point.
+#[derive(Debug)]
+pub struct SkeletonField<'a, R: Real> {
+    elements: &'a [Element<R>],
+    /// The elements' integer forms, all of them or none.
+    prepared: &'a [PreparedElement],
+}
+
+impl<'a, R: FieldReal> SkeletonField<'a, R> {
+    /// The field of `elements`, prepared in `storage`.
+    pub fn new(
+        elements: &'a [Element<R>],
+        storage: &'a mut Vec<PreparedElement, PREPARED_ELEMENTS>,
+    ) -> SkeletonField<'a, R> {
+        storage.clear();
+        for e in elements {
+            let prepared = R::prepare(e).map(|p| storage.push(p));
+            if !matches!(prepared, Some(Ok(()))) {
+                storage.clear();
+                break;
+            }
+        }
+        SkeletonField {
+            elements,
+            prepared: storage,
+        }
+    }
+
+    /// V(r) and ∇V(r), as [`field`] gives them.
+    #[must_use]
+    pub fn at(&self, r: &Vector3<R>) -> (R, Vector3<R>) {
+        R::field_of(self, r, true)
+    }
+
+    /// V(r) alone, as [`potential`] gives it.
+    #[must_use]
+    pub fn potential_at(&self, r: &Vector3<R>) -> R {
+        R::field_of(self, r, false).0
+    }
+}
+
+/// V(r) and ∇V(r) (the skeleton prepared for this one point: for many,
+/// [`SkeletonField`]).
 #[must_use]
 pub fn field<R: FieldReal>(elements: &[Element<R>], r: &Vector3<R>) -> (R, Vector3<R>) {
-    R::field(elements, r)
+    SkeletonField::new(elements, &mut Vec::new()).at(r)
 }
 
 /// V(r) alone: where only the level is asked, a third of the work.
 #[must_use]
 pub fn potential<R: FieldReal>(elements: &[Element<R>], r: &Vector3<R>) -> R {
-    R::potential(elements, r)
+    SkeletonField::new(elements, &mut Vec::new()).potential_at(r)
 }
 
 /// V(r) and ∇V(r) in `R`'s own arithmetic, each summed in a wide
@@ -153,7 +254,7 @@ fn contribution<R: Real>(e: &Element<R>, r: &Vector3<R>) -> (R, Vector3<R>) {
 
 /// Coordinates (Q16 bits) of magnitude below this, 2¹³ units, keep every
 /// difference below 2³⁰ and every sum of three squares below 2⁶²: the
-/// range in which [`fixed_field`] needs no saturating sum.
+/// range in which the [`Fx`] kernel needs no saturating sum.
 const NEAR: u32 = 1 << 29;
 
 /// The bitwise or of the magnitudes: below [`NEAR`] exactly when each is.
@@ -161,92 +262,104 @@ fn spread(c: &[i32; 3]) -> u32 {
     c.iter().fold(0, |acc, x| acc | x.unsigned_abs())
 }
 
-/// `Real::dot` of Q32 bits: rounded half up to Q16, saturated.
+/// `Real::dot` of Q32 bits below 2⁶² in magnitude: rounded half up to
+/// Q16, saturated.
 fn q32_to_q16(q32: i64) -> i32 {
-    Fx::narrow(q32.saturating_add(1 << 15) >> 16).to_bits()
+    Fx::narrow(q32.wrapping_add(1 << 15) >> 16).to_bits()
 }
 
 /// u·w of Q16 bits within ±2³⁰, exact in Q32 (below 3·2⁶⁰).
 fn dot_near(u: &[i32; 3], w: &[i32; 3]) -> i64 {
-    u[0] as i64 * w[0] as i64 + u[1] as i64 * w[1] as i64 + u[2] as i64 * w[2] as i64
+    let product = |k: usize| (u[k] as i64).wrapping_mul(w[k] as i64);
+    product(0).wrapping_add(product(1)).wrapping_add(product(2))
 }
 
-/// [`summed_field`] on [`Fx`], with ∇V only when `gradient` (one copy of
-/// the code for both, for the firmware's flash): elements
-/// and points within ±[`NEAR`] take the same roundings and saturations on
-/// Q16 bits without the saturation of sums that cannot overflow; others
-/// take [`contribution`].
-fn fixed_field(elements: &[Element<Fx>], r: &Vector3<Fx>, gradient: bool) -> (Fx, [Fx; 3]) {
-    let rb = [r.x, r.y, r.z].map(Fx::to_bits);
-    let r_near = spread(&rb) < NEAR;
-    let mut v = 0i64;
-    let mut g = [0i64; 3];
-    for e in elements {
+/// `a − b` of Q16 bits within ±2³⁰ whose difference is too.
+fn difference(a: &[i32; 3], b: &[i32; 3]) -> [i32; 3] {
+    [0, 1, 2].map(|k| a[k].wrapping_sub(b[k]))
+}
+
+/// An element within ±[`NEAR`] in the integer form of the [`Fx`] kernel:
+/// Q16 bits of one end `a`, of `d` = b − a, and of d·d as `Real::dot`
+/// rounds it.
+#[derive(Clone, Copy, Debug)]
+pub struct PreparedElement {
+    a: [i32; 3],
+    d: [i32; 3],
+    /// d·d in Q16, saturated: at most 0 for a point (or a segment too
+    /// short for `Element::nearest` to see).
+    dd: i32,
+    weight: Fx,
+}
+
+impl PreparedElement {
+    /// The element's integer form, if both ends are within ±[`NEAR`].
+    fn new(e: &Element<Fx>) -> Option<PreparedElement> {
         let a = e.a.map(Fx::to_bits);
         let b = e.b.map(Fx::to_bits);
-        if !r_near || (spread(&a) | spread(&b)) >= NEAR {
-            let (vi, gi) = contribution(e, r);
-            v = v.saturating_add(vi.to_bits() as i64);
-            for (gk, gik) in g.iter_mut().zip(gi.iter()) {
-                *gk = gk.saturating_add(gik.to_bits() as i64);
-            }
-            continue;
+        if (spread(&a) | spread(&b)) >= NEAR {
+            return None;
         }
-        // Every coordinate is below 2²⁹ in magnitude, so each difference
-        // below is below 2³⁰, and each sum of three products below 2⁶².
-        let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let dd = q32_to_q16(dot_near(&d, &d));
-        // `Element::nearest`.
-        let nearest = if dd <= 0 {
-            a
-        } else {
-            let ra = [rb[0] - a[0], rb[1] - a[1], rb[2] - a[2]];
-            let along = q32_to_q16(dot_near(&ra, &d));
-            // t = along / dd rounded as `Fx::saturating_div` (dd > 0); the
-            // ends are compared before the saturation, which keeps them.
-            let (n, dd) = ((along as i64) << 16, dd as i64);
-            let t = if n >= 0 {
-                (n + dd / 2) / dd
-            } else {
-                -((dd / 2 - n) / dd)
-            };
-            if t <= 0 {
-                a
-            } else if t >= 1 << 16 {
-                b
-            } else {
-                // 0 < t < 1: a + d·t lies between a and b.
-                let t = Fx::from_bits(t as i32);
-                [0, 1, 2].map(|k| a[k] + Fx::from_bits(d[k]).saturating_mul(t).to_bits())
-            }
-        };
-        // The nearest point lies between a and b: |p| < 2³⁰.
-        let p = [rb[0] - nearest[0], rb[1] - nearest[1], rb[2] - nearest[2]];
-        let distance = length_of_squared(dot_near(&p, &p) as u64).max(min_distance());
-        // 1 / distance rounded as `Fx::saturating_div`: distance ≥ 2⁻¹²,
-        // so the quotient is positive and at most 2¹².
-        let distance = distance.to_bits() as i64;
-        let inverse = ((1i64 << 32) + distance / 2) / distance;
-        let vi = weight_times(e.weight, inverse);
-        // As `Real::widen`: saturating, like the generic terms above.
-        v = v.saturating_add(vi as i64);
-        if gradient {
-            let s = weight_times(Fx::from_bits(vi), inverse);
-            for (gk, pk) in g.iter_mut().zip(p) {
-                // |p_k| ≤ |p| ≤ distance + ½ and inverse ≤ 2³²/distance + ½,
-                // so |p_k · inverse| < 2³³ and p_k / distance fits in Q16.
-                let unit = ((pk as i64 * inverse + (1 << 15)) >> 16) as i32;
-                let term = Fx::from_bits(s).saturating_mul(Fx::from_bits(unit));
-                *gk = gk.saturating_add((-term).to_bits() as i64);
-            }
-        }
+        // Both ends within ±2²⁹: d within ±2³⁰.
+        let d = difference(&b, &a);
+        Some(PreparedElement {
+            a,
+            d,
+            dd: q32_to_q16(dot_near(&d, &d)),
+            weight: e.weight,
+        })
     }
-    (Fx::narrow(v), g.map(Fx::narrow))
+
+    /// r − R: `r` (within ±[`NEAR`]) minus the point of the element
+    /// nearest to it as `Element::nearest` rounds it; within ±2³⁰, since R
+    /// lies between a and b.
+    fn offset(&self, r: &[i32; 3]) -> [i32; 3] {
+        let (d, dd) = (&self.d, self.dd);
+        let ra = difference(r, &self.a);
+        if dd <= 0 {
+            return ra;
+        }
+        let along = q32_to_q16(dot_near(&ra, d));
+        // t = along / dd rounded as `Fx::saturating_div` (dd > 0): at most
+        // 0 for along ≤ 0, at least 1 for along ≥ dd; the ends are
+        // compared before the saturation, which keeps them.
+        if along <= 0 {
+            return ra;
+        }
+        if along < dd {
+            // 0 < along < dd < 2³¹: n < 2⁴⁷, and t ≤ 2¹⁶.
+            let (n, dd) = ((along as u64) << 16, dd as u64);
+            let t = n.wrapping_add(dd / 2) / dd;
+            if t == 0 {
+                return ra;
+            }
+            if t < 1 << 16 {
+                // 0 < t < 1: |d_k·t| < 2⁴⁶, rounded as `Fx` multiplication.
+                let along_d = |k: usize| {
+                    ((d[k] as i64).wrapping_mul(t as i64).wrapping_add(1 << 15) >> 16) as i32
+                };
+                return difference(&ra, &[0, 1, 2].map(along_d));
+            }
+        }
+        // r − b = (r − a) − d.
+        difference(&ra, d)
+    }
 }
 
-/// `x · inverse` rounded and saturated as `Fx` multiplication (inverse ≤ 2²⁸).
-fn weight_times(x: Fx, inverse: i64) -> i32 {
-    x.saturating_mul(Fx::from_bits(inverse as i32)).to_bits()
+/// 1 / max(distance, 2⁻¹²) rounded as `Fx::saturating_div`, in Q16 bits:
+/// at most 2²⁸, in one 32-bit division, since for d ≥ 16 bits
+/// 2³² + ⌊d/2⌋ = d + (2³² − ⌈d/2⌉) and the latter fits in 32 bits (a
+/// 64-bit division is a library call on the MCU).
+fn inverse_distance(distance: Fx) -> u32 {
+    let d = distance.max(min_distance()).to_bits().unsigned_abs();
+    (0u32.wrapping_sub(d.wrapping_sub(d / 2)) / d).wrapping_add(1)
+}
+
+/// `x · inverse` rounded and saturated as `Fx` multiplication (inverse ≤
+/// 2²⁸, so the product is below 2⁵⁹).
+fn weight_times(x: Fx, inverse: u32) -> i32 {
+    let product = (x.to_bits() as i64).wrapping_mul(inverse as i64);
+    Fx::narrow(product.wrapping_add(1 << 15) >> 16).to_bits()
 }
 
 #[cfg(test)]
@@ -303,12 +416,55 @@ mod tests {
                 })
                 .collect();
             let near = Vector3::from(elements[0].a).map(|c| c + Fx::from_bits(next() as i32 >> 20));
-            for r in [point(&mut next), near, Vector3::from(elements[0].b)] {
+            // Beside the middle of a segment, where t is strictly between 0 and 1.
+            let last = elements[elements.len() - 1];
+            let beside = Vector3::from(last.a).zip_map(&Vector3::from(last.b), |a, b| {
+                Fx::from_bits(((a.to_bits() as i64 + b.to_bits() as i64) / 2) as i32)
+                    + Fx::from_bits(next() as i32 >> 16)
+            });
+            let mut storage = Vec::new();
+            let prepared = SkeletonField::new(&elements, &mut storage);
+            for r in [point(&mut next), near, Vector3::from(elements[0].b), beside] {
                 let summed = summed_field(&elements, &r);
                 assert_eq!(field(&elements, &r), summed, "{elements:?} at {r:?}");
                 assert_eq!(potential(&elements, &r), summed.0, "{elements:?} at {r:?}");
+                assert_eq!(prepared.at(&r), summed, "{elements:?} at {r:?}");
+                assert_eq!(prepared.potential_at(&r), summed.0, "{elements:?} at {r:?}");
             }
         }
+    }
+
+    /// A skeleton is prepared whole or not at all: one element out of the
+    /// kernel's range, or more elements than [`PREPARED_ELEMENTS`], leave
+    /// it unprepared, with the same field.
+    #[test]
+    fn a_skeleton_is_prepared_whole_or_not_at_all() {
+        let rod = |k: i32| {
+            Element::segment(
+                fx3(0.0, k as f64 / 8.0, 0.0),
+                fx3(0.5, k as f64 / 8.0, 1.0),
+                Fx::from_ratio(1, 8),
+            )
+        };
+        let far = Element::point(fx3(9000.0, 0.0, 0.0), Fx::ONE);
+        let r = fx3(0.25, 2.0, -0.75);
+        let mut storage = Vec::new();
+        for (elements, prepared) in [
+            ((0..64).map(rod).collect::<std::vec::Vec<_>>(), 64),
+            ((0..65).map(rod).collect(), 0),
+            ((0..3).map(rod).chain([far]).collect(), 0),
+            (std::vec::Vec::new(), 0),
+        ] {
+            let field_of = SkeletonField::new(&elements, &mut storage);
+            assert_eq!(field_of.prepared.len(), prepared);
+            assert_eq!(field_of.at(&r), summed_field(&elements, &r));
+        }
+        // f64 has no integer form: its field is its own.
+        let elements = [rod(1).convert(f64::from_fx)];
+        let field_of = SkeletonField::new(&elements, &mut storage);
+        let r = r.map(f64::from_fx);
+        assert_eq!(field_of.at(&r), field(&elements, &r));
+        assert_eq!(field_of.potential_at(&r), potential(&elements, &r));
     }
 
     #[test]

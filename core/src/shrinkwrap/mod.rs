@@ -15,7 +15,10 @@ mod field;
 mod mesh;
 mod wrap;
 
-pub use field::{Element, FieldReal, field, potential, summed_field};
+pub use field::{
+    Element, FieldReal, PREPARED_ELEMENTS, PreparedElement, SkeletonField, field, potential,
+    summed_field,
+};
 pub use mesh::{Mesh, VertexId};
 pub use wrap::{Phase, SPLIT_TOLERANCE, Shrinkwrap, WrapParams, worst_level_error};
 

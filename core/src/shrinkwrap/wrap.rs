@@ -25,7 +25,7 @@ use crate::Error;
 use crate::fx::{Fx, Real};
 
 use super::ShrinkwrapError;
-use super::field::{Element, FieldReal, field, potential};
+use super::field::{Element, FieldReal, PREPARED_ELEMENTS, PreparedElement, SkeletonField};
 use super::mesh::{Mesh, VertexId};
 
 /// The shrinkwrap parameters of a run.
@@ -100,6 +100,8 @@ pub struct Shrinkwrap<R: Real, const V: usize, const T: usize> {
     /// Per vertex: whether it is on the current level (within
     /// the split tolerance) after the last move.
     on_level: Vec<bool, V>,
+    /// The skeleton in the kernel's form, prepared once per pass.
+    prepared: Vec<PreparedElement, PREPARED_ELEMENTS>,
 }
 
 /// The centroid of the element ends and the largest distance of an end
@@ -129,12 +131,12 @@ fn bounds<R: Real>(elements: &[Element<R>]) -> (Vector3<R>, R) {
 
 /// r moved towards the level `level` along ∇V, by at most `max_move`.
 fn toward<R: FieldReal>(
-    elements: &[Element<R>],
+    field: &SkeletonField<'_, R>,
     r: &Vector3<R>,
     level: R,
     max_move: R,
 ) -> Vector3<R> {
-    let (v, g) = field(elements, r);
+    let (v, g) = field.at(r);
     let norm = R::norm(&g);
     if norm <= R::zero() {
         return *r;
@@ -150,8 +152,8 @@ fn toward<R: FieldReal>(
 }
 
 /// Whether V at `r` is off `level` by more than `split` (relative).
-fn off<R: FieldReal>(elements: &[Element<R>], r: &Vector3<R>, level: R, split: R) -> bool {
-    (potential(elements, r) - level).abs() > level * split
+fn off<R: FieldReal>(field: &SkeletonField<'_, R>, r: &Vector3<R>, level: R, split: R) -> bool {
+    (field.potential_at(r) - level).abs() > level * split
 }
 
 impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
@@ -169,6 +171,7 @@ impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
             split: zero,
             phase: Phase::Idle,
             on_level: Vec::new(),
+            prepared: Vec::new(),
         }
     }
 
@@ -226,9 +229,10 @@ impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
         self.iterations = 0;
         self.max_iterations = params.max_iterations;
         self.split = R::from_fx(params.split_tolerance);
+        let field = SkeletonField::new(elements, &mut self.prepared);
         let mut sum = R::Wide::default();
         for r in self.mesh.vertices() {
-            sum = R::widen(sum, potential(elements, r));
+            sum = R::widen(sum, field.potential_at(r));
         }
         let mean = R::narrow(sum).div(R::from_int(self.mesh.vertices().len() as i32));
         self.level = if mean < self.target {
@@ -237,25 +241,20 @@ impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
             self.target
         };
         for _ in 0..MEAN_MOVES {
-            if self.move_all(elements) == 0 {
+            if move_all(
+                &mut self.mesh,
+                &mut self.on_level,
+                &field,
+                self.level,
+                self.max_move,
+                self.split,
+            ) == 0
+            {
                 break;
             }
         }
         self.phase = Phase::Rising;
         Ok(())
-    }
-
-    /// Moves every vertex towards the level; returns how many are not on
-    /// it afterwards.
-    fn move_all(&mut self, elements: &[Element<R>]) -> usize {
-        let (level, max_move, split) = (self.level, self.max_move, self.split);
-        self.on_level.clear();
-        for r in self.mesh.vertices_mut() {
-            *r = toward(elements, r, level, max_move);
-            // As many flags as vertices: this cannot fail.
-            let _ = self.on_level.push(!off(elements, r, level, split));
-        }
-        self.on_level.iter().filter(|&&on| !on).count()
     }
 
     /// One iteration: raise the level by ΔV (or, at the target, settle),
@@ -284,8 +283,16 @@ impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
                 };
             }
         }
-        self.move_all(elements);
         let (level, max_move, tolerance) = (self.level, self.max_move, self.split);
+        let field = SkeletonField::new(elements, &mut self.prepared);
+        move_all(
+            &mut self.mesh,
+            &mut self.on_level,
+            &field,
+            level,
+            max_move,
+            tolerance,
+        );
         let on_level = &self.on_level;
         let split = self.mesh.refine(|a, pa, b, pb| {
             // An edge off the surface because its ends are is left to the
@@ -295,10 +302,10 @@ impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
                 return None;
             }
             let mid = (pa + pb) * R::from_ratio(1, 2);
-            off(elements, &mid, level, tolerance).then(|| {
+            off(&field, &mid, level, tolerance).then(|| {
                 let mut r = mid;
                 for _ in 0..MIDPOINT_MOVES {
-                    r = toward(elements, &r, level, max_move);
+                    r = toward(&field, &r, level, max_move);
                 }
                 r
             })
@@ -324,6 +331,26 @@ impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
     }
 }
 
+/// Moves every vertex of `mesh` towards `level` and flags in `on_level`
+/// whether it is on it afterwards (within `split`); returns how many are
+/// not.
+fn move_all<R: FieldReal, const V: usize, const T: usize>(
+    mesh: &mut Mesh<R, V, T>,
+    on_level: &mut Vec<bool, V>,
+    field: &SkeletonField<'_, R>,
+    level: R,
+    max_move: R,
+    split: R,
+) -> usize {
+    on_level.clear();
+    for r in mesh.vertices_mut() {
+        *r = toward(field, r, level, max_move);
+        // As many flags as vertices: this cannot fail.
+        let _ = on_level.push(!off(field, r, level, split));
+    }
+    on_level.iter().filter(|&&on| !on).count()
+}
+
 /// The largest |V(r) − V0| / V0 over `points` (a quality measure).
 #[must_use]
 pub fn worst_level_error<R: FieldReal>(
@@ -331,9 +358,11 @@ pub fn worst_level_error<R: FieldReal>(
     points: &[Vector3<R>],
     level: R,
 ) -> R {
+    let mut storage = Vec::new();
+    let field = SkeletonField::new(elements, &mut storage);
     let mut worst = R::zero();
     for r in points {
-        let e = (potential(elements, r) - level).abs().div(level);
+        let e = (field.potential_at(r) - level).abs().div(level);
         if e > worst {
             worst = e;
         }
