@@ -111,7 +111,7 @@ impl FieldReal for Fx {
         PreparedElement::new(element)
     }
 
-    /// The kernel on the prepared elements at points within ±[`NEAR`];
+    /// The kernel on the prepared elements at points within ±8192 units (`NEAR`);
     /// elsewhere, and for a skeleton left unprepared, [`summed_field`]
     /// itself.
     fn field_of(
@@ -279,7 +279,7 @@ fn difference(a: &[i32; 3], b: &[i32; 3]) -> [i32; 3] {
     [0, 1, 2].map(|k| a[k].wrapping_sub(b[k]))
 }
 
-/// An element within ±[`NEAR`] in the integer form of the [`Fx`] kernel:
+/// An element within ±8192 units (`NEAR`) in the integer form of the [`Fx`] kernel:
 /// Q16 bits of one end `a`, of `d` = b − a, and of d·d as `Real::dot`
 /// rounds it.
 #[derive(Clone, Copy, Debug)]
@@ -293,7 +293,7 @@ pub struct PreparedElement {
 }
 
 impl PreparedElement {
-    /// The element's integer form, if both ends are within ±[`NEAR`].
+    /// The element's integer form, if both ends are within ±8192 units (`NEAR`).
     fn new(e: &Element<Fx>) -> Option<PreparedElement> {
         let a = e.a.map(Fx::to_bits);
         let b = e.b.map(Fx::to_bits);
@@ -310,7 +310,7 @@ impl PreparedElement {
         })
     }
 
-    /// r − R: `r` (within ±[`NEAR`]) minus the point of the element
+    /// r − R: `r` (within ±8192 units (`NEAR`)) minus the point of the element
     /// nearest to it as `Element::nearest` rounds it; within ±2³⁰, since R
     /// lies between a and b.
     fn offset(&self, r: &[i32; 3]) -> [i32; 3] {
