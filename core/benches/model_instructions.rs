@@ -53,6 +53,7 @@ fn croton_cells() -> Relaxation {
             mask: None,
             anisotropy: None,
             frames: morphogen::mosaic::Frames::EveryDay,
+            surface: None,
             ..*params
         },
         _ => unreachable!("croton is a mosaic"),

@@ -63,6 +63,7 @@ impl Model<'_> {
         match self {
             Model::Mosaic(p) => {
                 p.momentum == crate::fx::Fx::ZERO
+                    && p.surface.is_none()
                     && mosaic::expected_peak_cells(p) <= McuStore::CAPACITY as u64
             }
             Model::Body(p) => p.model.cylinders.len() <= body::MAX_CYLINDERS,

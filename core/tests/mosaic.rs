@@ -133,6 +133,7 @@ fn growth<'a>(croton_mcu: &Params<'a>) -> Params<'a> {
         daily_relaxations: 1,
         momentum: Fx::ZERO,
         frames: Frames::Days(&[]),
+        surface: None,
         ..*croton_mcu
     }
 }

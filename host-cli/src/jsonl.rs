@@ -113,6 +113,11 @@ pub fn record(out: &mut Vec<u8>, r: &Record) {
             kind: cell_type,
             p,
         } => o.int("id", *id).int("type", *cell_type).fxs("p", p),
+        Record::SurfaceCell {
+            id,
+            kind: cell_type,
+            p,
+        } => o.int("id", *id).int("type", *cell_type).fxs("p", p),
         Record::Sample { series, x, y } => o.int("series", *series).fx("x", *x).fx("y", *y),
         Record::Ring {
             module,
@@ -241,6 +246,11 @@ mod tests {
                 kind: 1,
                 p: [fx(3), fx(4)],
             },
+            Record::SurfaceCell {
+                id: 6,
+                kind: 2,
+                p: [fx(3 << 16), fx(4 << 16), fx(-5 << 16)],
+            },
             Record::Sample {
                 series: 1,
                 x: fx(0),
@@ -275,6 +285,8 @@ mod tests {
         assert_eq!(lines[2]["p"][1], -1.5);
         assert_eq!(lines[6]["v"], serde_json::json!([1, 2, 3]));
         assert_eq!(lines[7]["type"], 1);
-        assert_eq!(lines[9]["points"], 3);
+        assert_eq!(lines[8]["kind"], "surface_cell");
+        assert_eq!(lines[8]["p"], serde_json::json!([3.0, 4.0, -5.0]));
+        assert_eq!(lines[10]["points"], 3);
     }
 }

@@ -13,6 +13,7 @@ from .crc import crc32, crc64_xz
 from .records import (
     FORMAT_VERSION,
     Cell,
+    SurfaceCell,
     FrameEnd,
     FrameStart,
     Header,
@@ -55,8 +56,8 @@ MAX_RECORD = 96
 #: The largest frame on the wire including its zero delimiter:
 #: the record, its 4-byte CRC, COBS overhead and the delimiter.
 MAX_FRAME = MAX_RECORD + 4 + (MAX_RECORD + 4) // 254 + 2
-#: Record kinds of format version 1 (tags 0 to 10).
-RECORD_KINDS = 11
+#: Record kinds of format version 1 (tags 0 to 11).
+RECORD_KINDS = 12
 
 Source = Union[bytes, bytearray, memoryview, str, "os.PathLike[str]", IO[bytes]]
 
@@ -327,6 +328,13 @@ def _cell(buf, pos):
     return Cell(id_, cell_type, (((u >> 1) ^ -(u & 1)) * _SCALE, ((v >> 1) ^ -(v & 1)) * _SCALE)), pos
 
 
+def _surface_cell(buf, pos):
+    id_, pos = _u32(buf, pos)
+    cell_type = buf[pos]  # a u8 is one raw byte
+    p, pos = _fx3(buf, pos + 1)
+    return SurfaceCell(id_, cell_type, p), pos
+
+
 def _sample(buf, pos):
     series, pos = _u16(buf, pos)
     x, pos = _fx(buf, pos)
@@ -353,6 +361,7 @@ _PARSERS = (
     _cell,
     _sample,
     _ring,
+    _surface_cell,
 )
 assert len(_PARSERS) == RECORD_KINDS
 

@@ -30,6 +30,7 @@ __all__ = [
     "MeshVertex",
     "Triangle",
     "Cell",
+    "SurfaceCell",
     "Sample",
     "Ring",
     "RECORD_TYPES",
@@ -277,7 +278,20 @@ class Ring(Record):
     points: int
 
 
-#: The record classes by wire tag (tags 0 to 10 are version 1's kinds).
+@dataclass
+class SurfaceCell(Record):
+    """A cell of a mosaic on a surface (tag 11); ``p`` is its point on the mesh."""
+
+    __slots__ = ("id", "type", "p")
+    kind: ClassVar[str] = "surface_cell"
+    tag: ClassVar[int] = 11
+    FIELDS: ClassVar = (("id", "u32"), ("type", "u8"), ("p", "fx3"))
+    id: int
+    type: int
+    p: Tuple[float, float, float]
+
+
+#: The record classes by wire tag (tags 0 to 11 are version 1's kinds).
 RECORD_TYPES: Tuple[type, ...] = (
     Header,
     FrameStart,
@@ -290,6 +304,7 @@ RECORD_TYPES: Tuple[type, ...] = (
     Cell,
     Sample,
     Ring,
+    SurfaceCell,
 )
 
 #: The record classes by JSON ``kind``.

@@ -118,8 +118,8 @@ class Codec(unittest.TestCase):
         self.assertEqual(record(2, 0x80, 0x80, 0x80, 0x80, 0x80, 0x00), ms.RecordError)
         # Bytes left over after a record: not a record.
         self.assertEqual(record(2, 1, 0), ms.RecordError)
-        # Tags: 11 and up are newer kinds; an overlong tag is not a record.
-        self.assertEqual(record(11), ms.UnknownKindError)
+        # Tags: 12 and up are newer kinds; an overlong tag is not a record.
+        self.assertEqual(record(12), ms.UnknownKindError)
         self.assertEqual(record(0x80, 0x01), ms.UnknownKindError)
         self.assertEqual(record(0x80, 0x80, 0x80, 0x80, 0x80, 0x00), ms.RecordError)
         # Header strings: UTF-8, at most 32 bytes.

@@ -25,6 +25,7 @@ use morphogen::stream::PresetName;
 use crate::body_files::{self, USER_CYLINDERS};
 use crate::mask;
 use crate::schema::{self, BoneFrames, DayFrames, File, Include};
+use crate::surface::{self, SurfaceSpec};
 
 /// A value that is not allowed, with the dotted key it came from.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -35,9 +36,9 @@ pub struct Invalid {
     pub message: String,
 }
 
-type Result<T> = std::result::Result<T, Invalid>;
+pub(crate) type Result<T> = std::result::Result<T, Invalid>;
 
-fn invalid<T>(key: impl Into<String>, message: impl Into<String>) -> Result<T> {
+pub(crate) fn invalid<T>(key: impl Into<String>, message: impl Into<String>) -> Result<T> {
     Err(Invalid {
         key: key.into(),
         message: message.into(),
@@ -149,6 +150,8 @@ pub enum Checked {
         mask: Option<(u16, u16, Vec<u8>)>,
         /// The anisotropy's weight and width, and its vectors.
         anisotropy: Option<(Fx, Fx, Vec<CoreVector>)>,
+        /// The surface, if the cells live on a mesh.
+        surface: Option<SurfaceSpec>,
     },
     /// `[body]`.
     Body {
@@ -221,8 +224,10 @@ impl Checked {
                 days,
                 mask,
                 anisotropy,
+                surface,
             } => {
                 let params = MosaicParams {
+                    surface: surface.as_ref().map(SurfaceSpec::surface),
                     types,
                     frames: days
                         .as_deref()
@@ -397,7 +402,7 @@ pub fn check(file: &File, files: &dyn Files) -> Result<Checked> {
 
 /// A real number as 16.16 fixed point, rounded to nearest, within
 /// `lo..=hi`.
-fn fx(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
+pub(crate) fn fx(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
     if !v.is_finite() || v < lo || v > hi {
         return invalid(key, format!("{v} is out of range (allowed: {lo} to {hi})"));
     }
@@ -436,7 +441,7 @@ fn degrees(key: &str, v: f64) -> Result<Angle> {
 }
 
 /// A whole number within `lo..=hi`.
-fn int<T: TryFrom<i64>>(key: &str, v: i64, lo: i64, hi: i64) -> Result<T> {
+pub(crate) fn int<T: TryFrom<i64>>(key: &str, v: i64, lo: i64, hi: i64) -> Result<T> {
     if v < lo || v > hi {
         return invalid(key, format!("{v} is out of range (allowed: {lo} to {hi})"));
     }
@@ -732,6 +737,11 @@ fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
         mask: None,
         anisotropy: None,
         frames: DayFramesCore::EveryDay,
+        surface: None,
+    };
+    let surface = match &m.surface {
+        None => None,
+        Some(s) => Some(surface::check(s, files)?),
     };
     Ok(Checked::Mosaic {
         params: Box::new(params),
@@ -739,6 +749,7 @@ fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
         days: frame_days,
         mask,
         anisotropy,
+        surface,
     })
 }
 

@@ -125,7 +125,7 @@ fn mosaic(p: &MosaicParams<'_>) -> String {
     let matrix =
         |t: &[[Fx; mosaic::MAX_TYPES]; mosaic::MAX_TYPES]| list(t, |row| list(row, |v| fx(*v)));
     format!(
-        "mosaic::Params {{ domain: Domain {{ size: {}, periodic: {:?} }}, initial_cells: {}, types: &{}, adhesion: {}, mutation: {}, radius_weight: {}, push_weight: {}, initial_relaxations: {}, daily_relaxations: {}, momentum: {}, days: {}, mask: {}, anisotropy: {}, frames: {} }}",
+        "mosaic::Params {{ domain: Domain {{ size: {}, periodic: {:?} }}, initial_cells: {}, types: &{}, adhesion: {}, mutation: {}, radius_weight: {}, push_weight: {}, initial_relaxations: {}, daily_relaxations: {}, momentum: {}, days: {}, mask: {}, anisotropy: {}, frames: {}, surface: None }}",
         list(&p.domain.size, |v| fx(*v)),
         p.domain.periodic,
         p.initial_cells,

@@ -26,6 +26,7 @@ pub mod codegen;
 pub mod mask;
 pub mod run;
 pub mod schema;
+pub mod surface;
 
 use std::fmt;
 use std::path::{Path, PathBuf};

@@ -9,9 +9,13 @@
 use morphogen::body::Body;
 use morphogen::lsys::{Buffered, Grammar, LSystem, LsysError, Module};
 use morphogen::mosaic::grid::Grid;
+use morphogen::mosaic::mesh::{MeshParts, Place};
 use morphogen::mosaic::relaxation::{self, Forces, Relax};
 use morphogen::mosaic::store::{CellSlices, CellStore};
-use morphogen::mosaic::{Mosaic, host_capacity};
+use morphogen::mosaic::surface::relaxation::{self as surface_relaxation, SurfaceForces};
+use morphogen::mosaic::surface::store::{SurfaceSlices, SurfaceStore};
+use morphogen::mosaic::surface::{MeshBuffers, Surface, SurfaceMosaic, build_mesh};
+use morphogen::mosaic::{Mosaic, Params as MosaicParams, host_capacity};
 use morphogen::preset::{self, Model, Preset, Runner};
 use morphogen::sim::Progress;
 use morphogen::stream::Sink;
@@ -130,6 +134,131 @@ impl Relax for VecStore {
     }
 }
 
+/// A surface mosaic's cell store on the heap, relaxed on all cores.
+#[derive(Debug, Default)]
+pub struct VecSurfaceStore {
+    place: Vec<Place>,
+    kind: Vec<u8>,
+    next_division: Vec<u16>,
+    order: Vec<u32>,
+    sorted: Vec<[i32; 3]>,
+    buckets: Vec<u32>,
+    velocity: Vec<[i32; 3]>,
+    moved: Vec<(Place, [i32; 3])>,
+}
+
+impl VecSurfaceStore {
+    /// A store of `cells` cells (with their last moves) and one grid
+    /// bucket per cell.
+    #[must_use]
+    pub fn new(cells: usize) -> VecSurfaceStore {
+        let nowhere = Place { face: 0, p: [0; 3] };
+        VecSurfaceStore {
+            place: vec![nowhere; cells],
+            kind: vec![0; cells],
+            next_division: vec![0; cells],
+            order: vec![0; cells],
+            sorted: vec![[0; 3]; cells],
+            buckets: vec![0; cells + 1],
+            velocity: vec![[0; 3]; cells],
+            moved: vec![(nowhere, [0; 3]); cells],
+        }
+    }
+}
+
+impl SurfaceStore for VecSurfaceStore {
+    fn capacity(&self) -> usize {
+        self.place.len()
+    }
+
+    fn slices(&mut self) -> SurfaceSlices<'_> {
+        SurfaceSlices {
+            place: &mut self.place,
+            kind: &mut self.kind,
+            next_division: &mut self.next_division,
+            order: &mut self.order,
+            sorted: &mut self.sorted,
+            buckets: &mut self.buckets,
+            velocity: &mut self.velocity,
+        }
+    }
+
+    fn places(&self) -> &[Place] {
+        &self.place
+    }
+
+    fn kinds(&self) -> &[u8] {
+        &self.kind
+    }
+
+    fn relax(&mut self, n: usize, forces: &SurfaceForces<'_>) {
+        let moved = &mut self.moved[..n];
+        let mut cells = SurfaceSlices {
+            place: &mut self.place,
+            kind: &mut self.kind,
+            next_division: &mut self.next_division,
+            order: &mut self.order,
+            sorted: &mut self.sorted,
+            buckets: &mut self.buckets,
+            velocity: &mut self.velocity,
+        };
+        let (snapshot, places, velocity) = surface_relaxation::snapshot(&mut cells, n, forces);
+        let (from, last) = (&*places, &*velocity);
+        moved
+            .par_chunks_mut(RELAX_CHUNK)
+            .enumerate()
+            .for_each(|(chunk, out)| {
+                for (k, m) in out.iter_mut().enumerate() {
+                    let slot = chunk * RELAX_CHUNK + k;
+                    let i = snapshot.cell(slot);
+                    *m = snapshot.moved(slot, from[i], last.get(i).copied().unwrap_or([0; 3]));
+                }
+            });
+        for (slot, (to, step)) in moved.iter().enumerate() {
+            let i = snapshot.cell(slot);
+            places[i] = *to;
+            if let Some(v) = velocity.get_mut(i) {
+                *v = *step;
+            }
+        }
+    }
+}
+
+/// The heap buffers of a surface's mesh.
+#[derive(Debug, Default)]
+struct MeshVecs {
+    vertices: Vec<[i32; 3]>,
+    faces: Vec<[u32; 3]>,
+    neighbours: Vec<[u32; 3]>,
+    normals: Vec<[i32; 3]>,
+    edges: Vec<u64>,
+}
+
+impl MeshVecs {
+    fn new(surface: &Surface<'_>) -> MeshVecs {
+        let (nv, nf) = surface.counts();
+        MeshVecs {
+            vertices: vec![[0; 3]; nv],
+            faces: vec![[0; 3]; nf],
+            neighbours: vec![[0; 3]; nf],
+            normals: vec![[0; 3]; nf],
+            edges: vec![0; 3 * nf],
+        }
+    }
+
+    fn buffers(&mut self) -> MeshBuffers<'_> {
+        MeshBuffers {
+            vertices: &mut self.vertices,
+            faces: &mut self.faces,
+            parts: MeshParts {
+                neighbours: &mut self.neighbours,
+                normals: &mut self.normals,
+                edges: &mut self.edges,
+            },
+        }
+    }
+}
+
 /// Modules in each of the two buffers of a context-sensitive L-system's
 /// derivation on the host (32 MB each); the core's streaming derivation,
 /// which the MCU uses, handles context-free grammars only.
@@ -148,6 +277,20 @@ pub fn run(
 ) -> Result<(), morphogen::Error> {
     let header = preset::header(preset.name, seed, preset.model.params_digest());
     match preset.model {
+        Model::Mosaic(
+            params @ &MosaicParams {
+                surface: Some(ref surface),
+                ..
+            },
+        ) => {
+            let mut vecs = MeshVecs::new(surface);
+            let mesh = build_mesh(surface, vecs.buffers())?;
+            let store = VecSurfaceStore::new(host_capacity(params));
+            let mut field = vec![[0; 3]; mesh.faces().len()];
+            let mut mosaic = SurfaceMosaic::new(store, mesh, &mut field);
+            mosaic.start(params, seed)?;
+            preset::drive(&mut mosaic, &header, sink, progress)
+        }
         Model::Mosaic(params) => {
             let mut mosaic = Mosaic::new(VecStore::new(host_capacity(params)));
             mosaic.start(params, seed)?;

@@ -202,6 +202,61 @@ pub struct Mosaic {
     pub mask: Option<Include>,
     /// The anisotropy field.
     pub anisotropy: Option<Anisotropy>,
+    /// The mesh the cells live on (absent: the domain itself).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surface: Option<Surface>,
+}
+
+/// A surface for a mosaic: a built-in shape with its sizes, or an OBJ
+/// file. Which keys apply depends on `shape` (docs/scenarios.md).
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Surface {
+    /// `ellipsoid`, `stem`, `cap`, `heart-leaf`, `strap-leaf` or `obj`.
+    pub shape: String,
+    /// Semi-axes of an ellipsoid.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radii: Option<[f64; 3]>,
+    /// The blend of an ellipsoid towards its box (0 to 0.9).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub square: Option<f64>,
+    /// Radius of a stem or a cap.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    /// Length of a stem or a leaf.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length: Option<f64>,
+    /// Width of a leaf.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub width: Option<f64>,
+    /// Height of a cap.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
+    /// Ribs of a stem.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ribs: Option<i64>,
+    /// Rib depth of a stem (share of the radius).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth: Option<f64>,
+    /// The rim of a cap, degrees from the top.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rim: Option<i64>,
+    /// The cup of a leaf (share of the width).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cup: Option<f64>,
+    /// Rows of the tessellation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rings: Option<i64>,
+    /// Columns of the tessellation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub segments: Option<i64>,
+    /// The OBJ file (`shape = "obj"`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<Include>,
+    /// `cylinder` (around z) or `plane` (x, y): how the mask's (u, v) is
+    /// read on the surface.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub control: Option<String>,
 }
 
 /// A growth table column.

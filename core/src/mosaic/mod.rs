@@ -42,9 +42,12 @@ pub mod control;
 pub mod division;
 pub mod domain;
 pub mod grid;
+pub mod mesh;
 pub mod params;
 pub mod relaxation;
+pub mod shapes;
 pub mod store;
+pub mod surface;
 
 pub use control::{Anisotropy, ControlError, ControlVector, Field, Mask};
 pub use domain::Domain;
@@ -76,6 +79,8 @@ pub enum MosaicError {
     Param(&'static str),
     /// The mask or the anisotropy field is unusable.
     Control(ControlError),
+    /// The surface's mesh is unusable.
+    Mesh(mesh::MeshError),
 }
 
 impl core::fmt::Display for MosaicError {
@@ -83,6 +88,7 @@ impl core::fmt::Display for MosaicError {
         match self {
             MosaicError::Param(p) => write!(f, "mosaic parameter out of range: {p}"),
             MosaicError::Control(e) => write!(f, "mosaic control: {e}"),
+            MosaicError::Mesh(e) => write!(f, "mosaic surface: {e}"),
         }
     }
 }

@@ -5,6 +5,7 @@ use serde::Serialize;
 
 use super::control::{Anisotropy, Mask};
 use super::domain::Domain;
+use super::surface::Surface;
 use crate::fx::Fx;
 
 /// The most cell types a run may have (the thesis uses F, B and M).
@@ -89,6 +90,10 @@ pub struct Params<'a> {
     pub anisotropy: Option<Anisotropy<'a>>,
     /// Which days are streamed.
     pub frames: Frames<'a>,
+    /// The mesh the cells live on ([`super::surface`]); `None` on the
+    /// domain itself. The domain then gives the (u, v) the mask is read in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub surface: Option<Surface<'a>>,
 }
 
 fn is_zero(x: &Fx) -> bool {

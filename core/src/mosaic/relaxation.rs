@@ -3,8 +3,12 @@
 //! (1 − d/r)·ρ_pq·r·(p − q)/d = ρ_pq·(r − d)·(p − q)/d, with the pair's
 //! repulsion ρ_pq from the adhesion (1 − α_pq in the thesis; 1 for like
 //! pairs here, [`Params::adhesion`](super::Params::adhesion)); the sum
-//! Σ is scaled by w_d and blended with the anisotropy field v by w_a:
-//! Δp = w_d·((1 − w_a)·Σ + w_a·r·v). With momentum β (heavy-ball
+//! Σ is blended by w_a with its part along the anisotropy field v and
+//! scaled by w_d: Δp = w_d·((1 − w_a)·Σ + w_a·(Σ·v)·v). Cells move more
+//! easily along v, so clones stretch along it, and a cell at rest stays at
+//! rest (the thesis's sum with v itself, Sec. 3.2.4, moves every cell by
+//! w_a·v each step: a drift that packs the clones the field points to;
+//! the original MClone code scales the force per component instead). With momentum β (heavy-ball
 //! relaxation) a cell also moves β times its last move, the sum held
 //! within ±r. All pushes are computed (a Jacobi step) before any cell
 //! moves, so the order of the loops does not matter and integer sums make
@@ -95,11 +99,13 @@ impl Forces<'_> {
             Some(f) => f.at(self.domain, p),
             None => [0, 0],
         };
+        let s = sum.map(|x| (x + (ONE >> 1)) >> 16); // Q16
+        // (Σ·v)·v: Σ's part along the field (Q16; |v| ≤ 1 as Q14).
+        let along = (s[0] * i64::from(v[0]) + s[1] * i64::from(v[1])) >> 14;
         let mut out = [0i32; 2];
         for c in 0..2 {
-            let s = (sum[c] + (ONE >> 1)) >> 16; // Q16
-            let aniso = (r * i64::from(v[c])) >> 14; // Q16
-            let blend = ((ONE - wa) * s + wa * aniso + (ONE >> 1)) >> 16;
+            let steer = (along * i64::from(v[c])) >> 14;
+            let blend = ((ONE - wa) * s[c] + wa * steer + (ONE >> 1)) >> 16;
             let delta = (wd * blend + (ONE >> 1)) >> 16;
             // max/min, not clamp: the same for r ≥ 1, and no panic path
             // (with its formatting code) for reversed bounds.

@@ -46,6 +46,7 @@ fn croton_mcu_day_0(initial_cells: u32) -> Params<'static> {
         mask: None,
         anisotropy: None,
         frames: Frames::EveryDay,
+        surface: None,
     }
 }
 

@@ -111,6 +111,15 @@ pub enum Record {
         /// Number of point records that follow.
         points: u16,
     },
+    /// A cell of a mosaic on a surface (tag 11).
+    SurfaceCell {
+        /// Cell id, stable over the run.
+        id: u32,
+        /// Cell type index.
+        kind: u8,
+        /// Position on the mesh (x, y, z).
+        p: [Fx; 3],
+    },
 }
 
 impl Record {
@@ -129,6 +138,7 @@ impl Record {
             Record::Cell { .. } => "cell",
             Record::Sample { .. } => "sample",
             Record::Ring { .. } => "ring",
+            Record::SurfaceCell { .. } => "surface_cell",
         }
     }
 }

@@ -29,6 +29,7 @@ pub mod mosaic;
 pub mod picture;
 pub mod plant;
 pub mod raster;
+pub mod shell;
 pub mod surface;
 pub mod text;
 
@@ -317,6 +318,7 @@ fn write_preset<R: Records + ?Sized>(
             body::write(preset.name, records, dir, binding, Some(p.table), kinds)
         }
         Model::Bones(p) => bones::write(preset.name, p, records, dir, kinds),
+        Model::Mosaic(p) if p.surface.is_some() => shell::write(p, names, records, dir, kinds),
         Model::Mosaic(p) => mosaic::write(p, names, records, dir, kinds),
         _ => Ok(Vec::new()),
     }

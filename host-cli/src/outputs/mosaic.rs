@@ -81,7 +81,11 @@ fn count_days<R: Records + ?Sized>(records: &R) -> Result<usize> {
 }
 
 /// The chart of the number of cells of each type per day.
-fn cells_chart(colours: &[[u8; 3]], names: &[&str], counts: &[(i32, Vec<usize>)]) -> Chart {
+pub(super) fn cells_chart(
+    colours: &[[u8; 3]],
+    names: &[&str],
+    counts: &[(i32, Vec<usize>)],
+) -> Chart {
     let mut chart = Chart::new(
         "Cells per type",
         Axis::new("time", "days"),
@@ -110,7 +114,7 @@ fn cells_chart(colours: &[[u8; 3]], names: &[&str], counts: &[(i32, Vec<usize>)]
 /// share of all cells, and its share of the area (the Voronoi regions of
 /// its cells, counted in the day's picture): where the two differ, the
 /// type's cells are packed denser or looser than the rest.
-fn write_shares(
+pub(super) fn write_shares(
     names: &[&str],
     counts: &[(i32, Vec<usize>)],
     areas: &[Option<Vec<u64>>],

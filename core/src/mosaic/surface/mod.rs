@@ -1,0 +1,508 @@
+//! Clonal mosaics on a triangle mesh (thesis Secs. 3.2 and 4.1: MClone
+//! grows its cells on the object itself). The same day as on the plane —
+//! division, radius r = w_r·√(area/N), ρ_s relaxations — with cells that
+//! are [`Place`]s on a [`Mesh`]: neighbours within r found by 3D distance
+//! through a hashed grid ([`relaxation`]), the push taken into the cell's
+//! tangent plane and walked along the surface across edges
+//! ([`Mesh::walk`]). The mask is read through the control cylinder's (or
+//! plane's) (u, v) (Sec. 3.2.2, [`ControlMap`]).
+//!
+//! A run streams the mesh once (in its first frame: [`Record::MeshVertex`]
+//! and [`Record::Triangle`]), then each streamed day's cells as
+//! [`Record::SurfaceCell`]s.
+
+pub mod relaxation;
+pub mod store;
+
+use serde::Serialize;
+
+use super::control::{Anisotropy, Field};
+use super::division::{self, Purpose, stream_id};
+use super::mesh::{Mesh, MeshError, MeshParts, Place, along_plane};
+use super::params::{MAX_TYPES, Params};
+use super::shapes::Tessellation;
+use super::{CELL_LIMIT, MosaicError, VELOCITY_LIMIT, repulsion, validate};
+use crate::Error;
+use crate::fx::{Fx, Real};
+use crate::rng::KeyedRng;
+use crate::sim::{Deferred, Progress, Simulation, Start};
+use crate::stream::{Record, Sink};
+use relaxation::SurfaceForces;
+use store::SurfaceStore;
+
+/// The name of the limit in [`Error::Capacity`] when the buffer for the
+/// anisotropy field has fewer entries than the mesh has faces.
+pub const FIELD_LIMIT: &str = "surface anisotropy field (one vector per face of the mesh)";
+
+/// How a point of the surface maps to the (u, v) of the mosaic's domain,
+/// where the mask is read (thesis Sec. 3.2.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ControlMap {
+    /// A cylinder around z: u the angle (a turn is the domain's width), v
+    /// the height (the mesh's z range is the domain's length).
+    Cylinder,
+    /// The plane z = 0: u along x, v along y, over the mesh's range.
+    Plane,
+}
+
+/// The mesh a surface mosaic lives on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum SurfaceMesh<'a> {
+    /// A built-in shape ([`Tessellation`]).
+    Shape(Tessellation),
+    /// A user's triangles.
+    Triangles {
+        /// Vertices.
+        vertices: &'a [[Fx; 3]],
+        /// Triangles by vertex index.
+        faces: &'a [[u32; 3]],
+    },
+}
+
+/// A surface for a mosaic: the mesh and how (u, v) is read on it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Surface<'a> {
+    /// The mesh.
+    pub mesh: SurfaceMesh<'a>,
+    /// The map to the domain's (u, v).
+    pub control: ControlMap,
+}
+
+impl Surface<'_> {
+    /// The numbers of vertices and faces its mesh has.
+    #[must_use]
+    pub fn counts(&self) -> (usize, usize) {
+        match self.mesh {
+            SurfaceMesh::Shape(t) => t.counts(),
+            SurfaceMesh::Triangles { vertices, faces } => (vertices.len(), faces.len()),
+        }
+    }
+}
+
+/// The buffers a surface's mesh is built in ([`Surface::counts`] entries
+/// each; three edge keys per face).
+#[derive(Debug)]
+pub struct MeshBuffers<'m> {
+    /// Vertices (Q16).
+    pub vertices: &'m mut [[i32; 3]],
+    /// Faces.
+    pub faces: &'m mut [[u32; 3]],
+    /// Adjacency, normals and scratch.
+    pub parts: MeshParts<'m>,
+}
+
+/// Builds and validates the mesh of `surface` in `buffers`.
+///
+/// # Errors
+/// An unusable shape ([`MosaicError::Param`]) or mesh ([`MosaicError::Mesh`]).
+pub fn build_mesh<'m>(surface: &Surface<'_>, buffers: MeshBuffers<'m>) -> Result<Mesh<'m>, Error> {
+    let (nv, nf) = surface.counts();
+    if buffers.vertices.len() < nv || buffers.faces.len() < nf {
+        return Err(MosaicError::Mesh(MeshError::TooLarge).into());
+    }
+    match surface.mesh {
+        SurfaceMesh::Shape(t) => {
+            if !t.is_valid() {
+                return Err(MosaicError::Param("surface shape (sizes, rings, segments)").into());
+            }
+            t.build(buffers.vertices, buffers.faces);
+        }
+        SurfaceMesh::Triangles { vertices, faces } => {
+            for (to, v) in buffers.vertices.iter_mut().zip(vertices) {
+                *to = v.map(Fx::to_bits);
+            }
+            buffers.faces[..nf].copy_from_slice(faces);
+        }
+    }
+    let vertices: &'m [[i32; 3]] = buffers.vertices;
+    let faces: &'m [[u32; 3]] = buffers.faces;
+    Mesh::new_checked(&vertices[..nv], &faces[..nf], buffers.parts)
+        .map_err(|e| MosaicError::Mesh(e).into())
+}
+
+/// A running mosaic on a mesh over the cell store `S`.
+#[derive(Debug)]
+pub struct SurfaceMosaic<'a, S: SurfaceStore> {
+    store: S,
+    mesh: Mesh<'a>,
+    params: Option<&'a Params<'a>>,
+    seed: u64,
+    cells: u32,
+    day: u16,
+    done: u32,
+    frame: u32,
+    radius: i32,
+    /// The anisotropy field at each face, in its plane (Q14).
+    field: &'a mut [[i32; 3]],
+    pending: Deferred,
+}
+
+impl<'a, S: SurfaceStore> SurfaceMosaic<'a, S> {
+    /// A mosaic on `mesh` over `store`, not yet started; `field` holds the
+    /// anisotropy field's vector at each face (one entry per face; empty
+    /// for runs without anisotropy).
+    pub const fn new(store: S, mesh: Mesh<'a>, field: &'a mut [[i32; 3]]) -> SurfaceMosaic<'a, S> {
+        SurfaceMosaic {
+            store,
+            mesh,
+            field,
+            params: None,
+            seed: 0,
+            cells: 0,
+            day: 0,
+            done: 0,
+            frame: 0,
+            radius: 0,
+            pending: Deferred::new(),
+        }
+    }
+
+    /// (Re)starts a run of `params` with `seed`, in place.
+    ///
+    /// # Errors
+    /// Invalid parameters, a run without a surface, or more initial cells
+    /// than the store holds; also returned by the next step.
+    pub fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
+        self.params = None;
+        let result = self.try_start(params, seed);
+        self.pending.keep(result)
+    }
+
+    fn try_start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
+        validate(params)?;
+        if params.surface.is_none() {
+            return Err(MosaicError::Param("surface (a surface mosaic needs one)").into());
+        }
+        let capacity = self.store.capacity();
+        if params.initial_cells as usize > capacity {
+            return Err(Error::Capacity {
+                limit: CELL_LIMIT,
+                capacity: capacity as u32,
+            });
+        }
+        let velocities = self.store.slices().velocity.len();
+        if params.momentum != Fx::ZERO && velocities < capacity {
+            return Err(Error::Capacity {
+                limit: VELOCITY_LIMIT,
+                capacity: velocities as u32,
+            });
+        }
+        if let Some(a) = &params.anisotropy {
+            self.tabulate(params, a)?;
+        }
+        self.params = Some(params);
+        self.seed = seed;
+        self.cells = 0;
+        self.day = 0;
+        self.done = 0;
+        self.frame = 0;
+        Ok(())
+    }
+
+    /// The mesh.
+    #[must_use]
+    pub fn mesh(&self) -> &Mesh<'a> {
+        &self.mesh
+    }
+
+    /// Number of cells.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.cells as usize
+    }
+
+    /// Whether there are no cells (before day 0).
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.cells == 0
+    }
+
+    /// Where the cells are, by id.
+    #[must_use]
+    pub fn places(&self) -> &[Place] {
+        &self.store.places()[..self.len()]
+    }
+
+    fn params(&self) -> Result<&'a Params<'a>, Error> {
+        self.params.ok_or(Error::NotStarted)
+    }
+
+    /// r = w_r·√(area/N) for the mesh's area.
+    fn update_radius(&mut self, params: &Params) {
+        let n = u64::from(self.cells.max(1));
+        let spacing = ((self.mesh.area_q16() << 16) / n).isqrt(); // Q16
+        let r = (spacing * u64::from(params.radius_weight.to_bits().unsigned_abs())) >> 16;
+        self.radius = r.clamp(1, 1 << 28) as i32;
+    }
+
+    /// The (u, v) of `p` in the domain, through the control map.
+    fn control_uv(&self, params: &Params, p: [i32; 3]) -> [i32; 2] {
+        let [lo, hi] = self.mesh.bounds();
+        let size = params.domain.size.map(|s| i64::from(s.to_bits()));
+        let along = |x: i32, c: usize, s: i64| {
+            let span = (i64::from(hi[c]) - i64::from(lo[c])).max(1);
+            ((i64::from(x) - i64::from(lo[c])) * s / span).clamp(0, s - 1) as i32
+        };
+        let map = params.surface.map_or(ControlMap::Plane, |s| s.control);
+        match map {
+            ControlMap::Cylinder => {
+                let turn = <Fx as Real>::atan2(Fx::from_bits(p[1]), Fx::from_bits(p[0]));
+                let u = (u64::from(turn.0) * size[0] as u64) >> 32;
+                [u as i32, along(p[2], 2, size[1])]
+            }
+            ControlMap::Plane => [along(p[0], 0, size[0]), along(p[1], 1, size[1])],
+        }
+    }
+
+    /// The anisotropy field `a` (defined over the domain's (u, v)) at each
+    /// face's centroid, turned into the face's plane: u runs around z on
+    /// a cylinder (x on a plane), v along z (y).
+    fn tabulate(&mut self, params: &Params, a: &Anisotropy) -> Result<(), Error> {
+        let faces = self.mesh.faces().len();
+        if self.field.len() < faces {
+            return Err(Error::Capacity {
+                limit: FIELD_LIMIT,
+                capacity: self.field.len() as u32,
+            });
+        }
+        let field = Field::interpolate(&params.domain, a).map_err(MosaicError::Control)?;
+        let map = params.surface.map_or(ControlMap::Plane, |s| s.control);
+        for f in 0..faces as u32 {
+            let c = self.mesh.centroid(f);
+            let v = field
+                .at(&params.domain, self.control_uv(params, c))
+                .map(i64::from);
+            let (u_axis, v_axis) = match map {
+                ControlMap::Cylinder => {
+                    let around = <Fx as Real>::atan2(Fx::from_bits(c[1]), Fx::from_bits(c[0]));
+                    let (sin, cos) = (
+                        i64::from(<Fx as Real>::sin(around).to_bits()),
+                        i64::from(<Fx as Real>::cos(around).to_bits()),
+                    );
+                    ([-sin, cos, 0], [0, 0, 1 << 16])
+                }
+                ControlMap::Plane => ([1 << 16, 0, 0], [0, 1 << 16, 0]),
+            };
+            let d = [0, 1, 2].map(|k| (u_axis[k] * v[0] + v_axis[k] * v[1]) >> 16); // Q14
+            let n = self.mesh.normal(f).map(i64::from);
+            self.field[f as usize] = along_plane(d, n).map(|x| x as i32);
+        }
+        Ok(())
+    }
+
+    /// A point uniformly at random on the surface: a face by its area
+    /// (rejection against the largest), a point by its barycentric weights.
+    fn random_place(&self, rng: &mut KeyedRng) -> Place {
+        let faces = self.mesh.faces().len() as u32;
+        let largest = self.largest_double_area();
+        for _ in 0..64 {
+            let f = rng.below(faces);
+            let accept = u64::from(rng.next_u32());
+            if (u128::from(self.double_area(f)) << 32) < u128::from(accept) * u128::from(largest) {
+                continue;
+            }
+            return self.point_in(f, rng);
+        }
+        let f = rng.below(faces);
+        self.point_in(f, rng)
+    }
+
+    fn point_in(&self, f: u32, rng: &mut KeyedRng) -> Place {
+        let (mut a, mut b) = (i64::from(rng.below(1 << 16)), i64::from(rng.below(1 << 16)));
+        if a + b > 1 << 16 {
+            (a, b) = ((1 << 16) - a, (1 << 16) - b);
+        }
+        Place {
+            face: f,
+            p: self.mesh.at(f, [(1 << 16) - a - b, a, b]),
+        }
+    }
+
+    fn double_area(&self, f: u32) -> u64 {
+        let n = self.mesh.normal(f).map(i64::from);
+        let [a, b, c] = self.mesh.faces()[f as usize].map(|v| self.mesh.vertices()[v as usize]);
+        let e = |p: [i32; 3], q: [i32; 3]| [0, 1, 2].map(|k| i64::from(p[k]) - i64::from(q[k]));
+        let (u, v) = (e(b, a), e(c, a));
+        let w = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        // |w| = w·n for the face's own normal (Q32 · Q16 >> 16 = Q32).
+        ((w[0] >> 16) * n[0] + (w[1] >> 16) * n[1] + (w[2] >> 16) * n[2]).unsigned_abs()
+    }
+
+    fn largest_double_area(&self) -> u64 {
+        (0..self.mesh.faces().len() as u32)
+            .map(|f| self.double_area(f))
+            .max()
+            .unwrap_or(1)
+            .max(1)
+    }
+
+    /// Spreads the initial cells (day 0).
+    fn place(&mut self, params: &Params) -> Result<(), Error> {
+        for id in 0..params.initial_cells {
+            let mut rng = KeyedRng::new(self.seed, stream_id(Purpose::Place, 0, id));
+            let at = self.random_place(&mut rng);
+            let mut kind = division::initial_type(&mut rng, params.types);
+            let uv = self.control_uv(params, at.p);
+            if kind != 0 && params.mask.is_some_and(|m| !m.allows(&params.domain, uv)) {
+                kind = 0;
+            }
+            let next = division::interval(&mut rng, &params.types[kind as usize])?;
+            let cells = self.store.slices();
+            cells.place[id as usize] = at;
+            cells.kind[id as usize] = kind;
+            cells.next_division[id as usize] = next;
+            if let Some(v) = cells.velocity.get_mut(id as usize) {
+                *v = [0; 3];
+            }
+        }
+        self.cells = params.initial_cells;
+        Ok(())
+    }
+
+    /// Divides every cell whose day has come (children appended).
+    fn divide(&mut self, params: &Params) -> Result<(), Error> {
+        let day = self.day;
+        let capacity = self.store.capacity();
+        let disc = self.radius / 200;
+        let ntypes = params.types.len();
+        let mesh = self.mesh;
+        let cells = self.store.slices();
+        let existing = self.cells as usize;
+        let mut n = existing;
+        for id in 0..existing {
+            if cells.next_division[id] > day {
+                continue;
+            }
+            if n >= capacity {
+                return Err(Error::Capacity {
+                    limit: CELL_LIMIT,
+                    capacity: capacity as u32,
+                });
+            }
+            let mut rng = KeyedRng::new(self.seed, stream_id(Purpose::Divide, day, id as u32));
+            let parent = cells.kind[id];
+            let child = division::child_type(&mut rng, parent, &params.mutation, ntypes);
+            let off = division::offset_in_disc(&mut rng, disc).map(i64::from);
+            let at = cells.place[id];
+            let [along, across] = mesh.frame(at.face);
+            let d = [0, 1, 2].map(|c| (along[c] * off[0] + across[c] * off[1]) >> 16);
+            cells.place[n] = mesh.walk(at, d);
+            cells.kind[n] = child;
+            if let Some(v) = cells.velocity.get_mut(n) {
+                *v = [0; 3];
+            }
+            let later = |k: u8, rng: &mut KeyedRng| -> Result<u16, Error> {
+                let t = &params.types[k as usize % ntypes];
+                Ok(day.saturating_add(division::interval(rng, t)?))
+            };
+            cells.next_division[n] = later(child, &mut rng)?;
+            cells.next_division[id] = later(parent, &mut rng)?;
+            n += 1;
+        }
+        self.cells = n as u32;
+        Ok(())
+    }
+
+    fn relax(&mut self, params: &Params, times: u16, adhesion: bool) {
+        let repel = if adhesion {
+            repulsion(&params.adhesion)
+        } else {
+            [[1 << 16; MAX_TYPES]; MAX_TYPES]
+        };
+        let forces = SurfaceForces {
+            mesh: &self.mesh,
+            radius: self.radius,
+            repel,
+            push_weight: params.push_weight.to_bits(),
+            anisotropy_weight: params
+                .anisotropy
+                .map_or(0, |a| a.weight.clamp(Fx::ZERO, Fx::ONE).to_bits()),
+            field: params.anisotropy.as_ref().map(|_| &*self.field),
+            momentum: params.momentum.to_bits(),
+        };
+        let n = self.cells as usize;
+        for _ in 0..times {
+            self.store.relax(n, &forces);
+        }
+    }
+
+    fn emit(&mut self, params: &Params, sink: &mut dyn Sink) -> Result<(), Error> {
+        if !params.frames.includes(self.day) {
+            return Ok(());
+        }
+        sink.record(&Record::FrameStart {
+            frame: self.frame,
+            time: Fx::from_int(i32::from(self.day)),
+        })?;
+        if self.frame == 0 {
+            for (id, v) in self.mesh.vertices().iter().enumerate() {
+                sink.record(&Record::MeshVertex {
+                    id: id as u32,
+                    p: v.map(Fx::from_bits),
+                })?;
+            }
+            for f in self.mesh.faces() {
+                sink.record(&Record::Triangle { v: *f })?;
+            }
+        }
+        let n = self.len();
+        let (places, kinds) = (self.store.places(), self.store.kinds());
+        for (id, (at, k)) in places[..n].iter().zip(&kinds[..n]).enumerate() {
+            sink.record(&Record::SurfaceCell {
+                id: id as u32,
+                kind: *k,
+                p: at.p.map(Fx::from_bits),
+            })?;
+        }
+        sink.record(&Record::FrameEnd { frame: self.frame })?;
+        self.frame += 1;
+        Ok(())
+    }
+}
+
+impl<'a, S: SurfaceStore> Start<'a> for SurfaceMosaic<'a, S> {
+    type Params = Params<'a>;
+
+    fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
+        SurfaceMosaic::start(self, params, seed)
+    }
+}
+
+impl<S: SurfaceStore> Simulation for SurfaceMosaic<'_, S> {
+    /// Step 0 places and relaxes the initial cells; step d ≥ 1 simulates
+    /// day d, as on the plane.
+    fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
+        self.pending.check()?;
+        let params = self.params()?;
+        let total = u32::from(params.days) + 1;
+        if self.done >= total {
+            return Ok(Progress { done: total, total });
+        }
+        if self.done == 0 {
+            self.place(params)?;
+            self.update_radius(params);
+            self.relax(params, params.initial_relaxations, false);
+        } else {
+            self.day += 1;
+            self.divide(params)?;
+            self.update_radius(params);
+            self.relax(params, params.daily_relaxations, true);
+        }
+        self.emit(params, sink)?;
+        self.done += 1;
+        Ok(Progress {
+            done: self.done,
+            total,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests;

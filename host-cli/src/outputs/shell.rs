@@ -1,0 +1,485 @@
+//! Mosaics grown on a mesh (MClone thesis Secs. 3.2, 4.1; the core's
+//! `mosaic::surface`): per streamed day `cells_dayNN.csv` (`id,type,x,y,z`)
+//! and a shaded picture of the object with every point coloured by its
+//! nearest cell (`surface_dayNN.png`; `surface.png` the last day);
+//! `surface.obj` the mesh the cells live on, `mosaic.obj` the last day
+//! coloured on it (a colour per vertex, on the mesh split twice);
+//! `types.csv` each type's share of the cells and of the area (the area
+//! by sampling every triangle); the cell counts chart and the mask as for
+//! the plane.
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use morphogen::mosaic::Params;
+use morphogen::mosaic::surface::ControlMap;
+use morphogen::stream::Record;
+use rayon::prelude::*;
+use tiny_skia::{Pixmap, PremultipliedColorU8};
+
+use super::chart::{write_png, write_svg};
+use super::mesh::{Mesh, ObjStyle, Rgb, write_obj};
+use super::mosaic::{cells_chart, write_shares};
+use super::picture;
+use super::{Kind, Kinds};
+use crate::atomic::{OutputFile, write_atomic};
+use crate::records::{Place, Records};
+
+/// The picture's longer side in pixels (drawn at twice the size, halved).
+const PICTURE_SIDE: f64 = 700.0;
+/// The light's direction (towards the light), normalised when used.
+const LIGHT: [f64; 3] = [-0.4, -0.6, 0.7];
+/// The picture's background.
+const BACKGROUND: Rgb = [246, 244, 238];
+/// Sample points per triangle side for the area shares (s(s+1)/2 each).
+const AREA_SAMPLES: usize = 6;
+
+/// The mesh of a surface mosaic's stream, in units.
+#[derive(Debug, Default, Clone)]
+pub struct Shell {
+    /// Vertices.
+    pub vertices: Vec<[f64; 3]>,
+    /// Triangles.
+    pub faces: Vec<[u32; 3]>,
+}
+
+/// One streamed day: `(id, type, point)` of each cell.
+#[derive(Debug, Default)]
+pub struct Day {
+    /// The day number.
+    pub day: i32,
+    /// The cells.
+    pub cells: Vec<(u32, u8, [f64; 3])>,
+}
+
+/// The mesh and the days of a surface mosaic's stream.
+///
+/// # Errors
+/// When the records cannot be read.
+pub fn read<R: Records + ?Sized>(records: &R) -> Result<(Shell, Vec<Day>)> {
+    let mut shell = Shell::default();
+    let mut days: Vec<Day> = Vec::new();
+    let units = |p: &[morphogen::fx::Fx; 3]| p.map(|x| f64::from(x.to_bits()) / 65_536.0);
+    records.visit(Place::START, |_, r| {
+        match r {
+            Record::FrameStart { time, .. } => days.push(Day {
+                day: time.floor_int(),
+                cells: Vec::new(),
+            }),
+            Record::MeshVertex { p, .. } => shell.vertices.push(units(p)),
+            Record::Triangle { v } => shell.faces.push(*v),
+            Record::SurfaceCell { id, kind, p } => {
+                if let Some(d) = days.last_mut() {
+                    d.cells.push((*id, *kind, units(p)));
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    })?;
+    Ok((shell, days))
+}
+
+/// The nearest cell of any point, through a uniform grid of cubes.
+struct Nearest<'c> {
+    cells: &'c [(u32, u8, [f64; 3])],
+    lo: [f64; 3],
+    side: f64,
+    dims: [i64; 3],
+    /// Cell indices by cube, and each cube's start in it.
+    order: Vec<u32>,
+    starts: Vec<u32>,
+}
+
+impl<'c> Nearest<'c> {
+    fn new(cells: &'c [(u32, u8, [f64; 3])], shell: &Shell) -> Nearest<'c> {
+        let mut lo = [f64::MAX; 3];
+        let mut hi = [f64::MIN; 3];
+        for p in shell.vertices.iter().chain(cells.iter().map(|c| &c.2)) {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let extent: f64 = (0..3).map(|k| (hi[k] - lo[k]).max(1e-9)).product::<f64>();
+        // About 4 cells per occupied cube on a surface: cubes of the cells'
+        // spacing squared over the extent's cube root.
+        let area_guess = extent.powf(2.0 / 3.0) * 3.0;
+        let side = (area_guess / cells.len().max(1) as f64).sqrt().max(1e-6) * 2.0;
+        let dims =
+            [0, 1, 2].map(|k| (((hi[k] - lo[k]) / side).floor() as i64 + 1).clamp(1, 1 << 10));
+        let count = (dims[0] * dims[1] * dims[2]) as usize;
+        let mut starts = vec![0u32; count + 1];
+        let cube = |p: &[f64; 3]| Self::cube_of(lo, side, dims, p);
+        for c in cells {
+            starts[cube(&c.2) + 1] += 1;
+        }
+        for k in 1..=count {
+            starts[k] += starts[k - 1];
+        }
+        let mut fill = starts.clone();
+        let mut order = vec![0u32; cells.len()];
+        for (i, c) in cells.iter().enumerate() {
+            let k = cube(&c.2);
+            order[fill[k] as usize] = i as u32;
+            fill[k] += 1;
+        }
+        Nearest {
+            cells,
+            lo,
+            side,
+            dims,
+            order,
+            starts,
+        }
+    }
+
+    fn index(lo: [f64; 3], side: f64, dims: [i64; 3], p: &[f64; 3]) -> [i64; 3] {
+        [0, 1, 2].map(|k| (((p[k] - lo[k]) / side).floor() as i64).clamp(0, dims[k] - 1))
+    }
+
+    fn cube_of(lo: [f64; 3], side: f64, dims: [i64; 3], p: &[f64; 3]) -> usize {
+        let [x, y, z] = Self::index(lo, side, dims, p);
+        ((z * dims[1] + y) * dims[0] + x) as usize
+    }
+
+    /// The type of the cell nearest `p`.
+    fn kind_at(&self, p: &[f64; 3]) -> Option<u8> {
+        let at = Self::index(self.lo, self.side, self.dims, p);
+        let mut best: Option<(f64, u8)> = None;
+        for reach in 1..=self.dims.iter().copied().max().unwrap_or(1) {
+            for z in (at[2] - reach).max(0)..=(at[2] + reach).min(self.dims[2] - 1) {
+                for y in (at[1] - reach).max(0)..=(at[1] + reach).min(self.dims[1] - 1) {
+                    for x in (at[0] - reach).max(0)..=(at[0] + reach).min(self.dims[0] - 1) {
+                        let k = ((z * self.dims[1] + y) * self.dims[0] + x) as usize;
+                        let run = self.starts[k] as usize..self.starts[k + 1] as usize;
+                        for &i in &self.order[run] {
+                            let c = &self.cells[i as usize];
+                            let d: f64 = (0..3).map(|j| (c.2[j] - p[j]).powi(2)).sum();
+                            if best.is_none_or(|(b, _)| d < b) {
+                                best = Some((d, c.1));
+                            }
+                        }
+                    }
+                }
+            }
+            // Every cell within reach − 1 cubes has been seen.
+            if let Some((d, kind)) = best
+                && d.sqrt() <= (reach - 1) as f64 * self.side
+            {
+                return Some(kind);
+            }
+        }
+        best.map(|(_, k)| k)
+    }
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn normalised(v: [f64; 3]) -> [f64; 3] {
+    let l = dot(v, v).sqrt().max(1e-12);
+    v.map(|x| x / l)
+}
+
+impl Shell {
+    fn corners(&self, f: &[u32; 3]) -> [[f64; 3]; 3] {
+        f.map(|i| self.vertices.get(i as usize).copied().unwrap_or([0.0; 3]))
+    }
+
+    /// The area of each type's cells' Voronoi regions on the mesh, by
+    /// sampling every triangle at the same barycentric points.
+    fn areas(&self, near: &Nearest<'_>, types: usize) -> Vec<u64> {
+        let s = AREA_SAMPLES;
+        let per_face: Vec<Vec<f64>> = self
+            .faces
+            .par_iter()
+            .map(|f| {
+                let [a, b, c] = self.corners(f);
+                let area =
+                    dot(cross(sub(b, a), sub(c, a)), cross(sub(b, a), sub(c, a))).sqrt() / 2.0;
+                let mut share = vec![0.0; types.max(1)];
+                let mut n = 0.0;
+                for i in 0..s {
+                    for j in 0..s - i {
+                        let (u, v) = (
+                            (i as f64 + 1.0 / 3.0) / s as f64,
+                            (j as f64 + 1.0 / 3.0) / s as f64,
+                        );
+                        let p = [0, 1, 2].map(|k| a[k] + u * (b[k] - a[k]) + v * (c[k] - a[k]));
+                        if let Some(kind) = near.kind_at(&p)
+                            && let Some(x) = share.get_mut(usize::from(kind))
+                        {
+                            *x += 1.0;
+                        }
+                        n += 1.0;
+                    }
+                }
+                share.iter().map(|x| x / n * area).collect()
+            })
+            .collect();
+        (0..types)
+            .map(|k| (per_face.iter().map(|s| s[k]).sum::<f64>() * 1e6).round() as u64)
+            .collect()
+    }
+
+    /// The mesh split `levels` times (each triangle into four), each
+    /// vertex coloured by its nearest cell.
+    fn coloured(&self, near: &Nearest<'_>, colours: &[[u8; 3]], levels: u32) -> Result<Mesh> {
+        let mut vertices = self.vertices.clone();
+        let mut faces = self.faces.clone();
+        for _ in 0..levels {
+            let mut mid = std::collections::HashMap::new();
+            let mut split = Vec::with_capacity(faces.len() * 4);
+            for f in &faces {
+                let mut m = [0u32; 3];
+                for k in 0..3 {
+                    let (a, b) = (f[k], f[(k + 1) % 3]);
+                    m[k] = *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                        let (p, q) = (vertices[a as usize], vertices[b as usize]);
+                        vertices.push([0, 1, 2].map(|c| (p[c] + q[c]) / 2.0));
+                        (vertices.len() - 1) as u32
+                    });
+                }
+                split.extend([
+                    [f[0], m[0], m[2]],
+                    [m[0], f[1], m[1]],
+                    [m[2], m[1], f[2]],
+                    m,
+                ]);
+            }
+            faces = split;
+        }
+        let colours: Vec<Rgb> = vertices
+            .par_iter()
+            .map(|p| {
+                near.kind_at(p)
+                    .and_then(|k| colours.get(usize::from(k)))
+                    .copied()
+                    .unwrap_or([128; 3])
+            })
+            .collect();
+        let mut mesh = Mesh::from_triangles(vertices, &faces)?;
+        mesh.set_colours(colours)?;
+        Ok(mesh)
+    }
+
+    /// The bare mesh.
+    fn bare(&self) -> Result<Mesh> {
+        Ok(Mesh::from_triangles(self.vertices.clone(), &self.faces)?)
+    }
+
+    /// The object shaded, seen from `elevation` radians above its equator
+    /// (orthographic, z up), every point in its nearest cell's colour.
+    fn picture(&self, near: &Nearest<'_>, colours: &[[u8; 3]], elevation: f64) -> Result<Pixmap> {
+        let (sin_e, cos_e) = elevation.sin_cos();
+        let towards = [0.0, -cos_e, sin_e]; // towards the viewer
+        let right = [1.0, 0.0, 0.0];
+        let up = cross(towards, right);
+        let screen: Vec<[f64; 3]> = self
+            .vertices
+            .iter()
+            .map(|p| [dot(*p, right), dot(*p, up), dot(*p, towards)])
+            .collect();
+        let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+        for s in &screen {
+            for k in 0..2 {
+                lo[k] = lo[k].min(s[k]);
+                hi[k] = hi[k].max(s[k]);
+            }
+        }
+        let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-9);
+        let scale = 2.0 * PICTURE_SIDE / (span * 1.1);
+        let margin = 0.05 * span;
+        let w = (((hi[0] - lo[0]) + 2.0 * margin) * scale).ceil().max(1.0) as usize;
+        let h = (((hi[1] - lo[1]) + 2.0 * margin) * scale).ceil().max(1.0) as usize;
+        let to_px = |s: &[f64; 3]| {
+            [
+                (s[0] - lo[0] + margin) * scale,
+                (hi[1] - s[1] + margin) * scale,
+                s[2],
+            ]
+        };
+        // Depth and face of the nearest triangle per pixel.
+        let mut depth = vec![f64::MIN; w * h];
+        let mut face = vec![u32::MAX; w * h];
+        for (fi, f) in self.faces.iter().enumerate() {
+            let [a, b, c] = f.map(|i| to_px(&screen[i as usize]));
+            let area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+            if area.abs() < 1e-12 {
+                continue;
+            }
+            let x0 = a[0].min(b[0]).min(c[0]).floor().max(0.0) as usize;
+            let x1 = (a[0].max(b[0]).max(c[0]).ceil() as usize).min(w);
+            let y0 = a[1].min(b[1]).min(c[1]).floor().max(0.0) as usize;
+            let y1 = (a[1].max(b[1]).max(c[1]).ceil() as usize).min(h);
+            for y in y0..y1 {
+                for x in x0..x1 {
+                    let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
+                    let wa = ((b[0] - px) * (c[1] - py) - (b[1] - py) * (c[0] - px)) / area;
+                    let wb = ((c[0] - px) * (a[1] - py) - (c[1] - py) * (a[0] - px)) / area;
+                    let wc = 1.0 - wa - wb;
+                    if wa < 0.0 || wb < 0.0 || wc < 0.0 {
+                        continue;
+                    }
+                    let z = wa * a[2] + wb * b[2] + wc * c[2];
+                    let k = y * w + x;
+                    if z > depth[k] {
+                        depth[k] = z;
+                        face[k] = fi as u32;
+                    }
+                }
+            }
+        }
+        let light = normalised(LIGHT);
+        let mut rgb = vec![0u8; w * h * 3];
+        rgb.par_chunks_mut(w * 3).enumerate().for_each(|(y, row)| {
+            for x in 0..w {
+                let k = y * w + x;
+                let px = &mut row[x * 3..x * 3 + 3];
+                let Some(f) = self.faces.get(face[k] as usize) else {
+                    px.copy_from_slice(&BACKGROUND);
+                    continue;
+                };
+                // Back to the object: the point on the triangle's plane.
+                let [a, b, c] = self.corners(f);
+                let n = normalised(cross(sub(b, a), sub(c, a)));
+                let s = [
+                    (x as f64 + 0.5) / scale + lo[0] - margin,
+                    hi[1] + margin - (y as f64 + 0.5) / scale,
+                    depth[k],
+                ];
+                let p = [0, 1, 2].map(|i| right[i] * s[0] + up[i] * s[1] + towards[i] * s[2]);
+                let colour = near
+                    .kind_at(&p)
+                    .and_then(|t| colours.get(usize::from(t)))
+                    .copied()
+                    .unwrap_or([128; 3]);
+                let shade = 0.35 + 0.65 * dot(n, light).abs();
+                for (o, c) in px.iter_mut().zip(colour) {
+                    *o = (f64::from(c) * shade).round().clamp(0.0, 255.0) as u8;
+                }
+            }
+        });
+        let mut pixmap = Pixmap::new(w as u32, h as u32)
+            .ok_or_else(|| anyhow::anyhow!("a {w}×{h} picture is too large"))?;
+        for (px, c) in pixmap.pixels_mut().iter_mut().zip(rgb.chunks_exact(3)) {
+            *px = PremultipliedColorU8::from_rgba(c[0], c[1], c[2], 255)
+                .unwrap_or(PremultipliedColorU8::TRANSPARENT);
+        }
+        picture::half(&pixmap)
+    }
+}
+
+/// Writes (those of `kinds`) the outputs of a surface mosaic's run.
+///
+/// # Errors
+/// When the records cannot be read or a file cannot be written.
+pub fn write<R: Records + ?Sized>(
+    params: &Params,
+    names: &[&str],
+    records: &R,
+    dir: &Path,
+    kinds: Kinds,
+) -> Result<Vec<PathBuf>> {
+    let colours: Vec<[u8; 3]> = params.types.iter().map(|t| t.colour).collect();
+    let (shell, days) = read(records)?;
+    let elevation = match params.surface.map(|s| s.control) {
+        Some(ControlMap::Plane) => 1.0,
+        _ => 0.35,
+    };
+    let mut written = Vec::new();
+    let mut counts = Vec::new();
+    let mut areas = Vec::new();
+    for d in &days {
+        let mut by_type = vec![0usize; colours.len()];
+        for c in &d.cells {
+            if let Some(n) = by_type.get_mut(usize::from(c.1)) {
+                *n += 1;
+            }
+        }
+        counts.push((d.day, by_type));
+        let near = Nearest::new(&d.cells, &shell);
+        if kinds.has(Kind::Csv) {
+            let path = dir.join(format!("cells_day{:02}.csv", d.day));
+            OutputFile::write_with(&path, |f| {
+                f.write_all(b"id,type,x,y,z\n")?;
+                for (id, kind, p) in &d.cells {
+                    writeln!(f, "{id},{kind},{},{},{}", p[0], p[1], p[2])?;
+                }
+                Ok(())
+            })?;
+            written.push(path);
+            areas.push(Some(shell.areas(&near, colours.len())));
+        } else {
+            areas.push(None);
+        }
+        if kinds.has(Kind::Png) {
+            let path = dir.join(format!("surface_day{:02}.png", d.day));
+            picture::save(&shell.picture(&near, &colours, elevation)?, &path)?;
+            written.push(path);
+        }
+    }
+    if kinds.has(Kind::Csv) {
+        let path = dir.join("types.csv");
+        write_shares(names, &counts, &areas, &path)?;
+        written.push(path);
+    }
+    if kinds.has(Kind::Obj) {
+        let path = dir.join("surface.obj");
+        written.extend(write_obj(&path, &shell.bare()?, ObjStyle::PLAIN)?);
+    }
+    if let Some(last) = days.last() {
+        let near = Nearest::new(&last.cells, &shell);
+        if kinds.has(Kind::Png) {
+            let path = dir.join("surface.png");
+            picture::save(&shell.picture(&near, &colours, elevation)?, &path)?;
+            written.push(path);
+        }
+        if kinds.has(Kind::Obj) {
+            let path = dir.join("mosaic.obj");
+            let style = ObjStyle {
+                vertex_colours: true,
+                ..ObjStyle::PLAIN
+            };
+            written.extend(write_obj(
+                &path,
+                &shell.coloured(&near, &colours, 2)?,
+                style,
+            )?);
+        }
+    }
+    if counts.len() > 1 {
+        let chart = cells_chart(&colours, names, &counts);
+        if kinds.has(Kind::Png) {
+            let path = dir.join("cells.png");
+            write_png(&chart, &path, 900, 500)?;
+            written.push(path);
+        }
+        if kinds.has(Kind::Svg) {
+            let path = dir.join("cells.svg");
+            write_svg(&chart, &path, 900, 500)?;
+            written.push(path);
+        }
+    }
+    if let Some(mask) = &params.mask {
+        let path = dir.join("mask.pbm");
+        write_atomic(&path, morphogen_scenario::mask::to_pbm(mask).as_bytes())?;
+        written.push(path);
+    }
+    Ok(written)
+}

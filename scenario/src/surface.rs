@@ -1,0 +1,198 @@
+//! `[mosaic.surface]`: a built-in shape of the thesis's objects or a
+//! user's OBJ mesh (read with `tobj`, polygons fanned into triangles),
+//! checked into what the core's [`Surface`] borrows.
+
+use morphogen::fx::Fx;
+use morphogen::mosaic::shapes::{Shape, Tessellation};
+use morphogen::mosaic::surface::{ControlMap, Surface, SurfaceMesh};
+
+use crate::check::{Files, Invalid, Result, fx, int, invalid};
+use crate::schema::{self, Include};
+
+/// A checked surface, owning its triangles.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceSpec {
+    /// A built-in shape, or `None` for `vertices` and `faces`.
+    pub shape: Option<Tessellation>,
+    /// A user mesh's vertices.
+    pub vertices: Vec<[Fx; 3]>,
+    /// A user mesh's triangles.
+    pub faces: Vec<[u32; 3]>,
+    /// How (u, v) is read on it.
+    pub control: ControlMap,
+}
+
+impl SurfaceSpec {
+    /// The core's view of it.
+    #[must_use]
+    pub fn surface(&self) -> Surface<'_> {
+        Surface {
+            mesh: match self.shape {
+                Some(t) => SurfaceMesh::Shape(t),
+                None => SurfaceMesh::Triangles {
+                    vertices: &self.vertices,
+                    faces: &self.faces,
+                },
+            },
+            control: self.control,
+        }
+    }
+}
+
+fn need<T: Copy>(key: &str, v: Option<T>, shape: &str) -> Result<T> {
+    v.ok_or_else(|| Invalid {
+        key: format!("mosaic.surface.{key}"),
+        message: format!("is needed for shape = {shape:?}"),
+    })
+}
+
+fn size(key: &str, v: Option<f64>, shape: &str) -> Result<Fx> {
+    fx(
+        &format!("mosaic.surface.{key}"),
+        need(key, v, shape)?,
+        0.01,
+        256.0,
+    )
+}
+
+/// Checks `[mosaic.surface]`.
+///
+/// # Errors
+/// A missing or out-of-range key, an unknown shape, or an OBJ file that
+/// cannot be read.
+pub fn check(s: &schema::Surface, files: &dyn Files) -> Result<SurfaceSpec> {
+    let name = s.shape.as_str();
+    let rings = int("mosaic.surface.rings", s.rings.unwrap_or(24), 2, 1024)?;
+    let segments = int("mosaic.surface.segments", s.segments.unwrap_or(48), 3, 1024)?;
+    let tess = |shape| {
+        Some(Tessellation {
+            shape,
+            rings,
+            segments,
+        })
+    };
+    let shape = match name {
+        "ellipsoid" => {
+            let r = need("radii", s.radii, name)?;
+            let radii =
+                [0, 1, 2].map(|i| fx(&format!("mosaic.surface.radii[{i}]"), r[i], 0.01, 256.0));
+            let [a, b, c] = radii;
+            tess(Shape::Ellipsoid {
+                radii: [a?, b?, c?],
+                square: fx("mosaic.surface.square", s.square.unwrap_or(0.0), 0.0, 0.9)?,
+            })
+        }
+        "stem" => tess(Shape::Stem {
+            radius: size("radius", s.radius, name)?,
+            length: size("length", s.length, name)?,
+            ribs: int(
+                "mosaic.surface.ribs",
+                s.ribs.unwrap_or(0),
+                0,
+                i64::from(segments / 4),
+            )?,
+            depth: fx("mosaic.surface.depth", s.depth.unwrap_or(0.0), 0.0, 0.5)?,
+        }),
+        "cap" => tess(Shape::Cap {
+            radius: size("radius", s.radius, name)?,
+            height: size("height", s.height, name)?,
+            rim: int("mosaic.surface.rim", s.rim.unwrap_or(100), 10, 170)?,
+        }),
+        "heart-leaf" | "strap-leaf" => tess(Shape::Leaf {
+            length: size("length", s.length, name)?,
+            width: size("width", s.width, name)?,
+            heart: name == "heart-leaf",
+            cup: fx("mosaic.surface.cup", s.cup.unwrap_or(0.0), 0.0, 1.0)?,
+        }),
+        "obj" => None,
+        other => {
+            return invalid(
+                "mosaic.surface.shape",
+                format!(
+                    "{other:?} (allowed: \"ellipsoid\", \"stem\", \"cap\", \"heart-leaf\", \"strap-leaf\", \"obj\")"
+                ),
+            );
+        }
+    };
+    let leaf = matches!(name, "heart-leaf" | "strap-leaf");
+    let control = match s.control.as_deref() {
+        None if leaf => ControlMap::Plane,
+        None | Some("cylinder") => ControlMap::Cylinder,
+        Some("plane") => ControlMap::Plane,
+        Some(other) => {
+            return invalid(
+                "mosaic.surface.control",
+                format!("{other:?} (allowed: \"cylinder\", \"plane\")"),
+            );
+        }
+    };
+    let (vertices, faces) = match shape {
+        Some(_) => (Vec::new(), Vec::new()),
+        None => {
+            let file = need_file(s)?;
+            let bytes = match file {
+                Include::Path(path) => files.read(path).or_else(|e| {
+                    invalid("mosaic.surface.file", format!("cannot read {path}: {e}"))
+                })?,
+                Include::Inline { text } => text.clone().into_bytes(),
+            };
+            obj(&bytes)?
+        }
+    };
+    Ok(SurfaceSpec {
+        shape,
+        vertices,
+        faces,
+        control,
+    })
+}
+
+fn need_file(s: &schema::Surface) -> Result<&Include> {
+    s.file.as_ref().ok_or_else(|| Invalid {
+        key: "mosaic.surface.file".into(),
+        message: "is needed for shape = \"obj\" (a path to an OBJ file)".into(),
+    })
+}
+
+/// A user mesh: vertices and triangles by vertex index.
+type Triangles = (Vec<[Fx; 3]>, Vec<[u32; 3]>);
+
+/// The vertices and triangles of an OBJ file (every object in it, as one
+/// mesh; polygons fanned into triangles).
+fn obj(bytes: &[u8]) -> Result<Triangles> {
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ..tobj::LoadOptions::default()
+    };
+    let mut reader = std::io::BufReader::new(bytes);
+    let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
+        Err(tobj::LoadError::MaterialParseError)
+    })
+    .or_else(|e| invalid("mosaic.surface.file", format!("not a usable OBJ file: {e}")))?;
+    let mut vertices = Vec::new();
+    let mut faces = Vec::new();
+    for m in &models {
+        let base = vertices.len() as u32;
+        for (i, p) in m.mesh.positions.chunks_exact(3).enumerate() {
+            let key = |c: usize| {
+                format!(
+                    "mosaic.surface.file: vertex {} coordinate {c}",
+                    base as usize + i + 1
+                )
+            };
+            vertices.push([
+                fx(&key(0), f64::from(p[0]), -512.0, 512.0)?,
+                fx(&key(1), f64::from(p[1]), -512.0, 512.0)?,
+                fx(&key(2), f64::from(p[2]), -512.0, 512.0)?,
+            ]);
+        }
+        for t in m.mesh.indices.chunks_exact(3) {
+            faces.push([base + t[0], base + t[1], base + t[2]]);
+        }
+    }
+    if faces.is_empty() {
+        return invalid("mosaic.surface.file", "the OBJ file has no face (f lines)");
+    }
+    Ok((vertices, faces))
+}
