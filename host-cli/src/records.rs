@@ -220,10 +220,9 @@ mod tests {
     use morphogen::stream::{Decoder, Encoder, Sink};
 
     use super::*;
-    use crate::exec::Bytes;
 
     fn stream() -> Vec<u8> {
-        let mut encoder = Encoder::new(Bytes::default());
+        let mut encoder = Encoder::new(Vec::new());
         for i in 0..50u32 {
             encoder
                 .record(&Record::FrameStart {
@@ -241,7 +240,7 @@ mod tests {
                 .unwrap();
             encoder.record(&Record::FrameEnd { frame: i }).unwrap();
         }
-        encoder.into_writer().0
+        encoder.into_writer()
     }
 
     /// Every frame as the reader sees it through a tiny buffer.

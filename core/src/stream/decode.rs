@@ -19,7 +19,7 @@ pub struct Decoded {
 ///
 /// ```
 /// use morphogen::stream::{Decoder, Encoder, Record, Sink};
-/// let mut enc = Encoder::new(heapless::Vec::<u8, 64>::new());
+/// let mut enc = Encoder::new(Vec::new());
 /// enc.record(&Record::FrameEnd { frame: 3 }).unwrap();
 /// let bytes = enc.into_writer();
 /// let frames: Vec<_> = Decoder::new(&bytes).collect();
@@ -111,11 +111,11 @@ mod tests {
     }
 
     fn encode(records: &[Record]) -> Vec<u8> {
-        let mut enc = Encoder::new(heapless::Vec::<u8, 4096>::new());
+        let mut enc = Encoder::new(Vec::new());
         for r in records {
             enc.record(r).unwrap();
         }
-        enc.into_writer().to_vec()
+        enc.into_writer()
     }
 
     #[test]

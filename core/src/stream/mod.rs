@@ -16,7 +16,7 @@ mod record;
 
 pub use decode::{Decoded, Decoder};
 pub use digest::{ParamDigest, StreamDigest, params_digest};
-pub use encode::{ByteSink, Encoder, MAX_FRAME, MAX_RECORD};
+pub use encode::{Encoder, MAX_FRAME, MAX_RECORD};
 pub use read::{FrameError, Reader};
 pub use record::{FORMAT_VERSION, Header, PresetName, Record};
 
@@ -36,12 +36,12 @@ pub trait Sink {
 pub enum SinkError {
     /// The record does not fit `MAX_RECORD` bytes once encoded.
     RecordTooLarge,
-    /// The byte sink is full (its capacity in bytes).
+    /// A bounded sink is full (its capacity).
     Full {
         /// The capacity that was exceeded.
         capacity: u32,
     },
-    /// The byte sink failed to write.
+    /// The writer (an `embedded_io::Write`) or the display failed.
     Write,
 }
 
@@ -54,7 +54,7 @@ impl core::fmt::Display for SinkError {
             SinkError::Full { capacity } => {
                 write!(f, "the output buffer is full ({capacity} bytes)")
             }
-            SinkError::Write => f.write_str("the output could not be written"),
+            SinkError::Write => write!(f, "the output could not be written"),
         }
     }
 }

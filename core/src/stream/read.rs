@@ -79,10 +79,10 @@ const MAX_DECODED: usize = MAX_RECORD + 4;
 ///
 /// ```
 /// use morphogen::stream::{Encoder, Reader, Record, Sink};
-/// let mut encoder = Encoder::new(heapless::Vec::<u8, 64>::new());
+/// let mut wire = Vec::new();
+/// let mut encoder = Encoder::new(&mut wire);
 /// encoder.record(&Record::FrameEnd { frame: 3 }).unwrap();
 /// encoder.record(&Record::FrameEnd { frame: 4 }).unwrap();
-/// let mut wire = encoder.into_writer();
 /// wire[2] ^= 0x40; // a flipped bit in the first frame
 ///
 /// let mut reader = Reader::new();
@@ -239,13 +239,13 @@ mod tests {
 
     /// The stream of `records` and the end of each frame in it.
     fn wire(records: &[Record]) -> (Vec<u8>, Vec<usize>) {
-        let mut encoder = Encoder::new(heapless::Vec::<u8, 4096>::new());
+        let mut encoder = Encoder::new(Vec::new());
         let mut ends = Vec::new();
         for r in records {
             encoder.record(r).unwrap();
             ends.push(encoder.bytes() as usize);
         }
-        (encoder.into_writer().to_vec(), ends)
+        (encoder.into_writer(), ends)
     }
 
     /// Every frame `bytes` gives, fed one byte at a time.
