@@ -190,8 +190,7 @@ fn framing(c: &mut Criterion) {
         b.iter(|| {
             (0..BATCH)
                 .map(|_| {
-                    Encoder::<heapless::Vec<u8, 1>>::encode_frame(black_box(&segment), &mut frame)
-                        .unwrap_or(0)
+                    Encoder::<Vec<u8>>::encode_frame(black_box(&segment), &mut frame).unwrap_or(0)
                 })
                 .sum::<usize>()
         })

@@ -14,13 +14,14 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use morphogen::embedded_io::{ErrorType, Write};
 use morphogen::mosaic::grid::Grid;
 use morphogen::mosaic::relaxation::{self, Forces};
 use morphogen::mosaic::store::{self, CellStore};
 use morphogen::mosaic::{MAX_TYPES, McuStore, Mosaic, Params, host_capacity};
 use morphogen::preset::{Model, Preset};
 use morphogen::sim::Simulation;
-use morphogen::stream::{ByteSink, Encoder, Record, Sink, SinkError};
+use morphogen::stream::{Encoder, Record, Sink, SinkError};
 use morphogen_scenario::run::VecStore;
 
 /// Calls `f` with the built-in mosaic scenario `name` and its parameters.
@@ -37,9 +38,17 @@ fn with_mosaic<R>(name: &str, f: impl FnOnce(&Preset<'_>, &Params<'_>) -> R) -> 
 /// Counts bytes like a file would.
 struct Bytes(u64);
 
-impl ByteSink for Bytes {
-    fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError> {
+impl ErrorType for Bytes {
+    type Error = core::convert::Infallible;
+}
+
+impl Write for Bytes {
+    fn write(&mut self, bytes: &[u8]) -> Result<usize, Self::Error> {
         self.0 += bytes.len() as u64;
+        Ok(bytes.len())
+    }
+
+    fn flush(&mut self) -> Result<(), Self::Error> {
         Ok(())
     }
 }

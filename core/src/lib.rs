@@ -10,7 +10,9 @@
 //! // crate `morphogen-scenario`; the firmware compiles its presets in.
 //! let scenario = morphogen_scenario::builtin("growth-curve").unwrap();
 //! scenario.with_preset(|preset| {
-//!     let mut encoder = Encoder::new(heapless::Vec::<u8, 16384>::new());
+//!     // Any `embedded_io::Write`: a `Vec<u8>` (the `std` feature), a
+//!     // UART on a device.
+//!     let mut encoder = Encoder::new(Vec::new());
 //!     preset::run(preset, 0, &mut Runner::new(), &mut encoder, &mut |_| {}).unwrap();
 //!     assert!(encoder.frames() > 700);
 //!     println!("digest {:016x}", encoder.digest());
@@ -51,3 +53,14 @@ pub mod stream;
 pub mod turtle;
 
 pub use error::Error;
+
+/// The writer traits the [`stream::Encoder`] writes through, in the version
+/// it implements them for.
+pub use embedded_io;
+/// The `std::io` adapters of `embedded_io`, for [`stream::Encoder`] on a
+/// file (with the `std` feature).
+#[cfg(feature = "std")]
+pub use embedded_io_adapters;
+/// The fixed-capacity types of the public API ([`stream::PresetName`]), in
+/// the version it uses.
+pub use heapless;

@@ -7,7 +7,7 @@
 
 use core::ptr::{read_volatile, write_volatile};
 
-use morphogen::stream::{ByteSink, SinkError};
+use morphogen::embedded_io::{ErrorType, Write};
 
 /// The LM3S6965's device interrupts (IRQ 0 to 43, data sheet table 2-9);
 /// an ARMv6-M core (the thumbv6m build) takes at most 32.
@@ -115,7 +115,7 @@ pub fn init_clock() {
     });
 }
 
-/// UART0 as a [`ByteSink`]: 115 200 baud, 8N1, no flow control. A
+/// UART0 as an [`embedded_io::Write`](Write): 115 200 baud, 8N1, no flow control. A
 /// zero-sized token; [`Uart0::init`] is the only way to get one.
 #[derive(Clone, Copy, Debug)]
 pub struct Uart0 {
@@ -138,18 +138,31 @@ impl Uart0 {
         Uart0 { _private: () }
     }
 
-    /// Waits until the last byte has left the shift register.
-    pub fn flush(&self) {
-        while read(UART_FR) & FR_BUSY != 0 {}
-    }
 }
 
-impl ByteSink for Uart0 {
-    fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError> {
+/// Writing blocks while the transmit FIFO is full, and never fails.
+impl ErrorType for Uart0 {
+    type Error = core::convert::Infallible;
+}
+
+impl Write for Uart0 {
+    fn write(&mut self, bytes: &[u8]) -> Result<usize, Self::Error> {
+        self.write_all(bytes)?;
+        Ok(bytes.len())
+    }
+
+    /// Every byte, without the default's loop (and its panic on `Ok(0)`).
+    fn write_all(&mut self, bytes: &[u8]) -> Result<(), Self::Error> {
         for &b in bytes {
             while read(UART_FR) & FR_TXFF != 0 {}
             write(UART_DR, u32::from(b));
         }
+        Ok(())
+    }
+
+    /// Waits until the last byte has left the shift register.
+    fn flush(&mut self) -> Result<(), Self::Error> {
+        while read(UART_FR) & FR_BUSY != 0 {}
         Ok(())
     }
 }

@@ -45,6 +45,7 @@ mod presets {
 use core::mem::MaybeUninit;
 
 use cortex_m_rt::{ExceptionFrame, entry, exception};
+use morphogen::embedded_io::Write;
 use morphogen::preset::{self, Runner};
 use morphogen::sim::Progress;
 use morphogen::stream::Encoder;
@@ -74,7 +75,7 @@ fn main() -> ! {
         exit::failure()
     };
     board::init_clock();
-    let uart = Uart0::init();
+    let mut uart = Uart0::init();
     let clock = InstructionClock::start(peripherals.SYST);
 
     defmt::info!(
@@ -143,7 +144,7 @@ fn main() -> ! {
             }
         }
     }
-    uart.flush();
+    let Ok(()) = uart.flush();
 
     let stack = StackPaint::measure();
     defmt::info!(

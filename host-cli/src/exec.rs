@@ -10,9 +10,10 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use morphogen::embedded_io::{ErrorKind, ErrorType, Write};
 use morphogen::preset::{Model, Preset};
 use morphogen::sim::Progress;
-use morphogen::stream::{ByteSink, Encoder, SinkError};
+use morphogen::stream::{Encoder, SinkError};
 use morphogen_scenario::Scenario;
 
 use crate::atomic::OutputFile;
@@ -27,24 +28,30 @@ pub const DEFAULT_MAX_STREAM_MB: u32 = 128;
 /// The name of a run's stream file in its output folder.
 pub const STREAM_FILE: &str = "stream.bin";
 
-/// A growable byte sink for the host, holding at most `limit` bytes.
+/// A growable byte buffer for the host, holding at most `limit` bytes;
+/// past it, writes fail.
 #[derive(Debug)]
-pub struct Bytes(pub Vec<u8>, pub u64);
-
-impl Default for Bytes {
-    fn default() -> Bytes {
-        Bytes(Vec::new(), u64::from(DEFAULT_MAX_STREAM_MB) << 20)
-    }
+struct Bytes {
+    bytes: Vec<u8>,
+    limit: u64,
+    past_cap: bool,
 }
 
-impl ByteSink for Bytes {
-    fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError> {
-        if (self.0.len() + bytes.len()) as u64 > self.1 {
-            return Err(SinkError::Full {
-                capacity: u32::try_from(self.1 >> 20).unwrap_or(u32::MAX),
-            });
+impl ErrorType for Bytes {
+    type Error = ErrorKind;
+}
+
+impl Write for Bytes {
+    fn write(&mut self, bytes: &[u8]) -> Result<usize, ErrorKind> {
+        if (self.bytes.len() + bytes.len()) as u64 > self.limit {
+            self.past_cap = true;
+            return Err(ErrorKind::OutOfMemory);
         }
-        self.0.extend_from_slice(bytes);
+        self.bytes.extend_from_slice(bytes);
+        Ok(bytes.len())
+    }
+
+    fn flush(&mut self) -> Result<(), ErrorKind> {
         Ok(())
     }
 }
@@ -154,13 +161,18 @@ pub fn run(scenario: &Scenario, seed: u64, progress: bool) -> Result<Run> {
 /// the cap and the flag that raises it.
 pub fn run_limited(scenario: &Scenario, seed: u64, progress: bool, max_mb: u32) -> Result<Run> {
     let bar = Bar::new(scenario.name(), progress);
-    let mut encoder = Encoder::new(Bytes(Vec::new(), u64::from(max_mb) << 20));
-    scenario.with_preset(|p| run_preset(p, seed, scenario.name(), &bar, max_mb, &mut encoder))?;
+    let mut encoder = Encoder::new(Bytes {
+        bytes: Vec::new(),
+        limit: u64::from(max_mb) << 20,
+        past_cap: false,
+    });
+    let ran = scenario.with_preset(|p| run_preset(p, seed, &bar, &mut encoder));
+    explain(ran, scenario.name(), max_mb, encoder.writer().past_cap)?;
     bar.finish();
     Ok(Run {
         digest: encoder.digest(),
         frames: encoder.frames(),
-        stream: encoder.into_writer().0,
+        stream: encoder.into_writer().bytes,
     })
 }
 
@@ -185,6 +197,7 @@ pub struct FileSink {
     written: u64,
     limit: u64,
     failure: Option<std::io::Error>,
+    past_cap: bool,
 }
 
 impl FileSink {
@@ -198,6 +211,7 @@ impl FileSink {
             written: 0,
             limit: u64::from(max_mb) << 20,
             failure: None,
+            past_cap: false,
         })
     }
 
@@ -210,20 +224,28 @@ impl FileSink {
     }
 }
 
-impl ByteSink for FileSink {
-    fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError> {
+impl ErrorType for FileSink {
+    type Error = ErrorKind;
+}
+
+impl Write for FileSink {
+    fn write(&mut self, bytes: &[u8]) -> Result<usize, ErrorKind> {
         let total = self.written + bytes.len() as u64;
         if total > self.limit {
-            return Err(SinkError::Full {
-                capacity: u32::try_from(self.limit >> 20).unwrap_or(u32::MAX),
-            });
+            self.past_cap = true;
+            return Err(ErrorKind::OutOfMemory);
         }
         std::io::Write::write_all(&mut self.file, bytes).map_err(|e| {
+            let kind = ErrorKind::from(e.kind());
             self.failure = Some(e);
-            SinkError::Write
+            kind
         })?;
         self.written = total;
-        Ok(())
+        Ok(bytes.len())
+    }
+
+    fn flush(&mut self) -> Result<(), ErrorKind> {
+        std::io::Write::flush(&mut self.file).map_err(|e| ErrorKind::from(e.kind()))
     }
 }
 
@@ -258,11 +280,11 @@ fn preset_to_file(
     path: &Path,
 ) -> Result<RunFile> {
     let mut encoder = Encoder::new(FileSink::create(path, max_mb)?);
-    let ran = run_preset(preset, seed, what, bar, max_mb, &mut encoder);
+    let ran = run_preset(preset, seed, bar, &mut encoder);
     if let Some(e) = encoder.writer().failure.take() {
         return Err(anyhow!(e).context(format!("cannot write {}", path.display())));
     }
-    ran?;
+    explain(ran, what, max_mb, encoder.writer().past_cap)?;
     let run = RunFile {
         path: path.to_path_buf(),
         bytes: encoder.bytes(),
@@ -273,24 +295,30 @@ fn preset_to_file(
     Ok(run)
 }
 
-/// Runs `preset` into `encoder`, whose stream is capped at `max_mb` MiB;
-/// errors name `what` (the scenario or the file).
-fn run_preset<W: ByteSink>(
+/// Runs `preset` into `encoder`.
+fn run_preset<W: Write>(
     preset: &Preset<'_>,
     seed: u64,
-    what: &str,
     bar: &Bar,
-    max_mb: u32,
     encoder: &mut Encoder<W>,
+) -> Result<(), morphogen::Error> {
+    morphogen_scenario::run::run(preset, seed, encoder, &mut |p| bar.report(p))
+}
+
+/// A run's error, naming `what` (the scenario or the file); a stream
+/// stopped `past_cap` names the cap of `max_mb` MiB and its flag.
+fn explain(
+    ran: Result<(), morphogen::Error>,
+    what: &str,
+    max_mb: u32,
+    past_cap: bool,
 ) -> Result<()> {
-    morphogen_scenario::run::run(preset, seed, encoder, &mut |p| bar.report(p)).map_err(
-        |e| match e {
-            morphogen::Error::Sink(SinkError::Full { .. }) => anyhow!(
-                "{what}: the stream passed {max_mb} MiB and was stopped (raise the cap with --max-stream-mb)"
-            ),
-            e => anyhow!("{what}: {e}"),
-        },
-    )
+    ran.map_err(|e| match e {
+        morphogen::Error::Sink(SinkError::Write) if past_cap => anyhow!(
+            "{what}: the stream passed {max_mb} MiB and was stopped (raise the cap with --max-stream-mb)"
+        ),
+        e => anyhow!("{what}: {e}"),
+    })
 }
 
 /// A progress bar on standard error that appears once a run has taken a

@@ -207,7 +207,6 @@ mod tests {
     use morphogen::stream::{Encoder, Header, Sink};
 
     use super::*;
-    use crate::exec::Bytes;
 
     #[test]
     fn every_kind_reads_as_the_json_it_was() {
@@ -263,11 +262,11 @@ mod tests {
             },
             Record::FrameEnd { frame: 3 },
         ];
-        let mut encoder = Encoder::new(Bytes::default());
+        let mut encoder = Encoder::new(Vec::new());
         for r in &records {
             encoder.record(r).unwrap();
         }
-        let text = stream(&encoder.into_writer().0);
+        let text = stream(&encoder.into_writer());
         let lines: Vec<serde_json::Value> = text
             .lines()
             .map(|l| serde_json::from_str(l).unwrap())

@@ -9,6 +9,7 @@ pub mod capture;
 pub mod exec;
 pub mod fixture;
 pub mod jsonl;
+pub mod listen;
 pub mod outputs;
 pub mod records;
 pub mod rig;

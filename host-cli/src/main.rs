@@ -9,7 +9,7 @@ use clap::{Parser, Subcommand};
 use morphogen_cli::outputs::Kinds;
 use morphogen_cli::stdout::StdoutError;
 use morphogen_cli::{
-    Outcome, atomic, body_input, capture, exec, fixture, jsonl, outputs, say, sweep, verify,
+    Outcome, atomic, body_input, capture, exec, fixture, jsonl, listen, outputs, say, sweep, verify,
 };
 use morphogen_scenario::Scenario;
 
@@ -150,6 +150,11 @@ enum Command {
     /// Run every combination of parameter values (on all cores) and
     /// tabulate the results in DIR/sweep.csv, one folder per run.
     Sweep(sweep::Args),
+    /// Decode records live from a serial port, a file or standard input
+    /// (SOURCE), check each stream against its fixture as it completes,
+    /// and draw it with --rig. Exit 1 on a mismatch or a stream without a
+    /// fixture (with --strict, on any bad frame too).
+    Listen(listen::Args),
     /// Decode a stream file into JSON Lines (the same as `records.jsonl`).
     Decode {
         /// The stream file.
@@ -331,6 +336,7 @@ fn dispatch(command: Command) -> Result<Outcome> {
             seed,
         ),
         Command::Sweep(args) => sweep::run(&args),
+        Command::Listen(args) => listen::run(&args),
         Command::Decode { file, out } => decode(&file, out.as_deref()),
     }
 }

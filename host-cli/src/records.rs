@@ -1,15 +1,15 @@
 //! Where the output writers read records from, as many passes as they
 //! need: a slice in memory, or a stream file read back frame by frame
-//! through a buffer of one frame ([`FrameReader`], the core
-//! [`Decoder`]'s framing over any [`BufRead`]), so that no writer holds a
-//! whole stream (docs/stream-format.md, "Framing").
+//! through the core's [`Reader`] ([`FrameReader`], the framing of
+//! [`Decoder`](morphogen::stream::Decoder) over any [`BufRead`]), so that
+//! no writer holds a whole stream (docs/stream-format.md, "Framing").
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-use morphogen::stream::{Decoded, Decoder, FrameError, MAX_FRAME, Record};
+use morphogen::stream::{Decoded, FrameError, Reader, Record};
 
 /// Where a record sits in its source: the byte offset of its frame in a
 /// stream file, its index in a slice. A later pass may start there.
@@ -138,15 +138,15 @@ impl Records for StreamFile {
     }
 }
 
-/// Reads frames one by one from a byte reader, exactly as [`Decoder`]
-/// reads them from a slice (same offsets, lengths and errors), holding at
-/// most one frame ([`MAX_FRAME`] bytes; the rest of a longer one is
-/// counted, not kept).
+/// Reads frames one by one from a byte reader, exactly as a
+/// [`Decoder`](morphogen::stream::Decoder) reads them from a slice (same
+/// offsets, lengths and errors): the core [`Reader`] fed one byte at a
+/// time, holding at most one frame.
 #[derive(Debug)]
 pub struct FrameReader<R> {
     input: R,
     offset: u64,
-    body: Vec<u8>,
+    reader: Reader,
 }
 
 impl<R: BufRead> FrameReader<R> {
@@ -155,7 +155,7 @@ impl<R: BufRead> FrameReader<R> {
         FrameReader {
             input,
             offset,
-            body: Vec::with_capacity(MAX_FRAME),
+            reader: Reader::new(),
         }
     }
 
@@ -164,10 +164,7 @@ impl<R: BufRead> FrameReader<R> {
     /// # Errors
     /// When the input cannot be read.
     pub fn next_frame(&mut self) -> io::Result<Option<Decoded>> {
-        self.body.clear();
         let start = self.offset;
-        // Bytes of the frame so far, its delimiter not included.
-        let mut len = 0u64;
         loop {
             let buf = match self.input.fill_buf() {
                 Ok(buf) => buf,
@@ -175,39 +172,29 @@ impl<R: BufRead> FrameReader<R> {
                 Err(e) => return Err(e),
             };
             if buf.is_empty() {
-                if len == 0 {
+                if self.offset == start {
                     return Ok(None);
                 }
-                self.offset += len;
+                self.reader = Reader::new();
                 return Ok(Some(Decoded {
                     offset: offset(start)?,
-                    len: offset(len)?,
+                    len: offset(self.offset - start)?,
                     result: Err(FrameError::Truncated),
                 }));
             }
-            let end = buf.iter().position(|&b| b == 0);
-            let taken = end.unwrap_or(buf.len());
-            let room = MAX_FRAME.saturating_sub(self.body.len()).min(taken);
-            self.body.extend_from_slice(&buf[..room]);
-            len += taken as u64;
-            match end {
-                Some(end) => {
-                    self.input.consume(end + 1);
-                    self.offset += len + 1;
-                    // As `Decoder::decode_frame`, which refuses a body this
-                    // long before looking at it.
-                    let result = if len > (MAX_FRAME - 1) as u64 {
-                        Err(FrameError::TooLong)
-                    } else {
-                        Decoder::decode_frame(&self.body)
-                    };
-                    return Ok(Some(Decoded {
-                        offset: offset(start)?,
-                        len: offset(len + 1)?,
-                        result,
-                    }));
-                }
-                None => self.input.consume(taken),
+            let ended = buf
+                .iter()
+                .enumerate()
+                .find_map(|(i, &byte)| Some((i + 1, self.reader.push(byte)?)));
+            let taken = ended.as_ref().map_or(buf.len(), |(taken, _)| *taken);
+            self.input.consume(taken);
+            self.offset += taken as u64;
+            if let Some((_, result)) = ended {
+                return Ok(Some(Decoded {
+                    offset: offset(start)?,
+                    len: offset(self.offset - start)?,
+                    result,
+                }));
             }
         }
     }
@@ -230,13 +217,12 @@ impl<R: BufRead> Iterator for FrameReader<R> {
 #[cfg(test)]
 mod tests {
     use morphogen::fx::Fx;
-    use morphogen::stream::{Encoder, Sink};
+    use morphogen::stream::{Decoder, Encoder, Sink};
 
     use super::*;
-    use crate::exec::Bytes;
 
     fn stream() -> Vec<u8> {
-        let mut encoder = Encoder::new(Bytes::default());
+        let mut encoder = Encoder::new(Vec::new());
         for i in 0..50u32 {
             encoder
                 .record(&Record::FrameStart {
@@ -254,7 +240,7 @@ mod tests {
                 .unwrap();
             encoder.record(&Record::FrameEnd { frame: i }).unwrap();
         }
-        encoder.into_writer().0
+        encoder.into_writer()
     }
 
     /// Every frame as the reader sees it through a tiny buffer.

@@ -558,11 +558,11 @@ fn decode_follows_the_stream_format_spec() {
         })
     };
     let encode = |records: &[Record]| {
-        let mut enc = Encoder::new(exec::Bytes::default());
+        let mut enc = Encoder::new(Vec::new());
         for r in records {
             enc.record(r).unwrap();
         }
-        enc.into_writer().0
+        enc.into_writer()
     };
     // A newer writer's record kind (tag 12) between known ones: skipped.
     let record = [12u8, 5];
@@ -652,7 +652,7 @@ fn a_capture_cannot_choose_its_fixture_by_a_path_in_its_name() {
     let tmp = tempfile::tempdir().unwrap();
     let fixtures = fixture_copy(tmp.path());
     for name in ["../fixtures/growth-curve", "/tmp/x", ".hidden", "a/b"] {
-        let mut enc = Encoder::new(exec::Bytes::default());
+        let mut enc = Encoder::new(Vec::new());
         enc.record(&Record::Header(Header {
             version: 1,
             preset: name.try_into().unwrap(),
@@ -662,7 +662,7 @@ fn a_capture_cannot_choose_its_fixture_by_a_path_in_its_name() {
         .unwrap();
         enc.record(&Record::FrameEnd { frame: 0 }).unwrap();
         let capture = tmp.path().join("capture.bin");
-        fs::write(&capture, enc.into_writer().0).unwrap();
+        fs::write(&capture, enc.into_writer()).unwrap();
         let o = morphogen(&[
             "verify",
             "--stream",

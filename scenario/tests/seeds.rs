@@ -1,24 +1,15 @@
 //! `Scenario::uses_seed` says the truth: with two seeds, a built-in's
 //! stream differs beyond the header exactly when it says it uses the seed.
 
-use morphogen::stream::{ByteSink, Encoder, SinkError};
-
-struct Bytes(Vec<u8>);
-
-impl ByteSink for Bytes {
-    fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError> {
-        self.0.extend_from_slice(bytes);
-        Ok(())
-    }
-}
+use morphogen::stream::Encoder;
 
 /// The stream of `name` with `seed`, without its header record.
 fn body(scenario: &morphogen_scenario::Scenario, seed: u64) -> Vec<u8> {
-    let mut encoder = Encoder::new(Bytes(Vec::new()));
+    let mut encoder = Encoder::new(Vec::new());
     scenario
         .with_preset(|p| morphogen_scenario::run::run(p, seed, &mut encoder, &mut |_| {}))
         .expect("runs");
-    let bytes = encoder.into_writer().0;
+    let bytes = encoder.into_writer();
     let header = morphogen::stream::Decoder::new(&bytes)
         .next()
         .expect("a header");

@@ -1,26 +1,28 @@
 //! Fuzzes the stream decoder: any bytes are split into frames that tile
 //! the input (each `Decoded` starts where the last one ended and lies
-//! within the input), and every record decoded re-encodes to a frame that
-//! decodes to the same record. No input may panic.
+//! within the input), every record decoded re-encodes to a frame that
+//! decodes to the same record, and a `Reader` fed the bytes one at a time
+//! gives the same frames. No input may panic.
 //!
 //! `RUSTC_BOOTSTRAP=1 cargo fuzz run decode` from `core/` (or
 //! `bash scripts/fuzz.sh`; docs/robustness.md).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use morphogen::stream::{ByteSink, Decoder, Encoder, Sink, SinkError};
-
-/// The bytes an [`Encoder`] wrote.
-struct Bytes(Vec<u8>);
-
-impl ByteSink for Bytes {
-    fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError> {
-        self.0.extend_from_slice(bytes);
-        Ok(())
-    }
-}
+use morphogen::stream::{Decoder, Encoder, FrameError, Reader, Sink};
 
 fuzz_target!(|data: &[u8]| {
+    let mut reader = Reader::new();
+    let live: Vec<_> = data.iter().filter_map(|&b| reader.push(b)).collect();
+    let mut whole: Vec<_> = Decoder::new(data).map(|d| d.result).collect();
+    if whole.last() == Some(&Err(FrameError::Truncated)) {
+        whole.pop();
+        assert!(reader.pending() > 0, "a truncated frame is pending");
+    } else {
+        assert_eq!(reader.pending(), 0);
+    }
+    assert_eq!(live, whole, "the reader and the decoder differ");
+
     let mut next = 0;
     for frame in Decoder::new(data) {
         assert_eq!(frame.offset, next, "frames must tile the input");
@@ -37,11 +39,11 @@ fuzz_target!(|data: &[u8]| {
         );
         next = end;
         if let Ok(record) = frame.result {
-            let mut encoder = Encoder::new(Bytes(Vec::new()));
+            let mut encoder = Encoder::new(Vec::new());
             encoder
                 .record(&record)
                 .expect("a decoded record re-encodes");
-            let bytes = encoder.into_writer().0;
+            let bytes = encoder.into_writer();
             let back: Vec<_> = Decoder::new(&bytes).collect();
             assert_eq!(back.len(), 1);
             assert_eq!(back[0].len, bytes.len());

@@ -1,63 +1,8 @@
-//! Reading frames back: typed errors for corrupt or truncated frames, and
-//! resynchronisation at the next zero byte.
+//! Reading the frames of a whole byte string (a file, a capture): the
+//! [`Reader`]'s frames with their places, and a truncated last frame.
 
 use super::Record;
-use super::digest::FRAME_CRC;
-use super::encode::{MAX_FRAME, MAX_RECORD};
-
-/// Why a frame could not be decoded.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[non_exhaustive]
-pub enum FrameError {
-    /// The bytes between two delimiters are not valid COBS.
-    Cobs,
-    /// Longer than [`MAX_FRAME`]: not a frame of this format.
-    TooLong,
-    /// Fewer than 5 decoded bytes: no room for a record and its CRC.
-    TooShort,
-    /// The CRC-32 does not match the record bytes.
-    Crc {
-        /// The CRC carried by the frame.
-        carried: u32,
-        /// The CRC of the bytes received.
-        computed: u32,
-    },
-    /// The CRC matches but the bytes are not a record of this version.
-    Record,
-    /// A well-formed frame (its CRC checks) of a record kind this reader
-    /// does not know: a newer writer's. Receivers skip it
-    /// (docs/stream-format.md); it is not a corrupt frame.
-    UnknownKind {
-        /// The record's tag.
-        tag: u32,
-    },
-    /// The input ended without a closing zero byte.
-    Truncated,
-}
-
-impl core::fmt::Display for FrameError {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            FrameError::Cobs => f.write_str("invalid COBS encoding"),
-            FrameError::TooLong => write!(f, "frame longer than MAX_FRAME = {MAX_FRAME} bytes"),
-            FrameError::TooShort => f.write_str("frame too short for a record and its CRC"),
-            FrameError::Crc { carried, computed } => {
-                write!(
-                    f,
-                    "CRC mismatch (frame carries {carried:#010x}, bytes give {computed:#010x})"
-                )
-            }
-            FrameError::Record => f.write_str("CRC is valid but the bytes are not a known record"),
-            FrameError::UnknownKind { tag } => {
-                write!(f, "a record of unknown kind (tag {tag}), skipped")
-            }
-            FrameError::Truncated => f.write_str("truncated: the stream ends inside a frame"),
-        }
-    }
-}
-
-impl core::error::Error for FrameError {}
+use super::read::{FrameError, Reader};
 
 /// One frame read from a byte string.
 #[derive(Clone, Debug, PartialEq)]
@@ -74,7 +19,7 @@ pub struct Decoded {
 ///
 /// ```
 /// use morphogen::stream::{Decoder, Encoder, Record, Sink};
-/// let mut enc = Encoder::new(heapless::Vec::<u8, 64>::new());
+/// let mut enc = Encoder::new(Vec::new());
 /// enc.record(&Record::FrameEnd { frame: 3 }).unwrap();
 /// let bytes = enc.into_writer();
 /// let frames: Vec<_> = Decoder::new(&bytes).collect();
@@ -92,61 +37,6 @@ impl<'a> Decoder<'a> {
     pub fn new(input: &'a [u8]) -> Decoder<'a> {
         Decoder { input, pos: 0 }
     }
-
-    /// Decodes one frame's bytes (without its delimiter).
-    ///
-    /// # Errors
-    /// Why the frame is unreadable.
-    pub fn decode_frame(body: &[u8]) -> Result<Record, FrameError> {
-        if body.len() > MAX_FRAME - 1 {
-            return Err(FrameError::TooLong);
-        }
-        let mut raw = [0u8; MAX_FRAME];
-        let len = cobs::decode(body, &mut raw).map_err(|_| FrameError::Cobs)?;
-        let raw = raw.get(..len).ok_or(FrameError::Cobs)?;
-        if len < 5 {
-            return Err(FrameError::TooShort);
-        }
-        if len > MAX_RECORD + 4 {
-            return Err(FrameError::TooLong);
-        }
-        let (record, crc) = raw.split_at(len - 4);
-        let carried = u32::from_le_bytes(crc.try_into().map_err(|_| FrameError::TooShort)?);
-        let computed = FRAME_CRC.checksum(record);
-        if carried != computed {
-            return Err(FrameError::Crc { carried, computed });
-        }
-        match postcard::take_from_bytes::<Record>(record) {
-            Ok((r, [])) => Ok(r),
-            _ => match tag(record) {
-                Some(tag) if tag >= RECORD_KINDS => Err(FrameError::UnknownKind { tag }),
-                _ => Err(FrameError::Record),
-            },
-        }
-    }
-}
-
-impl FrameError {
-    /// Whether the frame is damaged (and not merely of a newer kind).
-    #[must_use]
-    pub fn is_corrupt(&self) -> bool {
-        !matches!(self, FrameError::UnknownKind { .. })
-    }
-}
-
-/// Record kinds of this version (tags 0 to 11, docs/stream-format.md).
-const RECORD_KINDS: u32 = 12;
-
-/// The record's tag: postcard's leading varint.
-fn tag(record: &[u8]) -> Option<u32> {
-    let mut value = 0u32;
-    for (i, &b) in record.iter().take(5).enumerate() {
-        value |= u32::from(b & 0x7F) << (7 * i);
-        if b & 0x80 == 0 {
-            return Some(value);
-        }
-    }
-    None
 }
 
 impl Iterator for Decoder<'_> {
@@ -158,22 +48,22 @@ impl Iterator for Decoder<'_> {
             return None;
         }
         let offset = self.pos;
-        let Some(end) = rest.iter().position(|&b| b == 0) else {
-            self.pos = self.input.len();
-            return Some(Decoded {
-                offset,
-                len: rest.len(),
-                result: Err(FrameError::Truncated),
-            });
-        };
-        self.pos += end + 1;
-        let result = rest
-            .get(..end)
-            .map_or(Err(FrameError::Truncated), Decoder::decode_frame);
+        let mut reader = Reader::new();
+        for (i, &byte) in rest.iter().enumerate() {
+            if let Some(result) = reader.push(byte) {
+                self.pos += i + 1;
+                return Some(Decoded {
+                    offset,
+                    len: i + 1,
+                    result,
+                });
+            }
+        }
+        self.pos = self.input.len();
         Some(Decoded {
             offset,
-            len: end + 1,
-            result,
+            len: rest.len(),
+            result: Err(FrameError::Truncated),
         })
     }
 }
@@ -185,6 +75,7 @@ mod tests {
 
     use super::*;
     use crate::fx::Fx;
+    use crate::stream::digest::FRAME_CRC;
     use crate::stream::{Encoder, Header, Sink};
 
     fn sample_records() -> Vec<Record> {
@@ -220,11 +111,11 @@ mod tests {
     }
 
     fn encode(records: &[Record]) -> Vec<u8> {
-        let mut enc = Encoder::new(heapless::Vec::<u8, 4096>::new());
+        let mut enc = Encoder::new(Vec::new());
         for r in records {
             enc.record(r).unwrap();
         }
-        enc.into_writer().to_vec()
+        enc.into_writer()
     }
 
     #[test]

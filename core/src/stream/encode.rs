@@ -1,5 +1,7 @@
 //! Framing records for the wire: postcard, CRC-32, COBS, zero delimiter.
 
+use embedded_io::Write;
+
 use super::digest::{FRAME_CRC, StreamDigest};
 use super::{Record, Sink, SinkError};
 
@@ -9,24 +11,33 @@ pub const MAX_RECORD: usize = 96;
 /// overhead (1 byte per 254) and the zero delimiter.
 pub const MAX_FRAME: usize = MAX_RECORD + 4 + (MAX_RECORD + 4) / 254 + 2;
 
-/// Where encoded bytes go: a UART, a file, a buffer.
-pub trait ByteSink {
-    /// Writes all of `bytes`.
-    ///
-    /// # Errors
-    /// When the bytes cannot be written.
-    fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError>;
-}
-
-/// A fixed-capacity buffer is a byte sink; a full one is [`SinkError::Full`].
-impl<const N: usize> ByteSink for heapless::Vec<u8, N> {
-    fn write_all(&mut self, bytes: &[u8]) -> Result<(), SinkError> {
-        self.extend_from_slice(bytes)
-            .map_err(|()| SinkError::Full { capacity: N as u32 })
-    }
-}
-
-/// The sink that frames records onto a [`ByteSink`] and digests the stream.
+/// The sink that frames records onto an [`embedded_io::Write`] — a
+/// UART, a `&mut [u8]`, a `Vec<u8>` (with the `std` feature) — and
+/// digests the stream.
+///
+/// ```
+/// use morphogen::stream::{Encoder, Record, Sink};
+/// let mut buffer = [0u8; 64];
+/// let mut encoder = Encoder::new(&mut buffer[..]);
+/// encoder.record(&Record::FrameEnd { frame: 3 }).unwrap();
+/// let len = encoder.bytes() as usize;
+/// assert_eq!(buffer[..len], [0x07, 0x02, 0x03, 0xc7, 0x21, 0xe6, 0xea, 0x00]);
+/// ```
+///
+/// A `std::io::Write`, such as a file, through the `std` feature's
+/// adapter:
+///
+/// ```
+/// # #[cfg(feature = "std")] {
+/// use morphogen::embedded_io_adapters::std::FromStd;
+/// use morphogen::stream::{Encoder, Record, Sink};
+/// let path = std::env::temp_dir().join("morphogen-doc-stream.bin");
+/// let mut encoder = Encoder::new(FromStd::new(std::fs::File::create(&path).unwrap()));
+/// encoder.record(&Record::FrameEnd { frame: 3 }).unwrap();
+/// drop(encoder);
+/// assert_eq!(std::fs::read(&path).unwrap().len(), 8);
+/// # }
+/// ```
 #[derive(Debug)]
 pub struct Encoder<W> {
     writer: W,
@@ -35,7 +46,7 @@ pub struct Encoder<W> {
     bytes: u64,
 }
 
-impl<W: ByteSink> Encoder<W> {
+impl<W: Write> Encoder<W> {
     /// An encoder writing to `writer`.
     pub fn new(writer: W) -> Encoder<W> {
         Encoder {
@@ -92,12 +103,12 @@ impl<W: ByteSink> Encoder<W> {
     }
 }
 
-impl<W: ByteSink> Sink for Encoder<W> {
+impl<W: Write> Sink for Encoder<W> {
     fn record(&mut self, record: &Record) -> Result<(), SinkError> {
         let mut frame = [0u8; MAX_FRAME];
         let len = Self::encode_frame(record, &mut frame)?;
         let bytes = frame.get(..len).ok_or(SinkError::RecordTooLarge)?;
-        self.writer.write_all(bytes)?;
+        self.writer.write_all(bytes).map_err(|_| SinkError::Write)?;
         self.digest.update(bytes);
         self.frames += 1;
         self.bytes += len as u64;

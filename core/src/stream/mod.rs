@@ -4,17 +4,20 @@
 //! A simulation pushes [`Record`]s into a [`Sink`]. The [`Encoder`] sink
 //! turns each record into a frame — postcard bytes, a CRC-32, COBS, a zero
 //! delimiter — and keeps a CRC-64 digest of every byte it wrote. The
-//! [`Decoder`] reads frames back, reports corrupt or truncated ones as
-//! typed errors and resynchronises at the next zero byte.
+//! [`Reader`] takes frames back one byte at a time, reports corrupt ones
+//! as typed errors and resynchronises at the next zero byte; the
+//! [`Decoder`] reads a whole byte string with it.
 
 mod decode;
 mod digest;
 mod encode;
+mod read;
 mod record;
 
-pub use decode::{Decoded, Decoder, FrameError};
+pub use decode::{Decoded, Decoder};
 pub use digest::{ParamDigest, StreamDigest, params_digest};
-pub use encode::{ByteSink, Encoder, MAX_FRAME, MAX_RECORD};
+pub use encode::{Encoder, MAX_FRAME, MAX_RECORD};
+pub use read::{FrameError, Reader};
 pub use record::{FORMAT_VERSION, Header, PresetName, Record};
 
 /// Where records go.
@@ -33,12 +36,12 @@ pub trait Sink {
 pub enum SinkError {
     /// The record does not fit `MAX_RECORD` bytes once encoded.
     RecordTooLarge,
-    /// The byte sink is full (its capacity in bytes).
+    /// A bounded sink is full (its capacity).
     Full {
         /// The capacity that was exceeded.
         capacity: u32,
     },
-    /// The byte sink failed to write.
+    /// The writer (an `embedded_io::Write`) or the display failed.
     Write,
 }
 
@@ -51,7 +54,7 @@ impl core::fmt::Display for SinkError {
             SinkError::Full { capacity } => {
                 write!(f, "the output buffer is full ({capacity} bytes)")
             }
-            SinkError::Write => f.write_str("the output could not be written"),
+            SinkError::Write => write!(f, "the output could not be written"),
         }
     }
 }

@@ -1,0 +1,352 @@
+//! Receiving frames one byte at a time, as a device reads its UART or a
+//! host its serial port: each zero byte ends a frame and gives its record
+//! or why it is unreadable, and the next frame starts after it
+//! (docs/stream-format.md, "Receiving").
+
+use cobs::{DecodeResult, DecoderState};
+
+use super::Record;
+use super::digest::FRAME_CRC;
+use super::encode::{MAX_FRAME, MAX_RECORD};
+
+/// Why a frame could not be decoded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum FrameError {
+    /// The bytes between two delimiters are not valid COBS.
+    Cobs,
+    /// Longer than [`MAX_FRAME`]: not a frame of this format.
+    TooLong,
+    /// Fewer than 5 decoded bytes: no room for a record and its CRC.
+    TooShort,
+    /// The CRC-32 does not match the record bytes.
+    Crc {
+        /// The CRC carried by the frame.
+        carried: u32,
+        /// The CRC of the bytes received.
+        computed: u32,
+    },
+    /// The CRC matches but the bytes are not a record of this version.
+    Record,
+    /// A well-formed frame (its CRC checks) of a record kind this reader
+    /// does not know: a newer writer's. Receivers skip it
+    /// (docs/stream-format.md); it is not a corrupt frame.
+    UnknownKind {
+        /// The record's tag.
+        tag: u32,
+    },
+    /// The input ended without a closing zero byte.
+    Truncated,
+}
+
+impl core::fmt::Display for FrameError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            FrameError::Cobs => f.write_str("invalid COBS encoding"),
+            FrameError::TooLong => write!(f, "frame longer than MAX_FRAME = {MAX_FRAME} bytes"),
+            FrameError::TooShort => f.write_str("frame too short for a record and its CRC"),
+            FrameError::Crc { carried, computed } => {
+                write!(
+                    f,
+                    "CRC mismatch (frame carries {carried:#010x}, bytes give {computed:#010x})"
+                )
+            }
+            FrameError::Record => f.write_str("CRC is valid but the bytes are not a known record"),
+            FrameError::UnknownKind { tag } => {
+                write!(f, "a record of unknown kind (tag {tag}), skipped")
+            }
+            FrameError::Truncated => f.write_str("truncated: the stream ends inside a frame"),
+        }
+    }
+}
+
+impl core::error::Error for FrameError {}
+
+impl FrameError {
+    /// Whether the frame is damaged (and not merely of a newer kind).
+    #[must_use]
+    pub fn is_corrupt(&self) -> bool {
+        !matches!(self, FrameError::UnknownKind { .. })
+    }
+}
+
+/// The decoded bytes of the largest frame: a record and its CRC-32.
+const MAX_DECODED: usize = MAX_RECORD + 4;
+
+/// Reads frames one byte at a time, holding at most one frame: one byte
+/// in, at most one record out. A damaged frame costs that frame only.
+///
+/// ```
+/// use morphogen::stream::{Encoder, Reader, Record, Sink};
+/// let mut wire = Vec::new();
+/// let mut encoder = Encoder::new(&mut wire);
+/// encoder.record(&Record::FrameEnd { frame: 3 }).unwrap();
+/// encoder.record(&Record::FrameEnd { frame: 4 }).unwrap();
+/// wire[2] ^= 0x40; // a flipped bit in the first frame
+///
+/// let mut reader = Reader::new();
+/// let frames: Vec<_> = wire.iter().filter_map(|&byte| reader.push(byte)).collect();
+/// assert!(frames[0].is_err());
+/// assert_eq!(frames[1], Ok(Record::FrameEnd { frame: 4 }));
+/// ```
+#[derive(Debug)]
+pub struct Reader {
+    cobs: DecoderState,
+    decoded: heapless::Vec<u8, MAX_DECODED>,
+    /// Bytes of the frame so far, its delimiter not included.
+    wire: usize,
+    /// The frame's first fault, reported at its delimiter.
+    fault: Option<FrameError>,
+}
+
+impl Reader {
+    /// A reader waiting for the first byte of a frame.
+    #[must_use]
+    pub const fn new() -> Reader {
+        Reader {
+            cobs: DecoderState::Idle,
+            decoded: heapless::Vec::new(),
+            wire: 0,
+            fault: None,
+        }
+    }
+
+    /// Takes one byte off the wire. At a zero byte, the frame it ends:
+    /// its record, or why the frame is unreadable (checked in the order
+    /// of docs/stream-format.md); the reader then starts a new frame.
+    pub fn push(&mut self, byte: u8) -> Option<Result<Record, FrameError>> {
+        if byte != 0 {
+            self.take(byte);
+            return None;
+        }
+        let frame = self.finish();
+        *self = Reader::new();
+        Some(frame)
+    }
+
+    /// Bytes of the frame in progress (0 between frames): what a stream
+    /// that ends now would leave [`FrameError::Truncated`].
+    #[must_use]
+    pub fn pending(&self) -> usize {
+        self.wire
+    }
+
+    fn take(&mut self, byte: u8) {
+        self.wire = self.wire.saturating_add(1);
+        if self.fault.is_some() {
+            return;
+        }
+        // Longer than any frame: refused before it is decoded.
+        if self.wire > MAX_FRAME - 1 {
+            self.fault = Some(FrameError::TooLong);
+            return;
+        }
+        match self.cobs.feed(byte) {
+            Ok(DecodeResult::DataContinue(b)) => {
+                if self.decoded.push(b).is_err() {
+                    self.fault = Some(FrameError::TooLong);
+                }
+            }
+            Ok(DecodeResult::NoData | DecodeResult::DataComplete) => {}
+            Err(_) => self.fault = Some(FrameError::Cobs),
+        }
+    }
+
+    /// The frame the zero byte just received ends.
+    fn finish(&mut self) -> Result<Record, FrameError> {
+        if let Some(fault) = self.fault {
+            return Err(fault);
+        }
+        // An empty frame is not valid COBS.
+        if self.wire == 0 {
+            return Err(FrameError::Cobs);
+        }
+        match self.cobs.feed(0) {
+            Ok(DecodeResult::DataComplete) => record(&self.decoded),
+            _ => Err(FrameError::Cobs),
+        }
+    }
+}
+
+impl Default for Reader {
+    fn default() -> Reader {
+        Reader::new()
+    }
+}
+
+/// The record in a COBS-decoded frame: record bytes, then their CRC-32.
+fn record(decoded: &[u8]) -> Result<Record, FrameError> {
+    let Some(split) = decoded.len().checked_sub(4).filter(|&n| n > 0) else {
+        return Err(FrameError::TooShort);
+    };
+    let (record, crc) = decoded.split_at(split);
+    let carried = u32::from_le_bytes(crc.try_into().map_err(|_| FrameError::TooShort)?);
+    let computed = FRAME_CRC.checksum(record);
+    if carried != computed {
+        return Err(FrameError::Crc { carried, computed });
+    }
+    match postcard::take_from_bytes::<Record>(record) {
+        Ok((r, [])) => Ok(r),
+        _ => match tag(record) {
+            Some(tag) if tag >= RECORD_KINDS => Err(FrameError::UnknownKind { tag }),
+            _ => Err(FrameError::Record),
+        },
+    }
+}
+
+/// Record kinds of this version (tags 0 to 11, docs/stream-format.md).
+const RECORD_KINDS: u32 = 12;
+
+/// The record's tag: postcard's leading varint.
+fn tag(record: &[u8]) -> Option<u32> {
+    let mut value = 0u32;
+    for (i, &b) in record.iter().take(5).enumerate() {
+        value |= u32::from(b & 0x7F) << (7 * i);
+        if b & 0x80 == 0 {
+            return Some(value);
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use std::vec::Vec;
+
+    use super::*;
+    use crate::fx::Fx;
+    use crate::stream::{Encoder, Header, Sink};
+
+    fn records() -> Vec<Record> {
+        let mut records = std::vec![Record::Header(Header {
+            version: 1,
+            preset: "croton".try_into().unwrap(),
+            seed: 7,
+            params: 0x0123_4567_89ab_cdef,
+        })];
+        for i in 0..6u32 {
+            records.push(Record::Cell {
+                id: i * 1000,
+                kind: i as u8,
+                p: [Fx::from_ratio(i as i32, 3), -Fx::ONE],
+            });
+        }
+        records.push(Record::FrameEnd { frame: 0 });
+        records
+    }
+
+    /// The stream of `records` and the end of each frame in it.
+    fn wire(records: &[Record]) -> (Vec<u8>, Vec<usize>) {
+        let mut encoder = Encoder::new(Vec::new());
+        let mut ends = Vec::new();
+        for r in records {
+            encoder.record(r).unwrap();
+            ends.push(encoder.bytes() as usize);
+        }
+        (encoder.into_writer(), ends)
+    }
+
+    /// Every frame `bytes` gives, fed one byte at a time.
+    fn read(bytes: &[u8]) -> Vec<Result<Record, FrameError>> {
+        let mut reader = Reader::new();
+        bytes.iter().filter_map(|&b| reader.push(b)).collect()
+    }
+
+    #[test]
+    fn frames_come_out_at_their_delimiters_only() {
+        let records = records();
+        let (bytes, ends) = wire(&records);
+        let mut reader = Reader::new();
+        let mut out = Vec::new();
+        for (i, &b) in bytes.iter().enumerate() {
+            if let Some(frame) = reader.push(b) {
+                assert!(ends.contains(&(i + 1)), "a frame ended at byte {i}");
+                assert_eq!(reader.pending(), 0);
+                out.push(frame.unwrap());
+            }
+        }
+        assert_eq!(out, records);
+    }
+
+    #[test]
+    fn a_flipped_bit_costs_exactly_its_frame() {
+        let records = records();
+        let (bytes, ends) = wire(&records);
+        for (k, &end) in ends.iter().enumerate() {
+            let start = if k == 0 { 0 } else { ends[k - 1] };
+            for i in start..end {
+                for bit in 0..8 {
+                    let mut damaged = bytes.clone();
+                    damaged[i] ^= 1 << bit;
+                    let frames = read(&damaged);
+                    let good: Vec<&Record> =
+                        frames.iter().filter_map(|f| f.as_ref().ok()).collect();
+                    // A flipped delimiter joins the frame to the next one.
+                    let lost = if i == end - 1 { k..=k + 1 } else { k..=k };
+                    let want: Vec<&Record> = records
+                        .iter()
+                        .enumerate()
+                        .filter(|(j, _)| !lost.contains(j))
+                        .map(|(_, r)| r)
+                        .collect();
+                    assert_eq!(good, want, "bit {bit} of byte {i} (frame {k})");
+                    // Reported as an error, or (the last delimiter) left
+                    // pending as a truncated frame.
+                    let last_delimiter = i == bytes.len() - 1;
+                    assert_eq!(frames.iter().any(Result::is_err), !last_delimiter);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn an_overlong_frame_names_the_limit_and_the_next_one_reads() {
+        let mut bytes = std::vec![9u8; 300];
+        bytes.push(0);
+        let (tail, _) = wire(&records()[..2]);
+        bytes.extend(&tail);
+        let mut reader = Reader::new();
+        for &b in &bytes[..300] {
+            assert_eq!(reader.push(b), None);
+        }
+        assert_eq!(reader.pending(), 300);
+        let e = reader.push(0).unwrap().unwrap_err();
+        assert_eq!(e, FrameError::TooLong);
+        assert_eq!(
+            std::format!("{e}"),
+            "frame longer than MAX_FRAME = 102 bytes"
+        );
+        let rest: Vec<_> = bytes[301..]
+            .iter()
+            .filter_map(|&b| reader.push(b))
+            .collect();
+        assert_eq!(rest, [Ok(records()[0].clone()), Ok(records()[1].clone())]);
+    }
+
+    #[test]
+    fn a_reader_that_joins_mid_frame_loses_only_that_frame() {
+        let records = records();
+        let (bytes, ends) = wire(&records);
+        let frames = read(&bytes[ends[2] - 4..]);
+        assert!(frames[0].is_err());
+        let good: Vec<Record> = frames.into_iter().skip(1).map(Result::unwrap).collect();
+        assert_eq!(good, records[3..]);
+    }
+
+    #[test]
+    fn empty_and_short_frames_are_errors_in_the_documented_order() {
+        assert_eq!(read(&[0]), [Err(FrameError::Cobs)]);
+        assert_eq!(read(&[3, 1, 0]), [Err(FrameError::Cobs)]);
+        assert_eq!(read(&[5, 1, 2, 3, 4, 0]), [Err(FrameError::TooShort)]);
+        let mut tagged = std::vec![5u8, 0, 0, 0, 0];
+        tagged[1..].copy_from_slice(&FRAME_CRC.checksum(&[5]).to_le_bytes());
+        let mut framed = [0u8; 16];
+        let n = cobs::encode(&[&[5u8][..], &tagged[1..]].concat(), &mut framed);
+        let mut bytes = framed[..n].to_vec();
+        bytes.push(0);
+        // Tag 5 (a polygon) without its fields.
+        assert_eq!(read(&bytes), [Err(FrameError::Record)]);
+    }
+}

@@ -1,0 +1,153 @@
+//! `morphogen listen` on a file, on a damaged file and on a live
+//! pseudo-terminal (issue 17, item 3).
+
+use std::io::{BufRead, BufReader, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use morphogen_cli::exec;
+
+/// The fixtures of the workspace.
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures")
+}
+
+/// A preset's stream, made by the same code as `morphogen run`.
+fn stream(preset: &str) -> Vec<u8> {
+    let scenario = exec::find(preset, &[]).unwrap();
+    exec::run(&scenario, scenario.seed(), false).unwrap().stream
+}
+
+fn listen(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_morphogen"))
+        .arg("listen")
+        .args(args)
+        .args(["--fixtures", fixtures().to_str().unwrap()])
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn a_file_of_two_streams_is_verified_and_drawn() {
+    let dir = tempfile::tempdir().unwrap();
+    let capture = dir.path().join("capture.bin");
+    let mut bytes = stream("growth-curve");
+    bytes.extend(stream("long-bone"));
+    std::fs::write(&capture, &bytes).unwrap();
+    let out = dir.path().join("out");
+    let o = listen(&[
+        capture.to_str().unwrap(),
+        "--rig",
+        "32x16",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{stdout}");
+    assert!(stdout.contains("ok        growth-curve (10304 bytes, digest 3796d9cd8193fce1)"));
+    assert!(stdout.contains("ok        long-bone"), "{stdout}");
+    assert!(stdout.contains("2 stream(s), 0 bad frame(s)"), "{stdout}");
+    for name in ["growth-curve", "long-bone"] {
+        let png = out.join(name).join("rig-32x16.png");
+        assert!(std::fs::metadata(&png).unwrap().len() > 100, "{name}");
+    }
+}
+
+#[test]
+fn a_flipped_bit_costs_its_frame_and_fails_the_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let capture = dir.path().join("capture.bin");
+    let mut bytes = stream("growth-curve");
+    bytes[5000] ^= 0x10;
+    bytes.extend(stream("long-bone"));
+    std::fs::write(&capture, &bytes).unwrap();
+    let o = listen(&[capture.to_str().unwrap()]);
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr),
+    );
+    assert_eq!(o.status.code(), Some(1), "{stdout}{stderr}");
+    assert!(
+        stderr.contains("growth-curve: bad frame at byte 4989 of the stream (4989 of the source), skipped: CRC mismatch"),
+        "{stderr}"
+    );
+    // Only that record is lost: the check names it, and the next stream
+    // is whole.
+    assert!(
+        stdout.contains("MISMATCH  growth-curve (digest e7751bc4831d9828, fixture 3796d9cd8193fce1, 1 bad frame(s) skipped): first difference in frame 0, record 359 (byte 4989)"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("ok        long-bone"), "{stdout}");
+    assert!(stdout.contains("2 stream(s), 1 bad frame(s)"), "{stdout}");
+}
+
+#[test]
+fn a_missing_port_is_named() {
+    let o = listen(&["/dev/no-such-port"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr),
+        "error: no serial port or file /dev/no-such-port (SOURCE is a serial port, a file, or - for standard input)\n"
+    );
+}
+
+#[test]
+fn a_live_stream_through_a_pseudo_terminal_is_verified() {
+    let pty = nix::pty::openpty(None, None).unwrap();
+    let port = nix::unistd::ttyname(&pty.slave).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_morphogen"))
+        .args(["listen", port.to_str().unwrap(), "--streams", "1"])
+        .args(["--fixtures", fixtures().to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The port is ours once `listen` says so (opening it flushes what
+    // came before).
+    let (said, lines) = mpsc::channel();
+    let stderr = child.stderr.take().unwrap();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stderr).lines() {
+            if said.send(line.unwrap()).is_err() {
+                break;
+            }
+        }
+    });
+    let first = lines.recv_timeout(Duration::from_secs(30)).unwrap();
+    assert_eq!(
+        first,
+        format!("listening on {} at 115200 baud", port.display())
+    );
+    let mut master = std::fs::File::from(pty.master);
+    let bytes = stream("growth-curve");
+    let writer = std::thread::spawn(move || {
+        // A device's pace: the stream in pieces.
+        bytes
+            .chunks(512)
+            .try_for_each(|piece| master.write_all(piece))
+    });
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "listen did not finish"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    // Closing our end of the port ends a write still waiting.
+    drop(pty.slave);
+    writer.join().unwrap().unwrap();
+    let mut stdout = String::new();
+    std::io::Read::read_to_string(&mut child.stdout.take().unwrap(), &mut stdout).unwrap();
+    assert!(status.success(), "{stdout}");
+    assert!(
+        stdout.starts_with("ok        growth-curve (10304 bytes, digest 3796d9cd8193fce1)\n"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("1 stream(s), 0 bad frame(s)"), "{stdout}");
+}
