@@ -209,6 +209,8 @@ fn dispatch(command: Command) -> Result<Outcome> {
                             format!(
                                 "  (host only: up to ~{peak} cells at the fastest type's doubling, an MCU store holds {capacity})"
                             )
+                        } else if m.surface.is_some() {
+                            "  (host only: the firmware has no mesh store)".to_owned()
                         } else {
                             "  (host only: momentum needs a velocity per cell, an MCU store keeps none)"
                                 .to_owned()

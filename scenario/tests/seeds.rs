@@ -1,6 +1,7 @@
 //! `Scenario::uses_seed` says the truth: with two seeds, a built-in's
 //! stream differs beyond the header exactly when it says it uses the seed.
 
+use morphogen::preset::Model;
 use morphogen::stream::Encoder;
 
 /// The stream of `name` with `seed`, without its header record.
@@ -18,18 +19,12 @@ fn body(scenario: &morphogen_scenario::Scenario, seed: u64) -> Vec<u8> {
 
 #[test]
 fn the_seed_changes_a_stream_exactly_when_the_scenario_says_so() {
-    // The big mosaics are slow in a debug build: one small mosaic stands
-    // for them (a mosaic always draws its cells' positions).
-    let big_mosaics = [
-        "amanita",
-        "cactus-spots",
-        "croton",
-        "croton-ageing",
-        "philodendron",
-    ];
+    // Mosaics are slow in a debug build: the MCU-sized croton stands for
+    // them (a mosaic always draws its cells' positions).
     for scenario in morphogen_scenario::builtins() {
         let name = scenario.name();
-        if big_mosaics.contains(&name) || name.starts_with("watermelon") || name == "sansevieria" {
+        let mosaic = scenario.with_preset(|p| matches!(p.model, Model::Mosaic(_)));
+        if mosaic && name != "croton-mcu" {
             assert!(scenario.uses_seed(), "{name}");
             continue;
         }

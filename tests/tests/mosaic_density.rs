@@ -1,10 +1,8 @@
 //! Issue 16: relaxation keeps the cells evenly spread, so each type's share
 //! of the area (its cells' Voronoi regions, `types.csv`) follows its share
-//! of the cells on every streamed day, within 25 % (relative). Every
-//! mosaic preset but `philodendron` and `philodendron-ageing`, whose
-//! anisotropy field drives the F cells outwards (2× their share of the
-//! area), and `mushroom`, whose B cells fall to 4 % of the cells on a
-//! stem that keeps half the area (docs/mosaics.md).
+//! of the cells on every streamed day, within 25 % (relative): every
+//! mosaic preset, on the plane and on a mesh (the area there sampled on
+//! every triangle).
 
 use std::process::Command;
 
@@ -28,6 +26,16 @@ const PRESETS: &[&str] = &[
     "croton-yellow",
     "cactus-uniform",
     "cactus-structured",
+    "philodendron",
+    "philodendron-ageing",
+    "mushroom",
+    "watermelon-fruit",
+    "watermelon-sphere",
+    "watermelon-square",
+    "cactus-stem",
+    "amanita-mushroom",
+    "philodendron-leaf",
+    "sansevieria-leaf",
 ];
 const TOLERANCE: f64 = 0.25;
 
