@@ -19,7 +19,7 @@ use super::chart::{Axis, Chart, Series, series_colour, write_png, write_svg};
 use super::mesh::{self, GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, label_tile, picture,
-    pipeline, raster, rgb_bytes, trimmed,
+    pipeline, raster, trimmed,
 };
 use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
@@ -443,14 +443,15 @@ pub fn write<R: Records + ?Sized>(
             }
             let apng = apng.as_ref().zip(slot);
             if kinds.has(Kind::Png) || apng.is_some() {
-                let view = picture::half(&side_view(&f, title, b, side_width)?)?;
+                let side = side_view(&f, title, b, side_width)?;
+                let view = picture::half_rgb(&side)?;
                 if kinds.has(Kind::Png) {
                     let png_path = dir.join(format!("side_{:03}.png", f.index));
-                    picture::save(&view, &png_path)?;
+                    picture::save_rgb(side.width() / 2, side.height() / 2, &view, &png_path)?;
                     paths.push(png_path);
                 }
                 if let Some((apng, slot)) = apng {
-                    apng.frame(slot, rgb_bytes(&view), label(f.age))?;
+                    apng.frame(slot, view, label(f.age))?;
                 }
             }
             Ok(paths)

@@ -21,9 +21,7 @@ use super::animation::{AnimationWriter, Pixels};
 use super::body::{self, Extent, Frame, canvas, draw, rgb_of, solid};
 use super::chart::{Axis, Chart, Series, write_png, write_svg};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
-use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, label_tile, picture, rgb_bytes, trimmed,
-};
+use super::{ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, label_tile, picture, trimmed};
 use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
 
@@ -261,14 +259,14 @@ pub fn write<R: Records + ?Sized>(
             let mut one = canvas(width, height)?;
             let (ox, oy) = ((-b.0 * s) as f32, (b.3 * s) as f32);
             draw(&mut one, &f, BONE, s as f32, ox, oy);
-            let one = picture::half(&one)?;
+            let rgb = picture::half_rgb(&one)?;
             if kinds.has(Kind::Png) {
                 let png_path = dir.join(format!("bone_{:03}.png", f.index));
-                picture::save(&one, &png_path)?;
+                picture::save_rgb(one.width() / 2, one.height() / 2, &rgb, &png_path)?;
                 written.push(png_path);
             }
             if let Some(apng) = animated {
-                apng.frame(&rgb_bytes(&one), &label(f.age))?;
+                apng.frame(&rgb, &label(f.age))?;
             }
         }
         if kinds.has(Kind::Png) {
