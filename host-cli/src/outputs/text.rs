@@ -63,12 +63,13 @@ pub fn fx(out: &mut Vec<u8>, v: Fx, whole: Whole) {
 /// prints it (ties to even on the exact binary value, `-` on every
 /// negative value, `-0.00000` included), in integers.
 ///
-/// A finite `x` is `m · 2^e` with `m < 2⁵³`; below 2⁵², `e < 0` and
+/// A finite `x` is `m · 2^e` with `m < 2⁵³`; below 2⁴⁰, `e < 0` and
 /// `x · 10⁵ = m · 10⁵ / 2^−e`, whose numerator (< 2⁷⁰) fits a `u128`, so
-/// the quotient and the rest are exact. Larger or non-finite values (no
-/// picture holds one) go through the formatter.
+/// the quotient and the rest are exact, and the rounded quotient
+/// (< 2⁵⁷) fits a `u64`. Larger or non-finite values (no picture holds
+/// one) go through the formatter.
 pub fn decimals_5(out: &mut Vec<u8>, x: f64) {
-    const LIMIT: f64 = (1u64 << 52) as f64;
+    const LIMIT: f64 = (1u64 << 40) as f64;
     if !x.is_finite() || x.abs() >= LIMIT {
         let mut s = String::new();
         let _ = write!(s, "{x:.5}");
@@ -85,11 +86,11 @@ pub fn decimals_5(out: &mut Vec<u8>, x: f64) {
         (fraction | 1 << 52, 1075 - biased)
     };
     let scaled = u128::from(mantissa) * 100_000;
-    // `shift` ≥ 1 below 2⁵²; past 127 the value is far below half a unit.
+    // `shift` > 12 below 2⁴⁰; past 127 the value is far below half a unit.
     let rounded = if shift > 127 {
         0
     } else {
-        let (quotient, rest) = (scaled >> shift, scaled & ((1 << shift) - 1));
+        let (quotient, rest) = ((scaled >> shift) as u64, scaled & ((1 << shift) - 1));
         let half = 1u128 << (shift - 1);
         match rest.cmp(&half) {
             std::cmp::Ordering::Greater => quotient + 1,
@@ -101,11 +102,14 @@ pub fn decimals_5(out: &mut Vec<u8>, x: f64) {
         out.push(b'-');
     }
     int(out, rounded / 100_000);
-    out.push(b'.');
-    let decimals = (rounded % 100_000) as u32;
-    let digits = itoa::Buffer::new().format(decimals).len();
-    out.extend(std::iter::repeat_n(b'0', 5 - digits));
-    int(out, decimals);
+    let mut decimals = [b'.', b'0', b'0', b'0', b'0', b'0'];
+    let mut rest = rounded % 100_000;
+    for digit in decimals[1..].iter_mut().rev() {
+        // Below 10: `rest % 10`.
+        *digit = b'0' + (rest % 10) as u8;
+        rest /= 10;
+    }
+    out.extend_from_slice(&decimals);
 }
 
 /// `x` as a fixed-point value, when it is one exactly (every coordinate
@@ -221,6 +225,8 @@ mod tests {
             f64::MIN_POSITIVE,
             5e-324,
             4.5e15,
+            1_099_511_627_775.999_9,
+            -1_099_511_627_776.0,
             1e300,
             f64::NAN,
             f64::NEG_INFINITY,
