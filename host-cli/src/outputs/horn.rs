@@ -23,6 +23,7 @@ use tiny_skia::{Color, Pixmap};
 
 use super::chart::{Axis, Chart, Series, write_png, write_svg};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
+use super::picture::Canvases;
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, label_tile, mesh, picture,
     pipeline, raster, trimmed,
@@ -628,6 +629,7 @@ pub fn write<R: Records + ?Sized>(
         // Every frame to the last one's scale, the skull end fixed.
         let fit = Fit::new(Some(&last), 800);
         let apng = OrderedAnimation::new(&path, 400, 400, picked.len())?;
+        let canvases = Canvases::new(800, 800, background());
         pipeline(
             |send| {
                 picked
@@ -636,10 +638,11 @@ pub fn write<R: Records + ?Sized>(
                     .try_for_each(|(slot, &k)| send((slot, frame_at(records, starts[k])?)))
             },
             |(slot, frame): (usize, Frame)| {
-                let mut p = Pixmap::new(800, 800).context("empty picture")?;
-                p.fill(background());
+                let mut p = canvases.take()?;
                 fit.draw(&mut p, (0, 0), &frame, j);
-                apng.frame(slot, picture::half_rgb(&p)?, label(&frame))
+                let rgb = picture::half_rgb(&p)?;
+                canvases.give_back(p);
+                apng.frame(slot, rgb, label(&frame))
             },
         )?;
         apng.finish()?;

@@ -5,9 +5,10 @@
 //! into an anti-aliased one.
 
 use std::path::Path;
+use std::sync::Mutex;
 
-use anyhow::{Context, Result, bail};
-use tiny_skia::{IntSize, Pixmap};
+use anyhow::{Context, Result, anyhow, bail};
+use tiny_skia::{Color, IntSize, Pixmap};
 
 use crate::atomic::OutputFile;
 
@@ -76,6 +77,58 @@ pub fn save_indexed(
         Some(palette.concat()),
         indices,
     )
+}
+
+/// Blank canvases of one size and background for frames drawn one after
+/// another, or by parallel workers: a canvas given back is handed out
+/// again, cleared, so a run of frames draws on a few pictures instead of
+/// allocating (and zeroing) one a frame.
+#[derive(Debug)]
+pub struct Canvases {
+    width: u32,
+    height: u32,
+    background: Color,
+    free: Mutex<Vec<Pixmap>>,
+}
+
+impl Canvases {
+    /// Canvases of `width × height` pixels filled with `background`.
+    #[must_use]
+    pub fn new(width: u32, height: u32, background: Color) -> Canvases {
+        Canvases {
+            width,
+            height,
+            background,
+            free: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// A blank canvas: one given back, or a new one.
+    ///
+    /// # Errors
+    /// When a side is 0 or the picture does not fit in memory.
+    pub fn take(&self) -> Result<Pixmap> {
+        let reused = self
+            .free
+            .lock()
+            .map_err(|_| anyhow!("a picture writer stopped"))?
+            .pop();
+        let mut canvas = match reused {
+            Some(canvas) => canvas,
+            None => {
+                Pixmap::new(self.width, self.height).context("picture size must be positive")?
+            }
+        };
+        canvas.fill(self.background);
+        Ok(canvas)
+    }
+
+    /// Gives `canvas` back for a later [`Canvases::take`].
+    pub fn give_back(&self, canvas: Pixmap) {
+        if let Ok(mut free) = self.free.lock() {
+            free.push(canvas);
+        }
+    }
 }
 
 /// `pixmap` at half its size, each pixel the average of its 2×2 block.
@@ -161,6 +214,18 @@ mod tests {
         save(&h, &path).unwrap();
         let back = Pixmap::load_png(&path).unwrap();
         assert_eq!(back.pixel(0, 0).unwrap().green(), 128);
+        let canvases = Canvases::new(3, 2, Color::BLACK);
+        let mut first = canvases.take().unwrap();
+        first.fill(Color::WHITE);
+        canvases.give_back(first);
+        let again = canvases.take().unwrap();
+        assert_eq!((again.width(), again.height()), (3, 2));
+        assert!(
+            again
+                .pixels()
+                .iter()
+                .all(|p| p.red() == 0 && p.alpha() == 255)
+        );
         let path = dir.path().join("i.png");
         save_indexed(2, 1, &[[1, 2, 3], [9, 8, 7]], &[1, 0], &path).unwrap();
         let back = Pixmap::load_png(&path).unwrap();
