@@ -269,7 +269,7 @@ pub fn write<R: Records + ?Sized>(
                 written.push(png_path);
             }
             if let Some(apng) = animated {
-                apng.frame(&rgb, &label(f.age))?;
+                apng.frame(rgb, &label(f.age))?;
             }
         }
         if kinds.has(Kind::Png) {
