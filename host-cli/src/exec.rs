@@ -274,39 +274,34 @@ fn preset_to_file(
 ) -> Result<RunFile> {
     let path = paths.stream;
     let mut encoder = Encoder::new(FileSink::create(path, max_mb)?);
-    let (ran, jsonl) = match paths.jsonl {
+    let mut jsonl = None;
+    let ran = match paths.jsonl {
         Some(jsonl_path) => {
             let mut lines = Lines::new(&mut encoder, OutputFile::create(jsonl_path)?);
             let ran = run_preset(preset, seed, what, bar, max_mb, &mut lines);
-            let jsonl = lines.into_inner();
-            (ran, Some((jsonl_path, jsonl)))
+            jsonl = Some(
+                lines
+                    .into_inner()
+                    .with_context(|| format!("cannot write {}", jsonl_path.display())),
+            );
+            ran
         }
-        None => (
-            run_preset(preset, seed, what, bar, max_mb, &mut encoder),
-            None,
-        ),
+        None => run_preset(preset, seed, what, bar, max_mb, &mut encoder),
     };
     if let Some(e) = encoder.writer().failure.take() {
         return Err(anyhow!(e).context(format!("cannot write {}", path.display())));
     }
-    let jsonl = jsonl
-        .map(|(jsonl_path, file)| {
-            file.with_context(|| format!("cannot write {}", jsonl_path.display()))
-                .map(|file| (jsonl_path, file))
-        })
-        .transpose()?;
+    let jsonl = jsonl.transpose()?;
     ran?;
     let run = RunFile {
         path: path.to_path_buf(),
         bytes: encoder.bytes(),
         digest: encoder.digest(),
         frames: encoder.frames(),
-        jsonl: jsonl
-            .as_ref()
-            .map(|(jsonl_path, _)| jsonl_path.to_path_buf()),
+        jsonl: paths.jsonl.map(Path::to_path_buf),
     };
     encoder.into_writer().finish()?;
-    if let Some((_, file)) = jsonl {
+    if let Some(file) = jsonl {
         file.finish()?;
     }
     Ok(run)
