@@ -2,7 +2,9 @@
 # What writing the outputs costs: for every preset (or those named), the
 # CPU of `morphogen verify` (the simulation alone) and of `morphogen run`
 # (simulation + stream.bin, records.jsonl, PNG/OBJ/CSV), and their ratio,
-# as a markdown table on standard output. Non-interactive.
+# as a markdown table on standard output, then a line with the ratios'
+# least, median and greatest (the presets named) and how many meet
+# issue 15's goal of 1.3x. Non-interactive.
 #
 #   scripts/bench-outputs.sh [--runs N] [--instructions] [--bin PATH] [PRESET …]
 #
@@ -23,7 +25,7 @@ while (($#)); do
     --runs) runs="$2"; shift 2 ;;
     --instructions) mode=instructions; shift ;;
     --bin) bin="$2"; shift 2 ;;
-    -h | --help) sed -n '2,14p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,16p' "$0"; exit 0 ;;
     *) presets+=("$1"); shift ;;
     esac
 done
@@ -41,6 +43,7 @@ if ((${#presets[@]} == 0)); then
 fi
 scratch="$(mktemp -d)"
 trap 'rm -rf "$scratch"' EXIT
+: >"$scratch/ratios"
 
 # The cost of one command: CPU seconds or instructions.
 cost() {
@@ -76,4 +79,16 @@ for p in "${presets[@]}"; do
     r="$(median <"$scratch/run")"
     ratio="$(awk -v v="$v" -v r="$r" 'BEGIN {if (v > 0) printf "%.2f", r / v; else print "n/a"}')"
     echo "| $p | $v | $r | $ratio |"
+    echo "$ratio $p" >>"$scratch/ratios"
 done
+
+# The summary: least, median and greatest ratio, and the presets at or
+# under the goal.
+echo
+sort -g "$scratch/ratios" | awk -v unit="$unit" '
+    $1 ~ /^[0-9.]+$/ {r[++n] = $1; name[n] = $2; if ($1 <= 1.3) met++}
+    END {
+        if (n == 0) exit
+        printf "run / verify (%s): min %s (%s), median %s, max %s (%s); %d of %d presets <= 1.3\n",
+            unit, r[1], name[1], r[int((n + 1) / 2)], r[n], name[n], met, n
+    }'

@@ -1,7 +1,8 @@
 //! Finding a scenario (a built-in preset by name, or a scenario file) and
 //! running it into an in-memory stream ([`run`], for fixtures) or straight
-//! into its stream file ([`run_to_file`], for `morphogen run`, whose other
-//! files are then drawn in passes over that file), with a progress bar on
+//! into its stream file and `records.jsonl` ([`run_to_file`], for
+//! `morphogen run`, whose other files are then drawn in passes over the
+//! stream file), with a progress bar on
 //! runs longer than a second. The presets are the scenario files of `scenarios/`,
 //! embedded by [`morphogen_scenario`].
 
@@ -13,12 +14,12 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use morphogen::embedded_io::{ErrorKind, ErrorType, Write};
 use morphogen::preset::{Model, Preset};
 use morphogen::sim::Progress;
-use morphogen::stream::{Encoder, SinkError};
+use morphogen::stream::{Encoder, Sink, SinkError};
 use morphogen_scenario::Scenario;
 
 use crate::atomic::OutputFile;
-use crate::outputs::{Kind, Kinds};
-use crate::records::{Place, StreamFile};
+use crate::jsonl::Lines;
+use crate::records::StreamFile;
 
 /// The default cap on a run's stream, MiB (`--max-stream-mb`): far above
 /// every preset (the largest streams 4 MB), and small enough that a
@@ -27,6 +28,9 @@ pub const DEFAULT_MAX_STREAM_MB: u32 = 128;
 
 /// The name of a run's stream file in its output folder.
 pub const STREAM_FILE: &str = "stream.bin";
+
+/// The name of a run's records as JSON Lines in its output folder.
+pub const JSONL_FILE: &str = "records.jsonl";
 
 /// A growable byte buffer for the host, holding at most `limit` bytes;
 /// past it, writes fail.
@@ -187,6 +191,8 @@ pub struct RunFile {
     pub digest: u64,
     /// Frames (= records) written.
     pub frames: u32,
+    /// Its records as JSON Lines, when they were written.
+    pub jsonl: Option<PathBuf>,
 }
 
 /// A stream file being written: buffered into a temporary file beside it
@@ -249,60 +255,88 @@ impl Write for FileSink {
     }
 }
 
-/// Runs `scenario` with `seed` straight into the stream file `path`
-/// (written whole or not at all), capped at `max_mb` MiB; shows a
-/// progress bar once the run has taken more than a second and `progress`
-/// is set.
+/// Where a run's files go: the stream file, and the JSON Lines file when
+/// one is wanted; each written whole or not at all.
+#[derive(Debug, Clone, Copy)]
+pub struct RunPaths<'a> {
+    /// The stream file, e.g. `out/ram-horn/stream.bin`.
+    pub stream: &'a Path,
+    /// Its records as JSON Lines, written as they come.
+    pub jsonl: Option<&'a Path>,
+}
+
+/// Runs `scenario` with `seed` straight into its files `paths`, the
+/// stream capped at `max_mb` MiB; shows a progress bar once the run has
+/// taken more than a second and `progress` is set.
 ///
 /// # Errors
-/// As [`run_limited`], or when the file cannot be written.
+/// As [`run_limited`], or when a file cannot be written.
 pub fn run_to_file(
     scenario: &Scenario,
     seed: u64,
     progress: bool,
     max_mb: u32,
-    path: &Path,
+    paths: RunPaths<'_>,
 ) -> Result<RunFile> {
     let bar = Bar::new(scenario.name(), progress);
     let run =
-        scenario.with_preset(|p| preset_to_file(p, seed, scenario.name(), &bar, max_mb, path))?;
+        scenario.with_preset(|p| preset_to_file(p, seed, scenario.name(), &bar, max_mb, paths))?;
     bar.finish();
     Ok(run)
 }
 
-/// Runs `preset` into the stream file `path`; errors name `what`.
+/// Runs `preset` into its files `paths`; errors name `what`.
 fn preset_to_file(
     preset: &Preset<'_>,
     seed: u64,
     what: &str,
     bar: &Bar,
     max_mb: u32,
-    path: &Path,
+    paths: RunPaths<'_>,
 ) -> Result<RunFile> {
+    let path = paths.stream;
     let mut encoder = Encoder::new(FileSink::create(path, max_mb)?);
-    let ran = run_preset(preset, seed, bar, &mut encoder);
+    let mut jsonl = None;
+    let ran = match paths.jsonl {
+        Some(jsonl_path) => {
+            let mut lines = Lines::new(&mut encoder, OutputFile::create(jsonl_path)?);
+            let ran = run_preset(preset, seed, bar, &mut lines);
+            jsonl = Some(
+                lines
+                    .into_inner()
+                    .with_context(|| format!("cannot write {}", jsonl_path.display())),
+            );
+            ran
+        }
+        None => run_preset(preset, seed, bar, &mut encoder),
+    };
     if let Some(e) = encoder.writer().failure.take() {
         return Err(anyhow!(e).context(format!("cannot write {}", path.display())));
     }
+    let jsonl = jsonl.transpose()?;
     explain(ran, what, max_mb, encoder.writer().past_cap)?;
     let run = RunFile {
         path: path.to_path_buf(),
         bytes: encoder.bytes(),
         digest: encoder.digest(),
         frames: encoder.frames(),
+        jsonl: paths.jsonl.map(Path::to_path_buf),
     };
     encoder.into_writer().finish()?;
+    if let Some(file) = jsonl {
+        file.finish()?;
+    }
     Ok(run)
 }
 
-/// Runs `preset` into `encoder`.
-fn run_preset<W: Write>(
+/// Runs `preset` into `sink`.
+fn run_preset(
     preset: &Preset<'_>,
     seed: u64,
     bar: &Bar,
-    encoder: &mut Encoder<W>,
+    sink: &mut dyn Sink,
 ) -> Result<(), morphogen::Error> {
-    morphogen_scenario::run::run(preset, seed, encoder, &mut |p| bar.report(p))
+    morphogen_scenario::run::run(preset, seed, sink, &mut |p| bar.report(p))
 }
 
 /// A run's error, naming `what` (the scenario or the file); a stream
@@ -369,7 +403,7 @@ impl Bar {
 pub const GRAMMAR_PRESET: &str = "grammar";
 
 /// Runs the grammar `text` (read from `file`, named in errors) with
-/// `seed` straight into the stream file `path`, as the stream of a preset
+/// `seed` straight into its files `paths`, as the stream of a preset
 /// called [`GRAMMAR_PRESET`]: streaming when context-free, otherwise
 /// buffered ([`morphogen_scenario::run::HOST_BUFFER_MODULES`] modules a
 /// buffer).
@@ -382,7 +416,7 @@ pub fn run_grammar(
     text: &str,
     seed: u64,
     max_stream_mb: u32,
-    path: &Path,
+    paths: RunPaths<'_>,
     progress: bool,
 ) -> Result<RunFile> {
     let mut probe = Box::new(morphogen::lsys::Grammar::new());
@@ -403,39 +437,30 @@ pub fn run_grammar(
         &file.display().to_string(),
         &bar,
         max_stream_mb,
-        path,
+        paths,
     )?;
     bar.finish();
     Ok(run)
 }
 
 /// Writes the rest of a run's files into `dir`, where its stream file
-/// already is: `records.jsonl` (a line per frame as it is read back; when
-/// `kinds` has it), then the files `model` draws in passes over the
-/// stream file, with a spinner on standard error once this has taken a
-/// second (when `progress`). Returns every path written, the stream file
-/// first.
+/// (and `records.jsonl`) already are: the files `model` draws in passes
+/// over the stream file, with a spinner on standard error once this has
+/// taken a second (when `progress`). Returns every path written, the
+/// stream file first.
 ///
 /// # Errors
 /// When the stream cannot be read back or a file cannot be written.
 pub fn write_outputs(
     dir: &Path,
     run: &RunFile,
-    kinds: Kinds,
     progress: bool,
     model: impl FnOnce(&StreamFile, &Path) -> Result<Vec<PathBuf>>,
 ) -> Result<Vec<PathBuf>> {
     let _spinner = progress.then(|| Spinner::after_a_second(&format!("writing {}", dir.display())));
     let stream = StreamFile::new(&run.path);
     let mut written = vec![run.path.clone()];
-    if kinds.has(Kind::Jsonl) {
-        let jsonl_path = dir.join("records.jsonl");
-        let mut jsonl = OutputFile::create(&jsonl_path)?;
-        crate::jsonl::write_frames(stream.frames(Place::START)?, &mut jsonl)
-            .with_context(|| format!("cannot write {}", jsonl_path.display()))?;
-        jsonl.finish()?;
-        written.push(jsonl_path);
-    }
+    written.extend(run.jsonl.clone());
     written.extend(model(&stream, dir)?);
     Ok(written)
 }
@@ -491,7 +516,10 @@ mod tests {
             "n = 2\naxiom: F\nF -> F(1",
             0,
             128,
-            &path,
+            RunPaths {
+                stream: &path,
+                jsonl: None,
+            },
             false,
         )
         .unwrap_err();
@@ -504,13 +532,22 @@ mod tests {
         let text = include_str!("../../grammars/abop-context-1-31a.lsys");
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("stream.bin");
-        let run = run_grammar(Path::new("ctx.lsys"), text, 0, 128, &path, false).unwrap();
+        let jsonl = dir.path().join(JSONL_FILE);
+        let paths = RunPaths {
+            stream: &path,
+            jsonl: Some(&jsonl),
+        };
+        let run = run_grammar(Path::new("ctx.lsys"), text, 0, 128, paths, false).unwrap();
         let bytes = std::fs::read(&path).unwrap();
         assert_eq!(bytes.len() as u64, run.bytes);
         let records: Vec<Record> = morphogen::stream::Decoder::new(&bytes)
             .filter_map(|d| d.result.ok())
             .collect();
         assert_eq!(records.len() as u32, run.frames);
+        assert_eq!(
+            std::fs::read_to_string(&jsonl).unwrap(),
+            crate::jsonl::stream(&bytes)
+        );
         let segments = records
             .iter()
             .filter(|r| matches!(r, Record::Segment { .. }))
@@ -548,7 +585,11 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("stream.bin");
         let text = "n = 12\naxiom: F\nF -> F[+F]F[-F]F\n";
-        let e = run_grammar(Path::new("big.lsys"), text, 0, 1, &path, false).unwrap_err();
+        let paths = RunPaths {
+            stream: &path,
+            jsonl: Some(&dir.path().join(JSONL_FILE)),
+        };
+        let e = run_grammar(Path::new("big.lsys"), text, 0, 1, paths, false).unwrap_err();
         assert_eq!(
             e.to_string(),
             "big.lsys: the stream passed 1 MiB and was stopped (raise the cap with --max-stream-mb)"

@@ -4,10 +4,11 @@
 //! (no JSON tree per record); strings go through `serde_json` for their
 //! escaping.
 
+use std::fmt;
 use std::io::{self, Write};
 
 use morphogen::fx::Fx;
-use morphogen::stream::{Decoded, Decoder, FrameError, Record};
+use morphogen::stream::{Decoded, Decoder, FrameError, Record, Sink, SinkError};
 
 use crate::outputs::text::{self, Whole};
 
@@ -173,24 +174,56 @@ pub fn write_stream(bytes: &[u8], w: &mut impl Write) -> io::Result<()> {
     Ok(())
 }
 
-/// Writes the JSONL of the frames `frames` reads (a stream file read
-/// back, [`crate::records::FrameReader`]) to `w`, a line per frame; the
-/// same bytes as [`write_stream`] of the whole stream.
-///
-/// # Errors
-/// When reading the frames or writing to `w` fails.
-pub fn write_frames(
-    frames: impl IntoIterator<Item = io::Result<Decoded>>,
-    w: &mut impl Write,
-) -> io::Result<()> {
-    let mut out = Vec::with_capacity(256);
-    for d in frames {
-        out.clear();
-        decoded(&mut out, &d?);
-        out.push(b'\n');
-        w.write_all(&out)?;
+/// A [`Sink`] that hands each record on to the next sink and then writes
+/// it as a JSON line: a run's `records.jsonl` as the run goes, the same
+/// bytes as [`write_stream`] of its stream (a run's own frames always
+/// decode), without reading the stream back.
+pub struct Lines<'a, W: Write> {
+    next: &'a mut dyn Sink,
+    out: W,
+    line: Vec<u8>,
+    failure: Option<io::Error>,
+}
+
+impl<W: Write> fmt::Debug for Lines<'_, W> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Lines")
+            .field("failure", &self.failure)
+            .finish_non_exhaustive()
     }
-    Ok(())
+}
+
+impl<'a, W: Write> Lines<'a, W> {
+    /// Lines to `out` of the records passed on to `next`.
+    pub fn new(next: &'a mut dyn Sink, out: W) -> Self {
+        Lines {
+            next,
+            out,
+            line: Vec::with_capacity(256),
+            failure: None,
+        }
+    }
+
+    /// The writer, once every line went in.
+    ///
+    /// # Errors
+    /// The write that failed (the run was stopped there).
+    pub fn into_inner(self) -> io::Result<W> {
+        self.failure.map_or(Ok(self.out), Err)
+    }
+}
+
+impl<W: Write> Sink for Lines<'_, W> {
+    fn record(&mut self, r: &Record) -> Result<(), SinkError> {
+        self.next.record(r)?;
+        self.line.clear();
+        record(&mut self.line, r);
+        self.line.push(b'\n');
+        self.out.write_all(&self.line).map_err(|e| {
+            self.failure = Some(e);
+            SinkError::Write
+        })
+    }
 }
 
 /// The JSONL text of a whole stream (each line ends with `\n`).
@@ -287,5 +320,13 @@ mod tests {
         assert_eq!(lines[8]["kind"], "surface_cell");
         assert_eq!(lines[8]["p"], serde_json::json!([3.0, 4.0, -5.0]));
         assert_eq!(lines[10]["points"], 3);
+        // Written as they come, the same lines.
+        let mut encoder = Encoder::new(Vec::new());
+        let mut as_they_come = Lines::new(&mut encoder, Vec::new());
+        for r in &records {
+            as_they_come.record(r).unwrap();
+        }
+        let written = as_they_come.into_inner().unwrap();
+        assert_eq!(String::from_utf8(written).unwrap(), text);
     }
 }

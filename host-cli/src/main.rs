@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
-use morphogen_cli::outputs::Kinds;
+use morphogen_cli::outputs::{Kind, Kinds};
 use morphogen_cli::stdout::StdoutError;
 use morphogen_cli::{
     Outcome, atomic, body_input, capture, exec, fixture, jsonl, listen, outputs, say, sweep, verify,
@@ -357,23 +357,21 @@ fn run(
     let dir = out.unwrap_or_else(|| Path::new("out").join(scenario.name()));
     fs::create_dir_all(&dir)
         .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-    let run = exec::run_to_file(
-        scenario,
-        seed,
-        !writing.quiet,
-        max_stream_mb,
-        &dir.join(exec::STREAM_FILE),
-    )?;
-    let written =
-        exec::write_outputs(&dir, &run, writing.kinds, !writing.quiet, |records, dir| {
-            let mut files = outputs::write(scenario, records, dir, writing.kinds)?;
-            if let Some((w, h)) = rig {
-                let path = dir.join(format!("rig-{w}x{h}.png"));
-                morphogen_cli::rig::render_rig_png(records, w, h, &path)?;
-                files.push(path);
-            }
-            Ok(files)
-        })?;
+    let (stream, jsonl) = (dir.join(exec::STREAM_FILE), dir.join(exec::JSONL_FILE));
+    let paths = exec::RunPaths {
+        stream: &stream,
+        jsonl: writing.kinds.has(Kind::Jsonl).then_some(jsonl.as_path()),
+    };
+    let run = exec::run_to_file(scenario, seed, !writing.quiet, max_stream_mb, paths)?;
+    let written = exec::write_outputs(&dir, &run, !writing.quiet, |records, dir| {
+        let mut files = outputs::write(scenario, records, dir, writing.kinds)?;
+        if let Some((w, h)) = rig {
+            let path = dir.join(format!("rig-{w}x{h}.png"));
+            morphogen_cli::rig::render_rig_png(records, w, h, &path)?;
+            files.push(path);
+        }
+        Ok(files)
+    })?;
     if writing.quiet {
         return Ok(Outcome::Ok);
     }
@@ -409,18 +407,15 @@ fn run_grammar(
     let dir = out.unwrap_or_else(|| Path::new("out").join(&stem));
     fs::create_dir_all(&dir)
         .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-    let run = exec::run_grammar(
-        file,
-        &text,
-        seed,
-        max_stream_mb,
-        &dir.join(exec::STREAM_FILE),
-        !writing.quiet,
-    )?;
-    let written =
-        exec::write_outputs(&dir, &run, writing.kinds, !writing.quiet, |records, dir| {
-            outputs::plant::write(records, dir, writing.kinds)
-        })?;
+    let (stream, jsonl) = (dir.join(exec::STREAM_FILE), dir.join(exec::JSONL_FILE));
+    let paths = exec::RunPaths {
+        stream: &stream,
+        jsonl: writing.kinds.has(Kind::Jsonl).then_some(jsonl.as_path()),
+    };
+    let run = exec::run_grammar(file, &text, seed, max_stream_mb, paths, !writing.quiet)?;
+    let written = exec::write_outputs(&dir, &run, !writing.quiet, |records, dir| {
+        outputs::plant::write(records, dir, writing.kinds)
+    })?;
     if writing.quiet {
         return Ok(Outcome::Ok);
     }

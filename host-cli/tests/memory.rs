@@ -88,11 +88,14 @@ fn shrub(n: u32, dir: &Path) -> Cost {
         &text,
         0,
         4096,
-        &out.join(exec::STREAM_FILE),
+        exec::RunPaths {
+            stream: &out.join(exec::STREAM_FILE),
+            jsonl: Some(&out.join(exec::JSONL_FILE)),
+        },
         false,
     )
     .unwrap();
-    let written = exec::write_outputs(&out, &run, Kinds::ALL, false, |records, dir| {
+    let written = exec::write_outputs(&out, &run, false, |records, dir| {
         plant::write(records, dir, Kinds::ALL)
     })
     .unwrap();

@@ -20,7 +20,7 @@
 //!
 //! let mut apng = AnimationWriter::new(std::path::Path::new("days.png"), 64, 48, Pixels::Rgb, 3, 250)?;
 //! for day in 0..3 {
-//!     apng.frame(&vec![255; 64 * 48 * 3], &format!("day {day}"))?;
+//!     apng.frame(vec![255; 64 * 48 * 3], &format!("day {day}"))?;
 //! }
 //! apng.finish()?;
 //! # Ok::<(), anyhow::Error>(())
@@ -111,7 +111,7 @@ impl Animation {
             self.delay_ms,
         )?;
         for frame in &self.frames {
-            writer.frame(&frame.pixels, &frame.label)?;
+            writer.frame(frame.pixels.as_slice(), &frame.label)?;
         }
         writer.finish()
     }
@@ -162,8 +162,6 @@ pub struct AnimationWriter {
     written: u32,
     /// Bytes a frame.
     frame_bytes: usize,
-    /// The frame being labelled, kept to reuse its allocation.
-    canvas: Vec<u8>,
 }
 
 impl fmt::Debug for AnimationWriter {
@@ -224,17 +222,18 @@ impl AnimationWriter {
             frames,
             written: 0,
             frame_bytes: bytes,
-            canvas: Vec::with_capacity(bytes),
         })
     }
 
     /// Adds the next frame: `pixels` (`width × height` in the layout given
-    /// to [`AnimationWriter::new`]) with `label` drawn in.
+    /// to [`AnimationWriter::new`]) with `label` drawn in. Pixels handed
+    /// over as a `Vec` are labelled in place; a slice is copied first.
     ///
     /// # Errors
     /// When `pixels` has another length than a frame's, all the frames
     /// announced are written already, or writing fails.
-    pub fn frame(&mut self, pixels: &[u8], label: &str) -> Result<()> {
+    pub fn frame(&mut self, pixels: impl Into<Vec<u8>>, label: &str) -> Result<()> {
+        let mut pixels = pixels.into();
         if self.written == self.frames {
             bail!(
                 "{}: all {} announced frames are written already",
@@ -254,17 +253,9 @@ impl AnimationWriter {
                 self.pixels
             );
         }
-        self.canvas.clear();
-        self.canvas.extend_from_slice(pixels);
-        draw_label(
-            &mut self.canvas,
-            self.width,
-            self.height,
-            self.pixels,
-            label,
-        )?;
+        draw_label(&mut pixels, self.width, self.height, self.pixels, label)?;
         self.png
-            .write_image_data(&self.canvas)
+            .write_image_data(&pixels)
             .with_context(|| format!("cannot write {}", self.path.display()))?;
         self.written += 1;
         Ok(())
@@ -425,7 +416,7 @@ mod tests {
     fn write_dots(path: &Path) {
         let mut apng = AnimationWriter::new(path, W, H, Pixels::Rgb, 10, 150).unwrap();
         for i in 0..10 {
-            apng.frame(&dot(i).0, &format!("step {i}")).unwrap();
+            apng.frame(dot(i).0, &format!("step {i}")).unwrap();
         }
         apng.finish().unwrap();
     }
@@ -547,8 +538,8 @@ mod tests {
         let path = dir.path().join("rgba.png");
         let clear = vec![0u8; (W * H * 4) as usize];
         let mut apng = AnimationWriter::new(&path, W, H, Pixels::Rgba, 2, 40).unwrap();
-        apng.frame(&clear, "age 6.0 months").unwrap();
-        apng.frame(&clear, "").unwrap();
+        apng.frame(clear.as_slice(), "age 6.0 months").unwrap();
+        apng.frame(clear.as_slice(), "").unwrap();
         apng.finish().unwrap();
         let decoded = decode(&path);
         assert_eq!(decoded.colour, png::ColorType::Rgba);
@@ -577,13 +568,13 @@ mod tests {
                 .contains(&format!("{} bytes, not the {}", good.len() - 3, good.len())),
             "{e}"
         );
-        apng.frame(&good, "one").unwrap();
+        apng.frame(good.as_slice(), "one").unwrap();
         let e = apng.finish().unwrap_err();
         assert!(e.to_string().contains("1 of the 2 announced frames"), "{e}");
 
         let mut apng = AnimationWriter::new(&path, W, H, Pixels::Rgb, 1, 100).unwrap();
-        apng.frame(&good, "one").unwrap();
-        let e = apng.frame(&good, "two").unwrap_err();
+        apng.frame(good.as_slice(), "one").unwrap();
+        let e = apng.frame(good.as_slice(), "two").unwrap_err();
         assert!(e.to_string().contains("all 1 announced frames"), "{e}");
         drop(apng);
 

@@ -9,7 +9,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use morphogen::body::{BindingSummary, GrowthTable};
 use morphogen::fx::{Fx, Real};
 use morphogen::stream::Record;
@@ -17,9 +17,10 @@ use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
 use super::chart::{Axis, Chart, Series, series_colour, write_png, write_svg};
 use super::mesh::{self, GlbWriter, Library, ObjStyle, write_frame_obj};
+use super::picture::Canvases;
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, label_tile, picture,
-    pipeline, raster, rgb_bytes, trimmed,
+    pipeline, raster, trimmed,
 };
 use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
@@ -239,21 +240,30 @@ fn ground(pixmap: &mut Pixmap, y: f32) {
     }
 }
 
+/// Blank pictures of `width × height` pixels once saved (drawn at
+/// [`OVERSAMPLE`] times that), for frame after frame.
+pub(crate) fn canvases(width: u32, height: u32) -> Canvases {
+    let k = OVERSAMPLE as u32;
+    Canvases::new(width * k, height * k, Color::from_rgba8(246, 244, 238, 255))
+}
+
 /// A blank picture of `width × height` pixels once saved (drawn at
 /// [`OVERSAMPLE`] times that).
 pub(crate) fn canvas(width: u32, height: u32) -> Result<Pixmap> {
-    let k = OVERSAMPLE as u32;
-    let mut p = Pixmap::new(width * k, height * k).context("picture size must be positive")?;
-    p.fill(Color::from_rgba8(246, 244, 238, 255));
-    Ok(p)
+    canvases(width, height).take()
 }
 
 /// Side view of one frame, `width` pixels wide, at the scale fitting
-/// `bounds`.
-fn side_view(frame: &Frame, title: &str, b: (f64, f64, f64, f64), width: u32) -> Result<Pixmap> {
+/// `bounds`, drawn on a canvas of `sides` (as high as that scale needs).
+fn side_view(
+    frame: &Frame,
+    title: &str,
+    b: (f64, f64, f64, f64),
+    width: u32,
+    sides: &Canvases,
+) -> Result<Pixmap> {
     let s = f64::from(width) / (b.1 - b.0);
-    let height = ((b.3 - b.2) * s).ceil().max(1.0) as u32;
-    let mut p = canvas(width, height)?;
+    let mut p = sides.take()?;
     let (ox, oy) = ((-b.0 * s) as f32, (b.3 * s) as f32);
     ground(&mut p, oy);
     draw(&mut p, frame, colour(title), s as f32, ox, oy);
@@ -385,6 +395,7 @@ pub fn write<R: Records + ?Sized>(
     // As side_view sizes its pictures.
     let side_scale = f64::from(side_width) / (b.1 - b.0);
     let side_height = ((b.3 - b.2) * side_scale).ceil().max(1.0) as u32;
+    let sides = canvases(side_width, side_height);
     let picked = if kinds.has(Kind::Anim) && count > 1 {
         animation_frames(count)
     } else {
@@ -443,14 +454,17 @@ pub fn write<R: Records + ?Sized>(
             }
             let apng = apng.as_ref().zip(slot);
             if kinds.has(Kind::Png) || apng.is_some() {
-                let view = picture::half(&side_view(&f, title, b, side_width)?)?;
+                let side = side_view(&f, title, b, side_width, &sides)?;
+                let view = picture::half_rgb(&side)?;
+                let (w, h) = (side.width() / 2, side.height() / 2);
+                sides.give_back(side);
                 if kinds.has(Kind::Png) {
                     let png_path = dir.join(format!("side_{:03}.png", f.index));
-                    picture::save(&view, &png_path)?;
+                    picture::save_rgb(w, h, &view, &png_path)?;
                     paths.push(png_path);
                 }
                 if let Some((apng, slot)) = apng {
-                    apng.frame(slot, rgb_bytes(&view), label(f.age))?;
+                    apng.frame(slot, view, label(f.age))?;
                 }
             }
             Ok(paths)

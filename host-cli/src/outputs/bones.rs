@@ -18,12 +18,10 @@ use morphogen::stream::Record;
 use nalgebra::Vector3;
 
 use super::animation::{AnimationWriter, Pixels};
-use super::body::{self, Extent, Frame, canvas, draw, rgb_of, solid};
+use super::body::{self, Extent, Frame, canvas, canvases, draw, rgb_of, solid};
 use super::chart::{Axis, Chart, Series, write_png, write_svg};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
-use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, label_tile, picture, rgb_bytes, trimmed,
-};
+use super::{ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, label_tile, picture, trimmed};
 use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
 
@@ -200,6 +198,7 @@ pub fn write<R: Records + ?Sized>(
     let panel = (1440 / panels).clamp(120, width);
     let ps = f64::from(panel) / (b.1 - b.0);
     let mut strip = canvas(panel * panels, ((b.3 - b.2) * ps).ceil().max(1.0) as u32)?;
+    let ones = canvases(width, height);
     let picked = if kinds.has(Kind::Anim) && count > 1 {
         animation_frames(count)
     } else {
@@ -258,17 +257,19 @@ pub fn write<R: Records + ?Sized>(
         }
         let animated = apng.as_mut().filter(|_| picked.binary_search(&k).is_ok());
         if kinds.has(Kind::Png) || animated.is_some() {
-            let mut one = canvas(width, height)?;
+            let mut one = ones.take()?;
             let (ox, oy) = ((-b.0 * s) as f32, (b.3 * s) as f32);
             draw(&mut one, &f, BONE, s as f32, ox, oy);
-            let one = picture::half(&one)?;
+            let rgb = picture::half_rgb(&one)?;
+            let (w, h) = (one.width() / 2, one.height() / 2);
+            ones.give_back(one);
             if kinds.has(Kind::Png) {
                 let png_path = dir.join(format!("bone_{:03}.png", f.index));
-                picture::save(&one, &png_path)?;
+                picture::save_rgb(w, h, &rgb, &png_path)?;
                 written.push(png_path);
             }
             if let Some(apng) = animated {
-                apng.frame(&rgb_bytes(&one), &label(f.age))?;
+                apng.frame(rgb, &label(f.age))?;
             }
         }
         if kinds.has(Kind::Png) {

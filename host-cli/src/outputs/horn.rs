@@ -23,9 +23,10 @@ use tiny_skia::{Color, Pixmap};
 
 use super::chart::{Axis, Chart, Series, write_png, write_svg};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
+use super::picture::Canvases;
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, label_tile, mesh, picture,
-    pipeline, raster, rgb_bytes, trimmed,
+    pipeline, raster, trimmed,
 };
 use crate::records::{Place, Records};
 
@@ -501,11 +502,6 @@ fn centre_line(frame: &Frame) -> (f64, f64) {
     (length, bend)
 }
 
-/// Writes a picture drawn at twice its size, averaged down to half.
-fn save(pixmap: &Pixmap, path: &Path) -> Result<()> {
-    picture::save(&picture::half(pixmap)?, path)
-}
-
 /// Re-reads the frame starting at `start`.
 fn frame_at<R: Records + ?Sized>(records: &R, start: Place) -> Result<Frame> {
     let mut framer = Framer::default();
@@ -603,7 +599,7 @@ pub fn write<R: Records + ?Sized>(
     };
     if kinds.has(Kind::Png) {
         let path = dir.join("horn.png");
-        save(&render(&last, j, 2400, 1800)?, &path)?;
+        picture::save_half(&render(&last, j, 2400, 1800)?, &path)?;
         written.push(path);
         let count = years.len();
         let columns = count.clamp(1, 4) as u32;
@@ -633,6 +629,7 @@ pub fn write<R: Records + ?Sized>(
         // Every frame to the last one's scale, the skull end fixed.
         let fit = Fit::new(Some(&last), 800);
         let apng = OrderedAnimation::new(&path, 400, 400, picked.len())?;
+        let canvases = Canvases::new(800, 800, background());
         pipeline(
             |send| {
                 picked
@@ -641,10 +638,11 @@ pub fn write<R: Records + ?Sized>(
                     .try_for_each(|(slot, &k)| send((slot, frame_at(records, starts[k])?)))
             },
             |(slot, frame): (usize, Frame)| {
-                let mut p = Pixmap::new(800, 800).context("empty picture")?;
-                p.fill(background());
+                let mut p = canvases.take()?;
                 fit.draw(&mut p, (0, 0), &frame, j);
-                apng.frame(slot, rgb_bytes(&picture::half(&p)?), label(&frame))
+                let rgb = picture::half_rgb(&p)?;
+                canvases.give_back(p);
+                apng.frame(slot, rgb, label(&frame))
             },
         )?;
         apng.finish()?;

@@ -558,9 +558,8 @@ fn scaled(a: [f64; 3], s: f64) -> [f64; 3] {
 /// How coordinates are printed in an OBJ.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Numbers {
-    /// Rounded to 5 decimals as `{:.5}` prints them, read off the
-    /// fixed-point bits when a value is one ([`text::decimals_5`]; the
-    /// horn, body and bone OBJ files).
+    /// Rounded to 5 decimals as `{:.5}` prints them
+    /// ([`text::decimals_5`]; the horn, body, bone and mosaic OBJ files).
     Decimals5,
     /// In full: fixed-point values exactly, computed ones in their
     /// shortest form ([`text::float`]; the plant OBJ).

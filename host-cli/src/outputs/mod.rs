@@ -260,7 +260,7 @@ impl OrderedAnimation {
                 .writer
                 .as_mut()
                 .ok_or_else(|| anyhow!("the animation is finished"))?;
-            writer.frame(&rgb, &label)?;
+            writer.frame(rgb, &label)?;
             state.next += 1;
         }
     }

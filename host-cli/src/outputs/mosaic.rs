@@ -19,9 +19,9 @@
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
-use anyhow::Result;
+use anyhow::{Result, anyhow};
 use morphogen::fx::Fx;
 use morphogen::mosaic::{Domain, Params};
 use morphogen::stream::Record;
@@ -173,6 +173,9 @@ pub fn write<R: Records + ?Sized>(
         None
     };
     let mut last: Option<Arc<Day>> = None;
+    // The picture of the latest day drawn so far (by position), kept for
+    // mosaic.png and mosaic.obj, which show the last day.
+    let latest: Mutex<Option<(usize, Indexed)>> = Mutex::new(None);
     // Per day: its number and the cells of each type.
     let mut counts: Vec<(i32, Vec<usize>)> = Vec::new();
     let per_day: Vec<(Vec<PathBuf>, Option<Vec<u64>>)> = pipeline(
@@ -187,11 +190,12 @@ pub fn write<R: Records + ?Sized>(
                     }
                     by_type[k] += 1;
                 }
-                let slot = picked.binary_search(&counts.len()).ok();
+                let position = counts.len();
+                let slot = picked.binary_search(&position).ok();
                 counts.push((day.day, by_type));
                 let day = Arc::new(day);
                 last = Some(Arc::clone(&day));
-                send((day, slot))
+                send((day, position, slot))
             };
             records.visit(Place::START, |_, r| {
                 match r {
@@ -215,7 +219,7 @@ pub fn write<R: Records + ?Sized>(
             })?;
             current.map_or(Ok(()), hand_over)
         },
-        |(d, slot): (Arc<Day>, Option<usize>)| {
+        |(d, position, slot): (Arc<Day>, usize, Option<usize>)| {
             let mut paths = Vec::with_capacity(2);
             if kinds.has(Kind::Csv) {
                 let csv = dir.join(format!("cells_day{:02}.csv", d.day));
@@ -240,6 +244,12 @@ pub fn write<R: Records + ?Sized>(
                 if let Some((apng, slot)) = animated {
                     apng.frame(slot, picture.rgb(), format!("day {}", d.day))?;
                 }
+                let mut latest = latest
+                    .lock()
+                    .map_err(|_| anyhow!("a mosaic picture writer stopped"))?;
+                if latest.as_ref().is_none_or(|(at, _)| *at < position) {
+                    *latest = Some((position, picture));
+                }
             }
             Ok((paths, areas))
         },
@@ -260,7 +270,13 @@ pub fn write<R: Records + ?Sized>(
         written.extend(write_obj(&path, &surface.mesh(None)?, ObjStyle::PLAIN)?);
     }
     if let Some(last) = last.filter(|_| kinds.has(Kind::Png) || kinds.has(Kind::Obj)) {
-        let picture = voronoi(domain, &colours, &last.cells);
+        let drawn = latest
+            .into_inner()
+            .map_err(|_| anyhow!("a mosaic picture writer stopped"))?;
+        let picture = match drawn {
+            Some((at, picture)) if at + 1 == counts.len() => picture,
+            _ => voronoi(domain, &colours, &last.cells),
+        };
         if kinds.has(Kind::Png) {
             let path = dir.join("mosaic.png");
             picture.save(&path)?;

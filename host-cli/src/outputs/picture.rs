@@ -1,12 +1,14 @@
 //! Pictures as PNG files: opaque RGB from a tiny-skia pixmap, or
 //! palette-indexed, both with the `png` crate's fast deflate, written
-//! atomically; and [`half`], the 2×2 average that turns a picture drawn at
-//! twice its size into an anti-aliased one.
+//! atomically; and [`half`] (or [`half_rgb`], straight to the bytes
+//! saved), the 2×2 average that turns a picture drawn at twice its size
+//! into an anti-aliased one.
 
 use std::path::Path;
+use std::sync::Mutex;
 
-use anyhow::{Context, Result};
-use tiny_skia::Pixmap;
+use anyhow::{Context, Result, anyhow, bail};
+use tiny_skia::{Color, IntSize, Pixmap};
 
 use crate::atomic::OutputFile;
 
@@ -77,32 +79,115 @@ pub fn save_indexed(
     )
 }
 
+/// Blank canvases of one size and background for frames drawn one after
+/// another, or by parallel workers: a canvas given back is handed out
+/// again, cleared, so a run of frames draws on a few pictures instead of
+/// allocating (and zeroing) one a frame.
+#[derive(Debug)]
+pub struct Canvases {
+    width: u32,
+    height: u32,
+    background: Color,
+    free: Mutex<Vec<Pixmap>>,
+}
+
+impl Canvases {
+    /// Canvases of `width × height` pixels filled with `background`.
+    #[must_use]
+    pub fn new(width: u32, height: u32, background: Color) -> Canvases {
+        Canvases {
+            width,
+            height,
+            background,
+            free: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// A blank canvas: one given back, or a new one.
+    ///
+    /// # Errors
+    /// When a side is 0 or the picture does not fit in memory.
+    pub fn take(&self) -> Result<Pixmap> {
+        let reused = self
+            .free
+            .lock()
+            .map_err(|_| anyhow!("a picture writer stopped"))?
+            .pop();
+        let mut canvas = match reused {
+            Some(canvas) => canvas,
+            None => {
+                Pixmap::new(self.width, self.height).context("picture size must be positive")?
+            }
+        };
+        canvas.fill(self.background);
+        Ok(canvas)
+    }
+
+    /// Gives `canvas` back for a later [`Canvases::take`].
+    pub fn give_back(&self, canvas: Pixmap) {
+        if let Ok(mut free) = self.free.lock() {
+            free.push(canvas);
+        }
+    }
+}
+
 /// `pixmap` at half its size, each pixel the average of its 2×2 block.
 ///
 /// # Errors
 /// When `pixmap` is less than 2 pixels wide or high.
 pub fn half(pixmap: &Pixmap) -> Result<Pixmap> {
-    let (w, h) = (pixmap.width() / 2, pixmap.height() / 2);
-    let mut out = Pixmap::new(w, h).context("picture too small to halve")?;
+    let size = IntSize::from_wh(pixmap.width() / 2, pixmap.height() / 2)
+        .context("picture too small to halve")?;
+    Pixmap::from_vec(halve::<4>(pixmap), size).context("picture too small to halve")
+}
+
+/// [`half`] as RGB bytes, row by row: a picture drawn at twice its size
+/// ready to save ([`save_rgb`]) or animate, with no pixmap in between.
+///
+/// # Errors
+/// When `pixmap` is less than 2 pixels wide or high.
+pub fn half_rgb(pixmap: &Pixmap) -> Result<Vec<u8>> {
+    if pixmap.width() < 2 || pixmap.height() < 2 {
+        bail!("picture too small to halve");
+    }
+    Ok(halve::<3>(pixmap))
+}
+
+/// Writes `pixmap`, drawn at twice its size, as an RGB PNG of half that
+/// size ([`half_rgb`]).
+///
+/// # Errors
+/// When `pixmap` is less than 2 pixels wide or high, or encoding or
+/// writing fails.
+pub fn save_half(pixmap: &Pixmap, path: &Path) -> Result<()> {
+    let rgb = half_rgb(pixmap)?;
+    save_rgb(pixmap.width() / 2, pixmap.height() / 2, &rgb, path)
+}
+
+/// The 2×2 block averages of `pixmap`, the first `C` bytes of each, row by
+/// row; an odd last row or column of `pixmap` is left out. Each pair of
+/// rows is summed down the columns, then pixel pairs across (two passes
+/// that vectorise); rows are appended whole, so no byte is written twice.
+fn halve<const C: usize>(pixmap: &Pixmap) -> Vec<u8> {
+    let (w, h) = (pixmap.width() as usize / 2, pixmap.height() as usize / 2);
     let stride = 4 * pixmap.width() as usize;
-    // Row pairs of the source beside rows of the picture; an odd last
-    // row or column of the source is left out. Each pair is summed down
-    // the columns, then pixel pairs across (two passes that vectorise).
+    let mut out = Vec::with_capacity(C * w * h);
     let mut column = vec![0u16; stride];
-    let pairs = pixmap.data().chunks_exact(2 * stride);
-    for (row, pair) in out.data_mut().chunks_exact_mut(4 * w as usize).zip(pairs) {
+    let mut row = vec![0u8; C * w];
+    for pair in pixmap.data().chunks_exact(2 * stride) {
         let (top, bottom) = pair.split_at(stride);
         for ((sum, t), b) in column.iter_mut().zip(top).zip(bottom) {
             *sum = u16::from(*t) + u16::from(*b);
         }
         let blocks = column.as_chunks::<8>().0;
-        for (pixel, block) in row.as_chunks_mut::<4>().0.iter_mut().zip(blocks) {
+        for (pixel, block) in row.as_chunks_mut::<C>().0.iter_mut().zip(blocks) {
             // Averages of premultiplied RGBA bytes stay premultiplied; four
             // bytes sum below 1 024, +2 rounds to nearest.
             *pixel = std::array::from_fn(|c| ((block[c] + block[c + 4] + 2) / 4) as u8);
         }
+        out.extend_from_slice(&row);
     }
-    Ok(out)
+    out
 }
 
 #[cfg(test)]
@@ -120,6 +205,8 @@ mod tests {
         p.pixels_mut()[1] = black;
         let h = half(&p).unwrap();
         assert_eq!((h.width(), h.height()), (2, 1));
+        assert_eq!(half_rgb(&p).unwrap(), [128, 128, 128, 255, 255, 255]);
+        assert!(half_rgb(&Pixmap::new(1, 9).unwrap()).is_err());
         assert_eq!(h.pixel(0, 0).unwrap().red(), 128);
         assert_eq!(h.pixel(1, 0).unwrap().red(), 255);
         let dir = tempfile::tempdir().unwrap();
@@ -127,6 +214,18 @@ mod tests {
         save(&h, &path).unwrap();
         let back = Pixmap::load_png(&path).unwrap();
         assert_eq!(back.pixel(0, 0).unwrap().green(), 128);
+        let canvases = Canvases::new(3, 2, Color::BLACK);
+        let mut first = canvases.take().unwrap();
+        first.fill(Color::WHITE);
+        canvases.give_back(first);
+        let again = canvases.take().unwrap();
+        assert_eq!((again.width(), again.height()), (3, 2));
+        assert!(
+            again
+                .pixels()
+                .iter()
+                .all(|p| p.red() == 0 && p.alpha() == 255)
+        );
         let path = dir.path().join("i.png");
         save_indexed(2, 1, &[[1, 2, 3], [9, 8, 7]], &[1, 0], &path).unwrap();
         let back = Pixmap::load_png(&path).unwrap();

@@ -507,7 +507,7 @@ fn animate<R: Records + ?Sized>(
                 ANIMATION_DELAY_MS,
             )?),
         };
-        apng.frame(&rgb_bytes(&pixmap), &format!("step {index}"))?;
+        apng.frame(rgb_bytes(&pixmap), &format!("step {index}"))?;
     }
     if let Some(apng) = apng {
         apng.finish()?;

@@ -1,7 +1,8 @@
 //! The text of numbers in the output files (`records.jsonl`, CSV, OBJ),
 //! appended to a line buffer: integers by `itoa`, fixed-point values
 //! (`Fx`, I16F16) as their exact decimal expansion read off the bits, and
-//! computed `f64` values in Rust's shortest form.
+//! computed `f64` values in Rust's shortest form or rounded to 5 decimals
+//! (from the float's bits, as the formatter would, at a tenth the cost).
 //!
 //! An `Fx` is `bits / 65536`, whose decimal expansion ends after at most
 //! 16 fractional digits; [`fx`] prints every one of them, with no `f64` in
@@ -58,27 +59,57 @@ pub fn fx(out: &mut Vec<u8>, v: Fx, whole: Whole) {
     }
 }
 
-/// Appends `v` rounded to 5 decimals, exactly as `format!("{:.5}", f64)`
-/// prints `bits / 65536` (ties to even on the exact value), with no `f64`.
-pub fn fx_5(out: &mut Vec<u8>, v: Fx) {
-    let bits = i64::from(v.to_bits());
-    // value·10⁵ = bits·100 000 / 65 536 = bits·3 125 / 2 048, rounded
-    // half to even; |bits·3 125| < 2³¹·2¹² fits an i64.
-    let scaled = bits.unsigned_abs() * 3_125;
-    let (quotient, rest) = (scaled >> 11, scaled & 0x7ff);
-    let rounded = match rest.cmp(&0x400) {
-        std::cmp::Ordering::Greater => quotient + 1,
-        std::cmp::Ordering::Equal => quotient + (quotient & 1),
-        std::cmp::Ordering::Less => quotient,
+/// Appends `x` rounded to 5 decimals exactly as `format!("{:.5}", x)`
+/// prints it (ties to even on the exact binary value, `-` on every
+/// negative value, `-0.00000` included), in integers.
+///
+/// A finite `x` is `m · 2^e` with `m < 2⁵³`; below 2⁴⁰, `e < 0` and
+/// `x · 10⁵ = m · 10⁵ / 2^−e`, whose numerator (< 2⁷⁰) fits a `u128`, so
+/// the quotient and the rest are exact, and the rounded quotient
+/// (< 2⁵⁷) fits a `u64`. Larger or non-finite values (no picture holds
+/// one) go through the formatter.
+pub fn decimals_5(out: &mut Vec<u8>, x: f64) {
+    const LIMIT: f64 = (1u64 << 40) as f64;
+    if !x.is_finite() || x.abs() >= LIMIT {
+        let mut s = String::new();
+        let _ = write!(s, "{x:.5}");
+        out.extend_from_slice(s.as_bytes());
+        return;
+    }
+    let bits = x.to_bits();
+    let biased = (bits >> 52) & 0x7ff;
+    let fraction = bits & ((1 << 52) - 1);
+    // Subnormals have exponent −1074 and no hidden bit.
+    let (mantissa, shift) = if biased == 0 {
+        (fraction, 1074)
+    } else {
+        (fraction | 1 << 52, 1075 - biased)
     };
-    if bits < 0 {
+    let scaled = u128::from(mantissa) * 100_000;
+    // `shift` > 12 below 2⁴⁰; past 127 the value is far below half a unit.
+    let rounded = if shift > 127 {
+        0
+    } else {
+        let (quotient, rest) = ((scaled >> shift) as u64, scaled & ((1 << shift) - 1));
+        let half = 1u128 << (shift - 1);
+        match rest.cmp(&half) {
+            std::cmp::Ordering::Greater => quotient + 1,
+            std::cmp::Ordering::Equal => quotient + (quotient & 1),
+            std::cmp::Ordering::Less => quotient,
+        }
+    };
+    if x.is_sign_negative() {
         out.push(b'-');
     }
     int(out, rounded / 100_000);
-    out.push(b'.');
-    let decimals = itoa::Buffer::new().format(rounded % 100_000).len();
-    out.extend(std::iter::repeat_n(b'0', 5 - decimals));
-    int(out, rounded % 100_000);
+    let mut decimals = [b'.', b'0', b'0', b'0', b'0', b'0'];
+    let mut rest = rounded % 100_000;
+    for digit in decimals[1..].iter_mut().rev() {
+        // Below 10: `rest % 10`.
+        *digit = b'0' + (rest % 10) as u8;
+        rest /= 10;
+    }
+    out.extend_from_slice(&decimals);
 }
 
 /// `x` as a fixed-point value, when it is one exactly (every coordinate
@@ -88,19 +119,6 @@ fn as_fx(x: f64) -> Option<Fx> {
     // Whole and in range: the conversion is exact.
     (bits.fract() == 0.0 && (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&bits))
         .then(|| Fx::from_bits(bits as i32))
-}
-
-/// Appends `x` rounded to 5 decimals as `format!("{:.5}", x)` does: by
-/// [`fx_5`] when `x` is a fixed-point value, by the formatter otherwise
-/// (computed points).
-pub fn decimals_5(out: &mut Vec<u8>, x: f64) {
-    if let Some(v) = as_fx(x) {
-        fx_5(out, v);
-    } else {
-        let mut s = String::new();
-        let _ = write!(s, "{x:.5}");
-        out.extend_from_slice(s.as_bytes());
-    }
 }
 
 /// Appends `x` in full: a fixed-point value exactly ([`fx`]), a computed
@@ -183,16 +201,42 @@ mod tests {
             .chain((0..4_000).map(|k| k * 524_287 - 1_000_000_000))
             .chain([i32::MIN, i32::MAX, i32::MIN + 1]);
         for bits in samples {
-            let ours = text(|o| fx_5(o, Fx::from_bits(bits)));
-            let rust = format!("{:.5}", f64::from(bits) / 65_536.0);
+            let x = f64::from(bits) / 65_536.0;
+            let ours = text(|o| decimals_5(o, x));
+            let rust = format!("{x:.5}");
             assert_eq!(ours, rust, "bits {bits}");
         }
     }
 
     #[test]
     fn five_decimals_of_any_f64_match_rust_formatting() {
-        for x in [0.1, -2.5e-6, 1.0 / 3.0, 7.0, 65_537.0 / 65_536.0, 1e12] {
-            assert_eq!(text(|o| decimals_5(o, x)), format!("{x:.5}"));
+        let named = [
+            0.1,
+            -2.5e-6,
+            1.0 / 3.0,
+            7.0,
+            65_537.0 / 65_536.0,
+            1e12,
+            0.000_005,
+            0.000_015,
+            -0.000_025,
+            2.675,
+            -0.0,
+            f64::MIN_POSITIVE,
+            5e-324,
+            4.5e15,
+            1_099_511_627_775.999_9,
+            -1_099_511_627_776.0,
+            1e300,
+            f64::NAN,
+            f64::NEG_INFINITY,
+        ];
+        // Quotients like the computed points' and colours' (k / 255),
+        // and ties (n + ½) · 10⁻⁵ near exact.
+        let computed = (0..200_000).map(|k| f64::from(k - 100_000) * 0.731 / 255.0);
+        let ties = (0..20_000).map(|n| (f64::from(n) + 0.5) / 100_000.0);
+        for x in named.into_iter().chain(computed).chain(ties) {
+            assert_eq!(text(|o| decimals_5(o, x)), format!("{x:.5}"), "{x:e}");
         }
     }
 
