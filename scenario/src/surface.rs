@@ -196,3 +196,72 @@ fn obj(bytes: &[u8]) -> Result<Triangles> {
     }
     Ok((vertices, faces))
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::Scenario;
+
+    /// A mosaic scenario on the OBJ text `obj`.
+    fn on(obj: &str) -> String {
+        format!(
+            r#"name = "t"
+summary = "t"
+seed = 1
+[mosaic]
+domain = {{ size = [10, 10], periodic = [true, false] }}
+initial_cells = 20
+days = 1
+radius_weight = 1
+push_weight = 0.1
+initial_relaxations = 1
+daily_relaxations = 1
+frames = [1]
+adhesion = [[0.5]]
+[mosaic.surface]
+shape = "obj"
+file = {{ text = """{obj}""" }}
+[[mosaic.types]]
+colour = [1, 2, 3]
+division_days = 2
+initial_probability = 1
+"#
+        )
+    }
+
+    /// The error of running the scenario on `obj`, as the CLI prints it.
+    fn refusal(obj: &str) -> String {
+        let scenario = match Scenario::from_text("t.toml", &on(obj)) {
+            Ok(s) => s,
+            Err(e) => return e.to_string(),
+        };
+        let mut sink = Vec::new();
+        let mut encoder = morphogen::stream::Encoder::new(&mut sink);
+        scenario
+            .with_preset(|p| crate::run::run(p, 1, &mut encoder, &mut |_| {}))
+            .map_or_else(|e| e.to_string(), |()| "ran".into())
+    }
+
+    #[test]
+    fn unusable_meshes_are_refused_naming_the_problem() {
+        let square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+        assert_eq!(
+            refusal(square),
+            "ran",
+            "a quad is fanned into two triangles"
+        );
+        assert!(refusal("v 0 0 0\nv 1 0 0\n").contains("no face"));
+        assert!(refusal("v 0 0 0\nv 900 0 0\nv 0 1 0\nf 1 2 3\n").contains("vertex 2"));
+        let flat = "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n";
+        assert!(
+            refusal(flat).contains("triangle 0 has no area"),
+            "{}",
+            refusal(flat)
+        );
+        let fin = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 -1 0\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
+        assert!(
+            refusal(fin).contains("shared by more than two"),
+            "{}",
+            refusal(fin)
+        );
+    }
+}
