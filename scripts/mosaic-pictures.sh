@@ -3,7 +3,7 @@
 # preset of the thesis's Table 4.1 (the object itself where the cells grow
 # on a mesh or a cylinder, else the Voronoi picture), 260 pixels high.
 # Needs the release binary (cargo build --release -p morphogen-cli) and
-# ImageMagick's `convert` for the scaling.
+# python3 (scripts/thumbnail.py scales the pictures).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=target/release/morphogen
@@ -18,6 +18,6 @@ for p in "${presets[@]}"; do
   "$bin" run "$p" --only png --quiet --out "$tmp/$p"
   src="$tmp/$p/surface.png"
   [ -f "$src" ] || src="$tmp/$p/mosaic.png"
-  convert "$src" -resize x260 -strip "$out/$p.png"
+  python3 scripts/thumbnail.py "$src" "$out/$p.png" 260
   echo "$out/$p.png"
 done

@@ -8,6 +8,10 @@
 //! - `relaxation_step`: one relaxation step of 2 000 croton cells (a
 //!   croton-like periodic square after its initial relaxations): divide by
 //!   [`CELLS`] for instructions per cell-relaxation step;
+//! - `surface_relaxation_step`: the same on a mesh, 2 000 cells on
+//!   `watermelon-fruit`'s ellipsoid (3 072 triangles) at croton's w_r = 1
+//!   (as many neighbours), one after another as on an MCU: divide by
+//!   [`CELLS`] and compare with the plane's;
 //! - `shrub`: ABOP Fig. 1.25's shrub at n = 7, derived and drawn by the
 //!   turtle into a sink that drops the records.
 
@@ -16,13 +20,17 @@ use std::hint::black_box;
 use gungraun::{library_benchmark, library_benchmark_group, main};
 use morphogen::lsys::LSystem;
 use morphogen::mosaic::grid::Grid;
+use morphogen::mosaic::mesh::{Mesh, MeshParts};
 use morphogen::mosaic::relaxation::{self, Forces};
 use morphogen::mosaic::store::CellStore;
+use morphogen::mosaic::surface::relaxation::{self as surface_relaxation, SurfaceForces};
+use morphogen::mosaic::surface::store::SurfaceStore;
+use morphogen::mosaic::surface::{MeshBuffers, Surface, SurfaceMesh, SurfaceMosaic, build_mesh};
 use morphogen::mosaic::{MAX_TYPES, Mosaic, Params};
 use morphogen::preset::Model;
 use morphogen::sim::Simulation;
 use morphogen::stream::{Record, Sink, SinkError};
-use morphogen_scenario::run::VecStore;
+use morphogen_scenario::run::{VecStore, VecSurfaceStore};
 
 /// Cells of the relaxation bench.
 const CELLS: u32 = 2_000;
@@ -102,6 +110,83 @@ fn relaxation_step(mut r: Relaxation) -> Relaxation {
     r
 }
 
+/// A surface relaxation ready to run.
+struct SurfaceRelaxation {
+    mosaic: SurfaceMosaic<'static, VecSurfaceStore>,
+    forces: SurfaceForces<'static>,
+}
+
+fn fruit_cells() -> SurfaceRelaxation {
+    let scenario = Box::leak(Box::new(
+        morphogen_scenario::builtin("watermelon-fruit").expect("a built-in scenario"),
+    ));
+    let fruit: Params<'static> = scenario.with_preset(|p| match p.model {
+        Model::Mosaic(params) => Params {
+            types: params.types.to_vec().leak(),
+            mask: None,
+            anisotropy: None,
+            frames: morphogen::mosaic::Frames::EveryDay,
+            initial_cells: CELLS,
+            days: 0,
+            initial_relaxations: 5,
+            momentum: morphogen::fx::Fx::ZERO,
+            radius_weight: morphogen::fx::Fx::ONE, // croton's: as many neighbours
+            surface: params.surface.map(|s| match s.mesh {
+                SurfaceMesh::Shape(t) => Surface {
+                    mesh: SurfaceMesh::Shape(t),
+                    control: s.control,
+                },
+                SurfaceMesh::Triangles { .. } => unreachable!("a built-in shape"),
+            }),
+            ..*params
+        },
+        _ => unreachable!("watermelon-fruit is a mosaic"),
+    });
+    let params: &'static Params<'static> = Box::leak(Box::new(fruit));
+    let surface = params.surface.as_ref().expect("a surface");
+    let (nv, nf) = surface.counts();
+    let leak = |n: usize| -> &'static mut [[i32; 3]] { vec![[0; 3]; n].leak() };
+    let buffers = MeshBuffers {
+        vertices: leak(nv),
+        faces: vec![[0; 3]; nf].leak(),
+        parts: MeshParts {
+            neighbours: vec![[0; 3]; nf].leak(),
+            normals: leak(nf),
+            edges: vec![0; 3 * nf].leak(),
+        },
+    };
+    let mesh: &'static Mesh<'static> =
+        Box::leak(Box::new(build_mesh(surface, buffers).expect("a mesh")));
+    let mut mosaic = SurfaceMosaic::new(VecSurfaceStore::new(CELLS as usize), *mesh, &mut []);
+    mosaic.start(params, 1).expect("valid");
+    while !mosaic.step(&mut Null).expect("runs").finished() {}
+    let radius = mosaic.radius().to_bits();
+    SurfaceRelaxation {
+        forces: SurfaceForces {
+            mesh,
+            radius,
+            repel: [[1 << 16; MAX_TYPES]; MAX_TYPES],
+            push_weight: params.push_weight.to_bits(),
+            anisotropy_weight: 0,
+            field: None,
+            momentum: 0,
+        },
+        mosaic,
+    }
+}
+
+#[library_benchmark]
+#[bench::fruit_2000(setup = fruit_cells)]
+fn surface_relaxation_step(mut r: SurfaceRelaxation) -> SurfaceRelaxation {
+    let len = r.mosaic.len();
+    surface_relaxation::relax(
+        &mut r.mosaic.store_mut().slices(),
+        black_box(len),
+        &r.forces,
+    );
+    r
+}
+
 fn shrub_grammar() -> String {
     let scenario = morphogen_scenario::builtin("abop-shrub").expect("a built-in scenario");
     scenario.with_preset(|p| match p.model {
@@ -122,5 +207,8 @@ fn shrub(text: String) -> u32 {
     black_box(steps)
 }
 
-library_benchmark_group!(name = models, benchmarks = [relaxation_step, shrub]);
+library_benchmark_group!(
+    name = models,
+    benchmarks = [relaxation_step, surface_relaxation_step, shrub]
+);
 main!(library_benchmark_groups = models);

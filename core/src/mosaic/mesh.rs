@@ -382,11 +382,16 @@ impl<'m> Mesh<'m> {
                 }
             }
             let Some((k, t)) = exit else {
+                // Inside the edges (up to rounding): held on the face only
+                // if rounding has taken it off its plane.
                 let to = [0, 1, 2].map(|c| (i64::from(p[c]) + d[c]) as i32);
-                return Place {
-                    face,
-                    p: self.snap(face, to),
+                let off = dot(sub(to, corners[0]), n) >> 16;
+                let to = if off.abs() <= 2 {
+                    to
+                } else {
+                    self.snap(face, to)
                 };
+                return Place { face, p: to };
             };
             let part = d.map(|x| (x * t) >> 16);
             p = [0, 1, 2].map(|c| (i64::from(p[c]) + part[c]) as i32);

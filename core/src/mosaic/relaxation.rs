@@ -104,8 +104,12 @@ impl Forces<'_> {
         let along = (s[0] * i64::from(v[0]) + s[1] * i64::from(v[1])) >> 14;
         let mut out = [0i32; 2];
         for c in 0..2 {
-            let steer = (along * i64::from(v[c])) >> 14;
-            let blend = ((ONE - wa) * s[c] + wa * steer + (ONE >> 1)) >> 16;
+            let blend = if self.field.is_some() {
+                let steer = (along * i64::from(v[c])) >> 14;
+                ((ONE - wa) * s[c] + wa * steer + (ONE >> 1)) >> 16
+            } else {
+                s[c] // w_a = 0 without a field
+            };
             let delta = (wd * blend + (ONE >> 1)) >> 16;
             // max/min, not clamp: the same for r ≥ 1, and no panic path
             // (with its formatting code) for reversed bounds.

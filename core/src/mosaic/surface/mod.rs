@@ -220,6 +220,18 @@ impl<'a, S: SurfaceStore> SurfaceMosaic<'a, S> {
         self.cells == 0
     }
 
+    /// The cell store (for benches and tools that drive the kernels
+    /// directly; the first [`SurfaceMosaic::len`] cells are live).
+    pub fn store_mut(&mut self) -> &mut S {
+        &mut self.store
+    }
+
+    /// The current repulsion radius (Q16 bits).
+    #[must_use]
+    pub fn radius(&self) -> Fx {
+        Fx::from_bits(self.radius)
+    }
+
     /// Where the cells are, by id.
     #[must_use]
     pub fn places(&self) -> &[Place] {

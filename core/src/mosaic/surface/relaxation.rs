@@ -7,10 +7,10 @@
 //! the same result in any order.
 //!
 //! The grid bins space into cubes at least r wide, so a cell's neighbours
-//! lie in the (at most 27) cubes its sphere of radius r touches; a cube is
-//! hashed to one of a fixed number of buckets (a surface fills few of
-//! them), so memory stays bounded whatever the mesh's size. Cells of other
-//! cubes that share a bucket are rejected by distance.
+//! lie in the (at most 27) cubes its sphere of radius r touches; the cubes
+//! are folded into a fixed number of buckets ([`CubeGrid`]; a surface fills
+//! few cubes of its box), so memory stays bounded whatever the mesh's
+//! size. Cells of other cubes that share a bucket are rejected by distance.
 
 use crate::fx::root::{isqrt_u32, isqrt_u64};
 use crate::mosaic::mesh::{Mesh, Place};
@@ -40,26 +40,54 @@ pub struct SurfaceForces<'a> {
     pub momentum: i32,
 }
 
-/// Cubes of side ≥ r hashed to buckets.
+/// Cubes of side ≥ r over the mesh's bounding box, folded into the
+/// buckets: cube (x, y, z) goes to bucket (x mod A, y mod B, z mod C)
+/// (row-major, x fastest), A·B·C at most the buckets. A cube's 26
+/// neighbours fall in distinct buckets while each modulus is at least 3,
+/// and a row of neighbours is a run of consecutive buckets; cubes folded
+/// onto the same bucket lie at least 3 cubes apart and are rejected by
+/// distance.
 #[derive(Clone, Copy, Debug)]
-pub struct HashGrid {
+pub struct CubeGrid {
     origin: [i32; 3],
     /// 2^32 / side.
     scale: u64,
-    buckets: u32,
+    /// A, B, C.
+    modulus: [u32; 3],
 }
 
-impl HashGrid {
-    /// A grid for radius `radius` over the mesh with `buckets` buckets.
+impl CubeGrid {
+    /// A grid for radius `radius` over the mesh with at most `buckets`
+    /// buckets.
     #[must_use]
-    pub fn plan(mesh: &Mesh<'_>, radius: i32, buckets: usize) -> HashGrid {
+    pub fn plan(mesh: &Mesh<'_>, radius: i32, buckets: usize) -> CubeGrid {
         let r = i64::from(radius.max(1));
-        let side = (r + (r >> 6) + 1) as u64;
-        HashGrid {
-            origin: mesh.bounds()[0],
-            scale: (1u64 << 32) / side,
-            buckets: buckets.clamp(1, u32::MAX as usize) as u32,
+        // A margin of 1/64 + 1 LSB keeps every cube wider than the radius
+        // despite the truncated scale factor.
+        let side = r + (r >> 6) + 1;
+        let [lo, hi] = mesh.bounds();
+        let mut modulus = [0, 1, 2]
+            .map(|c| ((i64::from(hi[c]) - i64::from(lo[c])) / side + 1).clamp(1, 1 << 10) as u32);
+        let buckets = buckets.clamp(1, 1 << 30) as u64;
+        let product = |m: &[u32; 3]| m.iter().map(|&x| u64::from(x)).product::<u64>();
+        while product(&modulus) > buckets {
+            let c = (0..3).max_by_key(|&c| modulus[c]).unwrap_or(0);
+            if modulus[c] <= 1 {
+                break;
+            }
+            modulus[c] -= 1;
         }
+        CubeGrid {
+            origin: lo,
+            scale: (1u64 << 32) / side as u64,
+            modulus,
+        }
+    }
+
+    /// The buckets it uses.
+    #[must_use]
+    pub fn buckets(&self) -> usize {
+        self.modulus.iter().map(|&m| m as usize).product()
     }
 
     /// The cube index of `x` along axis `c` (0 below the origin).
@@ -69,21 +97,10 @@ impl HashGrid {
         ((off * self.scale) >> 32) as u32
     }
 
-    /// The bucket of cube `(x, y, z)`.
-    #[inline]
-    fn bucket(&self, x: u32, y: u32, z: u32) -> usize {
-        let mut h =
-            x.wrapping_mul(0x9E37_79B1) ^ y.wrapping_mul(0x85EB_CA77) ^ z.wrapping_mul(0xC2B2_AE3D);
-        h ^= h >> 15;
-        h = h.wrapping_mul(0x2C1B_3C6D);
-        h ^= h >> 12;
-        ((u64::from(h) * u64::from(self.buckets)) >> 32) as usize
-    }
-
     #[inline]
     fn bucket_of(&self, p: [i32; 3]) -> usize {
-        let [x, y, z] = [0, 1, 2].map(|c| self.cube(c, i64::from(p[c])));
-        self.bucket(x, y, z)
+        let [x, y, z] = [0, 1, 2].map(|c| self.cube(c, i64::from(p[c])) % self.modulus[c].max(1));
+        ((z * self.modulus[1] + y) * self.modulus[0] + x) as usize
     }
 
     /// Counting-sorts the `places` into `order` and their points into
@@ -96,19 +113,23 @@ impl HashGrid {
         offsets: &mut [u32],
         sorted: &mut [[i32; 3]],
     ) {
-        let b = self.buckets as usize;
+        let b = self.buckets().min(offsets.len().saturating_sub(1));
         let offsets = &mut offsets[..=b];
         offsets.fill(0);
         for at in places {
-            offsets[self.bucket_of(at.p) + 1] += 1;
+            if let Some(o) = offsets.get_mut(self.bucket_of(at.p) + 1) {
+                *o += 1;
+            }
         }
         for k in 1..=b {
             offsets[k] += offsets[k - 1];
         }
         for (i, at) in places.iter().enumerate() {
-            let k = self.bucket_of(at.p);
-            let slot = offsets[k] as usize;
-            offsets[k] += 1;
+            let Some(o) = offsets.get_mut(self.bucket_of(at.p)) else {
+                continue;
+            };
+            let slot = *o as usize;
+            *o += 1;
             if let (Some(o), Some(s)) = (order.get_mut(slot), sorted.get_mut(slot)) {
                 *o = i as u32;
                 *s = at.p;
@@ -117,6 +138,22 @@ impl HashGrid {
         // Each entry now ends its bucket: move them one on.
         offsets.copy_within(0..b, 1);
         offsets[0] = 0;
+    }
+
+    /// The residues along axis `c` of the cubes `first..=last`, each once:
+    /// `(start, count)` of up to two runs of consecutive ones.
+    #[inline]
+    fn runs(&self, c: usize, first: u32, last: u32) -> [(u32, u32); 2] {
+        let m = self.modulus[c].max(1);
+        if last - first + 1 >= m {
+            return [(0, m), (0, 0)];
+        }
+        let (a, b) = (first % m, last % m);
+        if a <= b {
+            [(a, b - a + 1), (0, 0)]
+        } else {
+            [(a, m - a), (0, b + 1)]
+        }
     }
 }
 
@@ -127,7 +164,7 @@ pub struct Snapshot<'s> {
     order: &'s [u32],
     offsets: &'s [u32],
     kind: &'s [u8],
-    grid: HashGrid,
+    grid: CubeGrid,
     forces: &'s SurfaceForces<'s>,
 }
 
@@ -165,40 +202,56 @@ impl Snapshot<'_> {
         let r2 = r * r;
         let repel = &self.forces.repel[self.kind_of(i)];
         let g = &self.grid;
-        let span =
-            |c: usize| g.cube(c, i64::from(p[c]) - r + 1)..=g.cube(c, i64::from(p[c]) + r - 1);
-        let mut seen = [usize::MAX; 27];
-        let mut count = 0;
-        for z in span(2) {
-            for y in span(1) {
-                for x in span(0) {
-                    let b = g.bucket(x, y, z);
-                    if seen[..count].contains(&b) {
-                        continue;
-                    }
-                    if let Some(s) = seen.get_mut(count) {
-                        *s = b;
-                        count += 1;
-                    }
-                    let run = self.offsets.get(b).map_or(0, |&o| o as usize)
-                        ..self.offsets.get(b + 1).map_or(0, |&o| o as usize);
-                    let (Some(points), Some(ids)) =
-                        (self.sorted.get(run.clone()), self.order.get(run))
-                    else {
-                        continue;
-                    };
-                    for (q, &j) in points.iter().zip(ids) {
-                        let d = [0, 1, 2].map(|c| i64::from(p[c]) - i64::from(q[c]));
-                        if d.iter().any(|x| x.abs() >= r) {
-                            continue;
+        let reach = r - 1;
+        let span = |c: usize| {
+            let x = i64::from(p[c]);
+            (g.cube(c, x - reach), g.cube(c, x + reach))
+        };
+        let ((x0, x1), (y0, y1), (z0, z1)) = (span(0), span(1), span(2));
+        let [ma, mb] = [g.modulus[0], g.modulus[1]];
+        let window = (2 * reach + 1) as u64;
+        for (z, nz) in g.runs(2, z0, z1) {
+            for z in z..z + nz {
+                for (y, ny) in g.runs(1, y0, y1) {
+                    for y in y..y + ny {
+                        let row = (z * mb + y) * ma;
+                        for (x, nx) in g.runs(0, x0, x1) {
+                            let first = (row + x) as usize;
+                            let run = self.offsets.get(first).map_or(0, |&o| o as usize)
+                                ..self
+                                    .offsets
+                                    .get(first + nx as usize)
+                                    .map_or(0, |&o| o as usize);
+                            let (Some(points), Some(ids)) =
+                                (self.sorted.get(run.clone()), self.order.get(run))
+                            else {
+                                continue;
+                            };
+                            for (q, &j) in points.iter().zip(ids) {
+                                // |d| < r on every axis: d + r − 1 in [0, 2r − 1),
+                                // checked axis by axis (most fail on the first).
+                                let dx = i64::from(p[0]) - i64::from(q[0]);
+                                if (dx + reach) as u64 >= window {
+                                    continue;
+                                }
+                                let dy = i64::from(p[1]) - i64::from(q[1]);
+                                if (dy + reach) as u64 >= window {
+                                    continue;
+                                }
+                                let dz = i64::from(p[2]) - i64::from(q[2]);
+                                if (dz + reach) as u64 >= window {
+                                    continue;
+                                }
+                                let d = [dx, dy, dz];
+                                let d2 = dx * dx + dy * dy + dz * dz;
+                                let j = j as usize;
+                                if d2 >= r2 || j == i {
+                                    continue;
+                                }
+                                let f = push(i, j, d, d2, r, i64::from(repel[self.kind_of(j)]));
+                                sum = [0, 1, 2].map(|c| sum[c] + f[c]);
+                            }
                         }
-                        let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                        let j = j as usize;
-                        if d2 >= r2 || j == i {
-                            continue;
-                        }
-                        let f = push(i, j, d, d2, r, i64::from(repel[self.kind_of(j)]));
-                        sum = [0, 1, 2].map(|c| sum[c] + f[c]);
                     }
                 }
             }
@@ -261,8 +314,12 @@ pub fn snapshot<'s>(
     n: usize,
     forces: &'s SurfaceForces<'s>,
 ) -> (Snapshot<'s>, &'s mut [Place], &'s mut [[i32; 3]]) {
-    let buckets = cells.buckets.len().saturating_sub(1).max(1);
-    let grid = HashGrid::plan(forces.mesh, forces.radius, buckets);
+    let grid = CubeGrid::plan(
+        forces.mesh,
+        forces.radius,
+        cells.buckets.len().saturating_sub(1),
+    );
+    let buckets = grid.buckets().min(cells.buckets.len().saturating_sub(1));
     grid.build(
         &cells.place[..n],
         &mut cells.order[..n],
