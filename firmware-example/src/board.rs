@@ -137,7 +137,6 @@ impl Uart0 {
         write(UART_CTL, CTL_ENABLE);
         Uart0 { _private: () }
     }
-
 }
 
 /// Writing blocks while the transmit FIFO is full, and never fails.

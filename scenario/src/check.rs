@@ -26,24 +26,8 @@ use crate::body_files::{self, USER_CYLINDERS};
 use crate::mask;
 use crate::schema::{self, BoneFrames, DayFrames, File, Include};
 use crate::surface::{self, SurfaceSpec};
-
-/// A value that is not allowed, with the dotted key it came from.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Invalid {
-    /// The dotted key (`mosaic.types[1].division_days`).
-    pub key: String,
-    /// What is wrong, with what is allowed.
-    pub message: String,
-}
-
-pub(crate) type Result<T> = std::result::Result<T, Invalid>;
-
-pub(crate) fn invalid<T>(key: impl Into<String>, message: impl Into<String>) -> Result<T> {
-    Err(Invalid {
-        key: key.into(),
-        message: message.into(),
-    })
-}
+pub use crate::value::Invalid;
+use crate::value::{Result, fx, int, invalid};
 
 /// Reads the file an [`Include`] names.
 pub trait Files {
@@ -400,16 +384,6 @@ pub fn check(file: &File, files: &dyn Files) -> Result<Checked> {
 
 // ----------------------------------------------------------------- units
 
-/// A real number as 16.16 fixed point, rounded to nearest, within
-/// `lo..=hi`.
-pub(crate) fn fx(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
-    if !v.is_finite() || v < lo || v > hi {
-        return invalid(key, format!("{v} is out of range (allowed: {lo} to {hi})"));
-    }
-    // |v| < 32768, so v·65536 is exact in f64 and fits an i32 once rounded.
-    Ok(Fx::from_bits((v * 65536.0).round() as i32))
-}
-
 /// A percentage as a ratio in 16.16.
 fn percent(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
     if !v.is_finite() || v < lo || v > hi {
@@ -438,14 +412,6 @@ fn degrees(key: &str, v: f64) -> Result<Angle> {
         .round()
         .rem_euclid(4_294_967_296.0);
     Ok(Angle(units as u32))
-}
-
-/// A whole number within `lo..=hi`.
-pub(crate) fn int<T: TryFrom<i64>>(key: &str, v: i64, lo: i64, hi: i64) -> Result<T> {
-    if v < lo || v > hi {
-        return invalid(key, format!("{v} is out of range (allowed: {lo} to {hi})"));
-    }
-    T::try_from(v).or_else(|_| invalid(key, format!("{v} is out of range")))
 }
 
 fn text(include: &Include, key: &str, files: &dyn Files) -> Result<String> {
@@ -741,7 +707,12 @@ fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
     };
     let surface = match &m.surface {
         None => None,
-        Some(s) => Some(surface::check(s, files)?),
+        Some(s) => Some(surface::check(s, &|include| match include {
+            Include::Path(path) => files
+                .read(path)
+                .or_else(|e| invalid("mosaic.surface.file", format!("cannot read {path}: {e}"))),
+            Include::Inline { text } => Ok(text.clone().into_bytes()),
+        })?),
     };
     Ok(Checked::Mosaic {
         params: Box::new(params),

@@ -27,6 +27,7 @@ pub mod mask;
 pub mod run;
 pub mod schema;
 pub mod surface;
+mod value;
 
 use std::fmt;
 use std::path::{Path, PathBuf};

@@ -12,7 +12,9 @@ use morphogen::mosaic::grid::Grid;
 use morphogen::mosaic::mesh::{MeshParts, Place};
 use morphogen::mosaic::relaxation::{self, Forces, Relax};
 use morphogen::mosaic::store::{CellSlices, CellStore};
-use morphogen::mosaic::surface::relaxation::{self as surface_relaxation, SurfaceForces};
+use morphogen::mosaic::surface::relaxation::{
+    self as surface_relaxation, SurfaceForces, SurfaceRelax,
+};
 use morphogen::mosaic::surface::store::{SurfaceSlices, SurfaceStore};
 use morphogen::mosaic::surface::{MeshBuffers, Surface, SurfaceMosaic, build_mesh};
 use morphogen::mosaic::{Mosaic, Params as MosaicParams, host_capacity};
@@ -190,7 +192,9 @@ impl SurfaceStore for VecSurfaceStore {
     fn kinds(&self) -> &[u8] {
         &self.kind
     }
+}
 
+impl SurfaceRelax for VecSurfaceStore {
     fn relax(&mut self, n: usize, forces: &SurfaceForces<'_>) {
         let moved = &mut self.moved[..n];
         let mut cells = SurfaceSlices {

@@ -6,8 +6,8 @@ use morphogen::fx::Fx;
 use morphogen::mosaic::shapes::{Shape, Tessellation};
 use morphogen::mosaic::surface::{ControlMap, Surface, SurfaceMesh};
 
-use crate::check::{Files, Invalid, Result, fx, int, invalid};
 use crate::schema::{self, Include};
+use crate::value::{Invalid, Result, fx, int, invalid};
 
 /// A checked surface, owning its triangles.
 #[derive(Debug, Clone, PartialEq)]
@@ -60,7 +60,11 @@ fn size(key: &str, v: Option<f64>, shape: &str) -> Result<Fx> {
 /// # Errors
 /// A missing or out-of-range key, an unknown shape, or an OBJ file that
 /// cannot be read.
-pub fn check(s: &schema::Surface, files: &dyn Files) -> Result<SurfaceSpec> {
+/// `read` gives the bytes of the OBJ file a scenario names.
+pub fn check(
+    s: &schema::Surface,
+    read: &dyn Fn(&Include) -> Result<Vec<u8>>,
+) -> Result<SurfaceSpec> {
     let name = s.shape.as_str();
     let rings = int("mosaic.surface.rings", s.rings.unwrap_or(24), 2, 1024)?;
     let segments = int("mosaic.surface.segments", s.segments.unwrap_or(48), 3, 1024)?;
@@ -129,13 +133,7 @@ pub fn check(s: &schema::Surface, files: &dyn Files) -> Result<SurfaceSpec> {
     let (vertices, faces) = match shape {
         Some(_) => (Vec::new(), Vec::new()),
         None => {
-            let file = need_file(s)?;
-            let bytes = match file {
-                Include::Path(path) => files.read(path).or_else(|e| {
-                    invalid("mosaic.surface.file", format!("cannot read {path}: {e}"))
-                })?,
-                Include::Inline { text } => text.clone().into_bytes(),
-            };
+            let bytes = read(need_file(s)?)?;
             obj(&bytes)?
         }
     };

@@ -8,7 +8,7 @@
 //! day, cell id), so a cell's fate does not depend on the order in which
 //! cells are visited.
 
-use super::params::{CellType, MAX_TYPES};
+use super::params::{CellType, MAX_TYPES, Params};
 use crate::Error;
 use crate::fx::Fx;
 use crate::rng::KeyedRng;
@@ -102,6 +102,54 @@ pub fn offset_in_disc(rng: &mut KeyedRng, radius: i32) -> [i32; 2] {
         }
     }
     [0, 0]
+}
+
+/// What the division of a cell decides, drawn in this order from the
+/// stream of (day, cell): the child's type, its offset from the parent in
+/// the disc of radius `disc`, the child's and then the parent's next
+/// division day.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Split {
+    /// The child's type.
+    pub child: u8,
+    /// The child's offset from its parent (Q16 bits, in the plane of the
+    /// parent's surface).
+    pub offset: [i32; 2],
+    /// The child's next division day.
+    pub child_next: u16,
+    /// The parent's next division day.
+    pub parent_next: u16,
+}
+
+/// The division on `day` of cell `id` of type `parent` in a run of
+/// `params` with `seed`.
+///
+/// # Errors
+/// A mean beyond the Poisson sampler's limit.
+pub fn split(
+    seed: u64,
+    day: u16,
+    id: u32,
+    parent: u8,
+    params: &Params,
+    disc: i32,
+) -> Result<Split, Error> {
+    let types = params.types;
+    let mut rng = KeyedRng::new(seed, stream_id(Purpose::Divide, day, id));
+    let child = child_type(&mut rng, parent, &params.mutation, types.len());
+    let offset = offset_in_disc(&mut rng, disc);
+    let mut later = |k: u8| -> Result<u16, Error> {
+        let t = &types[k as usize % types.len().max(1)];
+        Ok(day.saturating_add(interval(&mut rng, t)?))
+    };
+    let child_next = later(child)?;
+    let parent_next = later(parent)?;
+    Ok(Split {
+        child,
+        offset,
+        child_next,
+        parent_next,
+    })
 }
 
 #[cfg(test)]

@@ -387,7 +387,6 @@ impl<'a, S: Relax> Mosaic<'a, S> {
         let day = self.day;
         let capacity = self.store.capacity();
         let disc = self.radius / 200; // diameter 1 % of r
-        let ntypes = params.types.len();
         let cells = self.store.slices();
         let existing = self.cells as usize;
         let mut n = existing;
@@ -401,10 +400,9 @@ impl<'a, S: Relax> Mosaic<'a, S> {
                     capacity: capacity as u32,
                 });
             }
-            let mut rng = KeyedRng::new(self.seed, stream_id(Purpose::Divide, day, id as u32));
             let parent = cells.kind[id];
-            let child = division::child_type(&mut rng, parent, &params.mutation, ntypes);
-            let off = division::offset_in_disc(&mut rng, disc);
+            let split = division::split(self.seed, day, id as u32, parent, params, disc)?;
+            let (child, off) = (split.child, split.offset);
             let p = cells.pos[id];
             cells.pos[n] = [
                 params
@@ -418,12 +416,8 @@ impl<'a, S: Relax> Mosaic<'a, S> {
             if let Some(v) = cells.velocity.get_mut(n) {
                 *v = [0; 2]; // a newborn cell has not moved
             }
-            let later = |k: u8, rng: &mut KeyedRng| -> Result<u16, Error> {
-                let t = &params.types[k as usize % ntypes];
-                Ok(day.saturating_add(division::interval(rng, t)?))
-            };
-            cells.next_division[n] = later(child, &mut rng)?;
-            cells.next_division[id] = later(parent, &mut rng)?;
+            cells.next_division[n] = split.child_next;
+            cells.next_division[id] = split.parent_next;
             self.divisions[parent as usize % MAX_TYPES][child as usize % MAX_TYPES] += 1;
             n += 1;
         }

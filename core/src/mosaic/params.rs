@@ -5,7 +5,7 @@ use serde::Serialize;
 
 use super::control::{Anisotropy, Mask};
 use super::domain::Domain;
-use super::surface::Surface;
+use super::surface::spec::Surface;
 use crate::fx::Fx;
 
 /// The most cell types a run may have (the thesis uses F, B and M).

@@ -81,11 +81,7 @@ fn count_days<R: Records + ?Sized>(records: &R) -> Result<usize> {
 }
 
 /// The chart of the number of cells of each type per day.
-pub(super) fn cells_chart(
-    colours: &[[u8; 3]],
-    names: &[&str],
-    counts: &[(i32, Vec<usize>)],
-) -> Chart {
+fn cells_chart(colours: &[[u8; 3]], names: &[&str], counts: &[(i32, Vec<usize>)]) -> Chart {
     let mut chart = Chart::new(
         "Cells per type",
         Axis::new("time", "days"),
@@ -300,8 +296,27 @@ pub fn write<R: Records + ?Sized>(
             )?);
         }
     }
+    written.extend(write_counts_and_mask(params, names, &counts, dir, kinds)?);
+    Ok(written)
+}
+
+/// Writes the cells-per-type chart (`cells.png`, `cells.svg`, when there
+/// is more than one day) and the control mask (`mask.pbm`) of a mosaic's
+/// run, on the plane or on a mesh alike.
+///
+/// # Errors
+/// When a file cannot be written.
+pub(super) fn write_counts_and_mask(
+    params: &Params,
+    names: &[&str],
+    counts: &[(i32, Vec<usize>)],
+    dir: &Path,
+    kinds: Kinds,
+) -> Result<Vec<PathBuf>> {
+    let colours: Vec<[u8; 3]> = params.types.iter().map(|t| t.colour).collect();
+    let mut written = Vec::new();
     if counts.len() > 1 {
-        let chart = cells_chart(&colours, names, &counts);
+        let chart = cells_chart(&colours, names, counts);
         if kinds.has(Kind::Png) {
             let path = dir.join("cells.png");
             write_png(&chart, &path, 900, 500)?;

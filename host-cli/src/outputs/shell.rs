@@ -18,12 +18,11 @@ use morphogen::stream::Record;
 use rayon::prelude::*;
 use tiny_skia::{Pixmap, PremultipliedColorU8};
 
-use super::chart::{write_png, write_svg};
 use super::mesh::{Mesh, ObjStyle, Rgb, write_obj};
-use super::mosaic::{cells_chart, write_shares};
+use super::mosaic::{write_counts_and_mask, write_shares};
 use super::picture;
 use super::{Kind, Kinds};
-use crate::atomic::{OutputFile, write_atomic};
+use crate::atomic::OutputFile;
 use crate::records::{Place, Records};
 
 /// The picture's longer side in pixels (drawn at twice the size, halved).
@@ -463,23 +462,6 @@ pub fn write<R: Records + ?Sized>(
             )?);
         }
     }
-    if counts.len() > 1 {
-        let chart = cells_chart(&colours, names, &counts);
-        if kinds.has(Kind::Png) {
-            let path = dir.join("cells.png");
-            write_png(&chart, &path, 900, 500)?;
-            written.push(path);
-        }
-        if kinds.has(Kind::Svg) {
-            let path = dir.join("cells.svg");
-            write_svg(&chart, &path, 900, 500)?;
-            written.push(path);
-        }
-    }
-    if let Some(mask) = &params.mask {
-        let path = dir.join("mask.pbm");
-        write_atomic(&path, morphogen_scenario::mask::to_pbm(mask).as_bytes())?;
-        written.push(path);
-    }
+    written.extend(write_counts_and_mask(params, names, &counts, dir, kinds)?);
     Ok(written)
 }

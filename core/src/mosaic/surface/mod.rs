@@ -12,75 +12,25 @@
 //! [`Record::SurfaceCell`]s.
 
 pub mod relaxation;
+pub mod spec;
 pub mod store;
-
-use serde::Serialize;
 
 use super::control::{Anisotropy, Field};
 use super::division::{self, Purpose, stream_id};
 use super::mesh::{Mesh, MeshError, MeshParts, Place, along_plane};
 use super::params::{MAX_TYPES, Params};
-use super::shapes::Tessellation;
 use super::{CELL_LIMIT, MosaicError, VELOCITY_LIMIT, repulsion, validate};
 use crate::Error;
 use crate::fx::{Fx, Real};
 use crate::rng::KeyedRng;
 use crate::sim::{Deferred, Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
-use relaxation::SurfaceForces;
-use store::SurfaceStore;
+use relaxation::{SurfaceForces, SurfaceRelax};
+pub use spec::{ControlMap, Surface, SurfaceMesh};
 
 /// The name of the limit in [`Error::Capacity`] when the buffer for the
 /// anisotropy field has fewer entries than the mesh has faces.
 pub const FIELD_LIMIT: &str = "surface anisotropy field (one vector per face of the mesh)";
-
-/// How a point of the surface maps to the (u, v) of the mosaic's domain,
-/// where the mask is read (thesis Sec. 3.2.2).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum ControlMap {
-    /// A cylinder around z: u the angle (a turn is the domain's width), v
-    /// the height (the mesh's z range is the domain's length).
-    Cylinder,
-    /// The plane z = 0: u along x, v along y, over the mesh's range.
-    Plane,
-}
-
-/// The mesh a surface mosaic lives on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum SurfaceMesh<'a> {
-    /// A built-in shape ([`Tessellation`]).
-    Shape(Tessellation),
-    /// A user's triangles.
-    Triangles {
-        /// Vertices.
-        vertices: &'a [[Fx; 3]],
-        /// Triangles by vertex index.
-        faces: &'a [[u32; 3]],
-    },
-}
-
-/// A surface for a mosaic: the mesh and how (u, v) is read on it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Surface<'a> {
-    /// The mesh.
-    pub mesh: SurfaceMesh<'a>,
-    /// The map to the domain's (u, v).
-    pub control: ControlMap,
-}
-
-impl Surface<'_> {
-    /// The numbers of vertices and faces its mesh has.
-    #[must_use]
-    pub fn counts(&self) -> (usize, usize) {
-        match self.mesh {
-            SurfaceMesh::Shape(t) => t.counts(),
-            SurfaceMesh::Triangles { vertices, faces } => (vertices.len(), faces.len()),
-        }
-    }
-}
 
 /// The buffers a surface's mesh is built in ([`Surface::counts`] entries
 /// each; three edge keys per face).
@@ -125,7 +75,7 @@ pub fn build_mesh<'m>(surface: &Surface<'_>, buffers: MeshBuffers<'m>) -> Result
 
 /// A running mosaic on a mesh over the cell store `S`.
 #[derive(Debug)]
-pub struct SurfaceMosaic<'a, S: SurfaceStore> {
+pub struct SurfaceMosaic<'a, S: SurfaceRelax> {
     store: S,
     mesh: Mesh<'a>,
     params: Option<&'a Params<'a>>,
@@ -140,7 +90,7 @@ pub struct SurfaceMosaic<'a, S: SurfaceStore> {
     pending: Deferred,
 }
 
-impl<'a, S: SurfaceStore> SurfaceMosaic<'a, S> {
+impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
     /// A mosaic on `mesh` over `store`, not yet started; `field` holds the
     /// anisotropy field's vector at each face (one entry per face; empty
     /// for runs without anisotropy).
@@ -383,7 +333,6 @@ impl<'a, S: SurfaceStore> SurfaceMosaic<'a, S> {
         let day = self.day;
         let capacity = self.store.capacity();
         let disc = self.radius / 200;
-        let ntypes = params.types.len();
         let mesh = self.mesh;
         let cells = self.store.slices();
         let existing = self.cells as usize;
@@ -398,24 +347,18 @@ impl<'a, S: SurfaceStore> SurfaceMosaic<'a, S> {
                     capacity: capacity as u32,
                 });
             }
-            let mut rng = KeyedRng::new(self.seed, stream_id(Purpose::Divide, day, id as u32));
-            let parent = cells.kind[id];
-            let child = division::child_type(&mut rng, parent, &params.mutation, ntypes);
-            let off = division::offset_in_disc(&mut rng, disc).map(i64::from);
+            let split = division::split(self.seed, day, id as u32, cells.kind[id], params, disc)?;
+            let off = split.offset.map(i64::from);
             let at = cells.place[id];
             let [along, across] = mesh.frame(at.face);
             let d = [0, 1, 2].map(|c| (along[c] * off[0] + across[c] * off[1]) >> 16);
             cells.place[n] = mesh.walk(at, d);
-            cells.kind[n] = child;
+            cells.kind[n] = split.child;
             if let Some(v) = cells.velocity.get_mut(n) {
                 *v = [0; 3];
             }
-            let later = |k: u8, rng: &mut KeyedRng| -> Result<u16, Error> {
-                let t = &params.types[k as usize % ntypes];
-                Ok(day.saturating_add(division::interval(rng, t)?))
-            };
-            cells.next_division[n] = later(child, &mut rng)?;
-            cells.next_division[id] = later(parent, &mut rng)?;
+            cells.next_division[n] = split.child_next;
+            cells.next_division[id] = split.parent_next;
             n += 1;
         }
         self.cells = n as u32;
@@ -479,7 +422,7 @@ impl<'a, S: SurfaceStore> SurfaceMosaic<'a, S> {
     }
 }
 
-impl<'a, S: SurfaceStore> Start<'a> for SurfaceMosaic<'a, S> {
+impl<'a, S: SurfaceRelax> Start<'a> for SurfaceMosaic<'a, S> {
     type Params = Params<'a>;
 
     fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
@@ -487,7 +430,7 @@ impl<'a, S: SurfaceStore> Start<'a> for SurfaceMosaic<'a, S> {
     }
 }
 
-impl<S: SurfaceStore> Simulation for SurfaceMosaic<'_, S> {
+impl<S: SurfaceRelax> Simulation for SurfaceMosaic<'_, S> {
     /// Step 0 places and relaxes the initial cells; step d ≥ 1 simulates
     /// day d, as on the plane.
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {

@@ -16,7 +16,7 @@ use crate::fx::root::{isqrt_u32, isqrt_u64};
 use crate::mosaic::mesh::{Mesh, Place};
 use crate::mosaic::params::MAX_TYPES;
 
-use super::store::SurfaceSlices;
+use super::store::{ArraySurfaceStore, SurfaceSlices, SurfaceStore};
 
 /// Q16 one.
 const ONE: i64 = 1 << 16;
@@ -341,6 +341,18 @@ pub fn snapshot<'s>(
     (snapshot, &mut cells.place[..n], velocity)
 }
 
+/// How a surface cell store runs a relaxation step: one cell after
+/// another (the default, [`relax`]), or side by side on several threads
+/// through the [`Snapshot`], with the same result.
+pub trait SurfaceRelax: SurfaceStore {
+    /// One relaxation step over the first `n` cells.
+    fn relax(&mut self, n: usize, forces: &SurfaceForces<'_>) {
+        relax(&mut self.slices(), n, forces);
+    }
+}
+
+impl<const N: usize, const B: usize> SurfaceRelax for ArraySurfaceStore<N, B> {}
+
 /// One relaxation step over the first `n` cells, one after another.
 pub fn relax(cells: &mut SurfaceSlices<'_>, n: usize, forces: &SurfaceForces<'_>) {
     let (snapshot, places, velocity) = snapshot(cells, n, forces);
@@ -361,7 +373,6 @@ mod tests {
     use crate::fx::Fx;
     use crate::mosaic::mesh::{MeshParts, Place};
     use crate::mosaic::shapes::{Shape, Tessellation};
-    use crate::mosaic::surface::store::{ArraySurfaceStore, SurfaceStore};
     use crate::rng::KeyedRng;
 
     #[test]

@@ -3,7 +3,6 @@
 //! 4 B, the sorted point scratch 12 B = 35 B, plus the hashed grid's bucket
 //! offsets (4 B each) and, with momentum, the last move (12 B).
 
-use super::relaxation::{self, SurfaceForces};
 use crate::mosaic::mesh::Place;
 
 /// The arrays of a surface cell store, borrowed for one operation.
@@ -35,11 +34,6 @@ pub trait SurfaceStore {
     fn places(&self) -> &[Place];
     /// The types, all `capacity` slots.
     fn kinds(&self) -> &[u8];
-    /// One relaxation step over the first `n` cells (one cell after
-    /// another unless a store does better).
-    fn relax(&mut self, n: usize, forces: &SurfaceForces<'_>) {
-        relaxation::relax(&mut self.slices(), n, forces);
-    }
 }
 
 /// A surface store held inline: `N` cells and `B − 1` grid buckets, no

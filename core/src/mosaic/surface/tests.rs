@@ -8,7 +8,7 @@ use super::store::ArraySurfaceStore;
 use super::*;
 use crate::mosaic::Domain;
 use crate::mosaic::params::{CellType, Frames, NO_MUTATION, pair_table};
-use crate::mosaic::shapes::Shape;
+use crate::mosaic::shapes::{Shape, Tessellation};
 use crate::stream::SinkError;
 
 static TYPES: [CellType; 2] = [
