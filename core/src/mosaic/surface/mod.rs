@@ -2,7 +2,7 @@
 //! grows its cells on the object itself). The same day as on the plane —
 //! division, radius r = w_r·√(area/N), ρ_s relaxations — with cells that
 //! are [`Place`]s on a [`Mesh`]: neighbours within r found by 3D distance
-//! through a hashed grid ([`relaxation`]), the push taken into the cell's
+//! through a grid of cubes ([`relaxation`]), the push taken into the cell's
 //! tangent plane and walked along the surface across edges
 //! ([`Mesh::walk`]). The mask is read through the control cylinder's (or
 //! plane's) (u, v) (Sec. 3.2.2, [`ControlMap`]).
@@ -195,7 +195,14 @@ impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
     /// r = w_r·√(area/N) for the mesh's area.
     fn update_radius(&mut self, params: &Params) {
         let n = u64::from(self.cells.max(1));
-        let spacing = ((self.mesh.area_q16() << 16) / n).isqrt(); // Q16
+        let area = self.mesh.area_q16();
+        // area/N as Q32: shifted first while it fits (2^47 square units
+        // and more only on meshes of millions of large triangles).
+        let per_cell = match area.checked_mul(1 << 16) {
+            Some(q32) => q32 / n,
+            None => (area / n).saturating_mul(1 << 16),
+        };
+        let spacing = per_cell.isqrt(); // Q16
         let r = (spacing * u64::from(params.radius_weight.to_bits().unsigned_abs())) >> 16;
         self.radius = r.clamp(1, 1 << 28) as i32;
     }

@@ -1,6 +1,6 @@
 //! Relaxation on a surface: the plane's pushes
 //! ρ_pq·(r − d)·(p − q)/d by 3D distance d < r
-//! ([`crate::mosaic::relaxation`]), summed over the neighbours a hashed
+//! ([`crate::mosaic::relaxation`]), summed over the neighbours a cube
 //! grid finds, blended with the anisotropy field of the cell's face
 //! (w_a) and scaled by w_d as on the plane, taken into the cell's tangent
 //! plane and walked along the mesh ([`Mesh::walk`]). A Jacobi step on integer sums:
@@ -376,7 +376,7 @@ mod tests {
     use crate::rng::KeyedRng;
 
     #[test]
-    fn the_hashed_grid_finds_every_neighbour() {
+    fn the_cube_grid_finds_every_neighbour() {
         let t = Tessellation {
             shape: Shape::Stem {
                 radius: Fx::from_int(4),

@@ -1,6 +1,6 @@
 //! Fixed-capacity cell storage for surface mosaics: per cell a [`Place`]
 //! (face 4 B, point 12 B), type 1 B, next division day 2 B, grid order
-//! 4 B, the sorted point scratch 12 B = 35 B, plus the hashed grid's bucket
+//! 4 B, the sorted point scratch 12 B = 35 B, plus the cube grid's bucket
 //! offsets (4 B each) and, with momentum, the last move (12 B).
 
 use crate::mosaic::mesh::Place;
