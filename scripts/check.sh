@@ -19,11 +19,13 @@ done
 step "format"
 cargo fmt --all --check
 (cd firmware-example && cargo fmt --check)
+(cd firmware-rp2040 && cargo fmt --check)
 
 step "lint"
 cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy -p morphogen --all-targets --features rig,defmt -- -D warnings
 (cd firmware-example && cargo clippy --release -- -D warnings)
+(cd firmware-rp2040 && cargo clippy --release -- -D warnings)
 
 step "documentation: cargo doc without a warning (the core with every feature, as docs.rs builds it)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
@@ -34,6 +36,9 @@ for t in thumbv6m-none-eabi thumbv7m-none-eabi; do
     cargo build -p morphogen --target "$t"
     cargo build -p morphogen --target "$t" --features defmt,rig
 done
+
+step "the Raspberry Pi Pico firmware builds (firmware-rp2040, thumbv6m; no board in CI: flashed by hand, see its README)"
+(cd firmware-rp2040 && cargo build --release)
 
 step "release build (once: the determinism test, the fixtures and the firmware check reuse it)"
 cargo build --release -p morphogen-cli
