@@ -1,9 +1,13 @@
 #!/usr/bin/env bash
-# Firmware check (issue 3): builds firmware-example for thumbv7m, thumbv6m
-# and thumbv7em, runs each in QEMU's lm3s6965evb with `-icount shift=0`
-# (UART0 → capture file, defmt over semihosting → defmt-print), verifies every
-# capture bit for bit with `morphogen verify --stream`, checks that a flipped
-# bit is caught, builds and runs the firmware with two user scenarios
+# Firmware check (issues 3 and 17): builds firmware-example for thumbv7m,
+# thumbv6m and thumbv7em, runs each in QEMU's lm3s6965evb with `-icount
+# shift=0` (UART0 → capture file, defmt over semihosting → defmt-print),
+# verifies every capture bit for bit with `morphogen verify --stream`, takes
+# the emulated OLED's picture after each preset (QEMU `screendump` through
+# QMP, with the firmware's `--screen-sync` handshake on UART1:
+# scripts/oled-screens.py) and compares it pixel for pixel with the host's
+# `--rig 128x64:grey4` picture of the same stream (`morphogen listen`; both
+# land in target/rig-screens/), checks that a flipped bit is caught, builds and runs the firmware with two user scenarios
 # (MORPHOGEN_SCENARIOS: a changed ram-horn made on the fly and the user body
 # examples/wagging-tail.toml, verified against fixtures blessed on the host),
 # and rewrites firmware-example/REPORT.md (sizes and costs of the built-in
@@ -20,6 +24,8 @@
 #                     the user-scenario step appends `--fixtures DIR` after the capture)
 #   MORPHOGEN_BLESS   the bless command, given `FILE.toml … --fixtures DIR`
 #                     (default: cargo run --release -q -p morphogen-cli -- bless)
+#   MORPHOGEN_LISTEN  the listen command, given `CAPTURE --rig 128x64:grey4 --out DIR`
+#                     (default: cargo run --release -q -p morphogen-cli -- listen)
 #   CARGO_TARGET_DIR  honoured (default: firmware-example/target)
 #   QEMU_TIMEOUT      seconds per QEMU run (default 600)
 #
@@ -50,6 +56,12 @@ if [ -n "${MORPHOGEN_VERIFY:-}" ]; then
   read -r -a verify_cmd <<<"$MORPHOGEN_VERIFY"
 else
   verify_cmd=(cargo run --release -q --manifest-path "$root/Cargo.toml" -p morphogen-cli -- verify --stream)
+fi
+
+if [ -n "${MORPHOGEN_LISTEN:-}" ]; then
+  read -r -a listen_cmd <<<"$MORPHOGEN_LISTEN"
+else
+  listen_cmd=(cargo run --release -q --manifest-path "$root/Cargo.toml" -p morphogen-cli -- listen)
 fi
 
 if [ -n "${MORPHOGEN_BLESS:-}" ]; then
@@ -167,22 +179,49 @@ done
 # ---- run in QEMU and verify ----------------------------------------------------
 qemu_cpu() { case "$1" in thumbv7em-*) echo cortex-m4 ;; *) echo cortex-m3 ;; esac; }
 # qemu_run TARGET ELF NAME: boots ELF, UART0 → $work/NAME.bin, defmt log →
-# $work/NAME.log; fails unless every preset streamed.
+# $work/NAME.log, the OLED after each preset → $work/screens-NAME/; fails
+# unless every preset streamed and was photographed.
+sockets="$(mktemp -d)" # short paths: UNIX sockets allow ~100 bytes
+trap 'rm -rf "$user_dir" "$sockets"' EXIT
 qemu_run() {
-  local t="$1" elf="$2" name="$3" status
+  local t="$1" elf="$2" name="$3" status capturer capture_status
   say "QEMU lm3s6965evb -cpu $(qemu_cpu "$t"): $name"
+  rm -f "$sockets"/*
+  python3 "$root/scripts/oled-screens.py" capture "$sockets/sync" "$sockets/qmp" "$work/screens-$name" \
+    >"$work/$name.screens.log" 2>&1 &
+  capturer=$!
   set +e
   timeout "${QEMU_TIMEOUT:-600}" qemu-system-arm -machine lm3s6965evb -cpu "$(qemu_cpu "$t")" \
     -display none -monitor none -parallel none \
-    -semihosting-config enable=on,target=native -icount shift=0 \
-    -serial "file:$work/$name.bin" -kernel "$elf" 2>"$work/$name.qemu.err" \
+    -semihosting-config enable=on,target=native,arg=morphogen-firmware,arg=--screen-sync \
+    -icount shift=0 \
+    -serial "file:$work/$name.bin" -serial "unix:$sockets/sync,server=on,wait=on" \
+    -qmp "unix:$sockets/qmp,server=on,wait=off" \
+    -kernel "$elf" 2>"$work/$name.qemu.err" \
     | defmt-print -e "$elf" >"$work/$name.log" 2>&1
   status=("${PIPESTATUS[@]}")
+  wait "$capturer"; capture_status=$?
   set -e
-  cat "$work/$name.log"
+  cat "$work/$name.log" "$work/$name.screens.log"
   [ "${status[0]}" -eq 0 ] || { cat "$work/$name.qemu.err" >&2; die "$name: QEMU exited ${status[0]} (firmware panic, fault, failed preset or timeout)"; }
   grep -q "all .* presets streamed" "$work/$name.log" || die "$name: the firmware did not report completion"
+  [ "$capture_status" -eq 0 ] || die "$name: the OLED pictures could not be taken"
 }
+
+# oled_check NAME [LISTEN ARG...]: the host draws each stream of
+# $work/NAME.bin as a 128×64 grey OLED (`morphogen listen`, which also
+# verifies it), and every picture QEMU took must match it pixel for pixel.
+oled_check() {
+  local name="$1"; shift
+  say "OLED: $name against the host's pictures"
+  (cd "$root" && "${listen_cmd[@]}" "$work/$name.bin" --rig 128x64:grey4 --out "$work/host-screens-$name" "$@") \
+    >"$work/$name.listen.log" 2>&1 || { cat "$work/$name.listen.log"; die "$name: the host could not draw the capture"; }
+  # shellcheck disable=SC2046 # one name per line, no spaces
+  python3 "$root/scripts/oled-screens.py" compare "$work/screens-$name" "$work/host-screens-$name" \
+    $(cat "$work/screens-$name/captured.txt") | tee -a "$work/oled.log" \
+    || die "$name: the emulated OLED differs from the host's picture (see $work/screens-$name)"
+}
+
 for t in "${targets[@]}"; do
   elf="$tdir/$t/release/morphogen-firmware"
   cp "$elf" "$work/$t.elf"
@@ -190,7 +229,15 @@ for t in "${targets[@]}"; do
   say "verify $t capture ($(stat -c %s "$work/$t.bin") bytes)"
   verify "$work/$t.bin" "$work/$t.verify.log" || { cat "$work/$t.verify.log"; die "$t: capture does not match the fixtures"; }
   cat "$work/$t.verify.log"
+  oled_check "$t"
 done
+# The pictures of the first target, beside the host's, where a reviewer
+# looks: target/rig-screens/PRESET.{qemu,host}.png.
+screens="$root/target/rig-screens"
+rm -rf "$screens"; mkdir -p "$screens"
+cp "$work/screens-${targets[0]}"/*.png "$screens/"
+echo "OLED pictures: $screens"
+
 
 # ---- user scenarios (MORPHOGEN_SCENARIOS) -----------------------------------------
 # The firmware built above from the two user scenarios alone streams exactly
@@ -215,6 +262,7 @@ cat "$user_dir/fixtures/$user_name/stream.bin" "$user_dir/fixtures/wagging-tail/
 cmp -s "$work/user.bin" "$work/user.expected.bin" \
   || die "user scenarios: the capture differs from the blessed stream.bin files"
 echo "user scenarios: $user_name and wagging-tail streamed on the firmware match the host's bless, byte for byte"
+oled_check user --fixtures "$user_dir/fixtures"
 
 # The flipped bit lands in the preset that owns the byte (from the firmware's
 # per-preset byte counts, in stream order).

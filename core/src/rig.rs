@@ -5,12 +5,13 @@
 //!
 //! What is drawn (DESIGN.md, "How data flows"):
 //! - [`Record::Segment`]: a line, its width scaled like the model (≥ 1 px),
-//!   in palette colour `colour`;
-//! - [`Record::Cell`]: a Voronoi region — every pixel takes the type colour
-//!   of the nearest cell of the frame (nearest in pixel space, ties to the
-//!   cell that came first), as MClone displays its mosaics;
+//!   in ink `colour`;
+//! - [`Record::Cell`]: a Voronoi region, as MClone displays its mosaics —
+//!   a pixel takes the type colour of the nearest cell of the frame within
+//!   [`CELL_REACH_PX`] + ½ px (distances compared in ½ px steps, ties to the cell
+//!   that came first; see "Bounded memory");
 //! - [`Record::Ring`] and [`Record::Polygon`]: the closed polyline through
-//!   the [`Record::Point`]s that follow (rings in the colour of their module);
+//!   the [`Record::Point`]s that follow (rings in the ink of their module);
 //! - [`Record::Sample`]: a curve per series, joining successive samples;
 //! - a lone [`Record::Point`] or a [`Record::MeshVertex`]: one pixel.
 //!
@@ -25,20 +26,24 @@
 //! [`View::fit`] makes one from the [`Bounds`] of a stream. Cells are always
 //! 2D `(u, v)`.
 //!
-//! **Bounded memory.** A [`Rig`] keeps the cells of the current frame in
-//! storage its owner lends it (a `static` array of [`CellSlot`]s on a
-//! device, a `Vec` on a host) — needed for the Voronoi fill, which happens
-//! when the first non-cell record or the frame's end arrives — and a few
-//! points; a frame with more cells than slots is [`RigError::Capacity`]. Since runs are deterministic,
-//! a device can run a preset once into [`Bounds`] to fit the view, and again
-//! into the rig (see [`Rig::sink`]).
+//! **Bounded memory.** A [`Rig`] keeps no cells: each cell paints, as it
+//! arrives, the pixels within 7½ px ([`CELL_REACH_PX`]) that are nearer to it than
+//! to any earlier cell of the frame. What "nearer" needs is kept per pixel
+//! in a *cell plane* its owner lends it (½ byte per pixel, [`plane_bytes`]:
+//! 4 KiB for a 128×64 OLED, whatever the number of cells): the distance to
+//! the nearest cell so far, in ½ px steps. A plane smaller than the target
+//! is [`RigError::Capacity`]. The picture is the Voronoi diagram of the
+//! cells wherever cells are at most 7 px apart, as on any rig-sized mosaic,
+//! and drawing costs O(cells), not O(pixels · cells). Since runs are
+//! deterministic, a device can run a preset once into [`Bounds`] to fit the
+//! view, and again into the rig (see [`Rig::sink`]).
 //!
 //! ```
 //! use embedded_graphics::mock_display::MockDisplay;
 //! use embedded_graphics::pixelcolor::Rgb888;
 //! use embedded_graphics::prelude::*;
 //! use morphogen::fx::Fx;
-//! use morphogen::rig::{Bounds, CellSlot, Rig, View};
+//! use morphogen::rig::{Bounds, Rig, View, plane_bytes};
 //! use morphogen::stream::Record;
 //!
 //! let records = [
@@ -60,8 +65,8 @@
 //!     Size::new(4, 1),
 //! ));
 //! let palette = [Rgb888::WHITE, Rgb888::RED];
-//! let mut cells = [CellSlot::EMPTY; 4];
-//! let mut rig = Rig::new(View::fit(&bounds, Size::new(4, 1), 0), &palette, &mut cells);
+//! let mut plane = [0u8; plane_bytes(Size::new(4, 1))];
+//! let mut rig = Rig::new(View::fit(&bounds, Size::new(4, 1), 0), &palette, &mut plane);
 //! for r in &records {
 //!     rig.draw(r, &mut screen).unwrap();
 //! }
@@ -92,6 +97,50 @@ const CABINET_K_BITS: i64 = 23_170;
 pub const SERIES: usize = 8;
 /// The widest line drawn, in pixels.
 const MAX_LINE_WIDTH: i64 = 64;
+/// How far a cell's colour reaches: to pixel centres less than
+/// `CELL_REACH_PX + ½` px away. The cell plane holds distances in ½ px
+/// steps, 0 to 14, and 15 for "no cell yet".
+pub const CELL_REACH_PX: u32 = 7;
+/// The cell plane's distance steps per pixel.
+const STEPS_PER_PX: i64 = 2;
+const _: () = assert!(NO_CELL as i64 == (2 * CELL_REACH_PX as i64 + 1) * STEPS_PER_PX / 2);
+// `step_of` divides d² by 64 = (16 / STEPS_PER_PX)²: 1/16 px positions.
+const _: () = assert!(SUBPIXEL_SHIFT == 4 && STEPS_PER_PX == 2);
+/// The plane's "no cell within reach" (and the cap of every step).
+const NO_CELL: u8 = 15;
+
+/// Squared distances (in (1/16 px)²) ÷ 64 → ½ px steps: `⌊√(d²)/8⌋ =
+/// ⌊√⌊d²/64⌋⌋`, tabulated up to the first square that is out of reach.
+const STEPS: [u8; (NO_CELL as usize).pow(2)] = {
+    let mut table = [0; (NO_CELL as usize).pow(2)];
+    let mut i = 0;
+    while i < table.len() {
+        let mut step = 0;
+        while (step + 1) * (step + 1) <= i {
+            step += 1;
+        }
+        table[i] = step as u8;
+        i += 1;
+    }
+    table
+};
+
+/// The ½ px step of a squared distance `d2` in (1/16 px)², or [`NO_CELL`]
+/// when it is out of reach.
+fn step_of(d2: i64) -> u8 {
+    usize::try_from(d2 >> 6)
+        .ok()
+        .and_then(|i| STEPS.get(i))
+        .copied()
+        .unwrap_or(NO_CELL)
+}
+
+/// The bytes of cell plane a rig drawing on a target of `size` needs:
+/// one nibble per pixel.
+#[must_use]
+pub const fn plane_bytes(size: Size) -> usize {
+    (size.width as usize * size.height as usize).div_ceil(2)
+}
 
 /// Projects a model point onto the view plane, in I16F16 bits (see the
 /// module documentation for the cabinet projection).
@@ -302,22 +351,6 @@ impl PixelPos {
     }
 }
 
-/// Room for one cell of a frame, kept for the Voronoi fill (its position
-/// in 1/16 px and its type): 24 bytes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct CellSlot {
-    at: [i64; 2],
-    kind: u8,
-}
-
-impl CellSlot {
-    /// An unused slot, to fill a (`static`) array with.
-    pub const EMPTY: CellSlot = CellSlot {
-        at: [0; 2],
-        kind: 0,
-    };
-}
-
 /// The polyline of a ring or polygon whose points are still arriving.
 #[derive(Clone, Copy, Debug)]
 struct OpenRun<C> {
@@ -331,9 +364,9 @@ struct OpenRun<C> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum RigError<E> {
-    /// A frame holds more cells than the rig has [`CellSlot`]s.
+    /// The cell plane is smaller than the target needs ([`plane_bytes`]).
     Capacity {
-        /// The limit's name: `cell slots`.
+        /// The limit's name: `cell plane bytes`.
         limit: &'static str,
         /// Its value.
         capacity: u32,
@@ -347,7 +380,7 @@ impl<E: core::fmt::Debug> core::fmt::Display for RigError<E> {
         match self {
             RigError::Capacity { limit, capacity } => write!(
                 f,
-                "a frame has more cells than the rig's {capacity} {limit}; lend it more"
+                "the target needs more than the rig's {capacity} {limit}; lend it plane_bytes(size)"
             ),
             RigError::Draw(e) => write!(f, "the display failed: {e:?}"),
         }
@@ -357,33 +390,39 @@ impl<E: core::fmt::Debug> core::fmt::Display for RigError<E> {
 impl<E: core::fmt::Debug> core::error::Error for RigError<E> {}
 
 /// Draws records onto a [`DrawTarget`] through a fixed [`View`], keeping
-/// the cells of a frame in borrowed [`CellSlot`]s for the Voronoi fill. Colours come from
+/// each pixel's distance to the nearest cell of the frame in a borrowed
+/// cell plane for the Voronoi fill. Colours come from
 /// `palette` by index (modulo its length); an empty palette draws nothing.
 ///
 /// Each [`Record::FrameStart`] clears the target to `palette[0]` (the
-/// background) unless [`Rig::keep_frames`] was called.
+/// background) unless [`Rig::keep_frames`] was called. Everything else is
+/// drawn in *ink* `n` — a segment's or polygon's colour, a cell's type, a
+/// ring's module, a sample's series, 0 for lone points — which is
+/// `palette[1 + n mod (len − 1)]`: never the background, so that nothing
+/// drawn disappears (a one-colour palette draws in its colour).
 #[derive(Debug)]
 pub struct Rig<'p, C> {
     view: View,
     palette: &'p [C],
     clear: bool,
-    cells: &'p mut [CellSlot],
-    cell_count: usize,
+    plane: &'p mut [u8],
+    plane_stale: bool,
     run: Option<OpenRun<C>>,
     curves: [Option<PixelPos>; SERIES],
 }
 
 impl<'p, C: PixelColor> Rig<'p, C> {
-    /// A rig drawing through `view` with `palette`, keeping up to
-    /// `cells.len()` cells of a frame.
+    /// A rig drawing through `view` with `palette`, with a cell `plane` of
+    /// at least [`plane_bytes`] of the target's size (its content does not
+    /// matter; an empty one will do for streams without cells).
     #[must_use]
-    pub const fn new(view: View, palette: &'p [C], cells: &'p mut [CellSlot]) -> Rig<'p, C> {
+    pub const fn new(view: View, palette: &'p [C], plane: &'p mut [u8]) -> Rig<'p, C> {
         Rig {
             view,
             palette,
             clear: true,
-            cells,
-            cell_count: 0,
+            plane,
+            plane_stale: true,
             run: None,
             curves: [None; SERIES],
         }
@@ -409,21 +448,28 @@ impl<'p, C: PixelColor> Rig<'p, C> {
         }
     }
 
-    /// Draws one record (some records take effect later: cells when the
-    /// frame's cells end, ring points when the ring is complete).
+    /// Ink `n` (see the type's documentation).
+    fn ink(&self, n: usize) -> Option<C> {
+        match self.palette.len() {
+            0 => None,
+            1 => self.colour(0),
+            len => self.colour(1 + n % (len - 1)),
+        }
+    }
+
+    /// Draws one record (the lines of a ring or polygon close when its last
+    /// point arrives).
     ///
     /// # Errors
-    /// [`RigError::Capacity`] when a frame has more cells than slots;
-    /// [`RigError::Draw`] when the target fails.
+    /// [`RigError::Capacity`] when a cell arrives and the cell plane is
+    /// smaller than the target; [`RigError::Draw`] when the target fails.
     pub fn draw<D>(&mut self, record: &Record, target: &mut D) -> Result<(), RigError<D::Error>>
     where
         D: DrawTarget<Color = C>,
     {
-        if !matches!(record, Record::Cell { .. }) {
-            self.fill_cells(target)?;
-        }
         match record {
             Record::FrameStart { .. } => {
+                self.plane_stale = true;
                 self.run = None;
                 self.curves = [None; SERIES];
                 if let (true, Some(background)) = (self.clear, self.colour(0)) {
@@ -439,7 +485,7 @@ impl<'p, C: PixelColor> Rig<'p, C> {
                 width,
                 colour,
             } => {
-                if let Some(c) = self.colour(usize::from(*colour)) {
+                if let Some(c) = self.ink(usize::from(*colour)) {
                     let (a, b) = (self.view.pixel(project(*a)), self.view.pixel(project(*b)));
                     let w = self.view.width_px(*width);
                     line(target, a, b, c, w)?;
@@ -447,18 +493,11 @@ impl<'p, C: PixelColor> Rig<'p, C> {
             }
             Record::Cell { kind, p, .. } => {
                 let at = self.view.subpixel(project([p[0], p[1], Fx::ZERO]));
-                let Some(slot) = self.cells.get_mut(self.cell_count) else {
-                    return Err(RigError::Capacity {
-                        limit: "cell slots",
-                        capacity: u32::try_from(self.cells.len()).unwrap_or(u32::MAX),
-                    });
-                };
-                *slot = CellSlot { at, kind: *kind };
-                self.cell_count += 1;
+                self.cell(target, at, usize::from(*kind))?;
             }
             Record::Sample { series, x, y } => {
                 let here = self.view.pixel(project([*x, *y, Fx::ZERO]));
-                let colour = self.colour(usize::from(*series) + 1);
+                let colour = self.ink(usize::from(*series));
                 let slot = self.curves.get_mut(usize::from(*series));
                 let previous = match slot {
                     Some(slot) => slot.replace(here),
@@ -468,7 +507,7 @@ impl<'p, C: PixelColor> Rig<'p, C> {
                     line(target, previous.unwrap_or(here), here, c, 1)?;
                 }
             }
-            Record::Ring { module, points, .. } => self.open_run(*points, usize::from(*module) + 1),
+            Record::Ring { module, points, .. } => self.open_run(*points, usize::from(*module)),
             Record::Polygon { vertices, colour } => {
                 self.open_run(*vertices, usize::from(*colour));
             }
@@ -487,12 +526,12 @@ impl<'p, C: PixelColor> Rig<'p, C> {
                             line(target, here, first.unwrap_or(here), colour, 1)?;
                         }
                     }
-                    None => self.dot(target, here, 1)?,
+                    None => self.dot(target, here, 0)?,
                 }
             }
             Record::MeshVertex { p, .. } => {
                 let here = self.view.pixel(project(*p));
-                self.dot(target, here, 1)?;
+                self.dot(target, here, 0)?;
             }
             _ => {}
         }
@@ -509,7 +548,7 @@ impl<'p, C: PixelColor> Rig<'p, C> {
     }
 
     fn open_run(&mut self, points: u16, colour: usize) {
-        self.run = match (points, self.colour(colour)) {
+        self.run = match (points, self.ink(colour)) {
             (1.., Some(colour)) => Some(OpenRun {
                 remaining: points,
                 colour,
@@ -524,50 +563,72 @@ impl<'p, C: PixelColor> Rig<'p, C> {
     where
         D: DrawTarget<Color = C>,
     {
-        if let (Some(c), Some(p)) = (self.colour(colour), at.inside(&target.bounding_box())) {
+        if let (Some(c), Some(p)) = (self.ink(colour), at.inside(&target.bounding_box())) {
             Pixel(p, c).draw(target).map_err(RigError::Draw)?;
         }
         Ok(())
     }
 
-    /// Paints the Voronoi regions of the cells kept so far, then forgets
-    /// them. O(pixels · cells): 64×64 px and 1 000 cells is 4 M distance
-    /// evaluations.
-    fn fill_cells<D>(&mut self, target: &mut D) -> Result<(), RigError<D::Error>>
+    /// Paints the pixels within reach of the cell at `at` (1/16 px) that
+    /// are nearer to it than to every earlier cell of the frame, recording
+    /// their distance in the plane (the "Bounded memory" of the module).
+    fn cell<D>(
+        &mut self,
+        target: &mut D,
+        at: [i64; 2],
+        kind: usize,
+    ) -> Result<(), RigError<D::Error>>
     where
         D: DrawTarget<Color = C>,
     {
-        if self.cell_count == 0 {
-            return Ok(());
-        }
         let area = target.bounding_box();
-        let cells = self.cells.get(..self.cell_count).unwrap_or(&[]);
-        let palette = self.palette;
-        let colours = area.points().map(|p| {
-            let centre = [p.x, p.y].map(|c| (i64::from(c) << SUBPIXEL_SHIFT) + 8);
-            let mut best = (i64::MAX, 0u8);
-            for cell in cells {
-                let dx = cell.at[0].saturating_sub(centre[0]);
-                let dy = cell.at[1].saturating_sub(centre[1]);
-                let d2 = dx.saturating_mul(dx).saturating_add(dy.saturating_mul(dy));
-                // Strictly closer: ties go to the cell that came first.
-                if d2 < best.0 {
-                    best = (d2, cell.kind);
-                }
-            }
-            match palette.len() {
-                0 => None,
-                len => palette.get(usize::from(best.1) % len).copied(),
-            }
-        });
-        let result = match self.colour(0) {
-            Some(background) => {
-                target.fill_contiguous(&area, colours.map(|c| c.unwrap_or(background)))
-            }
-            None => Ok(()),
+        let (width, height) = (area.size.width as usize, area.size.height as usize);
+        if self.plane.len() < plane_bytes(area.size) {
+            return Err(RigError::Capacity {
+                limit: "cell plane bytes",
+                capacity: u32::try_from(self.plane.len()).unwrap_or(u32::MAX),
+            });
+        }
+        if self.plane_stale {
+            self.plane.fill(NO_CELL << 4 | NO_CELL);
+            self.plane_stale = false;
+        }
+        let Some(colour) = self.ink(kind) else {
+            return Ok(());
         };
-        self.cell_count = 0;
-        result.map_err(RigError::Draw)
+        // Pixel centres are at `16·i + 8` (1/16 px); reach is 15 steps of 8
+        // (= (CELL_REACH_PX + ½) · 16).
+        let one = 1 << SUBPIXEL_SHIFT;
+        let reach = i64::from(NO_CELL) * one / STEPS_PER_PX;
+        let origin = [i64::from(area.top_left.x), i64::from(area.top_left.y)];
+        let span = |axis: usize, len: usize| {
+            let lo = (at[axis] - reach - one / 2).div_euclid(one) + 1;
+            let hi = (at[axis] + reach - one / 2).div_euclid(one);
+            let first = lo.max(origin[axis]);
+            let last = hi.min(origin[axis] + len as i64 - 1);
+            first..=last
+        };
+        let (xs, ys) = (span(0, width), span(1, height));
+        let plane = &mut *self.plane;
+        let pixels = ys
+            .flat_map(|y| xs.clone().map(move |x| (x, y)))
+            .filter_map(|(x, y)| {
+                let d = [x * one + one / 2 - at[0], y * one + one / 2 - at[1]];
+                // |d| < 2^8 inside the spans: the square fits easily.
+                let step = step_of(d[0] * d[0] + d[1] * d[1]);
+                // Inside the target: 0 ≤ x − origin < width, likewise y.
+                let index = (y - origin[1]) as usize * width + (x - origin[0]) as usize;
+                let byte = plane.get_mut(index / 2)?;
+                let shift = if index.is_multiple_of(2) { 4 } else { 0 };
+                // Strictly nearer: ties stay with the earlier cell.
+                if step < (*byte >> shift) & 0xF {
+                    *byte = (*byte & !(0xF << shift)) | step << shift;
+                    Some(Pixel(Px::new(x as i32, y as i32), colour))
+                } else {
+                    None
+                }
+            });
+        target.draw_iter(pixels).map_err(RigError::Draw)
     }
 }
 
@@ -683,6 +744,23 @@ pub const PALETTE_RGB888: [embedded_graphics::pixelcolor::Rgb888; 8] = {
     ]
 };
 
+/// An 8-grey palette for 4-bit grey OLEDs (SSD0323, SSD1327): black
+/// background, then white and greys spaced so that neighbouring indices
+/// (a mosaic's cell types, a body's parts) differ by at least 3 levels.
+pub const PALETTE_GRAY4: [embedded_graphics::pixelcolor::Gray4; 8] = {
+    use embedded_graphics::pixelcolor::Gray4;
+    [
+        Gray4::new(0),
+        Gray4::new(15),
+        Gray4::new(9),
+        Gray4::new(5),
+        Gray4::new(12),
+        Gray4::new(7),
+        Gray4::new(3),
+        Gray4::new(10),
+    ]
+};
+
 #[cfg(test)]
 mod tests {
     use embedded_graphics::mock_display::MockDisplay;
@@ -702,8 +780,8 @@ mod tests {
         let mut display = MockDisplay::new();
         display.set_allow_overdraw(true);
         let mut screen = display.cropped(&Rectangle::new(Px::zero(), Size::new(w, h)));
-        let mut cells = [CellSlot::EMPTY; 8];
-        let mut rig = Rig::new(View::fit(&bounds, Size::new(w, h), 0), palette, &mut cells);
+        let mut plane = std::vec![0; plane_bytes(Size::new(w, h))];
+        let mut rig = Rig::new(View::fit(&bounds, Size::new(w, h), 0), palette, &mut plane);
         for r in records {
             rig.draw(r, &mut screen).unwrap();
         }
@@ -714,8 +792,9 @@ mod tests {
 
     #[test]
     fn cells_fill_their_voronoi_regions() {
-        // Three cells on an 8×6 screen: red (kind 1) top-left, green (2)
-        // top-right, blue (3) bottom-centre; y is up in the model.
+        // Three cells on an 8×6 screen: red (kind 0: ink 0 is palette[1])
+        // top-left, green (1) top-right, blue (2) bottom-centre; y is up in
+        // the model.
         let records = [
             Record::FrameStart {
                 frame: 0,
@@ -723,17 +802,17 @@ mod tests {
             },
             Record::Cell {
                 id: 0,
-                kind: 1,
+                kind: 0,
                 p: [fx(0), fx(10)],
             },
             Record::Cell {
                 id: 1,
-                kind: 2,
+                kind: 1,
                 p: [fx(14), fx(10)],
             },
             Record::Cell {
                 id: 2,
-                kind: 3,
+                kind: 2,
                 p: [fx(7), fx(0)],
             },
             Record::FrameEnd { frame: 0 },
@@ -758,12 +837,12 @@ mod tests {
                 frame: 0,
                 time: Fx::ZERO,
             },
-            // A red diagonal, a green square ring (module 1 → colour 2).
+            // A red diagonal (ink 0), a green square ring (module 1 → ink 1).
             Record::Segment {
                 a: [fx(0), fx(0), Fx::ZERO],
                 b: [fx(7), fx(7), Fx::ZERO],
                 width: Fx::DELTA,
-                colour: 1,
+                colour: 0,
             },
             Record::Ring {
                 module: 1,
@@ -774,7 +853,7 @@ mod tests {
             p(6, 1),
             p(6, 3),
             p(4, 3),
-            // A lone point: colour 1.
+            // A lone point: ink 0.
             p(1, 6),
             Record::FrameEnd { frame: 0 },
         ];
@@ -824,30 +903,54 @@ mod tests {
     }
 
     #[test]
-    fn too_many_cells_is_an_error_naming_the_limit() {
+    fn a_small_cell_plane_is_an_error_naming_the_limit() {
         let mut display = MockDisplay::<Rgb888>::new();
-        let mut cells = [CellSlot::EMPTY; 2];
-        let mut rig = Rig::new(View::unit(), &RGB, &mut cells);
-        for id in 0..2 {
-            let cell = Record::Cell {
-                id,
-                kind: 0,
-                p: [Fx::ZERO; 2],
-            };
-            rig.draw(&cell, &mut display).unwrap();
-        }
-        let third = Record::Cell {
-            id: 2,
+        let mut screen = display.cropped(&Rectangle::new(Px::zero(), Size::new(4, 4)));
+        let mut plane = [0; 7];
+        let mut rig = Rig::new(View::unit(), &RGB, &mut plane);
+        let cell = Record::Cell {
+            id: 0,
             kind: 0,
             p: [Fx::ZERO; 2],
         };
         assert_eq!(
-            rig.draw(&third, &mut display),
+            rig.draw(&cell, &mut screen),
             Err(RigError::Capacity {
-                limit: "cell slots",
-                capacity: 2
+                limit: "cell plane bytes",
+                capacity: 7
             })
         );
+    }
+
+    #[test]
+    fn cells_reach_seven_pixels_and_no_further() {
+        // One cell at the centre of pixel (0, 0) of a 10×1 screen: pixel 7
+        // is 7 px away, pixel 8 is 8.
+        let records = [
+            Record::FrameStart {
+                frame: 0,
+                time: Fx::ZERO,
+            },
+            Record::Cell {
+                id: 0,
+                kind: 0,
+                p: [Fx::ZERO; 2],
+            },
+            Record::FrameEnd { frame: 0 },
+        ];
+        let mut display = MockDisplay::<Rgb888>::new();
+        display.set_allow_overdraw(true);
+        let mut screen = display.cropped(&Rectangle::new(Px::zero(), Size::new(10, 1)));
+        let mut plane = [0; 5];
+        let view = View {
+            origin: [-(1 << 15), 1 << 15],
+            ..View::unit()
+        };
+        let mut rig = Rig::new(view, &RGB, &mut plane);
+        for r in &records {
+            rig.draw(r, &mut screen).unwrap();
+        }
+        display.assert_pattern(&["RRRRRRRRKK"]);
     }
 
     #[test]

@@ -1,6 +1,7 @@
-//! The LM3S6965 board support this program needs: the system clock and
-//! UART0 (register addresses and values from the LM3S6965 data sheet,
-//! rev. 2008, chapters 6 "System Control", 9 "GPIO" and 13 "UART").
+//! The LM3S6965 board support this program needs: the system clock, UART0
+//! and UART1, and the register access the OLED driver (`oled.rs`) shares
+//! (register addresses and values from the LM3S6965 data sheet, rev. 2008,
+//! chapters 6 "System Control", 9 "GPIO" and 13 "UART").
 //!
 //! Raw volatile register accesses keep the firmware free of a PAC; each
 //! `unsafe` block writes a documented, always-mapped peripheral register.
@@ -28,30 +29,37 @@ static __INTERRUPTS: [unsafe extern "C" fn(); INTERRUPTS] = [DefaultHandler; INT
 
 /// System control: run-mode clock configuration (RCC).
 const SYSCTL_RCC: usize = 0x400F_E060;
-/// System control: run-mode clock gating 1 (bit 0 = UART0).
-const SYSCTL_RCGC1: usize = 0x400F_E104;
-/// System control: run-mode clock gating 2 (bit 0 = GPIO port A).
-const SYSCTL_RCGC2: usize = 0x400F_E108;
-/// GPIO port A: alternate function select.
-const GPIOA_AFSEL: usize = 0x4000_4420;
-/// GPIO port A: digital enable.
-const GPIOA_DEN: usize = 0x4000_451C;
-/// PA0 = U0Rx, PA1 = U0Tx.
-const UART0_PINS: u32 = 0b11;
+/// System control: run-mode clock gating 1 (bit 0 = UART0, 1 = UART1,
+/// 4 = SSI0).
+pub const SYSCTL_RCGC1: usize = 0x400F_E104;
+/// System control: run-mode clock gating 2 (bit n = GPIO port A + n).
+pub const SYSCTL_RCGC2: usize = 0x400F_E108;
+/// GPIO port A base address; ports B to D follow every 0x1000.
+pub const GPIOA: usize = 0x4000_4000;
+/// GPIO port C base address.
+pub const GPIOC: usize = 0x4000_6000;
+/// GPIO port D base address.
+pub const GPIOD: usize = 0x4000_7000;
+/// GPIO direction (offset; 1 = output). Data is read and written at
+/// `base + (mask << 2)`: only the pins in `mask` change.
+pub const GPIO_DIR: usize = 0x400;
+/// GPIO alternate function select (offset; 1 = the pin's peripheral).
+pub const GPIO_AFSEL: usize = 0x420;
+/// GPIO digital enable (offset).
+pub const GPIO_DEN: usize = 0x51C;
 
-/// UART0 base address.
-const UART0: usize = 0x4000_C000;
-/// Data register.
-const UART_DR: usize = UART0;
-/// Flag register: bit 3 BUSY, bit 5 TXFF (transmit FIFO full).
-const UART_FR: usize = UART0 + 0x18;
+/// UART registers (offsets from the base): data, flags, integer and
+/// fractional baud-rate divisors, line control, control.
+const UART_DR: usize = 0x00;
+const UART_FR: usize = 0x18;
+const UART_IBRD: usize = 0x24;
+const UART_FBRD: usize = 0x28;
+const UART_LCRH: usize = 0x2C;
+const UART_CTL: usize = 0x30;
+/// Flags: BUSY, RXFE (receive FIFO empty), TXFF (transmit FIFO full).
 const FR_BUSY: u32 = 1 << 3;
+const FR_RXFE: u32 = 1 << 4;
 const FR_TXFF: u32 = 1 << 5;
-/// Integer and fractional baud-rate divisors, line control, control.
-const UART_IBRD: usize = UART0 + 0x24;
-const UART_FBRD: usize = UART0 + 0x28;
-const UART_LCRH: usize = UART0 + 0x2C;
-const UART_CTL: usize = UART0 + 0x30;
 /// LCRH: 8 data bits (WLEN = 3), FIFOs on; no parity, 1 stop bit.
 const LCRH_8N1_FIFO: u32 = (0b11 << 5) | (1 << 4);
 /// CTL: UARTEN | TXE | RXE.
@@ -86,18 +94,21 @@ const RCC_SYSDIV_3: u32 = 3 << 23;
 /// CPU clock QEMU models with this RCC value.
 pub const QEMU_CPU_HZ: u32 = 50_000_000;
 
-fn read(addr: usize) -> u32 {
+/// Reads a peripheral register.
+pub fn read(addr: usize) -> u32 {
     // SAFETY: `addr` is one of the peripheral registers above: aligned,
     // always mapped on the LM3S6965, reads have no side effects.
     unsafe { read_volatile(addr as *const u32) }
 }
 
-fn write(addr: usize, value: u32) {
+/// Writes a peripheral register.
+pub fn write(addr: usize, value: u32) {
     // SAFETY: as in `read`; the written values follow the data sheet.
     unsafe { write_volatile(addr as *mut u32, value) }
 }
 
-fn modify(addr: usize, f: impl FnOnce(u32) -> u32) {
+/// Read-modify-writes a peripheral register.
+pub fn modify(addr: usize, f: impl FnOnce(u32) -> u32) {
     write(addr, f(read(addr)));
 }
 
@@ -115,36 +126,61 @@ pub fn init_clock() {
     });
 }
 
-/// UART0 as an [`embedded_io::Write`](Write): 115 200 baud, 8N1, no flow control. A
-/// zero-sized token; [`Uart0::init`] is the only way to get one.
+/// UART0 carries the streams (PA0 = U0Rx, PA1 = U0Tx).
+pub type Uart0 = Uart<0>;
+/// UART1 carries the screen handshake of `--screen-sync` (PD2 = U1Rx,
+/// PD3 = U1Tx).
+pub type Uart1 = Uart<1>;
+
+/// UART `N` as an [`embedded_io::Write`](Write): 115 200 baud, 8N1, no flow
+/// control. A zero-sized token; [`Uart::init`] is the only way to get one.
 #[derive(Clone, Copy, Debug)]
-pub struct Uart0 {
+pub struct Uart<const N: usize> {
     _private: (),
 }
 
-impl Uart0 {
-    /// Clocks UART0 and port A, routes PA0/PA1 to it and sets 115 200 8N1.
-    pub fn init() -> Uart0 {
-        modify(SYSCTL_RCGC1, |v| v | 1);
-        modify(SYSCTL_RCGC2, |v| v | 1);
+impl<const N: usize> Uart<N> {
+    /// UART0 at 0x4000_C000, UART1 at 0x4000_D000.
+    const BASE: usize = 0x4000_C000 + 0x1000 * N;
+    /// Its port (A or D) and pins.
+    const PINS: (usize, u32) = if N == 0 {
+        (GPIOA, 0b11)
+    } else {
+        (GPIOD, 0b1100)
+    };
+
+    /// Clocks the UART and its port, routes the pins to it and sets
+    /// 115 200 8N1.
+    pub fn init() -> Uart<N> {
+        let (port, pins) = Self::PINS;
+        let port_bit = (port - GPIOA) / 0x1000;
+        modify(SYSCTL_RCGC1, |v| v | 1 << N);
+        modify(SYSCTL_RCGC2, |v| v | 1 << port_bit);
         cortex_m::asm::delay(16); // a few clocks before the gated blocks answer
-        modify(GPIOA_AFSEL, |v| v | UART0_PINS);
-        modify(GPIOA_DEN, |v| v | UART0_PINS);
-        write(UART_CTL, 0);
-        write(UART_IBRD, IBRD);
-        write(UART_FBRD, FBRD);
-        write(UART_LCRH, LCRH_8N1_FIFO);
-        write(UART_CTL, CTL_ENABLE);
-        Uart0 { _private: () }
+        modify(port + GPIO_AFSEL, |v| v | pins);
+        modify(port + GPIO_DEN, |v| v | pins);
+        write(Self::BASE + UART_CTL, 0);
+        write(Self::BASE + UART_IBRD, IBRD);
+        write(Self::BASE + UART_FBRD, FBRD);
+        write(Self::BASE + UART_LCRH, LCRH_8N1_FIFO);
+        write(Self::BASE + UART_CTL, CTL_ENABLE);
+        Uart { _private: () }
+    }
+
+    /// Waits for a byte and returns it.
+    pub fn read_byte(&mut self) -> u8 {
+        while read(Self::BASE + UART_FR) & FR_RXFE != 0 {}
+        // Bits 8..11 are error flags; the data is the low byte.
+        (read(Self::BASE + UART_DR) & 0xFF) as u8
     }
 }
 
 /// Writing blocks while the transmit FIFO is full, and never fails.
-impl ErrorType for Uart0 {
+impl<const N: usize> ErrorType for Uart<N> {
     type Error = core::convert::Infallible;
 }
 
-impl Write for Uart0 {
+impl<const N: usize> Write for Uart<N> {
     fn write(&mut self, bytes: &[u8]) -> Result<usize, Self::Error> {
         self.write_all(bytes)?;
         Ok(bytes.len())
@@ -153,15 +189,15 @@ impl Write for Uart0 {
     /// Every byte, without the default's loop (and its panic on `Ok(0)`).
     fn write_all(&mut self, bytes: &[u8]) -> Result<(), Self::Error> {
         for &b in bytes {
-            while read(UART_FR) & FR_TXFF != 0 {}
-            write(UART_DR, u32::from(b));
+            while read(Self::BASE + UART_FR) & FR_TXFF != 0 {}
+            write(Self::BASE + UART_DR, u32::from(b));
         }
         Ok(())
     }
 
     /// Waits until the last byte has left the shift register.
     fn flush(&mut self) -> Result<(), Self::Error> {
-        while read(UART_FR) & FR_BUSY != 0 {}
+        while read(Self::BASE + UART_FR) & FR_BUSY != 0 {}
         Ok(())
     }
 }

@@ -35,10 +35,9 @@ use core::mem::MaybeUninit;
 
 use cortex_m_rt::entry;
 use morphogen::embedded_io::Write;
-use morphogen::mosaic::McuStore;
 use morphogen::preset::{self, Preset, Runner};
 use morphogen::rig::embedded_graphics::prelude::OriginDimensions;
-use morphogen::rig::{Bounds, CellSlot, View};
+use morphogen::rig::{Bounds, View};
 use morphogen::sim::Progress;
 use morphogen::stream::{Encoder, Sink};
 
@@ -54,34 +53,28 @@ use crate::screen::Shown;
 #[unsafe(link_section = ".uninit.morphogen.RUNNER")]
 static mut RUNNER: MaybeUninit<Runner<'static>> = MaybeUninit::uninit();
 
-/// Room for the cells of one frame, for the rig's Voronoi fill: as many as
-/// the largest mosaic the runner holds (24 B each; all zeros, so in `.bss`).
-static mut CELLS: [CellSlot; McuStore::CAPACITY] = [CellSlot::EMPTY; McuStore::CAPACITY];
-
 /// Pixels left free around the drawing on each side.
 const MARGIN: u32 = 1;
 
 #[entry]
 fn main() -> ! {
     // SAFETY: `main` runs once and never returns, and nothing else names
-    // RUNNER or CELLS, so these are the only references to them, ever.
-    let (runner, cells): (&'static mut Runner<'static>, &'static mut [CellSlot]) = unsafe {
+    // RUNNER, so this is the only reference to it, ever.
+    let runner: &'static mut Runner<'static> = unsafe {
         let slot = (&raw mut RUNNER).cast::<Runner<'static>>();
         slot.write(Runner::new());
-        let cells = (&raw mut CELLS).cast::<CellSlot>();
-        (
-            &mut *slot,
-            core::slice::from_raw_parts_mut(cells, McuStore::CAPACITY),
-        )
+        &mut *slot
     };
     let Board { mut uart, mut oled } = Board::init();
+    // The rig's cell plane (½ byte per pixel), on main's stack.
+    let mut plane = [0u8; screen::PLANE_BYTES];
 
     defmt::info!(
-        "morphogen on the Pico: {=usize} presets, UART0 at {=u32} baud; runner {=usize} B, cell slots {=usize} B",
+        "morphogen on the Pico: {=usize} presets, UART0 at {=u32} baud; runner {=usize} B, cell plane {=usize} B",
         PRESETS.len(),
         board::BAUD,
         core::mem::size_of::<Runner<'static>>(),
-        core::mem::size_of_val(cells)
+        plane.len()
     );
 
     let mut failed = 0u32;
@@ -90,7 +83,7 @@ fn main() -> ! {
         defmt::info!("{=str}: seed {=u64}", preset.name, preset.default_seed);
         let mut encoder = Encoder::new(&mut uart);
         let result = match oled.as_mut() {
-            Some(oled) => stream_and_draw(preset, params, runner, &mut encoder, oled, cells),
+            Some(oled) => stream_and_draw(preset, params, runner, &mut encoder, oled, &mut plane),
             None => run(preset, params, runner, &mut encoder),
         };
         match result {
@@ -130,7 +123,7 @@ fn stream_and_draw(
     runner: &mut Runner<'static>,
     stream: &mut impl Sink,
     oled: &mut Oled,
-    cells: &mut [CellSlot],
+    plane: &mut [u8],
 ) -> Result<(), morphogen::Error> {
     let mut bounds = Bounds::new();
     preset::run_with_digest(
@@ -142,7 +135,7 @@ fn stream_and_draw(
         &mut |_| {},
     )?;
     let view = View::fit(&bounds, oled.size(), MARGIN);
-    let mut rig = screen::rig(view, cells);
+    let mut rig = screen::rig(view, plane);
     run(
         preset,
         params,

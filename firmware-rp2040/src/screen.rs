@@ -2,25 +2,26 @@
 //! ([`morphogen::rig`]): one palette for a monochrome panel, the one place
 //! a [`Rig`] is built, and a sink that streams each record and draws it.
 
+use morphogen::rig::embedded_graphics::geometry::Size;
 use morphogen::rig::embedded_graphics::pixelcolor::BinaryColor;
-use morphogen::rig::{CellSlot, Rig, View};
+use morphogen::rig::{Rig, View, plane_bytes};
 use morphogen::stream::{Record, Sink, SinkError};
 
 use crate::board::Oled;
 
-/// The rig's palette on a monochrome panel: index 0 (the background, and
-/// what a frame start clears to) is dark, index 1 lit; colours are taken
-/// modulo the length, so odd indices are lit and even ones dark. Mosaic
-/// cell types 1 and 2 (index = type) are thus lit and dark: two types
-/// stay apart. Rings (module + 1), curves (series + 1) and mesh vertices
-/// (1) start lit.
-pub const PALETTE: [BinaryColor; 2] = [BinaryColor::Off, BinaryColor::On];
+/// The rig's palette on a monochrome panel: the background (what a frame
+/// start clears to) is dark; inks alternate lit and dark (ink `n` is
+/// `PALETTE[1 + n mod 2]`), so that everything drawn in ink 0 — lines,
+/// points, the first mosaic type — is lit, and two mosaic types stay apart.
+pub const PALETTE: [BinaryColor; 3] = [BinaryColor::Off, BinaryColor::On, BinaryColor::Off];
 
-/// The rig that draws a preset through `view`, keeping a frame's cells in
-/// `cells`. The only place a [`Rig`] is built: when the rig's storage
-/// changes, this is what changes.
-pub fn rig(view: View, cells: &mut [CellSlot]) -> Rig<'_, BinaryColor> {
-    Rig::new(view, &PALETTE, cells)
+/// The cell plane a 128×64 panel needs (4 KiB).
+pub const PLANE_BYTES: usize = plane_bytes(Size::new(128, 64));
+
+/// The rig that draws a preset through `view`, with the cell `plane` of
+/// [`PLANE_BYTES`].
+pub fn rig(view: View, plane: &mut [u8]) -> Rig<'_, BinaryColor> {
+    Rig::new(view, &PALETTE, plane)
 }
 
 /// A [`Sink`] that writes each record to `stream` (the framed UART

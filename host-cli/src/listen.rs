@@ -25,8 +25,9 @@ pub struct Args {
     #[arg(long, default_value_t = 115_200)]
     baud: u32,
     /// Also draw each stream as a W×H rig shows its last frame, into
-    /// `OUT/PRESET/rig-WxH.png`.
-    #[arg(long, value_name = "WxH")]
+    /// `OUT/PRESET/rig-WxH.png` (`WxH:grey4`: as a 4-bit grey OLED, into
+    /// `rig-WxH-grey4.png`).
+    #[arg(long, value_name = "WxH[:grey4]")]
     rig: Option<String>,
     /// The folder of the rig pictures.
     #[arg(long, default_value = "out/listen")]
@@ -51,11 +52,7 @@ const PORT_TIMEOUT: Duration = Duration::from_millis(200);
 /// A source that cannot be opened or read, a bad `--rig`, a picture that
 /// cannot be written, or a source without any stream.
 pub fn run(args: &Args) -> Result<Outcome> {
-    let rig = args
-        .rig
-        .as_deref()
-        .map(crate::rig::parse_rig_size)
-        .transpose()?;
+    let rig = args.rig.as_deref().map(crate::rig::parse_rig).transpose()?;
     let fixtures = fixture::locate(args.fixtures.clone(), false)?;
     let (mut source, port) = open(&args.source, args.baud)?;
     eprintln!(
@@ -155,7 +152,7 @@ fn open(source: &str, baud: u32) -> Result<(Box<dyn Read>, bool)> {
 /// The state of a live decode.
 struct Listener {
     fixtures: PathBuf,
-    rig: Option<(u32, u32)>,
+    rig: Option<crate::rig::RigSpec>,
     out: PathBuf,
     reader: Reader,
     /// The frame in progress (its first [`MAX_FRAME`] bytes).
@@ -314,7 +311,7 @@ impl Listener {
                 }
             },
         }
-        if let Some((w, h)) = self.rig {
+        if let Some(rig) = self.rig {
             if morphogen_scenario::check::name(name).is_err() {
                 say!(
                     "  no rig picture: '{}' is not a preset name",
@@ -325,8 +322,8 @@ impl Listener {
             let dir = self.out.join(name);
             std::fs::create_dir_all(&dir)
                 .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-            let path = dir.join(format!("rig-{w}x{h}.png"));
-            crate::rig::render_rig_png(&stream.records, w, h, &path)?;
+            let path = dir.join(rig.file_name());
+            crate::rig::render_rig_png(&stream.records, rig, &path)?;
             say!("  wrote {}", path.display())?;
         }
         Ok(())

@@ -74,8 +74,10 @@ enum Command {
         #[arg(long, value_name = "FILE", requires = "mesh")]
         cylinders: Option<PathBuf>,
         /// Also write rig-WxH.png: the last frame as a W×H display rig
-        /// (LED matrix, OLED) shows it, drawn by the core's rig renderer.
-        #[arg(long, value_name = "WxH")]
+        /// (LED matrix, OLED) shows it, drawn by the core's rig renderer;
+        /// `WxH:grey4` draws the 16 greys of a 4-bit OLED, as the firmware
+        /// draws its SSD0323 (rig-WxH-grey4.png).
+        #[arg(long, value_name = "WxH[:grey4]")]
         rig: Option<String>,
         /// With a mosaic: where F cells may start instead of the scenario's
         /// mask, a PBM (P1/P4) or PNG stretched over the whole domain; white
@@ -351,7 +353,7 @@ fn run(
     max_stream_mb: u32,
     writing: Writing,
 ) -> Result<Outcome> {
-    let rig = rig.map(morphogen_cli::rig::parse_rig_size).transpose()?;
+    let rig = rig.map(morphogen_cli::rig::parse_rig).transpose()?;
     warn_unused_seed(scenario, seed);
     let seed = seed.unwrap_or(scenario.seed());
     let dir = out.unwrap_or_else(|| Path::new("out").join(scenario.name()));
@@ -365,9 +367,9 @@ fn run(
     let run = exec::run_to_file(scenario, seed, !writing.quiet, max_stream_mb, paths)?;
     let written = exec::write_outputs(&dir, &run, !writing.quiet, |records, dir| {
         let mut files = outputs::write(scenario, records, dir, writing.kinds)?;
-        if let Some((w, h)) = rig {
-            let path = dir.join(format!("rig-{w}x{h}.png"));
-            morphogen_cli::rig::render_rig_png(records, w, h, &path)?;
+        if let Some(rig) = rig {
+            let path = dir.join(rig.file_name());
+            morphogen_cli::rig::render_rig_png(records, rig, &path)?;
             files.push(path);
         }
         Ok(files)

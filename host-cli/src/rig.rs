@@ -1,15 +1,18 @@
-//! `morphogen run … --rig WxH`: the picture a display rig of that size
-//! would show at the end of the run, drawn by the core's rig renderer
+//! `morphogen run … --rig WxH[:grey4]`: the picture a display rig of that
+//! size would show at the end of the run, drawn by the core's rig renderer
 //! ([`morphogen::rig`]) — the same code a device runs — into an in-memory
-//! `embedded-graphics` framebuffer, and saved as a PNG.
+//! `embedded-graphics` framebuffer, and saved as a PNG. `:grey4` draws in
+//! the 16 greys of a 4-bit OLED ([`PALETTE_GRAY4`], saved as 8-bit grey
+//! `17·level`, as QEMU shows its emulated SSD0323), the firmware's picture
+//! pixel for pixel.
 
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 use morphogen::rig::embedded_graphics::Pixel;
-use morphogen::rig::embedded_graphics::pixelcolor::Rgb888;
+use morphogen::rig::embedded_graphics::pixelcolor::{Gray4, GrayColor, Rgb888};
 use morphogen::rig::embedded_graphics::prelude::*;
-use morphogen::rig::{Bounds, CellSlot, PALETTE_RGB888, Rig, View};
+use morphogen::rig::{Bounds, PALETTE_GRAY4, PALETTE_RGB888, Rig, View, plane_bytes};
 use morphogen::stream::Record;
 
 use crate::records::{Place, Records};
@@ -101,36 +104,94 @@ impl DrawTarget for Framebuffer {
     }
 }
 
-/// Parses a rig size `WxH` (e.g. `64x64`, `128x64`).
+/// The colours a rig draws with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RigPalette {
+    /// [`PALETTE_RGB888`]: an RGB LED matrix or colour display.
+    Rgb,
+    /// [`PALETTE_GRAY4`]: a 4-bit grey OLED (the firmware's SSD0323).
+    Grey4,
+}
+
+impl RigPalette {
+    /// The palette as RGB: greys as `17·level` on all three channels.
+    #[must_use]
+    pub fn colours(self) -> [Rgb888; 8] {
+        match self {
+            RigPalette::Rgb => PALETTE_RGB888,
+            RigPalette::Grey4 => PALETTE_GRAY4.map(|g: Gray4| {
+                let v = g.luma() * 17;
+                Rgb888::new(v, v, v)
+            }),
+        }
+    }
+}
+
+/// A rig: its size in pixels and its palette (`--rig WxH[:grey4]`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RigSpec {
+    /// Pixels across.
+    pub width: u32,
+    /// Pixels down.
+    pub height: u32,
+    /// The colours.
+    pub palette: RigPalette,
+}
+
+impl RigSpec {
+    /// The picture's file name: `rig-WxH.png` or `rig-WxH-grey4.png`.
+    #[must_use]
+    pub fn file_name(&self) -> String {
+        let suffix = match self.palette {
+            RigPalette::Rgb => "",
+            RigPalette::Grey4 => "-grey4",
+        };
+        format!("rig-{}x{}{suffix}.png", self.width, self.height)
+    }
+}
+
+/// Parses a rig `WxH` (e.g. `64x64`, `128x64`), optionally followed by
+/// `:grey4` for a 4-bit grey OLED.
 ///
 /// # Errors
-/// When it is not two positive integers ≤ [`MAX_RIG_SIDE`] around an `x`.
-pub fn parse_rig_size(text: &str) -> Result<(u32, u32)> {
-    let parsed = text
+/// When it is not two positive integers ≤ [`MAX_RIG_SIDE`] around an `x`,
+/// or the palette is not `grey4`.
+pub fn parse_rig(text: &str) -> Result<RigSpec> {
+    let (size, palette) = match text.split_once(':') {
+        None => (text, RigPalette::Rgb),
+        Some((size, p)) if p.trim().eq_ignore_ascii_case("grey4") => (size, RigPalette::Grey4),
+        Some((_, p)) => bail!(
+            "--rig {text:?}: unknown palette {p:?}; the one there is is grey4 (e.g. 128x64:grey4)"
+        ),
+    };
+    let parsed = size
         .split_once(['x', 'X'])
         .and_then(|(w, h)| Some((w.trim().parse::<u32>().ok()?, h.trim().parse::<u32>().ok()?)));
     match parsed {
-        Some((w, h)) if (1..=MAX_RIG_SIDE).contains(&w) && (1..=MAX_RIG_SIDE).contains(&h) => {
-            Ok((w, h))
+        Some((width, height))
+            if (1..=MAX_RIG_SIDE).contains(&width) && (1..=MAX_RIG_SIDE).contains(&height) =>
+        {
+            Ok(RigSpec {
+                width,
+                height,
+                palette,
+            })
         }
         _ => bail!(
-            "--rig {text:?}: expected WIDTHxHEIGHT in pixels, each 1..={MAX_RIG_SIDE} (e.g. 64x64)"
+            "--rig {text:?}: expected WIDTHxHEIGHT in pixels, each 1..={MAX_RIG_SIDE} (e.g. 64x64, or 128x64:grey4)"
         ),
     }
 }
 
-/// The picture a `width`×`height` rig shows after `records`: the view is
-/// fitted to the whole stream (1 px margin when there is room), each frame
-/// clears the screen, so the last frame is what remains. Three passes:
-/// the extent, then the last frame's cell count, then its drawing.
+/// The picture `rig` shows after `records`: the view is fitted to the
+/// whole stream (1 px margin when there is room), each frame clears the
+/// screen, so the last frame is what remains. Two passes: the extent, then
+/// the last frame's drawing.
 ///
 /// # Errors
 /// A bad size, a record the renderer refuses, or unreadable records.
-pub fn render_rig<R: Records + ?Sized>(
-    records: &R,
-    width: u32,
-    height: u32,
-) -> Result<Framebuffer> {
+pub fn render_rig<R: Records + ?Sized>(records: &R, rig: RigSpec) -> Result<Framebuffer> {
+    let RigSpec { width, height, .. } = rig;
     if width == 0 || height == 0 || width > MAX_RIG_SIDE || height > MAX_RIG_SIDE {
         bail!("a rig must be 1..={MAX_RIG_SIDE} pixels per side, not {width}x{height}");
     }
@@ -147,25 +208,12 @@ pub fn render_rig<R: Records + ?Sized>(
         Ok(())
     })?;
     let margin = u32::from(width.min(height) >= 16);
-    let view = View::fit(&bounds, Size::new(width, height), margin);
-
-    // Exactly as many cell slots as the largest frame needs.
-    let mut most_cells = 0usize;
-    let mut cells_in_frame = 0usize;
-    records.visit(last_frame, |_, r| {
-        match r {
-            Record::FrameStart { .. } => cells_in_frame = 0,
-            Record::Cell { .. } => {
-                cells_in_frame += 1;
-                most_cells = most_cells.max(cells_in_frame);
-            }
-            _ => {}
-        }
-        Ok(())
-    })?;
-    let mut cells = vec![CellSlot::EMPTY; most_cells];
+    let size = Size::new(width, height);
+    let view = View::fit(&bounds, size, margin);
+    let mut plane = vec![0; plane_bytes(size)];
     let mut screen = Framebuffer::new(width, height);
-    let mut rig = Rig::new(view, &PALETTE_RGB888, &mut cells);
+    let palette = rig.palette.colours();
+    let mut rig = Rig::new(view, &palette, &mut plane);
     let mut i = last_index;
     records.visit(last_frame, |_, r| {
         rig.draw(r, &mut screen)
@@ -179,19 +227,14 @@ pub fn render_rig<R: Records + ?Sized>(
     Ok(screen)
 }
 
-/// Writes to `path` the PNG a `width`×`height` rig would show after
-/// `records` (see [`render_rig`]).
+/// Writes to `path` the PNG `rig` would show after `records` (see
+/// [`render_rig`]).
 ///
 /// # Errors
 /// A bad size, a frame the renderer refuses, unreadable records or a
 /// failed write.
-pub fn render_rig_png<R: Records + ?Sized>(
-    records: &R,
-    width: u32,
-    height: u32,
-    path: &Path,
-) -> Result<()> {
-    render_rig(records, width, height)?.save_png(path)
+pub fn render_rig_png<R: Records + ?Sized>(records: &R, rig: RigSpec, path: &Path) -> Result<()> {
+    render_rig(records, rig)?.save_png(path)
 }
 
 #[cfg(test)]
@@ -199,6 +242,14 @@ mod tests {
     use morphogen::fx::Fx;
 
     use super::*;
+
+    fn rgb(width: u32, height: u32) -> RigSpec {
+        RigSpec {
+            width,
+            height,
+            palette: RigPalette::Rgb,
+        }
+    }
 
     /// One character per pixel: `.` black, `#` white, `R`/`G`/`B` pure
     /// colours, `?` anything else.
@@ -227,35 +278,36 @@ mod tests {
                 frame: 0,
                 time: Fx::ZERO,
             },
-            // Cells of type 2 (red) at the bottom left, 3 (green) at the top
+            // Cells of type 1 (ink 1: red) at the bottom left, 2 (green) at the top
             // right: the Voronoi border is their perpendicular bisector.
             Record::Cell {
                 id: 0,
-                kind: 2,
+                kind: 1,
                 p: [fx(0), fx(0)],
             },
             Record::Cell {
                 id: 1,
-                kind: 3,
+                kind: 2,
                 p: [fx(9), fx(5)],
             },
-            // Then a white line (colour 1) along the top.
+            // Then a white line (ink 0) along the top.
             Record::Segment {
                 a: [fx(0), fx(5), Fx::ZERO],
                 b: [fx(9), fx(5), Fx::ZERO],
                 width: Fx::DELTA,
-                colour: 1,
+                colour: 0,
             },
             Record::FrameEnd { frame: 0 },
         ];
-        let picture = render_rig(&records, 10, 6).unwrap();
+        let picture = render_rig(&records, rgb(10, 6)).unwrap();
         assert_eq!(
             ascii(&picture),
             [
                 "##########",
                 "RRRRGGGGGG",
                 "RRRRRGGGGG",
-                "RRRRRGGGGG",
+                // On the bisector to ½ px: the earlier cell keeps it.
+                "RRRRRRGGGG",
                 "RRRRRRGGGG",
                 "RRRRRRGGGG",
             ]
@@ -275,20 +327,20 @@ mod tests {
                 frame: 0,
                 time: Fx::ZERO,
             },
-            seg(2),
+            seg(1),
             Record::FrameEnd { frame: 0 },
             Record::FrameStart {
                 frame: 1,
                 time: Fx::ONE,
             },
-            seg(4),
+            seg(3),
             Record::FrameEnd { frame: 1 },
         ];
-        let picture = render_rig(&records, 4, 1).unwrap();
+        let picture = render_rig(&records, rgb(4, 1)).unwrap();
         assert_eq!(ascii(&picture), ["BBBB"]);
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("rig.png");
-        render_rig_png(&records, 4, 1, &path).unwrap();
+        render_rig_png(&records, rgb(4, 1), &path).unwrap();
         let back = tiny_skia::Pixmap::load_png(&path).unwrap();
         assert_eq!((back.width(), back.height()), (4, 1));
         assert_eq!(
@@ -299,11 +351,43 @@ mod tests {
 
     #[test]
     fn rig_sizes_parse_or_explain() {
-        assert_eq!(parse_rig_size("64x64").unwrap(), (64, 64));
-        assert_eq!(parse_rig_size("128X64").unwrap(), (128, 64));
+        assert_eq!(parse_rig("64x64").unwrap(), rgb(64, 64));
+        assert_eq!(parse_rig("128X64").unwrap(), rgb(128, 64));
+        let grey = parse_rig("128x64:grey4").unwrap();
+        assert_eq!(
+            (grey.palette, grey.file_name()),
+            (RigPalette::Grey4, "rig-128x64-grey4.png".into())
+        );
         for bad in ["64", "0x8", "8x", "x8", "9999x1", "axb"] {
-            let e = parse_rig_size(bad).unwrap_err().to_string();
+            let e = parse_rig(bad).unwrap_err().to_string();
             assert!(e.contains("WIDTHxHEIGHT"), "{bad}: {e}");
         }
+        let e = parse_rig("8x8:sepia").unwrap_err().to_string();
+        assert!(e.contains("grey4"), "{e}");
+    }
+
+    #[test]
+    fn grey4_rigs_draw_seventeen_times_the_level() {
+        let picture = render_rig(
+            &[
+                Record::FrameStart {
+                    frame: 0,
+                    time: Fx::ZERO,
+                },
+                Record::Cell {
+                    id: 0,
+                    kind: 1,
+                    p: [Fx::ZERO; 2],
+                },
+                Record::FrameEnd { frame: 0 },
+            ],
+            RigSpec {
+                palette: RigPalette::Grey4,
+                ..rgb(1, 1)
+            },
+        )
+        .unwrap();
+        let level = PALETTE_GRAY4[2].luma() * 17; // ink 1
+        assert_eq!(picture.get(0, 0), Some(Rgb888::new(level, level, level)));
     }
 }

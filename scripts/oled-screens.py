@@ -1,0 +1,185 @@
+#!/usr/bin/env python3
+"""The emulated OLED's pictures, taken and compared (issue 17).
+
+Usage:
+  oled-screens.py capture SYNC_SOCKET QMP_SOCKET OUT_DIR
+  oled-screens.py compare QEMU_DIR HOST_DIR NAME...
+
+capture: connects to QEMU's UART1 (a `-serial unix:SYNC_SOCKET,server=on` chardev)
+and QMP (`-qmp unix:QMP_SOCKET,server=on,wait=off`). The firmware, started
+with `--screen-sync`, writes each preset's name and a newline on UART1 once
+its last frame is on the OLED, and waits; this script then asks QMP for a
+`screendump` of the SSD0323 (512×256: QEMU draws each pixel as 4×4 and grey
+level g as 17·g), scales it back to the panel's 128×64 pixels, saves
+OUT_DIR/NAME.qemu.png, and answers with one byte. It ends when UART1 closes
+(QEMU exited), prints the names it captured and writes them, one per line,
+to OUT_DIR/captured.txt.
+
+compare: for each NAME, QEMU_DIR/NAME.qemu.png against the host's
+HOST_DIR/NAME/rig-128x64-grey4.png (`morphogen listen --rig 128x64:grey4`
+or `morphogen run NAME --rig 128x64:grey4`), pixel for pixel; copies the
+host picture to QEMU_DIR/NAME.host.png and, on a difference, writes
+QEMU_DIR/NAME.diff.png (red where they differ). Fails on any differing
+pixel, a missing picture, or a picture with nothing drawn (every pixel the
+background). Standard library only.
+"""
+import json
+import os
+import socket
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from thumbnail import read_png, write_png  # noqa: E402
+
+MAGNIFY = 4
+
+
+def connect(path, seconds=60):
+    """Connects to a UNIX socket QEMU is about to create."""
+    deadline = time.monotonic() + seconds
+    while True:
+        try:
+            s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+            s.connect(path)
+            return s
+        except OSError:
+            s.close()
+            if time.monotonic() > deadline:
+                sys.exit(f"oled-screens: no QEMU socket at {path} after {seconds} s")
+            time.sleep(0.05)
+
+
+class Qmp:
+    def __init__(self, path):
+        self.sock = connect(path)
+        self.file = self.sock.makefile("rwb", buffering=0)
+        self.reply()  # the greeting
+        self.call("qmp_capabilities")
+
+    def reply(self):
+        while True:
+            line = self.file.readline()
+            if not line:
+                sys.exit("oled-screens: QMP closed")
+            msg = json.loads(line)
+            if "event" not in msg:
+                return msg
+
+    def call(self, command, **arguments):
+        self.file.write(json.dumps({"execute": command, "arguments": arguments}).encode() + b"\n")
+        msg = self.reply()
+        if "error" in msg:
+            sys.exit(f"oled-screens: QMP {command}: {msg['error']}")
+        return msg["return"]
+
+
+def read_ppm(path):
+    data = open(path, "rb").read()
+    fields, pos = [], 0
+    while len(fields) < 4:  # magic, width, height, maxval, each after blanks/comments
+        while data[pos : pos + 1].isspace():
+            pos += 1
+        if data[pos : pos + 1] == b"#":
+            pos = data.index(b"\n", pos)
+            continue
+        end = pos
+        while not data[end : end + 1].isspace():
+            end += 1
+        fields.append(data[pos:end])
+        pos = end
+    if fields[0] != b"P6" or fields[3] != b"255":
+        sys.exit(f"oled-screens: {path} is not an 8-bit P6 PPM")
+    width, height = int(fields[1]), int(fields[2])
+    return width, height, data[pos + 1 :]
+
+
+def panel_rows(ppm):
+    """The 128×64 panel pixels of a 512×256 screendump (each 4×4 px block
+    is one pixel), as RGB rows."""
+    width, height, pixels = read_ppm(ppm)
+    if (width, height) != (128 * MAGNIFY, 64 * MAGNIFY):
+        sys.exit(f"oled-screens: {ppm} is {width}×{height}, not the SSD0323's 512×256")
+    rows = []
+    for y in range(0, height, MAGNIFY):
+        row = bytearray()
+        for x in range(0, width, MAGNIFY):
+            at = (y * width + x) * 3
+            row += pixels[at : at + 3]
+        rows.append(row)
+    return rows
+
+
+def capture(sync_path, qmp_path, out):
+    os.makedirs(out, exist_ok=True)
+    sync = connect(sync_path)
+    qmp = Qmp(qmp_path)
+    captured, pending = [], b""
+    while True:
+        chunk = sync.recv(256)
+        if not chunk:
+            break
+        pending += chunk
+        while b"\n" in pending:
+            line, pending = pending.split(b"\n", 1)
+            name = line.decode("ascii", "replace")
+            ppm = os.path.join(out, f"{name}.qemu.ppm")
+            qmp.call("screendump", filename=ppm)
+            rows = panel_rows(ppm)
+            os.remove(ppm)
+            write_png(os.path.join(out, f"{name}.qemu.png"), 128, 64, rows)
+            captured.append(name)
+            sync.sendall(b"k")
+    with open(os.path.join(out, "captured.txt"), "w", encoding="ascii") as f:
+        f.writelines(f"{name}\n" for name in captured)
+    print(f"oled-screens: {len(captured)} pictures: {' '.join(captured)}")
+
+
+def pixels(path):
+    """The picture's pixels as (r, g, b) rows."""
+    width, height, channels, rows = read_png(path)
+    return width, height, [[tuple(row[x * channels : x * channels + 3]) for x in range(width)] for row in rows]
+
+
+def compare(qemu_dir, host_dir, names):
+    failures = []
+    for name in names:
+        qemu = os.path.join(qemu_dir, f"{name}.qemu.png")
+        host = os.path.join(host_dir, name, "rig-128x64-grey4.png")
+        missing = [p for p in (qemu, host) if not os.path.exists(p)]
+        if missing:
+            failures.append(f"{name}: no picture {' '.join(missing)}")
+            continue
+        (qw, qh, q), (hw, hh, h) = pixels(qemu), pixels(host)
+        with open(host, "rb") as src, open(os.path.join(qemu_dir, f"{name}.host.png"), "wb") as dst:
+            dst.write(src.read())
+        if (qw, qh) != (hw, hh):
+            failures.append(f"{name}: QEMU {qw}×{qh}, host {hw}×{hh}")
+            continue
+        differ = sum(a != b for qr, hr in zip(q, h) for a, b in zip(qr, hr))
+        background = (0, 0, 0)  # PALETTE_GRAY4[0]
+        drawn = sum(p != background for row in q for p in row)
+        print(f"oled-screens: {name}: {drawn} pixels drawn, {differ} differ from the host")
+        if differ:
+            diff_rows = [bytearray(b"".join(bytes((255, 0, 0) if a != b else a) for a, b in zip(qr, hr)))
+                         for qr, hr in zip(q, h)]
+            write_png(os.path.join(qemu_dir, f"{name}.diff.png"), qw, qh, diff_rows)
+            failures.append(f"{name}: {differ} pixels differ (see {name}.diff.png)")
+        elif drawn == 0:
+            failures.append(f"{name}: nothing drawn")
+    for f in failures:
+        print(f"oled-screens: FAIL {f}", file=sys.stderr)
+    return 1 if failures or not names else 0
+
+
+def main():
+    if len(sys.argv) == 5 and sys.argv[1] == "capture":
+        capture(*sys.argv[2:])
+    elif len(sys.argv) >= 4 and sys.argv[1] == "compare":
+        sys.exit(compare(sys.argv[2], sys.argv[3], sys.argv[4:]))
+    else:
+        sys.exit(__doc__)
+
+
+if __name__ == "__main__":
+    main()
