@@ -13,9 +13,14 @@
 //! - [`Record::Ring`] and [`Record::Polygon`]: the closed polyline through
 //!   the [`Record::Point`]s that follow (rings in the ink of their module);
 //! - [`Record::Sample`]: a curve per series, joining successive samples;
-//! - a lone [`Record::Point`] or a [`Record::MeshVertex`]: one pixel.
+//! - a [`Record::Triangle`]: filled in ink 0 when it faces the viewer
+//!   (counter-clockwise on the screen as seen from outside), skipped when it
+//!   faces away — so a mesh shows as its silhouette, the nearest surfaces
+//!   over the farther ones in stream order;
+//! - a lone [`Record::Point`] or a [`Record::MeshVertex`]: one pixel;
+//! - a [`Record::SurfaceCell`]: one pixel in the ink of its type.
 //!
-//! [`Record::Triangle`]s and headers are not drawn.
+//! Headers are not drawn.
 //!
 //! **The fixed view.** Model space is right-handed with y up and z towards
 //! the viewer. Points are projected by the *cabinet* oblique projection of
@@ -34,7 +39,10 @@
 //! the nearest cell so far, in ½ px steps. A plane smaller than the target
 //! is [`RigError::Capacity`]. The picture is the Voronoi diagram of the
 //! cells wherever cells are at most 7 px apart, as on any rig-sized mosaic,
-//! and drawing costs O(cells), not O(pixels · cells). Since runs are
+//! and drawing costs O(cells), not O(pixels · cells). In a frame of mesh
+//! records the same bytes hold the vertices' pixels (4 bytes each: 1,024
+//! vertices for a 128×64 OLED); a triangle naming a vertex that did not
+//! fit, or one that has not come, is not filled. Since runs are
 //! deterministic, a device can run a preset once into [`Bounds`] to fit the
 //! view, and again into the rig (see [`Rig::sink`]).
 //!
@@ -78,7 +86,7 @@ use embedded_graphics::draw_target::DrawTarget;
 use embedded_graphics::geometry::{Point as Px, Size};
 use embedded_graphics::pixelcolor::PixelColor;
 use embedded_graphics::prelude::*;
-use embedded_graphics::primitives::{Line, PrimitiveStyle, Rectangle};
+use embedded_graphics::primitives::{Line, PrimitiveStyle, Rectangle, Triangle};
 
 use crate::fx::Fx;
 use crate::stream::{Record, Sink, SinkError};
@@ -108,6 +116,19 @@ const _: () = assert!(NO_CELL as i64 == (2 * CELL_REACH_PX as i64 + 1) * STEPS_P
 const _: () = assert!(SUBPIXEL_SHIFT == 4 && STEPS_PER_PX == 2);
 /// The plane's "no cell within reach" (and the cap of every step).
 const NO_CELL: u8 = 15;
+/// Bytes of a vertex kept in the plane: its pixel `x`, `y` as `i16`.
+const VERTEX_BYTES: usize = 4;
+
+/// What the lent plane holds in the current frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum PlaneUse {
+    /// Nothing of this frame yet.
+    Stale,
+    /// The distance of each pixel to its nearest cell.
+    Cells,
+    /// The pixels of this many vertices, by id.
+    Vertices(u32),
+}
 
 /// Squared distances (in (1/16 px)²) ÷ 64 → ½ px steps: `⌊√(d²)/8⌋ =
 /// ⌊√⌊d²/64⌋⌋`, tabulated up to the first square that is out of reach.
@@ -215,7 +236,7 @@ impl Bounds {
                 self.add(project(*b));
                 self.only_samples = false;
             }
-            Record::Point { p } | Record::MeshVertex { p, .. } => {
+            Record::Point { p } | Record::MeshVertex { p, .. } | Record::SurfaceCell { p, .. } => {
                 self.add(project(*p));
                 self.only_samples = false;
             }
@@ -406,7 +427,7 @@ pub struct Rig<'p, C> {
     palette: &'p [C],
     clear: bool,
     plane: &'p mut [u8],
-    plane_stale: bool,
+    plane_use: PlaneUse,
     run: Option<OpenRun<C>>,
     curves: [Option<PixelPos>; SERIES],
 }
@@ -422,7 +443,7 @@ impl<'p, C: PixelColor> Rig<'p, C> {
             palette,
             clear: true,
             plane,
-            plane_stale: true,
+            plane_use: PlaneUse::Stale,
             run: None,
             curves: [None; SERIES],
         }
@@ -469,7 +490,7 @@ impl<'p, C: PixelColor> Rig<'p, C> {
     {
         match record {
             Record::FrameStart { .. } => {
-                self.plane_stale = true;
+                self.plane_use = PlaneUse::Stale;
                 self.run = None;
                 self.curves = [None; SERIES];
                 if let (true, Some(background)) = (self.clear, self.colour(0)) {
@@ -529,9 +550,15 @@ impl<'p, C: PixelColor> Rig<'p, C> {
                     None => self.dot(target, here, 0)?,
                 }
             }
-            Record::MeshVertex { p, .. } => {
+            Record::MeshVertex { id, p } => {
                 let here = self.view.pixel(project(*p));
+                self.keep_vertex(*id, here);
                 self.dot(target, here, 0)?;
+            }
+            Record::Triangle { v } => self.triangle(target, *v)?,
+            Record::SurfaceCell { kind, p, .. } => {
+                let here = self.view.pixel(project(*p));
+                self.dot(target, here, usize::from(*kind))?;
             }
             _ => {}
         }
@@ -569,6 +596,79 @@ impl<'p, C: PixelColor> Rig<'p, C> {
         Ok(())
     }
 
+    /// Keeps vertex `id`'s pixel in the plane when it is the next vertex of
+    /// the frame (ids count from 0) and there is room.
+    fn keep_vertex(&mut self, id: u32, at: PixelPos) {
+        let count = match self.plane_use {
+            PlaneUse::Vertices(count) => count,
+            _ => 0,
+        };
+        self.plane_use = PlaneUse::Vertices(count);
+        let start = VERTEX_BYTES * count as usize;
+        let Some(slot) = self.plane.get_mut(start..start + VERTEX_BYTES) else {
+            return;
+        };
+        if id != count {
+            return;
+        }
+        let [x, y] =
+            at.0.map(|c| c.clamp(i64::from(i16::MIN), i64::from(i16::MAX)) as i16);
+        slot[..2].copy_from_slice(&x.to_le_bytes());
+        slot[2..].copy_from_slice(&y.to_le_bytes());
+        self.plane_use = PlaneUse::Vertices(count + 1);
+    }
+
+    /// The pixel kept for vertex `id`, if it was.
+    fn vertex(&self, id: u32) -> Option<Px> {
+        let PlaneUse::Vertices(count) = self.plane_use else {
+            return None;
+        };
+        if id >= count {
+            return None;
+        }
+        let start = VERTEX_BYTES * id as usize;
+        let slot = self.plane.get(start..start + VERTEX_BYTES)?;
+        let x = i16::from_le_bytes([slot[0], slot[1]]);
+        let y = i16::from_le_bytes([slot[2], slot[3]]);
+        Some(Px::new(i32::from(x), i32::from(y)))
+    }
+
+    /// Fills the triangle of vertices `v` in ink 0 if it faces the viewer.
+    fn triangle<D>(&mut self, target: &mut D, v: [u32; 3]) -> Result<(), RigError<D::Error>>
+    where
+        D: DrawTarget<Color = C>,
+    {
+        let (Some(a), Some(b), Some(c), Some(ink)) = (
+            self.vertex(v[0]),
+            self.vertex(v[1]),
+            self.vertex(v[2]),
+            self.ink(0),
+        ) else {
+            return Ok(());
+        };
+        // Counter-clockwise from outside in model space (y up) is clockwise
+        // on the screen (y down): a negative cross product. |coordinates|
+        // ≤ 2^15, so the products fit in i64.
+        let (ab, ac) = (b - a, c - a);
+        let cross = i64::from(ab.x) * i64::from(ac.y) - i64::from(ab.y) * i64::from(ac.x);
+        if cross >= 0 {
+            return Ok(());
+        }
+        // Off the target, or far larger than it (a view that does not fit
+        // the stream): skipped rather than walked pixel by pixel.
+        let shape = Triangle::new(a, b, c);
+        let (bbox, area) = (shape.bounding_box(), target.bounding_box());
+        let side = area.size.width.max(area.size.height).saturating_mul(4);
+        if bbox.intersection(&area).is_zero_sized() || bbox.size.width.max(bbox.size.height) > side
+        {
+            return Ok(());
+        }
+        shape
+            .into_styled(PrimitiveStyle::with_fill(ink))
+            .draw(target)
+            .map_err(RigError::Draw)
+    }
+
     /// Paints the pixels within reach of the cell at `at` (1/16 px) that
     /// are nearer to it than to every earlier cell of the frame, recording
     /// their distance in the plane (the "Bounded memory" of the module).
@@ -589,9 +689,9 @@ impl<'p, C: PixelColor> Rig<'p, C> {
                 capacity: u32::try_from(self.plane.len()).unwrap_or(u32::MAX),
             });
         }
-        if self.plane_stale {
+        if self.plane_use != PlaneUse::Cells {
             self.plane.fill(NO_CELL << 4 | NO_CELL);
-            self.plane_stale = false;
+            self.plane_use = PlaneUse::Cells;
         }
         let Some(colour) = self.ink(kind) else {
             return Ok(());
@@ -951,6 +1051,46 @@ mod tests {
             rig.draw(r, &mut screen).unwrap();
         }
         display.assert_pattern(&["RRRRRRRRKK"]);
+    }
+
+    #[test]
+    fn triangles_facing_the_viewer_are_filled_and_the_others_skipped() {
+        let vertex = |id, x, y| Record::MeshVertex {
+            id,
+            p: [fx(x), fx(y), Fx::ZERO],
+        };
+        let frame = |v| {
+            [
+                Record::FrameStart {
+                    frame: 0,
+                    time: Fx::ZERO,
+                },
+                vertex(0, 0, 0),
+                vertex(1, 5, 0),
+                vertex(2, 0, 5),
+                Record::Triangle { v },
+                Record::FrameEnd { frame: 0 },
+            ]
+        };
+        // Counter-clockwise seen from +z (the viewer): filled in ink 0. (A
+        // 6×6 rig's plane holds 18 bytes: 4 vertices.)
+        render(&frame([0, 1, 2]), 6, 6, &RGB).assert_pattern(&[
+            "RKKKKK", //
+            "RRKKKK", //
+            "RRRKKK", //
+            "RRRRKK", //
+            "RRRRRK", //
+            "RRRRRR", //
+        ]);
+        // Clockwise: its back; only the vertices' pixels show.
+        render(&frame([0, 2, 1]), 6, 6, &RGB).assert_pattern(&[
+            "RKKKKK", //
+            "KKKKKK", //
+            "KKKKKK", //
+            "KKKKKK", //
+            "KKKKKK", //
+            "RKKKKR", //
+        ]);
     }
 
     #[test]

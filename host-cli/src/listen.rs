@@ -322,9 +322,9 @@ impl Listener {
             let dir = self.out.join(name);
             std::fs::create_dir_all(&dir)
                 .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-            let path = dir.join(rig.file_name());
-            crate::rig::render_rig_png(&stream.records, rig, &path)?;
-            say!("  wrote {}", path.display())?;
+            for path in crate::rig::render_rig_png(&stream.records, rig, None, &dir)? {
+                say!("  wrote {}", path.display())?;
+            }
         }
         Ok(())
     }

@@ -76,7 +76,10 @@ enum Command {
         /// Also write rig-WxH.png: the last frame as a W×H display rig
         /// (LED matrix, OLED) shows it, drawn by the core's rig renderer;
         /// `WxH:grey4` draws the 16 greys of a 4-bit OLED, as the firmware
-        /// draws its SSD0323 (rig-WxH-grey4.png).
+        /// draws its SSD0323 (rig-WxH-grey4.png). In colour, mosaics and
+        /// plants take the colours of their main pictures. Also writes
+        /// rig-WxH[-grey4]-preview.png, enlarged as the LEDs or the OLED
+        /// look lit.
         #[arg(long, value_name = "WxH[:grey4]")]
         rig: Option<String>,
         /// With a mosaic: where F cells may start instead of the scenario's
@@ -368,9 +371,13 @@ fn run(
     let written = exec::write_outputs(&dir, &run, !writing.quiet, |records, dir| {
         let mut files = outputs::write(scenario, records, dir, writing.kinds)?;
         if let Some(rig) = rig {
-            let path = dir.join(rig.file_name());
-            morphogen_cli::rig::render_rig_png(records, rig, &path)?;
-            files.push(path);
+            let inks = outputs::rig_inks(scenario);
+            files.extend(morphogen_cli::rig::render_rig_png(
+                records,
+                rig,
+                inks.as_deref(),
+                dir,
+            )?);
         }
         Ok(files)
     })?;

@@ -6,7 +6,7 @@
 //! `17·level`, as QEMU shows its emulated SSD0323), the firmware's picture
 //! pixel for pixel.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use morphogen::rig::embedded_graphics::Pixel;
@@ -60,6 +60,36 @@ impl Framebuffer {
             .iter()
             .flat_map(|c| [c.r(), c.g(), c.b()])
             .collect()
+    }
+
+    /// An enlarged picture of the rig as it looks lit: each pixel `scale`
+    /// pixels wide, drawn as a round LED on a dark board for an LED matrix
+    /// ([`RigPalette::Rgb`]), as a square with a thin gap for an OLED
+    /// ([`RigPalette::Grey4`]).
+    #[must_use]
+    pub fn preview(&self, palette: RigPalette, scale: u32) -> Framebuffer {
+        let board = Rgb888::new(18, 18, 18);
+        let mut big = Framebuffer::new(self.width * scale, self.height * scale);
+        // Twice the offset from a pixel's centre, in 1/2 px, per sub-pixel.
+        let centre = i64::from(scale) - 1;
+        let radius2 = (i64::from(scale) * 9 / 10).pow(2);
+        let lit = |dx: u32, dy: u32| match palette {
+            RigPalette::Rgb => {
+                let (x, y) = (2 * i64::from(dx) - centre, 2 * i64::from(dy) - centre);
+                x * x + y * y <= radius2
+            }
+            RigPalette::Grey4 => scale < 4 || (dx + 1 < scale && dy + 1 < scale),
+        };
+        for (i, c) in big.pixels.iter_mut().enumerate() {
+            let (x, y) = (i as u32 % big.width, i as u32 / big.width);
+            let colour = self.get(x / scale, y / scale).unwrap_or(board);
+            *c = if lit(x % scale, y % scale) {
+                colour
+            } else {
+                board
+            };
+        }
+        big
     }
 
     /// Saves the framebuffer as an 8-bit RGBA PNG (opaque), atomically
@@ -142,11 +172,27 @@ impl RigSpec {
     /// The picture's file name: `rig-WxH.png` or `rig-WxH-grey4.png`.
     #[must_use]
     pub fn file_name(&self) -> String {
+        format!("{}.png", self.stem())
+    }
+
+    /// The enlarged preview's file name: `rig-WxH[-grey4]-preview.png`.
+    #[must_use]
+    pub fn preview_name(&self) -> String {
+        format!("{}-preview.png", self.stem())
+    }
+
+    fn stem(&self) -> String {
         let suffix = match self.palette {
             RigPalette::Rgb => "",
             RigPalette::Grey4 => "-grey4",
         };
-        format!("rig-{}x{}{suffix}.png", self.width, self.height)
+        format!("rig-{}x{}{suffix}", self.width, self.height)
+    }
+
+    /// How much the preview enlarges: about 1,024 px across, 2× to 8×.
+    #[must_use]
+    pub fn preview_scale(&self) -> u32 {
+        (1024 / self.width.max(self.height)).clamp(2, 8)
     }
 }
 
@@ -186,11 +232,18 @@ pub fn parse_rig(text: &str) -> Result<RigSpec> {
 /// The picture `rig` shows after `records`: the view is fitted to the
 /// whole stream (1 px margin when there is room), each frame clears the
 /// screen, so the last frame is what remains. Two passes: the extent, then
-/// the last frame's drawing.
+/// the last frame's drawing. An RGB rig draws ink `n` in `inks[n]` when
+/// given (the colours of the main pictures), else from
+/// [`PALETTE_RGB888`]; a grey one always in [`PALETTE_GRAY4`], as the
+/// firmware does.
 ///
 /// # Errors
 /// A bad size, a record the renderer refuses, or unreadable records.
-pub fn render_rig<R: Records + ?Sized>(records: &R, rig: RigSpec) -> Result<Framebuffer> {
+pub fn render_rig<R: Records + ?Sized>(
+    records: &R,
+    rig: RigSpec,
+    inks: Option<&[[u8; 3]]>,
+) -> Result<Framebuffer> {
     let RigSpec { width, height, .. } = rig;
     if width == 0 || height == 0 || width > MAX_RIG_SIDE || height > MAX_RIG_SIDE {
         bail!("a rig must be 1..={MAX_RIG_SIDE} pixels per side, not {width}x{height}");
@@ -212,7 +265,12 @@ pub fn render_rig<R: Records + ?Sized>(records: &R, rig: RigSpec) -> Result<Fram
     let view = View::fit(&bounds, size, margin);
     let mut plane = vec![0; plane_bytes(size)];
     let mut screen = Framebuffer::new(width, height);
-    let palette = rig.palette.colours();
+    let palette = match (rig.palette, inks) {
+        (RigPalette::Rgb, Some(inks)) if !inks.is_empty() => std::iter::once(Rgb888::BLACK)
+            .chain(inks.iter().map(|&[r, g, b]| Rgb888::new(r, g, b)))
+            .collect(),
+        (palette, _) => palette.colours().to_vec(),
+    };
     let mut rig = Rig::new(view, &palette, &mut plane);
     let mut i = last_index;
     records.visit(last_frame, |_, r| {
@@ -227,14 +285,26 @@ pub fn render_rig<R: Records + ?Sized>(records: &R, rig: RigSpec) -> Result<Fram
     Ok(screen)
 }
 
-/// Writes to `path` the PNG `rig` would show after `records` (see
-/// [`render_rig`]).
+/// Writes into `dir` the PNG `rig` would show after `records` (see
+/// [`render_rig`]) and its enlarged preview ([`Framebuffer::preview`]);
+/// returns their paths.
 ///
 /// # Errors
 /// A bad size, a frame the renderer refuses, unreadable records or a
 /// failed write.
-pub fn render_rig_png<R: Records + ?Sized>(records: &R, rig: RigSpec, path: &Path) -> Result<()> {
-    render_rig(records, rig)?.save_png(path)
+pub fn render_rig_png<R: Records + ?Sized>(
+    records: &R,
+    rig: RigSpec,
+    inks: Option<&[[u8; 3]]>,
+    dir: &Path,
+) -> Result<[PathBuf; 2]> {
+    let picture = render_rig(records, rig, inks)?;
+    let (path, preview) = (dir.join(rig.file_name()), dir.join(rig.preview_name()));
+    picture.save_png(&path)?;
+    picture
+        .preview(rig.palette, rig.preview_scale())
+        .save_png(&preview)?;
+    Ok([path, preview])
 }
 
 #[cfg(test)]
@@ -299,7 +369,7 @@ mod tests {
             },
             Record::FrameEnd { frame: 0 },
         ];
-        let picture = render_rig(&records, rgb(10, 6)).unwrap();
+        let picture = render_rig(&records, rgb(10, 6), None).unwrap();
         assert_eq!(
             ascii(&picture),
             [
@@ -336,11 +406,12 @@ mod tests {
             seg(3),
             Record::FrameEnd { frame: 1 },
         ];
-        let picture = render_rig(&records, rgb(4, 1)).unwrap();
+        let picture = render_rig(&records, rgb(4, 1), None).unwrap();
         assert_eq!(ascii(&picture), ["BBBB"]);
         let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("rig.png");
-        render_rig_png(&records, rgb(4, 1), &path).unwrap();
+        let [path, preview] = render_rig_png(&records, rgb(4, 1), None, dir.path()).unwrap();
+        let big = tiny_skia::Pixmap::load_png(&preview).unwrap();
+        assert_eq!((big.width(), big.height()), (32, 8));
         let back = tiny_skia::Pixmap::load_png(&path).unwrap();
         assert_eq!((back.width(), back.height()), (4, 1));
         assert_eq!(
@@ -385,6 +456,7 @@ mod tests {
                 palette: RigPalette::Grey4,
                 ..rgb(1, 1)
             },
+            None,
         )
         .unwrap();
         let level = PALETTE_GRAY4[2].luma() * 17; // ink 1

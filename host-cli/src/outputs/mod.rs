@@ -298,6 +298,19 @@ pub fn write<R: Records + ?Sized>(
     scenario.with_preset(|preset| write_preset(preset, &names, records, dir, kinds))
 }
 
+/// The inks of the main pictures, for a rig preview in their colours
+/// (`--rig WxH`): a mosaic's type colours, an L-system's colour ramp;
+/// `None` for the models whose pictures are shaded (the rig keeps its own
+/// palette).
+#[must_use]
+pub fn rig_inks(scenario: &Scenario) -> Option<Vec<[u8; 3]>> {
+    scenario.with_preset(|preset| match preset.model {
+        Model::Mosaic(p) => Some(p.types.iter().map(|t| t.colour).collect()),
+        Model::LSystem(_) => Some((0..=plant::LAST_COLOUR).map(plant::palette).collect()),
+        _ => None,
+    })
+}
+
 /// [`write`] for the run `preset`, its mosaic's types named `names`.
 fn write_preset<R: Records + ?Sized>(
     preset: &Preset<'_>,

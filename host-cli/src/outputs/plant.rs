@@ -125,7 +125,7 @@ fn frame_items<R: Records + ?Sized>(
 
 /// The largest colour index with a colour of its own; beyond it,
 /// [`palette`] repeats this one.
-const LAST_COLOUR: u16 = 12;
+pub const LAST_COLOUR: u16 = 12;
 
 /// The material of colour index `i` in `mesh` (`colour_<i>`, the indices
 /// beyond [`LAST_COLOUR`] sharing its material).
