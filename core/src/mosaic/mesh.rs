@@ -86,8 +86,9 @@ impl core::fmt::Display for MeshError {
 
 impl core::error::Error for MeshError {}
 
-/// The buffers a [`Mesh`] fills: one entry per face in `neighbours` and
-/// `normals`, three per face in `edges` (scratch for the edge sort).
+/// The buffers a [`Mesh`] fills: one entry per face in `neighbours`,
+/// `normals` and `inward`, three per face in `edges` (scratch for the edge
+/// sort).
 #[derive(Debug)]
 pub struct MeshParts<'m> {
     /// The face across each edge (edge k runs from vertex k to k + 1), or
@@ -95,6 +96,10 @@ pub struct MeshParts<'m> {
     pub neighbours: &'m mut [[u32; 3]],
     /// Unit normals, Q16.
     pub normals: &'m mut [[i32; 3]],
+    /// Each edge turned a quarter turn about the normal, into the face
+    /// (Q16, as long as the edge): what [`Mesh::walk`] measures the way
+    /// out against.
+    pub inward: &'m mut [[[i32; 3]; 3]],
     /// Scratch: edge keys.
     pub edges: &'m mut [u64],
 }
@@ -106,6 +111,7 @@ pub struct Mesh<'m> {
     faces: &'m [[u32; 3]],
     neighbours: &'m [[u32; 3]],
     normals: &'m [[i32; 3]],
+    inward: &'m [[[i32; 3]; 3]],
     /// Total area, Q16 square units.
     area: u64,
     bounds: [[i32; 3]; 2],
@@ -189,6 +195,7 @@ impl<'m> Mesh<'m> {
             || n > MAX_FACES
             || parts.neighbours.len() < n
             || parts.normals.len() < n
+            || parts.inward.len() < n
             || parts.edges.len() < 3 * n
         {
             return Err(MeshError::TooLarge);
@@ -219,7 +226,16 @@ impl<'m> Mesh<'m> {
                 return Err(MeshError::Degenerate { face });
             }
             area += double >> 17; // Q32 double area → Q16 area
-            parts.normals[f] = unit(w).map(|x| x as i32);
+            let normal = unit(w);
+            parts.normals[f] = normal.map(|x| x as i32);
+            for k in 0..3 {
+                let (s, t) = (
+                    vertices[tri[k] as usize],
+                    vertices[tri[(k + 1) % 3] as usize],
+                );
+                // |n × e| ≤ |e| < 2^27: an i32.
+                parts.inward[f][k] = cross_q16(normal, sub(t, s)).map(|x| x as i32);
+            }
             for k in 0..3 {
                 let (p, q) = (tri[k], tri[(k + 1) % 3]);
                 let key = u64::from(p.min(q)) << 44 | u64::from(p.max(q)) << 24;
@@ -257,6 +273,7 @@ impl<'m> Mesh<'m> {
             faces,
             neighbours: &parts.neighbours[..n],
             normals: &parts.normals[..n],
+            inward: &parts.inward[..n],
             area,
             bounds,
         })
@@ -293,9 +310,15 @@ impl<'m> Mesh<'m> {
     }
 
     /// The corners of face `f`.
+    #[inline]
     fn corners(&self, f: u32) -> [[i32; 3]; 3] {
-        let tri = self.faces.get(f as usize).copied().unwrap_or([0; 3]);
-        tri.map(|v| self.vertices.get(v as usize).copied().unwrap_or([0; 3]))
+        let Some(tri) = self.faces.get(f as usize) else {
+            return [[0; 3]; 3];
+        };
+        tri.map(|v| match self.vertices.get(v as usize) {
+            Some(&v) => v,
+            None => [0; 3],
+        })
     }
 
     /// The centroid of face `f` (Q16).
@@ -363,25 +386,7 @@ impl<'m> Mesh<'m> {
         for _ in 0..MAX_CROSSINGS {
             let corners = self.corners(face);
             let n = self.normal(face).map(i64::from);
-            // The edge left first: h/−rate smallest below 1, as Q16.
-            let mut exit: Option<(usize, i64)> = None;
-            for k in 0..3 {
-                let (s, t) = (corners[k], corners[(k + 1) % 3]);
-                let inward = cross_q16(n, sub(t, s)); // Q16, |edge| long
-                let rate = dot(d, inward);
-                if rate >= 0 {
-                    continue;
-                }
-                let h = dot(sub(p, s), inward).max(0);
-                if h >= -rate {
-                    continue;
-                }
-                let t = ratio_q16(h, -rate);
-                if exit.is_none_or(|(_, best)| t < best) {
-                    exit = Some((k, t));
-                }
-            }
-            let Some((k, t)) = exit else {
+            let Some((k, t)) = self.exit(face, &corners, p, d) else {
                 // Inside the edges (up to rounding): held on the face only
                 // if rounding has taken it off its plane.
                 let to = [0, 1, 2].map(|c| (i64::from(p[c]) + d[c]) as i32);
@@ -424,6 +429,38 @@ impl<'m> Mesh<'m> {
             face,
             p: self.snap(face, p),
         }
+    }
+
+    /// The edge of face `f` (with `corners`) that the move `d` from `p`
+    /// leaves by first, and the part of `d` made before it (Q16, below 1):
+    /// h/−rate smallest, h the height of `p` over the edge and rate the
+    /// move's; `None` if the move ends inside.
+    #[inline]
+    fn exit(
+        &self,
+        f: u32,
+        corners: &[[i32; 3]; 3],
+        p: [i32; 3],
+        d: [i64; 3],
+    ) -> Option<(usize, i64)> {
+        let edges = self.inward.get(f as usize)?;
+        let mut exit: Option<(usize, i64)> = None;
+        for (k, (inward, s)) in edges.iter().zip(corners).enumerate() {
+            let inward = inward.map(i64::from);
+            let rate = dot(d, inward);
+            if rate >= 0 {
+                continue;
+            }
+            let h = dot(sub(p, *s), inward).max(0);
+            if h >= -rate {
+                continue;
+            }
+            let t = ratio_q16(h, -rate);
+            if exit.is_none_or(|(_, best)| t < best) {
+                exit = Some((k, t));
+            }
+        }
+        exit
     }
 
     /// The unit vector in face `f`'s plane across its edge between the

@@ -461,9 +461,11 @@ mod tests {
         t.build(&mut v, &mut f);
         let (mut nb, mut normals, mut edges) =
             (vec![[0; 3]; nf], vec![[0; 3]; nf], vec![0; 3 * nf]);
+        let mut inward = vec![[[0; 3]; 3]; nf];
         let parts = MeshParts {
             neighbours: &mut nb,
             normals: &mut normals,
+            inward: &mut inward,
             edges: &mut edges,
         };
         let mesh = Mesh::new_checked(&v, &f, parts).unwrap();
