@@ -379,25 +379,42 @@ impl<'m> Mesh<'m> {
     /// part across the edge. At most [`MAX_CROSSINGS`] edges are crossed.
     #[must_use]
     pub fn walk(&self, from: Place, d: [i64; 3]) -> Place {
+        let n = self.normal(from.face).map(i64::from);
+        let d = along_plane(d, n);
+        let corners = self.corners(from.face);
+        match self.exit(from.face, &corners, from.p, d) {
+            None => self.land(from.face, &corners, n, from.p, d),
+            Some(exit) => self.unfold(from, d, exit),
+        }
+    }
+
+    /// The end of the move `d` from `p` inside face `f` (up to rounding):
+    /// held on the face only if rounding has taken it off its plane.
+    #[inline]
+    fn land(
+        &self,
+        f: u32,
+        corners: &[[i32; 3]; 3],
+        n: [i64; 3],
+        p: [i32; 3],
+        d: [i64; 3],
+    ) -> Place {
+        let to = [0, 1, 2].map(|c| (i64::from(p[c]) + d[c]) as i32);
+        let off = dot(sub(to, corners[0]), n) >> 16;
+        let to = if off.abs() <= 2 { to } else { self.snap(f, to) };
+        Place { face: f, p: to }
+    }
+
+    /// The rest of [`Mesh::walk`] once the move `d` (in the plane of
+    /// `from`'s face) leaves it by `exit`: crossing by crossing.
+    #[inline(never)]
+    fn unfold(&self, from: Place, mut d: [i64; 3], mut exit: (usize, i64)) -> Place {
         let mut face = from.face;
         let mut p = from.p;
-        let n = self.normal(face).map(i64::from);
-        let mut d = along_plane(d, n);
-        for _ in 0..MAX_CROSSINGS {
-            let corners = self.corners(face);
-            let n = self.normal(face).map(i64::from);
-            let Some((k, t)) = self.exit(face, &corners, p, d) else {
-                // Inside the edges (up to rounding): held on the face only
-                // if rounding has taken it off its plane.
-                let to = [0, 1, 2].map(|c| (i64::from(p[c]) + d[c]) as i32);
-                let off = dot(sub(to, corners[0]), n) >> 16;
-                let to = if off.abs() <= 2 {
-                    to
-                } else {
-                    self.snap(face, to)
-                };
-                return Place { face, p: to };
-            };
+        let mut corners = self.corners(face);
+        let mut n = self.normal(face).map(i64::from);
+        for crossing in 1..=MAX_CROSSINGS {
+            let (k, t) = exit;
             let part = d.map(|x| (x * t) >> 16);
             p = [0, 1, 2].map(|c| (i64::from(p[c]) + part[c]) as i32);
             let rest = [0, 1, 2].map(|c| d[c] - part[c]);
@@ -416,14 +433,23 @@ impl<'m> Mesh<'m> {
                 if ahead == 0 {
                     break;
                 }
-                continue;
+            } else {
+                // Into the neighbour: along the edge, and across it inwards.
+                let Some(into) = self.inward(next, s, e) else {
+                    break; // not the neighbour's edge: a mesh not validated
+                };
+                d = [0, 1, 2].map(|c| (along[c] * ahead + into[c] * across) >> 16);
+                face = next;
+                corners = self.corners(face);
+                n = self.normal(face).map(i64::from);
             }
-            // Into the neighbour: along the edge, and across it inwards.
-            let Some(into) = self.inward(next, s, e) else {
-                break; // not the neighbour's edge: a mesh not validated
-            };
-            d = [0, 1, 2].map(|c| (along[c] * ahead + into[c] * across) >> 16);
-            face = next;
+            if crossing == MAX_CROSSINGS {
+                break;
+            }
+            match self.exit(face, &corners, p, d) {
+                None => return self.land(face, &corners, n, p, d),
+                Some(next) => exit = next,
+            }
         }
         Place {
             face,

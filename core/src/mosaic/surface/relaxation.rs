@@ -212,19 +212,21 @@ impl Snapshot<'_> {
             return sum;
         };
         let i = self.cell(slot);
-        let r = i64::from(self.forces.radius);
+        let r = self.forces.radius;
         let g = &self.grid;
+        let reach = r.wrapping_sub(1);
         let probe = Probe {
             cell: i,
-            p: p.map(i64::from),
-            r,
-            reach: r - 1,
-            window: (2 * r - 1) as u64,
+            edge: p.map(|x| x.wrapping_sub(reach) as u32),
+            reach,
+            window: (r as u32).wrapping_mul(2).wrapping_sub(1),
+            r2: i64::from(r) * i64::from(r),
+            r: i64::from(r),
             repel: &self.forces.repel[self.kind_of(i)],
         };
         let runs = |c: usize| {
-            let x = probe.p[c];
-            g.runs(c, g.cube(c, x - probe.reach), g.cube(c, x + probe.reach))
+            let (x, reach) = (i64::from(p[c]), i64::from(reach));
+            g.runs(c, g.cube(c, x - reach), g.cube(c, x + reach))
         };
         let (xs, ys, zs) = (runs(0), runs(1), runs(2));
         let [ma, mb] = [g.modulus[0].get(), g.modulus[1].get()];
@@ -260,19 +262,16 @@ impl Snapshot<'_> {
         end: usize,
         mut sum: [i64; 3],
     ) -> [i64; 3] {
-        let Some(points) = self.sorted.get(start..end) else {
+        let (Some(points), Some(ids)) = (self.sorted.get(start..end), self.order.get(start..end))
+        else {
             return sum;
         };
         // |d| < r on every axis: q − (p − (r − 1)) in [0, 2r − 1) as u32,
         // checked axis by axis (most fail on the first). Points lie on the
         // mesh, within ±2^26 (Q16), so r − 1 − d in (−2^27, 2^31 + 2^27):
         // wrapped to u32 it is below 2r − 1 exactly when it is in range.
-        let edge = probe
-            .p
-            .map(|x| (x as i32).wrapping_sub(probe.reach as i32) as u32);
-        let window = probe.window as u32;
-        let reach = probe.reach as i32;
-        for (k, q) in points.iter().enumerate() {
+        let (edge, window, reach) = (probe.edge, probe.window, probe.reach);
+        for (q, &j) in points.iter().zip(ids) {
             let ox = (q[0] as u32).wrapping_sub(edge[0]);
             if ox >= window {
                 continue;
@@ -286,16 +285,12 @@ impl Snapshot<'_> {
                 continue;
             }
             // d = r − 1 − o, in (−r, r).
-            let [dx, dy, dz] = [ox, oy, oz].map(|o| i64::from(reach.wrapping_sub(o as i32)));
+            let dx = i64::from(reach.wrapping_sub(ox as i32));
+            let dy = i64::from(reach.wrapping_sub(oy as i32));
+            let dz = i64::from(reach.wrapping_sub(oz as i32));
             let d2 = dx * dx + dy * dy + dz * dz;
-            if d2 >= probe.r * probe.r {
-                continue;
-            }
-            let j = self
-                .order
-                .get(start + k)
-                .map_or(probe.cell, |&j| j as usize);
-            if j == probe.cell {
+            let j = j as usize;
+            if d2 >= probe.r2 || j == probe.cell {
                 continue;
             }
             let repel = i64::from(probe.repel[self.kind_of(j)]);
@@ -348,12 +343,14 @@ impl Snapshot<'_> {
 #[derive(Debug)]
 struct Probe<'f> {
     cell: usize,
-    p: [i64; 3],
-    r: i64,
+    /// p − (r − 1) on each axis, wrapped to u32.
+    edge: [u32; 3],
     /// r − 1.
-    reach: i64,
+    reach: i32,
     /// 2r − 1.
-    window: u64,
+    window: u32,
+    r: i64,
+    r2: i64,
     repel: &'f [i32; MAX_TYPES],
 }
 
