@@ -126,10 +126,17 @@ pub struct Place {
     pub p: [i32; 3],
 }
 
+/// `[f(0), f(1), f(2)]`: one value per axis, built in place (an array's
+/// `map` leaves a loop and its guard in the walk's hot path).
+#[inline(always)]
+pub(crate) fn per_axis<T>(f: impl Fn(usize) -> T) -> [T; 3] {
+    [f(0), f(1), f(2)]
+}
+
 /// a − b.
 #[inline]
 fn sub(a: [i32; 3], b: [i32; 3]) -> [i64; 3] {
-    [0, 1, 2].map(|c| i64::from(a[c]) - i64::from(b[c]))
+    per_axis(|c| i64::from(a[c]) - i64::from(b[c]))
 }
 
 /// a × b, for components below 2^31 (each product below 2^62).
@@ -151,7 +158,8 @@ fn dot(a: [i64; 3], b: [i64; 3]) -> i64 {
 /// vector as long as b's part across a.
 #[inline]
 fn cross_q16(a: [i64; 3], b: [i64; 3]) -> [i64; 3] {
-    cross(a, b).map(|x| x >> 16)
+    let c = cross(a, b);
+    per_axis(|k| c[k] >> 16)
 }
 
 /// `num / den` as Q16 for 0 < den, |num| ≤ 2^62, both scaled down first
@@ -325,20 +333,14 @@ impl<'m> Mesh<'m> {
     #[must_use]
     pub fn centroid(&self, f: u32) -> [i32; 3] {
         let [a, b, c] = self.corners(f);
-        [0, 1, 2].map(|k| ((i64::from(a[k]) + i64::from(b[k]) + i64::from(c[k])) / 3) as i32)
+        per_axis(|k| ((i64::from(a[k]) + i64::from(b[k]) + i64::from(c[k])) / 3) as i32)
     }
 
     /// The point of face `f` at the barycentric weights `w` (Q16, summing
     /// to 2^16) of its corners.
     #[must_use]
     pub fn at(&self, f: u32, w: [i64; 3]) -> [i32; 3] {
-        let [a, b, c] = self.corners(f);
-        let total = (w[0] + w[1] + w[2]).max(1);
-        [0, 1, 2].map(|k| {
-            let s = w[1] * (i64::from(b[k]) - i64::from(a[k]))
-                + w[2] * (i64::from(c[k]) - i64::from(a[k]));
-            (i64::from(a[k]) + (s + total / 2).div_euclid(total)) as i32
-        })
+        at_corners(self.corners(f), w)
     }
 
     /// The in-plane unit vectors `(along, across)` of face `f`: along its
@@ -357,20 +359,20 @@ impl<'m> Mesh<'m> {
     #[must_use]
     pub fn snap(&self, f: u32, p: [i32; 3]) -> [i32; 3] {
         let corners = self.corners(f);
+        let [a, b, c] = corners;
         let n = self.normal(f).map(i64::from);
-        // w[k]: twice the area of (corner k+1, corner k+2, p) along n, the
-        // weight of corner k; Q16 cross (< 2^37) · Q16 normal < 2^55.
-        let mut w = [0i64; 3];
-        for (k, weight) in w.iter_mut().enumerate() {
-            let (s, t) = (corners[(k + 1) % 3], corners[(k + 2) % 3]);
-            let e = cross(sub(t, s), sub(p, s)).map(|x| x >> 16);
-            *weight = dot(e, n).max(0);
-        }
+        // The weight of a corner: twice the area of (the next corner, the
+        // one after, p) along n; Q16 cross (< 2^37) · Q16 normal < 2^55.
+        let weight = |s: [i32; 3], t: [i32; 3]| {
+            let e = cross(sub(t, s), sub(p, s));
+            dot(per_axis(|k| e[k] >> 16), n).max(0)
+        };
+        let w = [weight(b, c), weight(c, a), weight(a, b)];
         let total = w[0] + w[1] + w[2];
         if total == 0 {
             return self.centroid(f);
         }
-        self.at(f, w.map(|x| ratio_q16(x, total)))
+        at_corners(corners, per_axis(|k| ratio_q16(w[k], total)))
     }
 
     /// `from` moved by `d` (Q16) along the surface: `d` is projected into
@@ -399,7 +401,7 @@ impl<'m> Mesh<'m> {
         p: [i32; 3],
         d: [i64; 3],
     ) -> Place {
-        let to = [0, 1, 2].map(|c| (i64::from(p[c]) + d[c]) as i32);
+        let to = per_axis(|c| (i64::from(p[c]) + d[c]) as i32);
         let off = dot(sub(to, corners[0]), n) >> 16;
         let to = if off.abs() <= 2 { to } else { self.snap(f, to) };
         Place { face: f, p: to }
@@ -416,8 +418,8 @@ impl<'m> Mesh<'m> {
         for crossing in 1..=MAX_CROSSINGS {
             let (k, t) = exit;
             let part = d.map(|x| (x * t) >> 16);
-            p = [0, 1, 2].map(|c| (i64::from(p[c]) + part[c]) as i32);
-            let rest = [0, 1, 2].map(|c| d[c] - part[c]);
+            p = per_axis(|c| (i64::from(p[c]) + part[c]) as i32);
+            let rest = per_axis(|c| d[c] - part[c]);
             let (s, e) = (corners[k], corners[(k + 1) % 3]);
             let along = unit(sub(e, s));
             let out = cross_q16(along, n); // out of the face, across edge k
@@ -438,7 +440,7 @@ impl<'m> Mesh<'m> {
                 let Some(into) = self.inward(next, s, e) else {
                     break; // not the neighbour's edge: a mesh not validated
                 };
-                d = [0, 1, 2].map(|c| (along[c] * ahead + into[c] * across) >> 16);
+                d = per_axis(|c| (along[c] * ahead + into[c] * across) >> 16);
                 face = next;
                 corners = self.corners(face);
                 n = self.normal(face).map(i64::from);
@@ -503,12 +505,24 @@ impl<'m> Mesh<'m> {
     }
 }
 
+/// The point of the triangle `[a, b, c]` at the barycentric weights `w`
+/// (Q16) of its corners.
+#[inline]
+fn at_corners([a, b, c]: [[i32; 3]; 3], w: [i64; 3]) -> [i32; 3] {
+    let total = (w[0] + w[1] + w[2]).max(1);
+    per_axis(|k| {
+        let s =
+            w[1] * (i64::from(b[k]) - i64::from(a[k])) + w[2] * (i64::from(c[k]) - i64::from(a[k]));
+        (i64::from(a[k]) + (s + total / 2).div_euclid(total)) as i32
+    })
+}
+
 /// `d` less its part along the unit normal `n` (Q16).
 #[inline]
 #[must_use]
 pub fn along_plane(d: [i64; 3], n: [i64; 3]) -> [i64; 3] {
     let dn = dot(d, n) >> 16;
-    [0, 1, 2].map(|c| d[c] - ((dn * n[c]) >> 16))
+    per_axis(|c| d[c] - ((dn * n[c]) >> 16))
 }
 
 #[cfg(test)]

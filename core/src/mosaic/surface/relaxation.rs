@@ -15,7 +15,7 @@
 use core::num::NonZeroU32;
 
 use crate::fx::root::{isqrt_u32, isqrt_u64};
-use crate::mosaic::mesh::{Mesh, Place};
+use crate::mosaic::mesh::{Mesh, Place, per_axis};
 use crate::mosaic::params::MAX_TYPES;
 
 use super::store::{ArraySurfaceStore, SurfaceSlices, SurfaceStore};
@@ -111,13 +111,15 @@ impl CubeGrid {
 
     #[inline]
     fn bucket_of(&self, p: [i32; 3]) -> usize {
-        let [x, y, z] = [0, 1, 2].map(|c| self.cube(c, i64::from(p[c])) % self.modulus[c]);
+        let [x, y, z] = per_axis(|c| self.cube(c, i64::from(p[c])) % self.modulus[c]);
         ((z * self.modulus[1].get() + y) * self.modulus[0].get() + x) as usize
     }
 
     /// Counting-sorts the `places` into `order` and their points into
     /// `sorted` by bucket; `offsets` ends as each bucket's first slot (and
-    /// one past the last).
+    /// one past the last). Each cell's bucket is found once: `order` holds
+    /// the buckets until the cells have their slots, `sorted` the indices
+    /// until `order` is free.
     pub fn build(
         &self,
         places: &[Place],
@@ -128,24 +130,30 @@ impl CubeGrid {
         let b = self.buckets().min(offsets.len().saturating_sub(1));
         let offsets = &mut offsets[..=b];
         offsets.fill(0);
-        for at in places {
-            if let Some(o) = offsets.get_mut(self.bucket_of(at.p) + 1) {
+        for (at, bucket) in places.iter().zip(order.iter_mut()) {
+            let k = self.bucket_of(at.p);
+            *bucket = k as u32; // < 2^30 buckets
+            if let Some(o) = offsets.get_mut(k + 1) {
                 *o += 1;
             }
         }
         for k in 1..=b {
             offsets[k] += offsets[k - 1];
         }
-        for (i, at) in places.iter().enumerate() {
-            let Some(o) = offsets.get_mut(self.bucket_of(at.p)) else {
+        for (i, &bucket) in order.iter().enumerate() {
+            let Some(o) = offsets.get_mut(bucket as usize) else {
                 continue;
             };
             let slot = *o as usize;
             *o += 1;
-            if let (Some(o), Some(s)) = (order.get_mut(slot), sorted.get_mut(slot)) {
-                *o = i as u32;
-                *s = at.p;
+            if let Some(s) = sorted.get_mut(slot) {
+                s[0] = i as i32; // i < places.len() ≤ 2^31
             }
+        }
+        for (o, s) in order.iter_mut().zip(sorted.iter_mut()) {
+            let i = s[0] as u32;
+            *o = i;
+            *s = places.get(i as usize).map_or([0; 3], |at| at.p);
         }
         // Each entry now ends its bucket: move them one on.
         offsets.copy_within(0..b, 1);
@@ -153,18 +161,19 @@ impl CubeGrid {
     }
 
     /// The residues along axis `c` of the cubes `first..=last`, each once:
-    /// `(start, count)` of up to two runs of consecutive ones.
+    /// `(start, count)` of one run of consecutive ones, or of two where
+    /// they wrap past the modulus, and how many runs.
     #[inline]
-    fn runs(&self, c: usize, first: u32, last: u32) -> [(u32, u32); 2] {
+    fn runs(&self, c: usize, first: u32, last: u32) -> ([(u32, u32); 2], usize) {
         let m = self.modulus[c];
         if last.saturating_sub(first) >= m.get() - 1 {
-            return [(0, m.get()), (0, 0)];
+            return ([(0, m.get()), (0, 0)], 1);
         }
         let (a, b) = (first % m, last % m);
         if a <= b {
-            [(a, b - a + 1), (0, 0)]
+            ([(a, b - a + 1), (0, 0)], 1)
         } else {
-            [(a, m.get() - a), (0, b + 1)]
+            ([(a, m.get() - a), (0, b + 1)], 2)
         }
     }
 }
@@ -228,14 +237,15 @@ impl Snapshot<'_> {
             let (x, reach) = (i64::from(p[c]), i64::from(reach));
             g.runs(c, g.cube(c, x - reach), g.cube(c, x + reach))
         };
-        let (xs, ys, zs) = (runs(0), runs(1), runs(2));
+        let ((xs, nx), (ys, ny), (zs, nz)) = (runs(0), runs(1), runs(2));
+        let (xs, ys, zs) = (&xs[..nx.min(2)], &ys[..ny.min(2)], &zs[..nz.min(2)]);
         let [ma, mb] = [g.modulus[0].get(), g.modulus[1].get()];
-        for &(z, nz) in &zs {
+        for &(z, nz) in zs {
             for z in z..z + nz {
-                for &(y, ny) in &ys {
+                for &(y, ny) in ys {
                     for y in y..y + ny {
                         let row = (z * mb + y) * ma;
-                        for &(x, nx) in &xs {
+                        for &(x, nx) in xs {
                             let first = (row + x) as usize;
                             let (Some(&start), Some(&end)) = (
                                 self.offsets.get(first),
@@ -309,7 +319,7 @@ impl Snapshot<'_> {
         let r = i64::from(forces.radius);
         let (wd, beta) = (i64::from(forces.push_weight), i64::from(forces.momentum));
         let wa = i64::from(forces.anisotropy_weight);
-        let s = sum.map(|x| (x + (ONE >> 1)) >> 16); // Q16
+        let s = per_axis(|c| (sum[c] + (ONE >> 1)) >> 16); // Q16
         let blend = if wa == 0 {
             s // (2^16·s + 2^15) >> 16 = s
         } else {
@@ -325,7 +335,7 @@ impl Snapshot<'_> {
                 ((ONE - wa) * s[c] + wa * steer + (ONE >> 1)) >> 16
             })
         };
-        let d = [0, 1, 2].map(|c| {
+        let d = per_axis(|c| {
             let push = ((wd * blend[c] + (ONE >> 1)) >> 16).max(-r).min(r);
             if beta == 0 {
                 return push; // no carry: (0 + 2^15) >> 16 = 0
@@ -334,7 +344,7 @@ impl Snapshot<'_> {
             (push + carry).max(-r).min(r)
         });
         let to = forces.mesh.walk(from, d);
-        let step = [0, 1, 2].map(|c| to.p[c].wrapping_sub(from.p[c]));
+        let step = per_axis(|c| to.p[c].wrapping_sub(from.p[c]));
         (to, step)
     }
 }
@@ -370,7 +380,7 @@ fn push(i: usize, j: usize, d: [i64; 3], d2: i64, r: i64, repel: i64) -> [i64; 3
     };
     let dist = dist.max(1);
     let k = ((r - dist) << 16) / dist;
-    d.map(|x| ((k * x) >> 16) * repel)
+    per_axis(|c| ((k * d[c]) >> 16) * repel)
 }
 
 /// Takes the snapshot of one step over the first `n` cells: plans the
