@@ -1,8 +1,8 @@
 //! A triangle mesh the cells live on (thesis Sec. 3.2: MClone grows its
 //! cells on the model's own polygons, so the pattern needs no texture
 //! mapping). Vertices are Q16, faces index them; each face's neighbour
-//! across each edge and its unit normal are found once, at the door
-//! ([`Mesh::new_checked`]). A cell is a [`Place`], a face and a point on
+//! across each edge, its unit normal and its edges' inward normals are
+//! found once, at the door ([`Mesh::new_checked`]). A cell is a [`Place`], a face and a point on
 //! it; [`Mesh::walk`] moves it along the surface, unfolding the move about
 //! each edge it crosses onto the neighbouring face, and slides it along a
 //! boundary edge. Everything is integer: the same moves on every machine.
