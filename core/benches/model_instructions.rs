@@ -152,6 +152,7 @@ fn fruit_cells() -> SurfaceRelaxation {
         parts: MeshParts {
             neighbours: vec![[0; 3]; nf].leak(),
             normals: leak(nf),
+            inward: vec![[[0; 3]; 3]; nf].leak(),
             edges: vec![0; 3 * nf].leak(),
         },
     };

@@ -235,6 +235,7 @@ struct MeshVecs {
     faces: Vec<[u32; 3]>,
     neighbours: Vec<[u32; 3]>,
     normals: Vec<[i32; 3]>,
+    inward: Vec<[[i32; 3]; 3]>,
     edges: Vec<u64>,
 }
 
@@ -246,6 +247,7 @@ impl MeshVecs {
             faces: vec![[0; 3]; nf],
             neighbours: vec![[0; 3]; nf],
             normals: vec![[0; 3]; nf],
+            inward: vec![[[0; 3]; 3]; nf],
             edges: vec![0; 3 * nf],
         }
     }
@@ -257,6 +259,7 @@ impl MeshVecs {
             parts: MeshParts {
                 neighbours: &mut self.neighbours,
                 normals: &mut self.normals,
+                inward: &mut self.inward,
                 edges: &mut self.edges,
             },
         }

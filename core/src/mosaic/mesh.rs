@@ -1,8 +1,8 @@
 //! A triangle mesh the cells live on (thesis Sec. 3.2: MClone grows its
 //! cells on the model's own polygons, so the pattern needs no texture
 //! mapping). Vertices are Q16, faces index them; each face's neighbour
-//! across each edge and its unit normal are found once, at the door
-//! ([`Mesh::new_checked`]). A cell is a [`Place`], a face and a point on
+//! across each edge, its unit normal and its edges' inward normals are
+//! found once, at the door ([`Mesh::new_checked`]). A cell is a [`Place`], a face and a point on
 //! it; [`Mesh::walk`] moves it along the surface, unfolding the move about
 //! each edge it crosses onto the neighbouring face, and slides it along a
 //! boundary edge. Everything is integer: the same moves on every machine.
@@ -86,8 +86,9 @@ impl core::fmt::Display for MeshError {
 
 impl core::error::Error for MeshError {}
 
-/// The buffers a [`Mesh`] fills: one entry per face in `neighbours` and
-/// `normals`, three per face in `edges` (scratch for the edge sort).
+/// The buffers a [`Mesh`] fills: one entry per face in `neighbours`,
+/// `normals` and `inward`, three per face in `edges` (scratch for the edge
+/// sort).
 #[derive(Debug)]
 pub struct MeshParts<'m> {
     /// The face across each edge (edge k runs from vertex k to k + 1), or
@@ -95,6 +96,10 @@ pub struct MeshParts<'m> {
     pub neighbours: &'m mut [[u32; 3]],
     /// Unit normals, Q16.
     pub normals: &'m mut [[i32; 3]],
+    /// Each edge turned a quarter turn about the normal, into the face
+    /// (Q16, as long as the edge): what [`Mesh::walk`] measures the way
+    /// out against.
+    pub inward: &'m mut [[[i32; 3]; 3]],
     /// Scratch: edge keys.
     pub edges: &'m mut [u64],
 }
@@ -106,6 +111,7 @@ pub struct Mesh<'m> {
     faces: &'m [[u32; 3]],
     neighbours: &'m [[u32; 3]],
     normals: &'m [[i32; 3]],
+    inward: &'m [[[i32; 3]; 3]],
     /// Total area, Q16 square units.
     area: u64,
     bounds: [[i32; 3]; 2],
@@ -120,10 +126,17 @@ pub struct Place {
     pub p: [i32; 3],
 }
 
+/// `[f(0), f(1), f(2)]`: one value per axis, built in place (an array's
+/// `map` leaves a loop and its guard in the walk's hot path).
+#[inline(always)]
+pub(crate) fn per_axis<T>(f: impl Fn(usize) -> T) -> [T; 3] {
+    [f(0), f(1), f(2)]
+}
+
 /// a − b.
 #[inline]
 fn sub(a: [i32; 3], b: [i32; 3]) -> [i64; 3] {
-    [0, 1, 2].map(|c| i64::from(a[c]) - i64::from(b[c]))
+    per_axis(|c| i64::from(a[c]) - i64::from(b[c]))
 }
 
 /// a × b, for components below 2^31 (each product below 2^62).
@@ -145,7 +158,8 @@ fn dot(a: [i64; 3], b: [i64; 3]) -> i64 {
 /// vector as long as b's part across a.
 #[inline]
 fn cross_q16(a: [i64; 3], b: [i64; 3]) -> [i64; 3] {
-    cross(a, b).map(|x| x >> 16)
+    let c = cross(a, b);
+    per_axis(|k| c[k] >> 16)
 }
 
 /// `num / den` as Q16 for 0 < den, |num| ≤ 2^62, both scaled down first
@@ -189,6 +203,7 @@ impl<'m> Mesh<'m> {
             || n > MAX_FACES
             || parts.neighbours.len() < n
             || parts.normals.len() < n
+            || parts.inward.len() < n
             || parts.edges.len() < 3 * n
         {
             return Err(MeshError::TooLarge);
@@ -219,7 +234,16 @@ impl<'m> Mesh<'m> {
                 return Err(MeshError::Degenerate { face });
             }
             area += double >> 17; // Q32 double area → Q16 area
-            parts.normals[f] = unit(w).map(|x| x as i32);
+            let normal = unit(w);
+            parts.normals[f] = normal.map(|x| x as i32);
+            for k in 0..3 {
+                let (s, t) = (
+                    vertices[tri[k] as usize],
+                    vertices[tri[(k + 1) % 3] as usize],
+                );
+                // |n × e| ≤ |e| < 2^27: an i32.
+                parts.inward[f][k] = cross_q16(normal, sub(t, s)).map(|x| x as i32);
+            }
             for k in 0..3 {
                 let (p, q) = (tri[k], tri[(k + 1) % 3]);
                 let key = u64::from(p.min(q)) << 44 | u64::from(p.max(q)) << 24;
@@ -257,6 +281,7 @@ impl<'m> Mesh<'m> {
             faces,
             neighbours: &parts.neighbours[..n],
             normals: &parts.normals[..n],
+            inward: &parts.inward[..n],
             area,
             bounds,
         })
@@ -293,29 +318,29 @@ impl<'m> Mesh<'m> {
     }
 
     /// The corners of face `f`.
+    #[inline]
     fn corners(&self, f: u32) -> [[i32; 3]; 3] {
-        let tri = self.faces.get(f as usize).copied().unwrap_or([0; 3]);
-        tri.map(|v| self.vertices.get(v as usize).copied().unwrap_or([0; 3]))
+        let Some(tri) = self.faces.get(f as usize) else {
+            return [[0; 3]; 3];
+        };
+        tri.map(|v| match self.vertices.get(v as usize) {
+            Some(&v) => v,
+            None => [0; 3],
+        })
     }
 
     /// The centroid of face `f` (Q16).
     #[must_use]
     pub fn centroid(&self, f: u32) -> [i32; 3] {
         let [a, b, c] = self.corners(f);
-        [0, 1, 2].map(|k| ((i64::from(a[k]) + i64::from(b[k]) + i64::from(c[k])) / 3) as i32)
+        per_axis(|k| ((i64::from(a[k]) + i64::from(b[k]) + i64::from(c[k])) / 3) as i32)
     }
 
     /// The point of face `f` at the barycentric weights `w` (Q16, summing
     /// to 2^16) of its corners.
     #[must_use]
     pub fn at(&self, f: u32, w: [i64; 3]) -> [i32; 3] {
-        let [a, b, c] = self.corners(f);
-        let total = (w[0] + w[1] + w[2]).max(1);
-        [0, 1, 2].map(|k| {
-            let s = w[1] * (i64::from(b[k]) - i64::from(a[k]))
-                + w[2] * (i64::from(c[k]) - i64::from(a[k]));
-            (i64::from(a[k]) + (s + total / 2).div_euclid(total)) as i32
-        })
+        at_corners(self.corners(f), w)
     }
 
     /// The in-plane unit vectors `(along, across)` of face `f`: along its
@@ -334,20 +359,20 @@ impl<'m> Mesh<'m> {
     #[must_use]
     pub fn snap(&self, f: u32, p: [i32; 3]) -> [i32; 3] {
         let corners = self.corners(f);
+        let [a, b, c] = corners;
         let n = self.normal(f).map(i64::from);
-        // w[k]: twice the area of (corner k+1, corner k+2, p) along n, the
-        // weight of corner k; Q16 cross (< 2^37) · Q16 normal < 2^55.
-        let mut w = [0i64; 3];
-        for (k, weight) in w.iter_mut().enumerate() {
-            let (s, t) = (corners[(k + 1) % 3], corners[(k + 2) % 3]);
-            let e = cross(sub(t, s), sub(p, s)).map(|x| x >> 16);
-            *weight = dot(e, n).max(0);
-        }
+        // The weight of a corner: twice the area of (the next corner, the
+        // one after, p) along n; Q16 cross (< 2^37) · Q16 normal < 2^55.
+        let weight = |s: [i32; 3], t: [i32; 3]| {
+            let e = cross(sub(t, s), sub(p, s));
+            dot(per_axis(|k| e[k] >> 16), n).max(0)
+        };
+        let w = [weight(b, c), weight(c, a), weight(a, b)];
         let total = w[0] + w[1] + w[2];
         if total == 0 {
             return self.centroid(f);
         }
-        self.at(f, w.map(|x| ratio_q16(x, total)))
+        at_corners(corners, per_axis(|k| ratio_q16(w[k], total)))
     }
 
     /// `from` moved by `d` (Q16) along the surface: `d` is projected into
@@ -356,46 +381,45 @@ impl<'m> Mesh<'m> {
     /// part across the edge. At most [`MAX_CROSSINGS`] edges are crossed.
     #[must_use]
     pub fn walk(&self, from: Place, d: [i64; 3]) -> Place {
+        let n = self.normal(from.face).map(i64::from);
+        let d = along_plane(d, n);
+        let corners = self.corners(from.face);
+        match self.exit(from.face, &corners, from.p, d) {
+            None => self.land(from.face, &corners, n, from.p, d),
+            Some(exit) => self.unfold(from, d, exit),
+        }
+    }
+
+    /// The end of the move `d` from `p` inside face `f` (up to rounding):
+    /// held on the face only if rounding has taken it off its plane.
+    #[inline]
+    fn land(
+        &self,
+        f: u32,
+        corners: &[[i32; 3]; 3],
+        n: [i64; 3],
+        p: [i32; 3],
+        d: [i64; 3],
+    ) -> Place {
+        let to = per_axis(|c| (i64::from(p[c]) + d[c]) as i32);
+        let off = dot(sub(to, corners[0]), n) >> 16;
+        let to = if off.abs() <= 2 { to } else { self.snap(f, to) };
+        Place { face: f, p: to }
+    }
+
+    /// The rest of [`Mesh::walk`] once the move `d` (in the plane of
+    /// `from`'s face) leaves it by `exit`: crossing by crossing.
+    #[inline(never)]
+    fn unfold(&self, from: Place, mut d: [i64; 3], mut exit: (usize, i64)) -> Place {
         let mut face = from.face;
         let mut p = from.p;
-        let n = self.normal(face).map(i64::from);
-        let mut d = along_plane(d, n);
-        for _ in 0..MAX_CROSSINGS {
-            let corners = self.corners(face);
-            let n = self.normal(face).map(i64::from);
-            // The edge left first: h/−rate smallest below 1, as Q16.
-            let mut exit: Option<(usize, i64)> = None;
-            for k in 0..3 {
-                let (s, t) = (corners[k], corners[(k + 1) % 3]);
-                let inward = cross_q16(n, sub(t, s)); // Q16, |edge| long
-                let rate = dot(d, inward);
-                if rate >= 0 {
-                    continue;
-                }
-                let h = dot(sub(p, s), inward).max(0);
-                if h >= -rate {
-                    continue;
-                }
-                let t = ratio_q16(h, -rate);
-                if exit.is_none_or(|(_, best)| t < best) {
-                    exit = Some((k, t));
-                }
-            }
-            let Some((k, t)) = exit else {
-                // Inside the edges (up to rounding): held on the face only
-                // if rounding has taken it off its plane.
-                let to = [0, 1, 2].map(|c| (i64::from(p[c]) + d[c]) as i32);
-                let off = dot(sub(to, corners[0]), n) >> 16;
-                let to = if off.abs() <= 2 {
-                    to
-                } else {
-                    self.snap(face, to)
-                };
-                return Place { face, p: to };
-            };
+        let mut corners = self.corners(face);
+        let mut n = self.normal(face).map(i64::from);
+        for crossing in 1..=MAX_CROSSINGS {
+            let (k, t) = exit;
             let part = d.map(|x| (x * t) >> 16);
-            p = [0, 1, 2].map(|c| (i64::from(p[c]) + part[c]) as i32);
-            let rest = [0, 1, 2].map(|c| d[c] - part[c]);
+            p = per_axis(|c| (i64::from(p[c]) + part[c]) as i32);
+            let rest = per_axis(|c| d[c] - part[c]);
             let (s, e) = (corners[k], corners[(k + 1) % 3]);
             let along = unit(sub(e, s));
             let out = cross_q16(along, n); // out of the face, across edge k
@@ -411,19 +435,60 @@ impl<'m> Mesh<'m> {
                 if ahead == 0 {
                     break;
                 }
-                continue;
+            } else {
+                // Into the neighbour: along the edge, and across it inwards.
+                let Some(into) = self.inward(next, s, e) else {
+                    break; // not the neighbour's edge: a mesh not validated
+                };
+                d = per_axis(|c| (along[c] * ahead + into[c] * across) >> 16);
+                face = next;
+                corners = self.corners(face);
+                n = self.normal(face).map(i64::from);
             }
-            // Into the neighbour: along the edge, and across it inwards.
-            let Some(into) = self.inward(next, s, e) else {
-                break; // not the neighbour's edge: a mesh not validated
-            };
-            d = [0, 1, 2].map(|c| (along[c] * ahead + into[c] * across) >> 16);
-            face = next;
+            if crossing == MAX_CROSSINGS {
+                break;
+            }
+            match self.exit(face, &corners, p, d) {
+                None => return self.land(face, &corners, n, p, d),
+                Some(next) => exit = next,
+            }
         }
         Place {
             face,
             p: self.snap(face, p),
         }
+    }
+
+    /// The edge of face `f` (with `corners`) that the move `d` from `p`
+    /// leaves by first, and the part of `d` made before it (Q16, below 1):
+    /// h/−rate smallest, h the height of `p` over the edge and rate the
+    /// move's; `None` if the move ends inside.
+    #[inline]
+    fn exit(
+        &self,
+        f: u32,
+        corners: &[[i32; 3]; 3],
+        p: [i32; 3],
+        d: [i64; 3],
+    ) -> Option<(usize, i64)> {
+        let edges = self.inward.get(f as usize)?;
+        let mut exit: Option<(usize, i64)> = None;
+        for (k, (inward, s)) in edges.iter().zip(corners).enumerate() {
+            let inward = inward.map(i64::from);
+            let rate = dot(d, inward);
+            if rate >= 0 {
+                continue;
+            }
+            let h = dot(sub(p, *s), inward).max(0);
+            if h >= -rate {
+                continue;
+            }
+            let t = ratio_q16(h, -rate);
+            if exit.is_none_or(|(_, best)| t < best) {
+                exit = Some((k, t));
+            }
+        }
+        exit
     }
 
     /// The unit vector in face `f`'s plane across its edge between the
@@ -440,12 +505,24 @@ impl<'m> Mesh<'m> {
     }
 }
 
+/// The point of the triangle `[a, b, c]` at the barycentric weights `w`
+/// (Q16) of its corners.
+#[inline]
+fn at_corners([a, b, c]: [[i32; 3]; 3], w: [i64; 3]) -> [i32; 3] {
+    let total = (w[0] + w[1] + w[2]).max(1);
+    per_axis(|k| {
+        let s =
+            w[1] * (i64::from(b[k]) - i64::from(a[k])) + w[2] * (i64::from(c[k]) - i64::from(a[k]));
+        (i64::from(a[k]) + (s + total / 2).div_euclid(total)) as i32
+    })
+}
+
 /// `d` less its part along the unit normal `n` (Q16).
 #[inline]
 #[must_use]
 pub fn along_plane(d: [i64; 3], n: [i64; 3]) -> [i64; 3] {
     let dn = dot(d, n) >> 16;
-    [0, 1, 2].map(|c| d[c] - ((dn * n[c]) >> 16))
+    per_axis(|c| d[c] - ((dn * n[c]) >> 16))
 }
 
 #[cfg(test)]

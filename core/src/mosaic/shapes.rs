@@ -321,10 +321,12 @@ mod tests {
         assert_eq!(t.build(&mut v, &mut f), (nv, nf));
         let mut nb = vec![[0; 3]; nf];
         let mut normals = vec![[0; 3]; nf];
+        let mut inward = vec![[[0; 3]; 3]; nf];
         let mut edges = vec![0; 3 * nf];
         let parts = MeshParts {
             neighbours: &mut nb,
             normals: &mut normals,
+            inward: &mut inward,
             edges: &mut edges,
         };
         let mesh = Mesh::new_checked(&v, &f, parts).expect("a valid mesh");

@@ -11,6 +11,7 @@ struct Built {
     f: Vec<[u32; 3]>,
     nb: Vec<[u32; 3]>,
     normals: Vec<[i32; 3]>,
+    inward: Vec<[[i32; 3]; 3]>,
     edges: Vec<u64>,
 }
 
@@ -21,6 +22,7 @@ fn built(t: Tessellation) -> Built {
         f: vec![[0; 3]; nf],
         nb: vec![[0; 3]; nf],
         normals: vec![[0; 3]; nf],
+        inward: vec![[[0; 3]; 3]; nf],
         edges: vec![0; 3 * nf],
     };
     t.build(&mut b.v, &mut b.f);
@@ -32,6 +34,7 @@ impl Built {
         let parts = MeshParts {
             neighbours: &mut self.nb,
             normals: &mut self.normals,
+            inward: &mut self.inward,
             edges: &mut self.edges,
         };
         Mesh::new_checked(&self.v, &self.f, parts)
@@ -131,11 +134,13 @@ fn bad_meshes_name_their_problem() {
     let v = [[0, 0, 0], [1 << 16, 0, 0], [0, 1 << 16, 0], [0, 0, 1 << 16]];
     let mut nb = [[0; 3]; 3];
     let mut normals = [[0; 3]; 3];
+    let mut inward = [[[0; 3]; 3]; 3];
     let mut edges = [0; 9];
     let mut check = |f: &[[u32; 3]], v: &[[i32; 3]]| {
         let parts = MeshParts {
             neighbours: &mut nb,
             normals: &mut normals,
+            inward: &mut inward,
             edges: &mut edges,
         };
         Mesh::new_checked(v, f, parts).map(|_| ())

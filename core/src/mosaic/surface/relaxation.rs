@@ -12,8 +12,10 @@
 //! few cubes of its box), so memory stays bounded whatever the mesh's
 //! size. Cells of other cubes that share a bucket are rejected by distance.
 
+use core::num::NonZeroU32;
+
 use crate::fx::root::{isqrt_u32, isqrt_u64};
-use crate::mosaic::mesh::{Mesh, Place};
+use crate::mosaic::mesh::{Mesh, Place, per_axis};
 use crate::mosaic::params::MAX_TYPES;
 
 use super::store::{ArraySurfaceStore, SurfaceSlices, SurfaceStore};
@@ -42,18 +44,20 @@ pub struct SurfaceForces<'a> {
 
 /// Cubes of side ≥ r over the mesh's bounding box, folded into the
 /// buckets: cube (x, y, z) goes to bucket (x mod A, y mod B, z mod C)
-/// (row-major, x fastest), A·B·C at most the buckets. A cube's 26
-/// neighbours fall in distinct buckets while each modulus is at least 3,
-/// and a row of neighbours is a run of consecutive buckets; cubes folded
-/// onto the same bucket lie at least 3 cubes apart and are rejected by
-/// distance.
+/// (row-major, x fastest), A·B·C at most the buckets. A cell's window
+/// (|d| < r on each axis) meets 2 or 3 cubes along each axis, and a row of
+/// them is a run of consecutive buckets (two at the fold); cells of cubes
+/// folded onto the same bucket are rejected by distance. The side grows
+/// from r in steps of r/4 up to 2r while the box has more cubes than
+/// buckets: fewer cubes to scan and fewer folded strangers in them, for
+/// more cells in the window.
 #[derive(Clone, Copy, Debug)]
 pub struct CubeGrid {
     origin: [i32; 3],
     /// 2^32 / side.
     scale: u64,
     /// A, B, C.
-    modulus: [u32; 3],
+    modulus: [NonZeroU32; 3],
 }
 
 impl CubeGrid {
@@ -62,14 +66,22 @@ impl CubeGrid {
     #[must_use]
     pub fn plan(mesh: &Mesh<'_>, radius: i32, buckets: usize) -> CubeGrid {
         let r = i64::from(radius.max(1));
-        // A margin of 1/64 + 1 LSB keeps every cube wider than the radius
-        // despite the truncated scale factor.
-        let side = r + (r >> 6) + 1;
         let [lo, hi] = mesh.bounds();
-        let mut modulus = [0, 1, 2]
-            .map(|c| ((i64::from(hi[c]) - i64::from(lo[c])) / side + 1).clamp(1, 1 << 10) as u32);
         let buckets = buckets.clamp(1, 1 << 30) as u64;
         let product = |m: &[u32; 3]| m.iter().map(|&x| u64::from(x)).product::<u64>();
+        let cubes = |side: i64| {
+            [0, 1, 2].map(|c| {
+                ((i64::from(hi[c]) - i64::from(lo[c])) / side + 1).clamp(1, 1 << 10) as u32
+            })
+        };
+        // A margin of 1/64 + 1 LSB keeps every cube wider than the radius
+        // despite the truncated scale factor; r < 2^31, so side < 2^33.
+        let side_of = |quarters: i64| r + quarters * (r >> 2) + (r >> 6) + 1;
+        let quarters = (0..4)
+            .find(|&q| product(&cubes(side_of(q))) <= buckets)
+            .unwrap_or(4);
+        let side = side_of(quarters);
+        let mut modulus = cubes(side);
         while product(&modulus) > buckets {
             let c = (0..3).max_by_key(|&c| modulus[c]).unwrap_or(0);
             if modulus[c] <= 1 {
@@ -80,14 +92,14 @@ impl CubeGrid {
         CubeGrid {
             origin: lo,
             scale: (1u64 << 32) / side as u64,
-            modulus,
+            modulus: modulus.map(|m| NonZeroU32::new(m).unwrap_or(NonZeroU32::MIN)),
         }
     }
 
     /// The buckets it uses.
     #[must_use]
     pub fn buckets(&self) -> usize {
-        self.modulus.iter().map(|&m| m as usize).product()
+        self.modulus.iter().map(|&m| m.get() as usize).product()
     }
 
     /// The cube index of `x` along axis `c` (0 below the origin).
@@ -99,13 +111,15 @@ impl CubeGrid {
 
     #[inline]
     fn bucket_of(&self, p: [i32; 3]) -> usize {
-        let [x, y, z] = [0, 1, 2].map(|c| self.cube(c, i64::from(p[c])) % self.modulus[c].max(1));
-        ((z * self.modulus[1] + y) * self.modulus[0] + x) as usize
+        let [x, y, z] = per_axis(|c| self.cube(c, i64::from(p[c])) % self.modulus[c]);
+        ((z * self.modulus[1].get() + y) * self.modulus[0].get() + x) as usize
     }
 
     /// Counting-sorts the `places` into `order` and their points into
     /// `sorted` by bucket; `offsets` ends as each bucket's first slot (and
-    /// one past the last).
+    /// one past the last). Each cell's bucket is found once: `order` holds
+    /// the buckets until the cells have their slots, `sorted` the indices
+    /// until `order` is free.
     pub fn build(
         &self,
         places: &[Place],
@@ -116,24 +130,30 @@ impl CubeGrid {
         let b = self.buckets().min(offsets.len().saturating_sub(1));
         let offsets = &mut offsets[..=b];
         offsets.fill(0);
-        for at in places {
-            if let Some(o) = offsets.get_mut(self.bucket_of(at.p) + 1) {
+        for (at, bucket) in places.iter().zip(order.iter_mut()) {
+            let k = self.bucket_of(at.p);
+            *bucket = k as u32; // < 2^30 buckets
+            if let Some(o) = offsets.get_mut(k + 1) {
                 *o += 1;
             }
         }
         for k in 1..=b {
             offsets[k] += offsets[k - 1];
         }
-        for (i, at) in places.iter().enumerate() {
-            let Some(o) = offsets.get_mut(self.bucket_of(at.p)) else {
+        for (i, &bucket) in order.iter().enumerate() {
+            let Some(o) = offsets.get_mut(bucket as usize) else {
                 continue;
             };
             let slot = *o as usize;
             *o += 1;
-            if let (Some(o), Some(s)) = (order.get_mut(slot), sorted.get_mut(slot)) {
-                *o = i as u32;
-                *s = at.p;
+            if let Some(s) = sorted.get_mut(slot) {
+                s[0] = i as i32; // i < places.len() ≤ 2^31
             }
+        }
+        for (o, s) in order.iter_mut().zip(sorted.iter_mut()) {
+            let i = s[0] as u32;
+            *o = i;
+            *s = places.get(i as usize).map_or([0; 3], |at| at.p);
         }
         // Each entry now ends its bucket: move them one on.
         offsets.copy_within(0..b, 1);
@@ -141,18 +161,19 @@ impl CubeGrid {
     }
 
     /// The residues along axis `c` of the cubes `first..=last`, each once:
-    /// `(start, count)` of up to two runs of consecutive ones.
+    /// `(start, count)` of one run of consecutive ones, or of two where
+    /// they wrap past the modulus, and how many runs.
     #[inline]
-    fn runs(&self, c: usize, first: u32, last: u32) -> [(u32, u32); 2] {
-        let m = self.modulus[c].max(1);
-        if last - first + 1 >= m {
-            return [(0, m), (0, 0)];
+    fn runs(&self, c: usize, first: u32, last: u32) -> ([(u32, u32); 2], usize) {
+        let m = self.modulus[c];
+        if last.saturating_sub(first) >= m.get() - 1 {
+            return ([(0, m.get()), (0, 0)], 1);
         }
         let (a, b) = (first % m, last % m);
         if a <= b {
-            [(a, b - a + 1), (0, 0)]
+            ([(a, b - a + 1), (0, 0)], 1)
         } else {
-            [(a, m - a), (0, b + 1)]
+            ([(a, m.get() - a), (0, b + 1)], 2)
         }
     }
 }
@@ -191,70 +212,100 @@ impl Snapshot<'_> {
         self.kind.get(i).map_or(0, |&k| k as usize % MAX_TYPES)
     }
 
-    /// The sum of the pushes (Q32) on the cell in slot `slot`.
+    /// The sum of the pushes (Q32) on the cell in slot `slot`: the cells
+    /// of each row of buckets its cube window covers, each row a run of
+    /// consecutive slots.
     fn pushes(&self, slot: usize) -> [i64; 3] {
         let mut sum = [0i64; 3];
         let Some(&p) = self.sorted.get(slot) else {
             return sum;
         };
         let i = self.cell(slot);
-        let r = i64::from(self.forces.radius);
-        let r2 = r * r;
-        let repel = &self.forces.repel[self.kind_of(i)];
+        let r = self.forces.radius;
         let g = &self.grid;
-        let reach = r - 1;
-        let span = |c: usize| {
-            let x = i64::from(p[c]);
-            (g.cube(c, x - reach), g.cube(c, x + reach))
+        let reach = r.wrapping_sub(1);
+        let probe = Probe {
+            cell: i,
+            edge: p.map(|x| x.wrapping_sub(reach) as u32),
+            reach,
+            window: (r as u32).wrapping_mul(2).wrapping_sub(1),
+            r2: i64::from(r) * i64::from(r),
+            r: i64::from(r),
+            repel: &self.forces.repel[self.kind_of(i)],
         };
-        let ((x0, x1), (y0, y1), (z0, z1)) = (span(0), span(1), span(2));
-        let [ma, mb] = [g.modulus[0], g.modulus[1]];
-        let window = (2 * reach + 1) as u64;
-        for (z, nz) in g.runs(2, z0, z1) {
+        let runs = |c: usize| {
+            let (x, reach) = (i64::from(p[c]), i64::from(reach));
+            g.runs(c, g.cube(c, x - reach), g.cube(c, x + reach))
+        };
+        let ((xs, nx), (ys, ny), (zs, nz)) = (runs(0), runs(1), runs(2));
+        let (xs, ys, zs) = (&xs[..nx.min(2)], &ys[..ny.min(2)], &zs[..nz.min(2)]);
+        let [ma, mb] = [g.modulus[0].get(), g.modulus[1].get()];
+        for &(z, nz) in zs {
             for z in z..z + nz {
-                for (y, ny) in g.runs(1, y0, y1) {
+                for &(y, ny) in ys {
                     for y in y..y + ny {
                         let row = (z * mb + y) * ma;
-                        for (x, nx) in g.runs(0, x0, x1) {
+                        for &(x, nx) in xs {
                             let first = (row + x) as usize;
-                            let run = self.offsets.get(first).map_or(0, |&o| o as usize)
-                                ..self
-                                    .offsets
-                                    .get(first + nx as usize)
-                                    .map_or(0, |&o| o as usize);
-                            let (Some(points), Some(ids)) =
-                                (self.sorted.get(run.clone()), self.order.get(run))
-                            else {
+                            let (Some(&start), Some(&end)) = (
+                                self.offsets.get(first),
+                                self.offsets.get(first + nx as usize),
+                            ) else {
                                 continue;
                             };
-                            for (q, &j) in points.iter().zip(ids) {
-                                // |d| < r on every axis: d + r − 1 in [0, 2r − 1),
-                                // checked axis by axis (most fail on the first).
-                                let dx = i64::from(p[0]) - i64::from(q[0]);
-                                if (dx + reach) as u64 >= window {
-                                    continue;
-                                }
-                                let dy = i64::from(p[1]) - i64::from(q[1]);
-                                if (dy + reach) as u64 >= window {
-                                    continue;
-                                }
-                                let dz = i64::from(p[2]) - i64::from(q[2]);
-                                if (dz + reach) as u64 >= window {
-                                    continue;
-                                }
-                                let d = [dx, dy, dz];
-                                let d2 = dx * dx + dy * dy + dz * dz;
-                                let j = j as usize;
-                                if d2 >= r2 || j == i {
-                                    continue;
-                                }
-                                let f = push(i, j, d, d2, r, i64::from(repel[self.kind_of(j)]));
-                                sum = [0, 1, 2].map(|c| sum[c] + f[c]);
-                            }
+                            sum = self.run_pushes(&probe, start as usize, end as usize, sum);
                         }
                     }
                 }
             }
+        }
+        sum
+    }
+
+    /// `sum` plus the pushes of the cells in slots `start..end` within r
+    /// of the probe.
+    #[inline(always)]
+    fn run_pushes(
+        &self,
+        probe: &Probe<'_>,
+        start: usize,
+        end: usize,
+        mut sum: [i64; 3],
+    ) -> [i64; 3] {
+        let (Some(points), Some(ids)) = (self.sorted.get(start..end), self.order.get(start..end))
+        else {
+            return sum;
+        };
+        // |d| < r on every axis: q − (p − (r − 1)) in [0, 2r − 1) as u32,
+        // checked axis by axis (most fail on the first). Points lie on the
+        // mesh, within ±2^26 (Q16), so r − 1 − d in (−2^27, 2^31 + 2^27):
+        // wrapped to u32 it is below 2r − 1 exactly when it is in range.
+        let (edge, window, reach) = (probe.edge, probe.window, probe.reach);
+        for (q, &j) in points.iter().zip(ids) {
+            let ox = (q[0] as u32).wrapping_sub(edge[0]);
+            if ox >= window {
+                continue;
+            }
+            let oy = (q[1] as u32).wrapping_sub(edge[1]);
+            if oy >= window {
+                continue;
+            }
+            let oz = (q[2] as u32).wrapping_sub(edge[2]);
+            if oz >= window {
+                continue;
+            }
+            // d = r − 1 − o, in (−r, r).
+            let dx = i64::from(reach.wrapping_sub(ox as i32));
+            let dy = i64::from(reach.wrapping_sub(oy as i32));
+            let dz = i64::from(reach.wrapping_sub(oz as i32));
+            let d2 = dx * dx + dy * dy + dz * dz;
+            let j = j as usize;
+            if d2 >= probe.r2 || j == probe.cell {
+                continue;
+            }
+            let repel = i64::from(probe.repel[self.kind_of(j)]);
+            let f = push(probe.cell, j, [dx, dy, dz], d2, probe.r, repel);
+            sum = [sum[0] + f[0], sum[1] + f[1], sum[2] + f[2]];
         }
         sum
     }
@@ -268,30 +319,55 @@ impl Snapshot<'_> {
         let r = i64::from(forces.radius);
         let (wd, beta) = (i64::from(forces.push_weight), i64::from(forces.momentum));
         let wa = i64::from(forces.anisotropy_weight);
-        let v = forces
-            .field
-            .and_then(|f| f.get(from.face as usize))
-            .copied()
-            .unwrap_or([0; 3]);
-        let s = sum.map(|x| (x + (ONE >> 1)) >> 16); // Q16
-        // (Σ·v)·v as on the plane ([`crate::mosaic::relaxation`]).
-        let along = (0..3).map(|c| s[c] * i64::from(v[c])).sum::<i64>() >> 14;
-        let d = [0, 1, 2].map(|c| {
-            let steer = (along * i64::from(v[c])) >> 14;
-            let blend = ((ONE - wa) * s[c] + wa * steer + (ONE >> 1)) >> 16;
-            let push = ((wd * blend + (ONE >> 1)) >> 16).max(-r).min(r);
+        let s = per_axis(|c| (sum[c] + (ONE >> 1)) >> 16); // Q16
+        let blend = if wa == 0 {
+            s // (2^16·s + 2^15) >> 16 = s
+        } else {
+            let v = forces
+                .field
+                .and_then(|f| f.get(from.face as usize))
+                .copied()
+                .unwrap_or([0; 3]);
+            // (Σ·v)·v as on the plane ([`crate::mosaic::relaxation`]).
+            let along = (0..3).map(|c| s[c] * i64::from(v[c])).sum::<i64>() >> 14;
+            [0, 1, 2].map(|c| {
+                let steer = (along * i64::from(v[c])) >> 14;
+                ((ONE - wa) * s[c] + wa * steer + (ONE >> 1)) >> 16
+            })
+        };
+        let d = per_axis(|c| {
+            let push = ((wd * blend[c] + (ONE >> 1)) >> 16).max(-r).min(r);
+            if beta == 0 {
+                return push; // no carry: (0 + 2^15) >> 16 = 0
+            }
             let carry = (beta * i64::from(last[c]) + (ONE >> 1)) >> 16;
             (push + carry).max(-r).min(r)
         });
         let to = forces.mesh.walk(from, d);
-        let step = [0, 1, 2].map(|c| to.p[c].wrapping_sub(from.p[c]));
+        let step = per_axis(|c| to.p[c].wrapping_sub(from.p[c]));
         (to, step)
     }
 }
 
+/// The cell whose neighbours a scan sums, and its reach (Q16).
+#[derive(Debug)]
+struct Probe<'f> {
+    cell: usize,
+    /// p − (r − 1) on each axis, wrapped to u32.
+    edge: [u32; 3],
+    /// r − 1.
+    reach: i32,
+    /// 2r − 1.
+    window: u32,
+    r: i64,
+    r2: i64,
+    repel: &'f [i32; MAX_TYPES],
+}
+
 /// The push on cell `i` of cell `j` displaced by `d` (Q16) from it, at
-/// squared distance `d2` < r² (Q32): ρ·(r − d)·d⃗/d as Q32.
-#[inline]
+/// squared distance `d2` < r² (Q32): ρ·(r − d)·d⃗/d as Q32. Out of line:
+/// the scan's loop keeps its registers.
+#[inline(never)]
 fn push(i: usize, j: usize, d: [i64; 3], d2: i64, r: i64, repel: i64) -> [i64; 3] {
     if d2 == 0 {
         // Coincident cells: apart along x, the lower index towards −x.
@@ -304,7 +380,7 @@ fn push(i: usize, j: usize, d: [i64; 3], d2: i64, r: i64, repel: i64) -> [i64; 3
     };
     let dist = dist.max(1);
     let k = ((r - dist) << 16) / dist;
-    d.map(|x| ((k * x) >> 16) * repel)
+    per_axis(|c| ((k * d[c]) >> 16) * repel)
 }
 
 /// Takes the snapshot of one step over the first `n` cells: plans the
@@ -392,9 +468,11 @@ mod tests {
         t.build(&mut v, &mut f);
         let (mut nb, mut normals, mut edges) =
             (vec![[0; 3]; nf], vec![[0; 3]; nf], vec![0; 3 * nf]);
+        let mut inward = vec![[[0; 3]; 3]; nf];
         let parts = MeshParts {
             neighbours: &mut nb,
             normals: &mut normals,
+            inward: &mut inward,
             edges: &mut edges,
         };
         let mesh = Mesh::new_checked(&v, &f, parts).unwrap();

@@ -69,6 +69,7 @@ struct MeshVecs {
     f: [[u32; 3]; 512],
     nb: [[u32; 3]; 512],
     normals: [[i32; 3]; 512],
+    inward: [[[i32; 3]; 3]; 512],
     edges: [u64; 1536],
 }
 
@@ -79,6 +80,7 @@ impl MeshVecs {
             f: [[0; 3]; 512],
             nb: [[0; 3]; 512],
             normals: [[0; 3]; 512],
+            inward: [[[0; 3]; 3]; 512],
             edges: [0; 1536],
         })
     }
@@ -90,6 +92,7 @@ impl MeshVecs {
             parts: MeshParts {
                 neighbours: &mut self.nb,
                 normals: &mut self.normals,
+                inward: &mut self.inward,
                 edges: &mut self.edges,
             },
         };
