@@ -25,7 +25,9 @@ step "lint"
 cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy -p morphogen --all-targets --features rig,defmt -- -D warnings
 (cd firmware-example && cargo clippy --release -- -D warnings)
-(cd firmware-rp2040 && cargo clippy --release -- -D warnings)
+# firmware-rp2040 shares firmware-example's target folder: the host-side
+# build dependencies (the scenario compiler) are built once.
+(cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo clippy --release -- -D warnings)
 
 step "documentation: cargo doc without a warning (the core with every feature, as docs.rs builds it)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
@@ -38,7 +40,7 @@ for t in thumbv6m-none-eabi thumbv7m-none-eabi; do
 done
 
 step "the Raspberry Pi Pico firmware builds (firmware-rp2040, thumbv6m; no board in CI: flashed by hand, see its README)"
-(cd firmware-rp2040 && cargo build --release)
+(cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo build --release)
 
 step "release build (once: the determinism test, the fixtures and the firmware check reuse it)"
 cargo build --release -p morphogen-cli

@@ -23,6 +23,7 @@
 pub mod body_files;
 pub mod check;
 pub mod codegen;
+pub mod firmware;
 pub mod mask;
 pub mod run;
 pub mod schema;

@@ -1,0 +1,190 @@
+//! What a firmware's build script needs: the presets it runs, as `static`
+//! Rust generated from scenario files by [`codegen`], and their parameter
+//! digests, with what the device never reads (summaries, grammar comments)
+//! left out to save flash. `firmware-example` and `firmware-rp2040` both
+//! call [`write_presets`] from their `build.rs`.
+//!
+//! - By default: every built-in scenario (`scenarios/*.toml`) that fits
+//!   the MCU ([`morphogen::preset::Model::fits_mcu`]), in `morphogen list`
+//!   order.
+//! - With `MORPHOGEN_SCENARIOS=a.toml,b.toml`: exactly those files, in that
+//!   order. Relative paths are taken from the directory `cargo` was started
+//!   in (the shell's `$PWD`; a build script runs in its package directory).
+//!   A file that does not load or does not fit the MCU fails the build with
+//!   its message.
+
+use std::env;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use morphogen::preset::Model;
+
+use crate::schema::Include;
+use crate::{Scenario, codegen};
+
+/// The variable naming the scenario files to build in.
+pub const VAR: &str = "MORPHOGEN_SCENARIOS";
+
+/// Writes `OUT_DIR/presets.rs` (`PRESETS` and `PARAMS_DIGESTS`) and prints
+/// the `cargo:rerun-if-…` lines for the scenario files it read. Call it
+/// from a build script.
+///
+/// # Errors
+/// A message for the build to fail with: no `OUT_DIR`, a scenario that does
+/// not load or does not fit the MCU, no preset at all, a failed write.
+pub fn write_presets() -> Result<(), String> {
+    let out = PathBuf::from(
+        env::var_os("OUT_DIR").ok_or("OUT_DIR is not set: call this from a build script")?,
+    );
+    let repository = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    println!("cargo:rerun-if-env-changed={VAR}");
+    println!(
+        "cargo:rerun-if-changed={}",
+        repository.join("scenarios").display()
+    );
+    println!(
+        "cargo:rerun-if-changed={}",
+        repository.join("grammars").display()
+    );
+
+    let scenarios = match env::var_os(VAR) {
+        None => crate::builtins()
+            .into_iter()
+            .filter(|s| s.with_preset(|p| p.model.fits_mcu()))
+            .collect(),
+        Some(list) => user_scenarios(list.to_str().ok_or(format!("{VAR} is not UTF-8"))?)?,
+    };
+    if scenarios.is_empty() {
+        return Err("no preset fits the MCU".into());
+    }
+    let mut source =
+        codegen::presets(&scenarios).map_err(|e| format!("generating presets.rs: {e}"))?;
+    strip_for_flash(&mut source, &scenarios);
+    source.push_str(&params_digests(&scenarios));
+    fs::write(out.join("presets.rs"), source).map_err(|e| format!("writing presets.rs: {e}"))
+}
+
+/// `PARAMS_DIGESTS`: the stream header's parameter digest of each preset,
+/// in the order of `PRESETS`, computed here by the same core code the
+/// device would run (`Model::params_digest`), so that the firmware needs no
+/// serializer for the parameters of every model.
+fn params_digests(scenarios: &[Scenario]) -> String {
+    let digests: Vec<String> = scenarios
+        .iter()
+        .map(|s| format!("{:#018x}", s.with_preset(|p| p.model.params_digest())))
+        .collect();
+    format!(
+        "\n/// The parameter digest of each of `PRESETS`, in order (computed by `build.rs`).\n\
+         pub static PARAMS_DIGESTS: [u64; {}] = [{}];\n",
+        digests.len(),
+        digests.join(", ")
+    )
+}
+
+/// Drops from the generated `source` what the firmware never reads, to
+/// save flash: each preset's summary (for `morphogen list`), and the
+/// comments of its grammar text (the parser skips them; the digest of the
+/// whole text is in `PARAMS_DIGESTS`). Both are found as the `{:?}`
+/// literals `codegen` writes; a literal not found stays as it is.
+fn strip_for_flash(source: &mut String, scenarios: &[Scenario]) {
+    for scenario in scenarios {
+        let (summary, grammar) = scenario.with_preset(|p| {
+            let grammar = match p.model {
+                Model::LSystem(text) => Some(text.to_owned()),
+                Model::Bones(b) => Some(b.grammar.to_owned()),
+                _ => None,
+            };
+            (p.summary.to_owned(), grammar)
+        });
+        *source = source.replace(&format!("summary: {summary:?}"), "summary: \"\"");
+        if let Some(text) = grammar {
+            *source = source.replace(
+                &format!("{text:?}"),
+                &format!("{:?}", without_comments(&text)),
+            );
+        }
+    }
+}
+
+/// `text` without its comments: each line up to its first `#`, as the
+/// grammar parser reads it (`docs/lsystems.md`), without the blanks before
+/// it; the lines stay, so that a parse error names the same line.
+fn without_comments(text: &str) -> String {
+    let lines: Vec<&str> = text
+        .split('\n')
+        .map(|line| match line.find('#') {
+            Some(k) => line[..k].trim_end_matches([' ', '\t']),
+            None => line,
+        })
+        .collect();
+    lines.join("\n")
+}
+
+/// The scenario files of the comma-separated `list`, loaded and checked.
+fn user_scenarios(list: &str) -> Result<Vec<Scenario>, String> {
+    let paths: Vec<&str> = list
+        .split(',')
+        .map(str::trim)
+        .filter(|p| !p.is_empty())
+        .collect();
+    if paths.is_empty() {
+        return Err(format!("{VAR} is set but names no scenario file"));
+    }
+    if paths.iter().any(|p| Path::new(p).is_relative()) {
+        // The same relative paths from another directory are other files.
+        println!("cargo:rerun-if-env-changed=PWD");
+    }
+    let mut scenarios: Vec<Scenario> = Vec::new();
+    for given in paths {
+        let path = resolve(given)?;
+        println!("cargo:rerun-if-changed={}", path.display());
+        let scenario = Scenario::load(&path, &[]).map_err(|e| format!("{VAR}: {e}"))?;
+        // The grammar and mask files it names, relative to its folder.
+        let file = scenario.file();
+        let folder = path.parent().unwrap_or(Path::new("."));
+        let includes = [
+            file.lsystem.as_ref().map(|l| &l.grammar),
+            file.bones.as_ref().map(|b| &b.grammar),
+            file.mosaic.as_ref().and_then(|m| m.mask.as_ref()),
+        ];
+        for include in includes.into_iter().flatten() {
+            if let Include::Path(named) = include {
+                println!("cargo:rerun-if-changed={}", folder.join(named).display());
+            }
+        }
+        if !scenario.with_preset(|p| p.model.fits_mcu()) {
+            return Err(format!(
+                "{VAR}: {}: {} does not fit the MCU (too big for the runner's fixed capacity; \
+                 run it on the host with `morphogen run`)",
+                path.display(),
+                scenario.name()
+            ));
+        }
+        if let Some(twin) = scenarios.iter().find(|s| s.name() == scenario.name()) {
+            return Err(format!(
+                "{VAR}: {}: name {:?} is also the name of {}",
+                path.display(),
+                scenario.name(),
+                twin.origin()
+            ));
+        }
+        scenarios.push(scenario);
+    }
+    Ok(scenarios)
+}
+
+/// `given` as an absolute path: relative ones from the directory `cargo`
+/// was started in (`$PWD`).
+fn resolve(given: &str) -> Result<PathBuf, String> {
+    let path = Path::new(given);
+    if path.is_absolute() {
+        return Ok(path.to_path_buf());
+    }
+    match env::var_os("PWD").map(PathBuf::from) {
+        Some(dir) if dir.is_absolute() => Ok(dir.join(path)),
+        _ => Err(format!(
+            "{VAR}: {given} is relative but $PWD (where cargo was started) is not set; \
+             give an absolute path"
+        )),
+    }
+}
