@@ -79,14 +79,26 @@ const MARGIN: u32 = 1;
 #[unsafe(link_section = ".uninit.morphogen.RUNNER")]
 static mut RUNNER: MaybeUninit<Runner<'static>> = MaybeUninit::uninit();
 
+/// The OLED's picture (4 KiB, all zeros: black, in `.bss`).
+static mut FRAME: Frame = Frame::new();
+
+/// The rig's cell plane: ½ byte per OLED pixel (4 KiB, in `.bss`).
+static mut PLANE: [u8; rig::plane_bytes(oled::SIZE)] = [0; rig::plane_bytes(oled::SIZE)];
+
 #[entry]
 fn main() -> ! {
     // SAFETY: `main` runs once and never returns, and nothing else names
-    // RUNNER, so this is the only reference to it, ever.
-    let runner: &'static mut Runner<'static> = unsafe {
+    // RUNNER, FRAME or PLANE, so these are the only references to them,
+    // ever.
+    let (runner, frame, plane): (
+        &'static mut Runner<'static>,
+        &'static mut Frame,
+        &'static mut [u8],
+    ) = unsafe {
         let slot = (&raw mut RUNNER).cast::<Runner<'static>>();
         slot.write(Runner::new());
-        &mut *slot
+        let (frame, plane) = (&raw mut FRAME, &raw mut PLANE);
+        (&mut *slot, &mut *frame, &mut *plane)
     };
 
     let Some(peripherals) = cortex_m::Peripherals::take() else {
@@ -97,9 +109,6 @@ fn main() -> ! {
     let mut oled = Oled::init();
     let mut sync = ScreenSync::from_args();
     let clock = InstructionClock::start(peripherals.SYST);
-    // The picture and the rig's cell plane: 4 KiB each, on main's stack.
-    let mut frame = Frame::new();
-    let mut plane = [0u8; rig::plane_bytes(oled::SIZE)];
 
     defmt::info!(
         "morphogen firmware: {=usize} presets; runner {=usize} bytes in static RAM",
@@ -156,12 +165,12 @@ fn main() -> ! {
         let mut rig = Rig::new(
             View::fit(&bounds, oled::SIZE, MARGIN),
             &PALETTE_GRAY4,
-            &mut plane,
+            &mut *plane,
         );
         let mut drawing = Drawing {
             encoder: &mut encoder,
             rig: &mut rig,
-            frame: &mut frame,
+            frame: &mut *frame,
             oled: &mut oled,
         };
         let result = fitted.and_then(|()| {

@@ -53,21 +53,23 @@ use crate::screen::Shown;
 #[unsafe(link_section = ".uninit.morphogen.RUNNER")]
 static mut RUNNER: MaybeUninit<Runner<'static>> = MaybeUninit::uninit();
 
+/// The rig's cell plane: ½ byte per OLED pixel (4 KiB, in `.bss`).
+static mut PLANE: [u8; screen::PLANE_BYTES] = [0; screen::PLANE_BYTES];
+
 /// Pixels left free around the drawing on each side.
 const MARGIN: u32 = 1;
 
 #[entry]
 fn main() -> ! {
     // SAFETY: `main` runs once and never returns, and nothing else names
-    // RUNNER, so this is the only reference to it, ever.
-    let runner: &'static mut Runner<'static> = unsafe {
+    // RUNNER or PLANE, so these are the only references to them, ever.
+    let (runner, plane): (&'static mut Runner<'static>, &'static mut [u8]) = unsafe {
         let slot = (&raw mut RUNNER).cast::<Runner<'static>>();
         slot.write(Runner::new());
-        &mut *slot
+        let plane = &raw mut PLANE;
+        (&mut *slot, &mut *plane)
     };
     let Board { mut uart, mut oled } = Board::init();
-    // The rig's cell plane (½ byte per pixel), on main's stack.
-    let mut plane = [0u8; screen::PLANE_BYTES];
 
     defmt::info!(
         "morphogen on the Pico: {=usize} presets, UART0 at {=u32} baud; runner {=usize} B, cell plane {=usize} B",
@@ -83,7 +85,7 @@ fn main() -> ! {
         defmt::info!("{=str}: seed {=u64}", preset.name, preset.default_seed);
         let mut encoder = Encoder::new(&mut uart);
         let result = match oled.as_mut() {
-            Some(oled) => stream_and_draw(preset, params, runner, &mut encoder, oled, &mut plane),
+            Some(oled) => stream_and_draw(preset, params, runner, &mut encoder, oled, &mut *plane),
             None => run(preset, params, runner, &mut encoder),
         };
         match result {
