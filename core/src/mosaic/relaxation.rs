@@ -236,10 +236,12 @@ impl Snapshot<'_> {
         for cols in &cols[..nc.min(2)] {
             // i32: p ∈ [0, size), size ≤ 2^30 and |shift| ≤ size.
             let edge_u = (p[0] - cols.shift).wrapping_sub(probe.reach) as u32;
+            // Range proof: a run never ends before its first bin ([`Grid::span`]).
             let width = (cols.end - cols.first) as usize;
             for rows in &rows[..nr.min(2)] {
                 let edge = [edge_u, (p[1] - rows.shift).wrapping_sub(probe.reach) as u32];
-                // The row's first bin of the run; below bins.len() ≤ 2^30.
+                // The row's first bin of the run: below bins.len() ≤ 2^30 while
+                // the row is in the grid, so neither it nor + width overflows.
                 let mut first = rows.first as usize * stride + cols.first as usize;
                 for _ in rows.first..rows.end {
                     let (Some(&start), Some(&end)) = (bins.get(first), bins.get(first + width))
