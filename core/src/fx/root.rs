@@ -5,17 +5,18 @@
 //! fixed-point lengths and square roots (the shrinkwrap's field, the
 //! turtle; issue 15).
 
-/// Newton's starting point for `x` in `[2^30, 2^32)`, indexed by
-/// `(x >> 24) − 64`: `(⌊√(b·2^24 + 2^23)⌋ − 2^15) >> 7` for the top byte `b`,
-/// so the guess `2^15 + 128·entry + 64` is within 192 of `√x`.
-const GUESS: [u8; 192] = {
-    let mut table = [0u8; 192];
-    let mut k = 0;
-    while k < table.len() {
-        let middle = ((k as u32 + 64) << 24) | (1 << 23);
+/// Newton's starting point for `x` in `[2^30, 2^32)`, indexed by its top
+/// byte `b` (no index needs a bounds check; entries below 64 are never
+/// read): `(⌊√(b·2^24 + 2^23)⌋ − 2^15) >> 7`, so the guess
+/// `2^15 + 128·entry + 64` is within 192 of `√x`.
+const GUESS: [u8; 256] = {
+    let mut table = [0u8; 256];
+    let mut b = 64;
+    while b < table.len() {
+        let middle = ((b as u32) << 24) | (1 << 23);
         // ⌊√middle⌋ ∈ [2^15, 2^16), so the entry is below 256.
-        table[k] = ((middle.isqrt() - (1 << 15)) >> 7) as u8;
-        k += 1;
+        table[b] = ((middle.isqrt() - (1 << 15)) >> 7) as u8;
+        b += 1;
     }
     table
 };
@@ -32,17 +33,19 @@ pub(crate) fn isqrt_u32(n: u32) -> u32 {
     // x = n·4^k in [2^30, 2^32); ⌊√n⌋ = ⌊⌊√x⌋ / 2^k⌋.
     let shift = n.leading_zeros() & !1;
     let x = n << shift;
-    // x ≥ 2^30: the top byte is in [64, 256), the index in [0, 192).
-    let entry = GUESS
-        .get(((x >> 24) - 64) as usize)
-        .map_or(0, |&e| u32::from(e));
+    // x ≥ 2^30: the top byte is in [64, 256).
+    let entry = u32::from(GUESS[(x >> 24) as u8 as usize]);
     // y0 ∈ [2^15, 2^16): x / y0 < 2^17, so the sum cannot overflow.
     let y0 = (1 << 15) + (entry << 7) + 64;
     // Newton from |y0 − √x| ≤ 192 lands in [⌊√x⌋, ⌊√x⌋ + 1]: the step's
     // error (y0 − √x)²/(2·y0) is below 1, and the floors keep it at or above
     // ⌊√x⌋ (the tests check every square and its neighbours).
-    let y1 = ((y0 + x / y0) >> 1).min(0xFFFF); // ⌊√x⌋ ≤ 0xFFFF, so y1² fits
-    let root = if y1 * y1 > x { y1 - 1 } else { y1 };
+    let y1 = (y0 + x / y0) >> 1; // < 2^17: its square fits in u64
+    let root = if u64::from(y1) * u64::from(y1) > u64::from(x) {
+        y1 - 1
+    } else {
+        y1
+    };
     root >> (shift >> 1)
 }
 

@@ -59,17 +59,21 @@ impl Forces<'_> {
             let s = if i < j { -1 } else { 1 };
             return [s * repel * r, 0];
         }
-        // Q16, 1 ≤ d < r; the 32-bit root is much cheaper when it fits.
+        // Q16, 1 ≤ d < r (the max only tells the compiler: no division by
+        // zero below); the 32-bit root is much cheaper when it fits.
         let d = match u32::try_from(d2) {
             Ok(d2) => i64::from(isqrt_u32(d2)),
             Err(_) => crate::fx::root::isqrt_u64(d2 as u64) as i64,
-        };
-        // (r − d)/d as Q16: (r − d) < 2^30, so the shift fits in i64; in 32
-        // bits (no 64-bit division, a library call on a Cortex-M) when the
-        // quotient's numerator fits, as it does for r below 1.0.
-        let k = match u32::try_from((r - d) << 16) {
-            Ok(n) => i64::from(n / d as u32), // 1 ≤ d < r < 2^31
-            Err(_) => ((r - d) << 16) / d,
+        }
+        .max(1);
+        // (r − d)/d as Q16: (r − d) < 2^30, so the shift fits in i64. A
+        // 64-bit division is one instruction on a 64-bit machine; elsewhere
+        // (a library call on a Cortex-M) 32 bits when the numerator fits, as
+        // it does for r below 1.0.
+        let n = (r - d) << 16;
+        let k = match u32::try_from(n) {
+            Ok(n) if cfg!(not(target_pointer_width = "64")) => i64::from(n / d as u32),
+            _ => n / d, // d ≥ 1: no overflow
         };
         // |k·dx| ≤ (r − d)·2^16·(1 + 1/d) < 2^47 since |dx| ≤ d.
         let fx = (k * dx) >> 16;
@@ -228,16 +232,25 @@ impl Snapshot<'_> {
         };
         let (cols, nc) = grid.span(0, p[0], r, size[0]);
         let (rows, nr) = grid.span(1, p[1], r, size[1]);
-        for rows in &rows[..nr.min(2)] {
+        let stride = grid.cols as usize;
+        for cols in &cols[..nc.min(2)] {
             // i32: p ∈ [0, size), size ≤ 2^30 and |shift| ≤ size.
-            let edge_v = (p[1] - rows.shift).wrapping_sub(probe.reach) as u32;
-            for row in rows.first..rows.end {
-                let row_start = (row * grid.cols) as usize;
-                for cols in &cols[..nc.min(2)] {
-                    let bin = |c: u32| bins.get(row_start + c as usize).map_or(0, |&b| b as usize);
-                    let edge = [(p[0] - cols.shift).wrapping_sub(probe.reach) as u32, edge_v];
-                    let run = bin(cols.first)..bin(cols.end);
-                    sum = self.run_pushes::<SHIFTED>(&probe, edge, run, sum);
+            let edge_u = (p[0] - cols.shift).wrapping_sub(probe.reach) as u32;
+            // Range proof: a run never ends before its first bin ([`Grid::span`]).
+            let width = (cols.end - cols.first) as usize;
+            for rows in &rows[..nr.min(2)] {
+                let edge = [edge_u, (p[1] - rows.shift).wrapping_sub(probe.reach) as u32];
+                // The row's first bin of the run: below bins.len() ≤ 2^30 while
+                // the row is in the grid, so neither it nor + width overflows.
+                let mut first = rows.first as usize * stride + cols.first as usize;
+                for _ in rows.first..rows.end {
+                    let (Some(&start), Some(&end)) = (bins.get(first), bins.get(first + width))
+                    else {
+                        break;
+                    };
+                    sum =
+                        self.run_pushes::<SHIFTED>(&probe, edge, start as usize..end as usize, sum);
+                    first += stride;
                 }
             }
         }
