@@ -3,19 +3,38 @@
 # deterministic instruction clock, UART0 captured to $MORPHOGEN_CAPTURE
 # (default: target/uart0.bin next to this file) and the defmt log (semihosting
 # stdout) decoded by defmt-print. Exits with QEMU's code (0 = all presets ok).
+#
+# With MORPHOGEN_FEED=FILE, UART0 also reads FILE, fed through a UNIX socket
+# by scripts/oled-screens.py: a capture for the receiver (`cargo run
+# --release --bin morphogen-receiver -- --streams 14`), or scenarios from
+# `morphogen send` for the firmware (`cargo run --release -- --serve 1`).
+# Arguments after the ELF (`cargo run … -- --streams 14`) are the program's
+# semihosting arguments.
 set -euo pipefail
 elf="$1"
+shift
+semihosting="enable=on,target=native,arg=$(basename "$elf")"
+for arg in "$@"; do semihosting+=",arg=$arg"; done
 here="$(cd "$(dirname "$0")" && pwd)"
 capture="${MORPHOGEN_CAPTURE:-$here/target/uart0.bin}"
 mkdir -p "$(dirname "$capture")"
+uart0=("file:$capture")
+if [ -n "${MORPHOGEN_FEED:-}" ]; then
+  sockets="$(mktemp -d)"
+  trap 'rm -rf "$sockets"' EXIT
+  python3 "$here/../scripts/oled-screens.py" feed "$sockets/uart0" "$MORPHOGEN_FEED" "$capture" >&2 &
+  feeder=$!
+  uart0=("unix:$sockets/uart0,server=on,wait=on")
+fi
 set +e
 qemu-system-arm -machine lm3s6965evb -cpu cortex-m3 \
   -display none -monitor none -parallel none \
-  -semihosting-config enable=on,target=native \
+  -semihosting-config "$semihosting" \
   -icount shift=0 \
-  -serial "file:$capture" \
+  -serial "${uart0[0]}" \
   -kernel "$elf" | defmt-print -e "$elf"
 status=("${PIPESTATUS[@]}")
+[ -z "${feeder:-}" ] || wait "$feeder"
 set -e
 [ "${status[1]}" -eq 0 ] || echo "qemu-run: defmt-print exited ${status[1]}" >&2
 exit "${status[0]}"

@@ -131,6 +131,24 @@ if oled:
         w(f"| {name} | {int(drawn):,} of 8,192 | {total} |\n")
     w("\n")
 
+if os.path.exists(f"{work}/receiver.elf"):
+    s = sections(f"{work}/receiver.elf")
+    flash = s.get(".vector_table", 0) + s.get(".text", 0) + s.get(".rodata", 0) + s.get(".data", 0)
+    ram = s.get(".data", 0) + s.get(".bss", 0) + s.get(".uninit", 0)
+    same = re.findall(r"oled-screens: \S+: \d+ pixels drawn, 0 differ from the sender",
+                      open(f"{work}/receiver-oled.log", encoding="utf-8").read())
+    damaged = re.search(r"report received preset=(\S+) shown=(\d+) skipped=(\d+) bad=(\d+)",
+                        open(f"{work}/damaged.log", encoding="utf-8", errors="replace").read())
+    w("## The receiver\n\n"
+      f"`morphogen-receiver` ({targets[0]}: flash {kib(flash)}, static RAM {ram:,} B) read\n"
+      f"the {targets[0]} capture on its UART0 and drew {len(same)} streams on its OLED,\n"
+      "each picture identical to the sender's, pixel for pixel.\n")
+    if damaged:
+        w(f"Fed {damaged[1]} with two flipped bits, it skipped {damaged[3]} frames\n"
+          f"({damaged[4]} bad frames), showed the other {damaged[2]}, and ended on the same\n"
+          "picture as the host's `morphogen listen` of that stream.\n")
+    w("\n")
+
 w("## Presets at reduced size, and host-only presets\n\n")
 w(f"The firmware runs every built-in scenario (`scenarios/*.toml`) that fits the\n"
   f"MCU (`Model::fits_mcu`; the core has no heap), compiled in as `static`\n"

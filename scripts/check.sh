@@ -71,6 +71,7 @@ step "fuzz smoke: every reader's libFuzzer target for 20 s (docs/robustness.md)"
 bash scripts/fuzz.sh 20
 
 step "firmware in QEMU, bit-exact against the fixtures"
-MORPHOGEN_VERIFY="$morphogen verify --stream" MORPHOGEN_BLESS="$morphogen bless" bash scripts/firmware-check.sh
+MORPHOGEN_VERIFY="$morphogen verify --stream" MORPHOGEN_BLESS="$morphogen bless" \
+  MORPHOGEN_LISTEN="$morphogen listen" MORPHOGEN_SEND="$morphogen send" bash scripts/firmware-check.sh
 
 printf '\nall checks passed\n'

@@ -7,9 +7,16 @@
 # QMP, with the firmware's `--screen-sync` handshake on UART1:
 # scripts/oled-screens.py) and compares it pixel for pixel with the host's
 # `--rig 128x64:grey4` picture of the same stream (`morphogen listen`; both
-# land in target/rig-screens/), checks that a flipped bit is caught, builds and runs the firmware with two user scenarios
+# land in target/rig-screens/), feeds the thumbv7m capture to the receiver
+# (`morphogen-receiver`, UART0 from a socket) and compares its OLED with the
+# sender's picture for picture, feeds it a stream with two flipped bits and
+# checks that exactly those frames are skipped (and that it shows what the
+# host's `listen` shows of that stream), checks that a flipped bit fails
+# verification, builds and runs the firmware with two user scenarios
 # (MORPHOGEN_SCENARIOS: a changed ram-horn made on the fly and the user body
 # examples/wagging-tail.toml, verified against fixtures blessed on the host),
+# sends four scenarios to the built-in firmware over UART0 (`morphogen send`,
+# the firmware's `--serve 4`) and checks its capture and OLED,
 # and rewrites firmware-example/REPORT.md (sizes and costs of the built-in
 # presets).
 #
@@ -26,6 +33,8 @@
 #                     (default: cargo run --release -q -p morphogen-cli -- bless)
 #   MORPHOGEN_LISTEN  the listen command, given `CAPTURE --rig 128x64:grey4 --out DIR`
 #                     (default: cargo run --release -q -p morphogen-cli -- listen)
+#   MORPHOGEN_SEND    the send command, given `SCENARIO FILE`
+#                     (default: cargo run --release -q -p morphogen-cli -- send)
 #   CARGO_TARGET_DIR  honoured (default: firmware-example/target)
 #   QEMU_TIMEOUT      seconds per QEMU run (default 600)
 #
@@ -43,7 +52,7 @@ while [ $# -gt 0 ]; do
     --capture) capture_only="$2"; shift 2 ;;
     --flip) flip="$2"; shift 2 ;;
     --no-report) write_report=0; shift ;;
-    -h|--help) sed -n '2,27p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,42p' "$0"; exit 0 ;;
     *) echo "firmware-check: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -62,6 +71,12 @@ if [ -n "${MORPHOGEN_LISTEN:-}" ]; then
   read -r -a listen_cmd <<<"$MORPHOGEN_LISTEN"
 else
   listen_cmd=(cargo run --release -q --manifest-path "$root/Cargo.toml" -p morphogen-cli -- listen)
+fi
+
+if [ -n "${MORPHOGEN_SEND:-}" ]; then
+  read -r -a send_cmd <<<"$MORPHOGEN_SEND"
+else
+  send_cmd=(cargo run --release -q --manifest-path "$root/Cargo.toml" -p morphogen-cli -- send)
 fi
 
 if [ -n "${MORPHOGEN_BLESS:-}" ]; then
@@ -206,6 +221,18 @@ qemu_run() {
   [ "${status[0]}" -eq 0 ] || { cat "$work/$name.qemu.err" >&2; die "$name: QEMU exited ${status[0]} (firmware panic, fault, failed preset or timeout)"; }
   grep -q "all .* presets streamed" "$work/$name.log" || die "$name: the firmware did not report completion"
   [ "$capture_status" -eq 0 ] || die "$name: the OLED pictures could not be taken"
+  stack_check "$name"
+}
+
+# stack_check NAME: fails when the painted stack of $work/NAME.log came
+# within 64 bytes of its region's end: below it lies static RAM, which an
+# overflow corrupts without a fault (the region is what the statics leave).
+stack_check() {
+  local peak region
+  read -r peak region < <(sed -n 's/.*report stack peak=\([0-9]*\) region=\([0-9]*\).*/\1 \2/p' "$work/$1.log")
+  [ -n "$peak" ] || return 0
+  [ "$peak" -le $((region - 64)) ] \
+    || die "$1: the stack peak ($peak B) reaches the end of its region ($region B): it overflows into static RAM"
 }
 
 # oled_check NAME [LISTEN ARG...]: the host draws each stream of
@@ -231,6 +258,95 @@ for t in "${targets[@]}"; do
   cat "$work/$t.verify.log"
   oled_check "$t"
 done
+# ---- the receiver ------------------------------------------------------------
+# fed_run NAME ELF FEED DONE ARG...: boots ELF (thumbv7m) with the
+# semihosting arguments ARG…, feeds FEED into its UART0 and captures what it
+# writes there → $work/NAME.bin, photographs its OLED after each stream's
+# last frame → $work/screens-NAME/, its defmt log → $work/NAME.log; fails
+# unless the log has the line DONE.
+cp "$tdir/thumbv7m-none-eabi/release/morphogen-receiver" "$work/receiver.elf"
+fed_run() {
+  local name="$1" elf="$2" feed="$3" done="$4" status capturer feeder capture_status feed_status arg
+  shift 4
+  local semihosting="enable=on,target=native,arg=$(basename "$elf" .elf),arg=--screen-sync"
+  for arg in "$@"; do semihosting+=",arg=$arg"; done
+  say "QEMU lm3s6965evb: $name, fed $(basename "$feed") ($(stat -c %s "$feed") bytes)"
+  rm -f "$sockets"/*
+  python3 "$root/scripts/oled-screens.py" capture "$sockets/sync" "$sockets/qmp" "$work/screens-$name" \
+    >"$work/$name.screens.log" 2>&1 &
+  capturer=$!
+  python3 "$root/scripts/oled-screens.py" feed "$sockets/rx" "$feed" "$work/$name.bin" >"$work/$name.feed.log" 2>&1 &
+  feeder=$!
+  set +e
+  timeout "${QEMU_TIMEOUT:-600}" qemu-system-arm -machine lm3s6965evb -cpu cortex-m3 \
+    -display none -monitor none -parallel none \
+    -semihosting-config "$semihosting" \
+    -icount shift=0 \
+    -serial "unix:$sockets/rx,server=on,wait=on" -serial "unix:$sockets/sync,server=on,wait=on" \
+    -qmp "unix:$sockets/qmp,server=on,wait=off" \
+    -kernel "$elf" 2>"$work/$name.qemu.err" \
+    | defmt-print -e "$elf" >"$work/$name.log" 2>&1
+  status=("${PIPESTATUS[@]}")
+  wait "$capturer"; capture_status=$?
+  wait "$feeder"; feed_status=$?
+  set -e
+  cat "$work/$name.log" "$work/$name.feed.log" "$work/$name.screens.log"
+  [ "${status[0]}" -eq 0 ] || { cat "$work/$name.qemu.err" >&2; die "$name: QEMU exited ${status[0]} (panic, fault, failed run or timeout)"; }
+  grep -q "$done" "$work/$name.log" || die "$name: no \"$done\" in the log"
+  [ "$capture_status" -eq 0 ] || die "$name: the OLED pictures could not be taken"
+  [ "$feed_status" -eq 0 ] || die "$name: $(basename "$feed") could not be fed"
+}
+
+# Every stream of the sender's capture, drawn exactly as the sender drew it.
+sent="${targets[0]}"
+streams=$(wc -l <"$work/screens-$sent/captured.txt")
+fed_run receiver "$work/receiver.elf" "$work/$sent.bin" "all $streams streams received" --streams "$streams"
+[ "$(grep -c "report received .* skipped=0 bad=0" "$work/receiver.log")" -eq "$streams" ] \
+  || die "receiver: a frame of an intact capture was skipped"
+say "OLED: the receiver against the sender"
+# shellcheck disable=SC2046 # one name per line, no spaces
+python3 "$root/scripts/oled-screens.py" compare "$work/screens-receiver" "$work/screens-$sent" \
+  $(cat "$work/screens-$sent/captured.txt") | tee "$work/receiver-oled.log" \
+  || die "receiver: its OLED differs from the sender's (see $work/screens-receiver)"
+
+# ram-horn with a bit flipped in its middle frame and in its last: those two
+# frames are skipped, so the OLED ends on the frame before the last, as the
+# host's `listen` draws the same damaged stream.
+damaged="$work/ram-horn.damaged.bin"
+read -r frames mid last < <(PYTHONPATH="$root/python" python3 - "$work/$sent.bin" ram-horn "$damaged" <<'PY'
+import sys
+import morphogen_stream as ms
+capture, name, out = sys.argv[1:]
+data = open(capture, "rb").read()
+stream = next(s for s in ms.read_capture(data) if s.header and s.header.preset == name)
+starts = [i for i, f in enumerate(stream.frames) if isinstance(f.record, ms.FrameStart)]
+if len(starts) < 3:
+    sys.exit(f"{name} has {len(starts)} frames; the damaged-stream check needs 3 or more")
+damaged = bytearray(data[stream.start:stream.end])
+hit = (len(starts) // 2, len(starts) - 1)
+for k in hit:
+    f = stream.frames[starts[k] + 2]  # a record inside frame k
+    damaged[f.offset - stream.start + f.length // 2] ^= 0x10
+open(out, "wb").write(bytes(damaged))
+print(len(starts), *hit)
+PY
+)
+fed_run damaged "$work/receiver.elf" "$damaged" "all 1 streams received" --streams 1
+for k in "$mid" "$last"; do
+  grep -q "frame $k skipped (damaged)" "$work/damaged.log" || die "damaged stream: frame $k was not skipped"
+done
+grep -q "report received preset=ram-horn shown=$((frames - 2)) skipped=2 bad=2" "$work/damaged.log" \
+  || die "damaged stream: the receiver did not skip exactly the two damaged frames"
+(cd "$root" && "${listen_cmd[@]}" "$damaged" --rig 128x64:grey4 --out "$work/host-screens-damaged") \
+  >"$work/damaged.listen.log" 2>&1 || true # the stream differs from its fixture: exit 1
+python3 "$root/scripts/oled-screens.py" compare "$work/screens-damaged" "$work/host-screens-damaged" ram-horn \
+  | tee "$work/damaged-oled.log" || die "damaged stream: the receiver's OLED differs from the host's"
+if python3 "$root/scripts/oled-screens.py" compare "$work/screens-damaged" "$work/screens-$sent" ram-horn \
+  >>"$work/damaged-oled.log" 2>&1; then
+  die "damaged stream: the OLED shows the damaged last frame"
+fi
+echo "damaged stream: frames $mid and $last of $frames skipped; the OLED shows frame $((last - 1)), as the host does"
+
 # The pictures of the first target, beside the host's, where a reviewer
 # looks: target/rig-screens/PRESET.{qemu,host}.png.
 screens="$root/target/rig-screens"
@@ -259,23 +375,51 @@ verify "$work/user.bin" "$work/user.verify.log" --fixtures "$user_dir/fixtures" 
   || { cat "$work/user.verify.log"; die "user scenario: the capture does not match the blessed fixture"; }
 cat "$work/user.verify.log"
 cat "$user_dir/fixtures/$user_name/stream.bin" "$user_dir/fixtures/wagging-tail/stream.bin" >"$work/user.expected.bin"
-cmp -s "$work/user.bin" "$work/user.expected.bin" \
+# The capture's streams without the extent frames (link records, not part
+# of a stream).
+PYTHONPATH="$root/python" python3 -c 'import sys, morphogen_stream as ms
+sys.stdout.buffer.write(b"".join(s.bytes for s in ms.read_capture(sys.argv[1])))' "$work/user.bin" >"$work/user.streams.bin"
+cmp -s "$work/user.streams.bin" "$work/user.expected.bin" \
   || die "user scenarios: the capture differs from the blessed stream.bin files"
 echo "user scenarios: $user_name and wagging-tail streamed on the firmware match the host's bless, byte for byte"
 oled_check user --fixtures "$user_dir/fixtures"
 
-# The flipped bit lands in the preset that owns the byte (from the firmware's
-# per-preset byte counts, in stream order).
+# ---- scenarios sent over UART0 (morphogen send) ------------------------------------
+# The built-in firmware, started with `--serve 4`, waits for scenarios on
+# UART0 and runs what `morphogen send` wrote: my-horn (the user scenario
+# above), abop-shrub (an L-system), long-bone-random (a bone: the largest
+# message) and growth-curve. Its capture must match the fixtures bit for bit
+# and its OLED the host's pictures pixel for pixel.
+sent_feed="$work/sent.feed"
+: >"$sent_feed"
+: >"$work/send.log"
+for scenario in "$user_toml" abop-shrub long-bone-random growth-curve; do
+  (cd "$root" && "${send_cmd[@]}" "$scenario" "$work/sent.one") >>"$work/send.log" 2>&1 \
+    || { cat "$work/send.log"; die "morphogen send $scenario failed"; }
+  cat "$work/sent.one" >>"$sent_feed"
+done
+cat "$work/send.log"
+for name in abop-shrub long-bone-random growth-curve; do
+  cp -r "$root/fixtures/$name" "$user_dir/fixtures/"
+done
+fed_run served "$work/thumbv7m-none-eabi.elf" "$sent_feed" "all 4 presets streamed" --serve 4
+stack_check served
+say "verify the capture of the sent scenarios ($(stat -c %s "$work/served.bin") bytes)"
+verify "$work/served.bin" "$work/served.verify.log" --fixtures "$user_dir/fixtures" \
+  || { cat "$work/served.verify.log"; die "sent scenarios: the capture does not match the fixtures"; }
+cat "$work/served.verify.log"
+oled_check served --fixtures "$user_dir/fixtures"
+
+# The flipped bit lands in the preset whose stream holds the byte.
 main_capture="$work/thumbv7m-none-eabi.bin"
-expected="$(python3 - "$work/thumbv7m-none-eabi.log" "$(stat -c %s "$main_capture")" "${flip%%:*}" <<'PY'
-import re, sys
-log, size, flip = sys.argv[1], int(sys.argv[2]), sys.argv[3]
-at = int(flip) if flip else size // 2
-offset = 0
-for m in re.finditer(r"report preset=(\S+) .*?bytes=(\d+)", open(log).read()):
-    if offset <= at < offset + int(m.group(2)):
-        print(m.group(1)); break
-    offset += int(m.group(2))
+expected="$(PYTHONPATH="$root/python" python3 - "$main_capture" "${flip%%:*}" <<'PY'
+import os, sys
+import morphogen_stream as ms
+capture, flip = sys.argv[1], sys.argv[2]
+at = int(flip) if flip else os.path.getsize(capture) // 2
+for s in ms.read_capture(capture):
+    if s.start <= at < s.end and s.header:
+        print(s.header.preset)
 PY
 )"
 negative_check "$main_capture" "$expected" "$work"

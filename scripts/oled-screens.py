@@ -3,7 +3,8 @@
 
 Usage:
   oled-screens.py capture SYNC_SOCKET QMP_SOCKET OUT_DIR
-  oled-screens.py compare QEMU_DIR HOST_DIR NAME...
+  oled-screens.py compare QEMU_DIR REFERENCE_DIR NAME...
+  oled-screens.py feed UART_SOCKET FILE [CAPTURE]
 
 capture: connects to QEMU's UART1 (a `-serial unix:SYNC_SOCKET,server=on` chardev)
 and QMP (`-qmp unix:QMP_SOCKET,server=on,wait=off`). The firmware, started
@@ -16,17 +17,25 @@ OUT_DIR/NAME.qemu.png, and answers with one byte. It ends when UART1 closes
 to OUT_DIR/captured.txt.
 
 compare: for each NAME, QEMU_DIR/NAME.qemu.png against the host's
-HOST_DIR/NAME/rig-128x64-grey4.png (`morphogen listen --rig 128x64:grey4`
-or `morphogen run NAME --rig 128x64:grey4`), pixel for pixel; copies the
-host picture to QEMU_DIR/NAME.host.png and, on a difference, writes
+REFERENCE_DIR/NAME/rig-128x64-grey4.png (`morphogen listen --rig
+128x64:grey4` or `morphogen run NAME --rig 128x64:grey4`) or, where there
+is none, another emulated board's REFERENCE_DIR/NAME.qemu.png (the
+sender's, for the receiver), pixel for pixel; copies the reference to
+QEMU_DIR/NAME.host.png (or NAME.sender.png) and, on a difference, writes
 QEMU_DIR/NAME.diff.png (red where they differ). Fails on any differing
 pixel, a missing picture, or a picture with nothing drawn (every pixel the
-background). Standard library only.
+background).
+
+feed: connects to QEMU's UART (a `-serial unix:UART_SOCKET,server=on`
+chardev), writes a zero byte and FILE into it — QEMU takes bytes as the
+UART's receive FIFO empties, so the program reads them all — and reads what
+the program writes until QEMU exits, into CAPTURE if given. Standard library only.
 """
 import json
 import os
 import socket
 import sys
+import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -146,20 +155,23 @@ def compare(qemu_dir, host_dir, names):
     for name in names:
         qemu = os.path.join(qemu_dir, f"{name}.qemu.png")
         host = os.path.join(host_dir, name, "rig-128x64-grey4.png")
+        kind = "host"
+        if not os.path.exists(host) and os.path.exists(os.path.join(host_dir, f"{name}.qemu.png")):
+            host, kind = os.path.join(host_dir, f"{name}.qemu.png"), "sender"
         missing = [p for p in (qemu, host) if not os.path.exists(p)]
         if missing:
             failures.append(f"{name}: no picture {' '.join(missing)}")
             continue
         (qw, qh, q), (hw, hh, h) = pixels(qemu), pixels(host)
-        with open(host, "rb") as src, open(os.path.join(qemu_dir, f"{name}.host.png"), "wb") as dst:
+        with open(host, "rb") as src, open(os.path.join(qemu_dir, f"{name}.{kind}.png"), "wb") as dst:
             dst.write(src.read())
         if (qw, qh) != (hw, hh):
-            failures.append(f"{name}: QEMU {qw}×{qh}, host {hw}×{hh}")
+            failures.append(f"{name}: QEMU {qw}×{qh}, {kind} {hw}×{hh}")
             continue
         differ = sum(a != b for qr, hr in zip(q, h) for a, b in zip(qr, hr))
         background = (0, 0, 0)  # PALETTE_GRAY4[0]
         drawn = sum(p != background for row in q for p in row)
-        print(f"oled-screens: {name}: {drawn} pixels drawn, {differ} differ from the host")
+        print(f"oled-screens: {name}: {drawn} pixels drawn, {differ} differ from the {kind}")
         if differ:
             diff_rows = [bytearray(b"".join(bytes((255, 0, 0) if a != b else a) for a, b in zip(qr, hr)))
                          for qr, hr in zip(q, h)]
@@ -172,9 +184,45 @@ def compare(qemu_dir, host_dir, names):
     return 1 if failures or not names else 0
 
 
+def feed(uart_path, path, capture=None):
+    # A zero byte first: QEMU's UART model drops what it holds when the
+    # program enables its FIFO, and the first byte can come before that; a
+    # zero byte only ends an empty frame.
+    data = b"\x00" + open(path, "rb").read()
+    uart = connect(uart_path)
+    out = open(capture, "wb") if capture else None
+    # Written from a thread: the program answers before it has read all.
+    failure = []
+
+    def send():
+        try:
+            uart.sendall(data)
+        except OSError as e:
+            failure.append(e)
+
+    sender = threading.Thread(target=send)
+    sender.start()
+    received = 0
+    while True:
+        chunk = uart.recv(4096)
+        if not chunk:
+            break
+        received += len(chunk)
+        if out:
+            out.write(chunk)
+    sender.join()
+    if out:
+        out.close()
+    if failure:
+        sys.exit(f"oled-screens: only part of {path} was read: {failure[0]}")
+    print(f"oled-screens: fed {len(data) - 1} bytes of {path}, received {received}")
+
+
 def main():
     if len(sys.argv) == 5 and sys.argv[1] == "capture":
         capture(*sys.argv[2:])
+    elif len(sys.argv) in (4, 5) and sys.argv[1] == "feed":
+        feed(*sys.argv[2:])
     elif len(sys.argv) >= 4 and sys.argv[1] == "compare":
         sys.exit(compare(sys.argv[2], sys.argv[3], sys.argv[4:]))
     else:

@@ -3,7 +3,7 @@
 //! stop between October and February; Sec. 6: α(t) = α(T)·f(t) with f
 //! sigmoidal, Fig. 7c).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::fx::{Fx, Real};
 
@@ -13,7 +13,7 @@ use crate::fx::{Fx, Real};
 ///
 /// so that `f(0) = 0`, `f(span) = 1`, and growth is fastest at `c`. All
 /// three parameters are in the same time unit (days here).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Sigmoid {
     /// When growth is fastest (`c`).

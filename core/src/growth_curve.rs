@@ -4,7 +4,7 @@
 //! One frame; per day `d = 0..=365` two samples: series 0 is `f(d)`,
 //! series 1 the day's increment `f(d + 1) − f(d)` (0 after the last day).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::fx::Fx;
@@ -18,7 +18,7 @@ pub const SERIES_GROWTH: u16 = 0;
 pub const SERIES_DAILY: u16 = 1;
 
 /// Parameters of the growth-curve run.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Params {
     /// The growth function.

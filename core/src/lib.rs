@@ -47,6 +47,7 @@ pub mod preset;
 #[cfg(feature = "rig")]
 pub mod rig;
 pub mod rng;
+pub mod sent;
 pub mod shrinkwrap;
 pub mod sim;
 pub mod stream;

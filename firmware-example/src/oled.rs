@@ -10,7 +10,7 @@
 //! framebuffer whose bytes are the controller's: two pixels per byte, the
 //! left one in the high nibble, rows top to bottom ([`Oled::show`] sends
 //! them as they are). Checked in QEMU, whose model ignores the panel's
-//! timing commands; on a real board compare [`INIT`] with TI's
+//! timing commands; on a real board compare `INIT` with TI's
 //! `osram128x64x4` driver first.
 
 use morphogen::rig::embedded_graphics::framebuffer::{Framebuffer, buffer_size};

@@ -2,18 +2,22 @@
 //! handshake that lets a check script photograph it ([`ScreenSync`]).
 
 use morphogen::embedded_io::Write;
-use morphogen::rig::Rig;
 use morphogen::rig::embedded_graphics::pixelcolor::Gray4;
+use morphogen::rig::{Bounds, Rig};
 use morphogen::stream::{Encoder, Record, Sink, SinkError};
 
 use crate::board::Uart1;
 use crate::oled::{Frame, Oled};
 
 /// A sink that sends each record to the UART encoder, draws it into the
-/// frame, and shows the frame on the OLED at each frame's end.
+/// frame, and shows the frame on the OLED at each frame's end. After the
+/// header it sends the run's extent (a link record, outside the stream's
+/// digest), so that a receiver can fit its view to it before frame 0.
 pub struct Drawing<'a, 'p, W: Write> {
     /// Where the stream goes.
     pub encoder: &'a mut Encoder<W>,
+    /// What the run draws, measured by a first run.
+    pub extent: &'a Bounds,
     /// The rig renderer, fitted to the preset.
     pub rig: &'a mut Rig<'p, Gray4>,
     /// The picture being drawn.
@@ -25,6 +29,9 @@ pub struct Drawing<'a, 'p, W: Write> {
 impl<W: Write> Sink for Drawing<'_, '_, W> {
     fn record(&mut self, record: &Record) -> Result<(), SinkError> {
         self.encoder.record(record)?;
+        if let Record::Header(_) = record {
+            self.encoder.link(&self.extent.to_record())?;
+        }
         // The frame never fails to draw; a rig error is a too-small plane.
         self.rig
             .draw(record, self.frame)
@@ -36,10 +43,10 @@ impl<W: Write> Sink for Drawing<'_, '_, W> {
     }
 }
 
-/// The semihosting argument that turns the handshake on.
+/// The argument that turns the handshake on.
 const FLAG: &str = "--screen-sync";
 
-/// UART1, when the firmware was started with `--screen-sync`: after each
+/// UART1, when the program was started with `--screen-sync`: after each
 /// preset's last frame it sends the preset's name and a newline, and waits
 /// for any byte back before the next preset draws (in QEMU the check
 /// script answers once it has taken the OLED's `screendump`).
@@ -48,19 +55,12 @@ pub struct ScreenSync {
 }
 
 impl ScreenSync {
-    /// The handshake, if the semihosting arguments name [`FLAG`] (never on
-    /// an RTT build: it has no semihosting).
+    /// The handshake, if the arguments name `--screen-sync`
+    /// ([`crate::args`]).
     pub fn from_args() -> Option<ScreenSync> {
-        #[cfg(feature = "semihosting")]
-        {
-            let args = semihosting::experimental::env::args::<64>().ok()?;
-            if (&args).into_iter().any(|arg| arg == Ok(FLAG)) {
-                return Some(ScreenSync {
-                    uart: Uart1::init(),
-                });
-            }
-        }
-        None
+        crate::args::flag(FLAG).then(|| ScreenSync {
+            uart: Uart1::init(),
+        })
     }
 
     /// Announces that `name`'s last frame is on the OLED, and waits.

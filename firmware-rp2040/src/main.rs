@@ -13,7 +13,9 @@
 //!
 //! Each preset runs twice: once into a [`Bounds`] to fit the view to the
 //! 128×64 panel, then into the UART stream and the display. The runs are
-//! deterministic, so both see the same records. See `README.md` for the
+//! deterministic, so both see the same records; the first run's extent
+//! goes out after each header, for a receiver (`firmware-example`'s
+//! `morphogen-receiver`, or `morphogen listen --rig`). See `README.md` for the
 //! wiring and the commands.
 #![no_std]
 #![no_main]
@@ -123,7 +125,7 @@ fn stream_and_draw(
     preset: &Preset<'static>,
     params: u64,
     runner: &mut Runner<'static>,
-    stream: &mut impl Sink,
+    stream: &mut Encoder<impl Write>,
     oled: &mut Oled,
     plane: &mut [u8],
 ) -> Result<(), morphogen::Error> {
@@ -142,7 +144,7 @@ fn stream_and_draw(
         preset,
         params,
         runner,
-        &mut Shown::new(stream, &mut rig, oled),
+        &mut Shown::new(stream, &bounds, &mut rig, oled),
     )
 }
 

@@ -55,7 +55,7 @@ impl<'a> Object<'a> {
         self
     }
 
-    fn ints(&mut self, name: &str, v: &[u32]) -> &mut Self {
+    fn ints<I: itoa::Integer + Copy>(&mut self, name: &str, v: &[I]) -> &mut Self {
         let out = self.key(name);
         out.push(b'[');
         for (i, &x) in v.iter().enumerate() {
@@ -65,6 +65,12 @@ impl<'a> Object<'a> {
             text::int(out, x);
         }
         out.push(b']');
+        self
+    }
+
+    fn bool(&mut self, name: &str, b: bool) -> &mut Self {
+        let text: &[u8] = if b { b"true" } else { b"false" };
+        self.key(name).extend_from_slice(text);
         self
     }
 
@@ -128,6 +134,16 @@ pub fn record(out: &mut Vec<u8>, r: &Record) {
             .int("module", *module)
             .int("ring", *ring)
             .int("points", *points),
+        Record::Extent {
+            min,
+            max,
+            chart,
+            frames,
+        } => o
+            .ints("min", min)
+            .ints("max", max)
+            .bool("chart", *chart)
+            .int("frames", *frames),
         _ => &mut o,
     }
     .close();

@@ -13,6 +13,7 @@ pub mod listen;
 pub mod outputs;
 pub mod records;
 pub mod rig;
+pub mod send;
 pub mod stdout;
 pub mod sweep;
 pub mod verify;

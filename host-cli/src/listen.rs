@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use morphogen::stream::{Header, MAX_FRAME, Reader, Record};
+use morphogen::stream::{FrameError, Header, MAX_FRAME, Reader, Record};
 
 use crate::fixture::{self, Fixture};
 use crate::{Outcome, say, verify};
@@ -24,7 +24,9 @@ pub struct Args {
     /// The serial port's speed in baud (8N1, no flow control).
     #[arg(long, default_value_t = 115_200)]
     baud: u32,
-    /// Also draw each stream as a W×H rig shows its last frame, into
+    /// Also draw each stream as a receiving W×H rig shows it (its last
+    /// frame that came whole, fitted to the extent the sender sent or else
+    /// to the stream's records), into
     /// `OUT/PRESET/rig-WxH.png` (`WxH:grey4`: as a 4-bit grey OLED, into
     /// `rig-WxH-grey4.png`).
     #[arg(long, value_name = "WxH[:grey4]")]
@@ -175,10 +177,12 @@ struct Stream {
     header: Header,
     /// The fixture of its preset, or why there is none.
     fixture: Result<Fixture>,
-    /// Its bytes so far, its header frame first.
+    /// Its bytes so far, its header frame first, without the frames of
+    /// link records ([`Record::Extent`]: not part of the stream).
     bytes: Vec<u8>,
-    /// Its readable records (for the rig).
-    records: Vec<Record>,
+    /// What its frames after the header decode to, bad ones included
+    /// (for the rig).
+    frames: Vec<Result<Record, FrameError>>,
     bad: u32,
     bar: ProgressBar,
 }
@@ -208,10 +212,14 @@ impl Listener {
                 self.start(header);
             }
             Ok(record) => {
-                if let Some(stream) = &mut self.stream
-                    && self.rig.is_some()
-                {
-                    stream.records.push(record);
+                if let Some(stream) = &mut self.stream {
+                    if let Record::Extent { .. } = record {
+                        let end = stream.bytes.len().saturating_sub(len);
+                        stream.bytes.truncate(end);
+                    }
+                    if self.rig.is_some() {
+                        stream.frames.push(Ok(record));
+                    }
                 }
             }
             Err(e) if e.is_corrupt() => {
@@ -219,6 +227,9 @@ impl Listener {
                 match &mut self.stream {
                     Some(stream) => {
                         stream.bad += 1;
+                        if self.rig.is_some() {
+                            stream.frames.push(Err(e));
+                        }
                         let line = format!(
                             "  {}: bad frame at byte {} of the stream ({frame_start} of the source), skipped: {e}",
                             stream.header.preset,
@@ -238,8 +249,8 @@ impl Listener {
         if let Some(stream) = &self.stream {
             stream.bar.set_position(stream.bytes.len() as u64);
             stream.bar.set_message(format!(
-                "{} records, {} bad",
-                stream.records.len(),
+                "{} frames, {} bad",
+                stream.frames.len() + 1,
                 stream.bad
             ));
             if let Ok(fixture) = &stream.fixture
@@ -275,7 +286,7 @@ impl Listener {
             header,
             fixture,
             bytes: self.frame.clone(),
-            records: Vec::new(),
+            frames: Vec::new(),
             bad: 0,
             bar,
         });
@@ -322,7 +333,8 @@ impl Listener {
             let dir = self.out.join(name);
             std::fs::create_dir_all(&dir)
                 .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-            for path in crate::rig::render_rig_png(&stream.records, rig, None, &dir)? {
+            let picture = crate::rig::render_received(&stream.header, &stream.frames, rig)?;
+            for path in crate::rig::save_rig_png(&picture, rig, &dir)? {
                 say!("  wrote {}", path.display())?;
             }
         }

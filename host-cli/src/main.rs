@@ -9,7 +9,8 @@ use clap::{Parser, Subcommand};
 use morphogen_cli::outputs::{Kind, Kinds};
 use morphogen_cli::stdout::StdoutError;
 use morphogen_cli::{
-    Outcome, atomic, body_input, capture, exec, fixture, jsonl, listen, outputs, say, sweep, verify,
+    Outcome, atomic, body_input, capture, exec, fixture, jsonl, listen, outputs, say, send, sweep,
+    verify,
 };
 use morphogen_scenario::Scenario;
 
@@ -160,6 +161,10 @@ enum Command {
     /// and draw it with --rig. Exit 1 on a mismatch or a stream without a
     /// fixture (with --strict, on any bad frame too).
     Listen(listen::Args),
+    /// Send a scenario (a growth curve, a horn or an L-system) to a device
+    /// over a serial port, or into a file: the firmware runs it and
+    /// streams and draws the result, without being reflashed.
+    Send(send::Args),
     /// Decode a stream file into JSON Lines (the same as `records.jsonl`).
     Decode {
         /// The stream file.
@@ -344,6 +349,7 @@ fn dispatch(command: Command) -> Result<Outcome> {
         ),
         Command::Sweep(args) => sweep::run(&args),
         Command::Listen(args) => listen::run(&args),
+        Command::Send(args) => send::run(&args),
         Command::Decode { file, out } => decode(&file, out.as_deref()),
     }
 }
@@ -580,7 +586,7 @@ fn verify_capture(file: &Path, fixtures: &Path) -> Result<Outcome> {
     let mut outcome = Outcome::Ok;
     let mut missing = Vec::new();
     for part in &parts {
-        let actual = &bytes[part.range.clone()];
+        let actual = &part.stream[..];
         let Some(header) = &part.header else {
             say!(
                 "MISMATCH  {} bytes before the first readable header (at byte 0)",

@@ -12,8 +12,8 @@ use anyhow::{Context, Result, bail};
 use morphogen::rig::embedded_graphics::Pixel;
 use morphogen::rig::embedded_graphics::pixelcolor::{Gray4, GrayColor, Rgb888};
 use morphogen::rig::embedded_graphics::prelude::*;
-use morphogen::rig::{Bounds, PALETTE_GRAY4, PALETTE_RGB888, Rig, View, plane_bytes};
-use morphogen::stream::Record;
+use morphogen::rig::{Bounds, PALETTE_GRAY4, PALETTE_RGB888, Receiver, Rig, View, plane_bytes};
+use morphogen::stream::{FrameError, Header, Record};
 
 use crate::records::{Place, Records};
 
@@ -169,6 +169,19 @@ pub struct RigSpec {
 }
 
 impl RigSpec {
+    /// The display's size and the margin a fitted view leaves (1 px when
+    /// there is room, as the firmware's); refuses a size out of range.
+    ///
+    /// # Errors
+    /// A side of 0 or more than [`MAX_RIG_SIDE`].
+    pub fn checked(&self) -> Result<(Size, u32)> {
+        let RigSpec { width, height, .. } = *self;
+        if width == 0 || height == 0 || width > MAX_RIG_SIDE || height > MAX_RIG_SIDE {
+            bail!("a rig must be 1..={MAX_RIG_SIDE} pixels per side, not {width}x{height}");
+        }
+        Ok((Size::new(width, height), u32::from(width.min(height) >= 16)))
+    }
+
     /// The picture's file name: `rig-WxH.png` or `rig-WxH-grey4.png`.
     #[must_use]
     pub fn file_name(&self) -> String {
@@ -244,10 +257,7 @@ pub fn render_rig<R: Records + ?Sized>(
     rig: RigSpec,
     inks: Option<&[[u8; 3]]>,
 ) -> Result<Framebuffer> {
-    let RigSpec { width, height, .. } = rig;
-    if width == 0 || height == 0 || width > MAX_RIG_SIDE || height > MAX_RIG_SIDE {
-        bail!("a rig must be 1..={MAX_RIG_SIDE} pixels per side, not {width}x{height}");
-    }
+    let (size, margin) = rig.checked()?;
     let mut bounds = Bounds::new();
     // Only the last frame survives the clears: draw from its start (its
     // place, and its index among the records).
@@ -260,11 +270,9 @@ pub fn render_rig<R: Records + ?Sized>(
         count += 1;
         Ok(())
     })?;
-    let margin = u32::from(width.min(height) >= 16);
-    let size = Size::new(width, height);
     let view = View::fit(&bounds, size, margin);
     let mut plane = vec![0; plane_bytes(size)];
-    let mut screen = Framebuffer::new(width, height);
+    let mut screen = Framebuffer::new(size.width, size.height);
     let palette = match (rig.palette, inks) {
         (RigPalette::Rgb, Some(inks)) if !inks.is_empty() => std::iter::once(Rgb888::BLACK)
             .chain(inks.iter().map(|&[r, g, b]| Rgb888::new(r, g, b)))
@@ -285,6 +293,45 @@ pub fn render_rig<R: Records + ?Sized>(
     Ok(screen)
 }
 
+/// The picture a device that receives the stream of `header` would show
+/// on `rig` ([`Receiver`]): its last frame that came whole — `frames` are
+/// what a [`morphogen::stream::Reader`] gave after the header, bad frames
+/// included — through the view of the stream's extent, or of its readable
+/// records' when it was sent without one (a `stream.bin`).
+///
+/// # Errors
+/// A bad size, or a record the renderer refuses.
+pub fn render_received(
+    header: &Header,
+    frames: &[Result<Record, FrameError>],
+    rig: RigSpec,
+) -> Result<Framebuffer> {
+    let (size, margin) = rig.checked()?;
+    let (extent, frames) = match frames.split_first() {
+        Some((Ok(extent @ Record::Extent { .. }), rest)) => (extent.clone(), rest),
+        _ => {
+            let mut bounds = Bounds::new();
+            frames.iter().flatten().for_each(|r| bounds.include(r));
+            (bounds.to_record(), frames)
+        }
+    };
+    let palette = rig.palette.colours();
+    let mut plane = vec![0; plane_bytes(size)];
+    let mut receiver = Receiver::new(size, margin, &palette, &mut plane);
+    let mut screen = Framebuffer::new(size.width, size.height);
+    let mut shown = screen.clone();
+    let start = [Ok(Record::Header(header.clone())), Ok(extent)];
+    for (i, frame) in start.iter().chain(frames).enumerate() {
+        let done = receiver
+            .take(frame, &mut screen)
+            .map_err(|e| anyhow::anyhow!("frame {i}: {e}"))?;
+        if done.is_some_and(|d| d.shown) {
+            shown.clone_from(&screen);
+        }
+    }
+    Ok(shown)
+}
+
 /// Writes into `dir` the PNG `rig` would show after `records` (see
 /// [`render_rig`]) and its enlarged preview ([`Framebuffer::preview`]);
 /// returns their paths.
@@ -298,7 +345,15 @@ pub fn render_rig_png<R: Records + ?Sized>(
     inks: Option<&[[u8; 3]]>,
     dir: &Path,
 ) -> Result<[PathBuf; 2]> {
-    let picture = render_rig(records, rig, inks)?;
+    save_rig_png(&render_rig(records, rig, inks)?, rig, dir)
+}
+
+/// Writes `picture` of `rig` into `dir` with its enlarged preview; returns
+/// their paths.
+///
+/// # Errors
+/// A failed write.
+pub fn save_rig_png(picture: &Framebuffer, rig: RigSpec, dir: &Path) -> Result<[PathBuf; 2]> {
     let (path, preview) = (dir.join(rig.file_name()), dir.join(rig.preview_name()));
     picture.save_png(&path)?;
     picture

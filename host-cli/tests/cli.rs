@@ -564,8 +564,8 @@ fn decode_follows_the_stream_format_spec() {
         }
         enc.into_writer()
     };
-    // A newer writer's record kind (tag 12) between known ones: skipped.
-    let record = [12u8, 5];
+    // A newer writer's record kind (tag 13) between known ones: skipped.
+    let record = [13u8, 5];
     let mut raw = record.to_vec();
     raw.extend_from_slice(
         &crc::Crc::<u32>::new(&crc::CRC_32_ISO_HDLC)
@@ -581,7 +581,7 @@ fn decode_follows_the_stream_format_spec() {
     let o = morphogen(&["decode", path.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     assert!(
-        text(&o).contains(r#""kind":"unknown""#) && text(&o).contains(r#""tag":12"#),
+        text(&o).contains(r#""kind":"unknown""#) && text(&o).contains(r#""tag":13"#),
         "{}",
         text(&o)
     );

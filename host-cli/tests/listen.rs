@@ -7,7 +7,9 @@ use std::process::{Command, Output, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use morphogen_cli::exec;
+use morphogen::rig::Bounds;
+use morphogen::stream::{Decoder, Encoder, Record, Sink, StreamDigest};
+use morphogen_cli::{exec, rig};
 
 /// The fixtures of the workspace.
 fn fixtures() -> PathBuf {
@@ -81,6 +83,59 @@ fn a_flipped_bit_costs_its_frame_and_fails_the_check() {
     );
     assert!(stdout.contains("ok        long-bone"), "{stdout}");
     assert!(stdout.contains("2 stream(s), 1 bad frame(s)"), "{stdout}");
+}
+
+/// `bytes` with the extent a firmware sends after each header: the
+/// bounds of everything its stream draws.
+fn with_extent(bytes: &[u8]) -> Vec<u8> {
+    let records: Vec<Record> = Decoder::new(bytes).map(|d| d.result.unwrap()).collect();
+    let mut bounds = Bounds::new();
+    records.iter().for_each(|r| bounds.include(r));
+    let mut sent = Encoder::new(Vec::new());
+    sent.record(&records[0]).unwrap();
+    sent.link(&bounds.to_record()).unwrap();
+    for r in &records[1..] {
+        sent.record(r).unwrap();
+    }
+    assert_eq!(sent.digest(), StreamDigest::of(bytes));
+    sent.into_writer()
+}
+
+#[test]
+fn an_extent_is_left_out_of_the_check_and_fits_the_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = stream("long-bone");
+    let sent = with_extent(&plain);
+    assert!(sent.len() > plain.len());
+    let mut pictures = Vec::new();
+    for (name, bytes) in [("plain", &plain), ("sent", &sent)] {
+        let capture = dir.path().join(format!("{name}.bin"));
+        std::fs::write(&capture, bytes).unwrap();
+        let out = dir.path().join(name);
+        let o = listen(&[
+            capture.to_str().unwrap(),
+            "--rig",
+            "48x32:grey4",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(o.status.code(), Some(0), "{stdout}");
+        assert!(
+            stdout.contains(&format!("ok        long-bone ({} bytes", plain.len())),
+            "{stdout}"
+        );
+        pictures.push(std::fs::read(out.join("long-bone/rig-48x32-grey4.png")).unwrap());
+    }
+    // Both as `run --rig` draws the stream.
+    let spec = rig::parse_rig("48x32:grey4").unwrap();
+    let records: Vec<Record> = Decoder::new(&plain).map(|d| d.result.unwrap()).collect();
+    let run = rig::render_rig(&records, spec, None).unwrap();
+    let expected = dir.path().join("run");
+    std::fs::create_dir_all(&expected).unwrap();
+    let [png, _] = rig::save_rig_png(&run, spec, &expected).unwrap();
+    let expected = std::fs::read(png).unwrap();
+    assert!(pictures.iter().all(|p| *p == expected));
 }
 
 #[test]

@@ -42,6 +42,10 @@ def dtype(kind: str, bits: bool = False):
             fields.append((name, fx, (3,)))
         elif ty == "u32x3":
             fields.append((name, "u4", (3,)))
+        elif ty == "i64x2":
+            fields.append((name, "i8", (2,)))
+        elif ty == "bool":
+            fields.append((name, "?"))
         elif ty == "str":
             fields.append((name, object))
         else:

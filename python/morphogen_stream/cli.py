@@ -82,7 +82,7 @@ def _stream_lines(data: bytes):
                 "params_digest": f"{h.params:016x}" if h else None,
                 "start": s.start,
                 "end": s.end,
-                "bytes": s.end - s.start,
+                "bytes": len(s.bytes),
                 "frames": len(s.frames),
                 "records": dict(sorted(counts.items())),
                 "errors": len(s.errors),

@@ -13,6 +13,7 @@ from .crc import crc32, crc64_xz
 from .records import (
     FORMAT_VERSION,
     Cell,
+    Extent,
     SurfaceCell,
     FrameEnd,
     FrameStart,
@@ -57,7 +58,7 @@ MAX_RECORD = 96
 #: the record, its 4-byte CRC, COBS overhead and the delimiter.
 MAX_FRAME = MAX_RECORD + 4 + (MAX_RECORD + 4) // 254 + 2
 #: Record kinds of format version 1 (tags 0 to 11).
-RECORD_KINDS = 12
+RECORD_KINDS = 13
 
 Source = Union[bytes, bytearray, memoryview, str, "os.PathLike[str]", IO[bytes]]
 
@@ -335,6 +336,24 @@ def _surface_cell(buf, pos):
     return SurfaceCell(id_, cell_type, p), pos
 
 
+def _i64(buf, pos):
+    """An i64: zigzag, then a u64 varint."""
+    n, pos = _u64(buf, pos)
+    return (n >> 1) ^ -(n & 1), pos
+
+
+def _extent(buf, pos):
+    lo0, pos = _i64(buf, pos)
+    lo1, pos = _i64(buf, pos)
+    hi0, pos = _i64(buf, pos)
+    hi1, pos = _i64(buf, pos)
+    if pos >= len(buf) or buf[pos] > 1:  # a bool is one byte, 0 or 1
+        raise _Bad
+    chart = buf[pos] == 1
+    frames, pos = _u32(buf, pos + 1)
+    return Extent((lo0, lo1), (hi0, hi1), chart, frames), pos
+
+
 def _sample(buf, pos):
     series, pos = _u16(buf, pos)
     x, pos = _fx(buf, pos)
@@ -362,6 +381,7 @@ _PARSERS = (
     _sample,
     _ring,
     _surface_cell,
+    _extent,
 )
 assert len(_PARSERS) == RECORD_KINDS
 
@@ -571,8 +591,12 @@ class Stream:
 
     @property
     def bytes(self) -> bytes:
-        """The stream's bytes within the capture."""
-        return self._data[self.start:self.end]
+        """The stream's bytes within the capture, without the frames of
+        link records (:class:`Extent`), which are not part of it."""
+        links = [f for f in self.frames if isinstance(f.record, Extent)]
+        if not links:
+            return self._data[self.start:self.end]
+        return b"".join(self._data[f.offset:f.offset + f.length] for f in self.frames if f not in links)
 
     @property
     def digest(self) -> int:

@@ -53,6 +53,13 @@ def encode_record(record: Record) -> bytes:
         elif ty == "u32x3":
             for v in value:
                 out += _uint(v, "u32")
+        elif ty == "i64x2":
+            for v in value:
+                if not -(1 << 63) <= v < (1 << 63):
+                    raise ValueError(f"{v} does not fit an i64")
+                out += encode_varint(((v << 1) ^ (v >> 63)) & 0xFFFFFFFFFFFFFFFF)
+        elif ty == "bool":
+            out.append(1 if value else 0)
         elif ty == "u8":
             if not 0 <= value < 256:
                 raise ValueError(f"{value} does not fit a u8")

@@ -89,7 +89,7 @@ class Record:
     """Base class of every record. ``kind`` is the JSON ``kind`` and
     ``tag`` the wire tag; ``FIELDS`` lists ``(name, type)`` in wire order,
     the types being ``u8``, ``u16``, ``u32``, ``u64``, ``str``, ``fx``,
-    ``fx2``, ``fx3`` and ``u32x3``."""
+    ``fx2``, ``fx3``, ``u32x3``, ``i64x2`` and ``bool``."""
 
     __slots__ = ()
     kind: ClassVar[str] = ""
@@ -115,8 +115,10 @@ class Record:
                 text = _fx_json(value)
             elif ty in ("fx2", "fx3"):
                 text = _fxs_json(value)
-            elif ty == "u32x3":
+            elif ty in ("u32x3", "i64x2"):
                 text = "[" + ",".join(str(v) for v in value) + "]"
+            elif ty == "bool":
+                text = "true" if value else "false"
             elif ty == "str":
                 text = _str_json(value)
             else:
@@ -291,7 +293,24 @@ class SurfaceCell(Record):
     p: Tuple[float, float, float]
 
 
-#: The record classes by wire tag (tags 0 to 11 are version 1's kinds).
+@dataclass
+class Extent(Record):
+    """A link record (tag 12): the extent of what the stream draws, in the
+    rig's projected I16F16 bits, and its number of frames; sent by the
+    firmware right after a header. Not part of the stream: its frame is left
+    out of :attr:`Stream.bytes` and digests."""
+
+    __slots__ = ("min", "max", "chart", "frames")
+    kind: ClassVar[str] = "extent"
+    tag: ClassVar[int] = 12
+    FIELDS: ClassVar = (("min", "i64x2"), ("max", "i64x2"), ("chart", "bool"), ("frames", "u32"))
+    min: Tuple[int, int]
+    max: Tuple[int, int]
+    chart: bool
+    frames: int
+
+
+#: The record classes by wire tag (tags 0 to 12 are version 1's kinds).
 RECORD_TYPES: Tuple[type, ...] = (
     Header,
     FrameStart,
@@ -305,6 +324,7 @@ RECORD_TYPES: Tuple[type, ...] = (
     Sample,
     Ring,
     SurfaceCell,
+    Extent,
 )
 
 #: The record classes by JSON ``kind``.

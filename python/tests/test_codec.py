@@ -5,9 +5,11 @@ from __future__ import annotations
 
 import json
 import random
+import tempfile
 import unittest
+from pathlib import Path
 
-from _support import ms, normalise
+from _support import BIN, bin_decode, ms, normalise
 from morphogen_stream.cobs import CobsDecodeError, cobs_decode, cobs_encode
 
 
@@ -25,6 +27,8 @@ def every_kind():
         ms.Sample(65535, 0.0, fx(3)),
         ms.Ring(1, 2, 3),
         ms.FrameEnd(3),
+        ms.SurfaceCell(6, 1, (fx(-1), fx(0), fx(2))),
+        ms.Extent((-(2**63), 5), (2**63 - 1, -7), True, 4),
     ]
 
 
@@ -97,6 +101,19 @@ class Codec(unittest.TestCase):
             '"seed":18446744073709551615,"params":"00000000065a4353"}',
         )
         self.assertEqual(records[7].to_dict(), {"kind": "cell", "id": 5, "type": 255, "p": [3 / 65536, 4 / 65536]})
+        self.assertEqual(
+            records[12].to_json(),
+            '{"kind":"extent","min":[-9223372036854775808,5],"max":[9223372036854775807,-7],'
+            '"chart":true,"frames":4}',
+        )
+        if BIN is not None:
+            # The Rust decoder reads every kind to the same JSON.
+            with tempfile.TemporaryDirectory() as tmp:
+                path = Path(tmp) / "every.bin"
+                path.write_bytes(data)
+                rs = bin_decode(path)
+                self.assertEqual(rs.returncode, 0, rs.stderr)
+                self.assertEqual(rs.stdout.decode().splitlines(), [r.to_json() for r in records])
 
     def test_varint_limits_follow_postcard(self):
         def record(*raw):
@@ -118,8 +135,8 @@ class Codec(unittest.TestCase):
         self.assertEqual(record(2, 0x80, 0x80, 0x80, 0x80, 0x80, 0x00), ms.RecordError)
         # Bytes left over after a record: not a record.
         self.assertEqual(record(2, 1, 0), ms.RecordError)
-        # Tags: 12 and up are newer kinds; an overlong tag is not a record.
-        self.assertEqual(record(12), ms.UnknownKindError)
+        # Tags: 13 and up are newer kinds; an overlong tag is not a record.
+        self.assertEqual(record(13), ms.UnknownKindError)
         self.assertEqual(record(0x80, 0x01), ms.UnknownKindError)
         self.assertEqual(record(0x80, 0x80, 0x80, 0x80, 0x80, 0x00), ms.RecordError)
         # Header strings: UTF-8, at most 32 bytes.

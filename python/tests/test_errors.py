@@ -122,7 +122,7 @@ class Damage(unittest.TestCase):
         self.same_as_binary(path)
 
     def test_unknown_kind_is_skipped_not_corrupt(self):
-        newer = ms.frame_bytes(bytes([12, 1, 2]))
+        newer = ms.frame_bytes(bytes([13, 1, 2]))
         data = self.data[:100] + newer + self.data[100:]
         # Splice at a frame boundary.
         cut = next(o for o in frame_offsets(self.data) if o >= 100)
@@ -131,9 +131,9 @@ class Damage(unittest.TestCase):
         unknown = [f for f in frames if f.error is not None]
         self.assertEqual(len(unknown), 1)
         self.assertIsInstance(unknown[0].error, ms.UnknownKindError)
-        self.assertEqual(unknown[0].error.tag, 12)
+        self.assertEqual(unknown[0].error.tag, 13)
         self.assertFalse(unknown[0].error.is_corrupt)
-        self.assertEqual(unknown[0].to_dict(), {"kind": "unknown", "offset": cut, "tag": 12})
+        self.assertEqual(unknown[0].to_dict(), {"kind": "unknown", "offset": cut, "tag": 13})
         self.assertEqual(len(ms.read_records(data)), len(self.frames))
         path = self.write("newer.bin", data)
         self.assertEqual(run_cli(str(path)).returncode, 0)

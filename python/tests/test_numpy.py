@@ -56,6 +56,8 @@ class Arrays(unittest.TestCase):
         self.assertEqual(floats["point"]["p"][0].tolist(), [1 / 65536, -1.5, 0.0])
         self.assertEqual(floats["cell"]["type"].tolist(), [255])
         self.assertEqual(ms.to_arrays(records, kinds=["ring"]).keys(), {"ring"})
+        self.assertEqual(arrays["extent"]["min"][0].tolist(), [-(2**63), 5])
+        self.assertEqual(arrays["extent"]["chart"].tolist(), [True])
 
 
 if __name__ == "__main__":

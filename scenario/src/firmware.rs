@@ -17,7 +17,9 @@ use std::env;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use morphogen::preset::Model;
+use morphogen::bones::BonesParams;
+use morphogen::preset::{Model, Preset};
+use morphogen::sent::{SentError, SentScenario};
 
 use crate::schema::Include;
 use crate::{Scenario, codegen};
@@ -104,6 +106,42 @@ fn strip_for_flash(source: &mut String, scenarios: &[Scenario]) {
             );
         }
     }
+}
+
+/// The message `morphogen send` writes to a device for `scenario` run with
+/// `seed` ([`SentScenario`]): the header's parameter digest is the whole
+/// scenario's, as the host's run has it, and a grammar goes without its
+/// comments, as built-in presets do.
+///
+/// # Errors
+/// A model that cannot be sent, or a part bigger than the message holds.
+pub fn sent(scenario: &Scenario, seed: u64) -> Result<SentScenario, SentError> {
+    scenario.with_preset(|p| {
+        let params = p.model.params_digest();
+        match p.model {
+            Model::LSystem(text) => {
+                let text = without_comments(text);
+                let preset = Preset {
+                    model: Model::LSystem(&text),
+                    ..*p
+                };
+                SentScenario::new(&preset, seed, params)
+            }
+            Model::Bones(bones) => {
+                let text = without_comments(bones.grammar);
+                let bones = BonesParams {
+                    grammar: &text,
+                    ..*bones
+                };
+                let preset = Preset {
+                    model: Model::Bones(&bones),
+                    ..*p
+                };
+                SentScenario::new(&preset, seed, params)
+            }
+            _ => SentScenario::new(p, seed, params),
+        }
+    })
 }
 
 /// `text` without its comments: each line up to its first `#`, as the

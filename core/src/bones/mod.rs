@@ -16,7 +16,7 @@ mod skeleton;
 #[allow(clippy::float_arithmetic)]
 mod tests;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::shrinkwrap::WrapParams;
 
@@ -30,7 +30,7 @@ pub const MCU_TRIANGLES: usize = 2 * MCU_VERTICES - 4;
 pub use skeleton::{Grower, MAX_ELEMENTS, MAX_SKELETON_MODULES, Skeleton};
 
 /// Which skeletons a run wraps, one frame each.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Frames {
     /// The skeleton after the grammar's `n` steps.

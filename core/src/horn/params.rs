@@ -1,7 +1,7 @@
 //! The parameters of a horn and of its modules (horn paper, Sec. 6 and
 //! Table 1).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::{HornError, MAX_MODULES, MAX_RING_POINTS};
 use crate::Error;
@@ -9,7 +9,7 @@ use crate::fx::{Angle, Fx};
 use crate::growth::Sigmoid;
 
 /// One module E_i: its positioner and the cross-sections it sweeps.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Module {
     /// Scale of the upper base L_i(0) (the positioner's shape) relative to

@@ -91,9 +91,11 @@ use crate::stream::{Record, Sink, SinkError};
 
 mod plane;
 mod raster;
+mod receive;
 mod view;
 
 pub use plane::{CELL_REACH_PX, plane_bytes};
+pub use receive::{FrameDone, Receiver};
 pub use view::{Bounds, View, project};
 
 use plane::Plane;
@@ -194,6 +196,11 @@ impl<'p, C: PixelColor> Rig<'p, C> {
     #[must_use]
     pub const fn view(&self) -> &View {
         &self.view
+    }
+
+    /// Draws through `view` from now on (the next stream's).
+    pub const fn set_view(&mut self, view: View) {
+        self.view = view;
     }
 
     fn colour(&self, index: usize) -> Option<C> {

@@ -255,3 +255,195 @@ fn far_away_lines_are_clipped_not_walked() {
     .unwrap();
     display.assert_pattern(&["RRR"]);
 }
+
+/// A framebuffer to compare pictures with: `None` where nothing was drawn.
+#[derive(Clone, PartialEq, Debug)]
+struct Screen {
+    pixels: std::vec::Vec<Option<Rgb888>>,
+}
+
+const SCREEN: Size = Size::new(24, 12);
+
+impl Screen {
+    fn new() -> Screen {
+        Screen {
+            pixels: std::vec![None; (SCREEN.width * SCREEN.height) as usize],
+        }
+    }
+}
+
+impl OriginDimensions for Screen {
+    fn size(&self) -> Size {
+        SCREEN
+    }
+}
+
+impl DrawTarget for Screen {
+    type Color = Rgb888;
+    type Error = core::convert::Infallible;
+
+    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(
+        &mut self,
+        pixels: I,
+    ) -> Result<(), Self::Error> {
+        for Pixel(p, c) in pixels {
+            if let (Ok(x @ 0..24), Ok(y @ 0..12)) = (u32::try_from(p.x), u32::try_from(p.y)) {
+                self.pixels[(y * SCREEN.width + x) as usize] = Some(c);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A sender's wire: header, extent, then four frames of segments and
+/// cells; with each record's frame (`None` for header and extent) and the
+/// byte where its frame on the wire ends.
+fn sent() -> (std::vec::Vec<u8>, std::vec::Vec<(Option<u32>, usize)>) {
+    let mut frames = std::vec::Vec::new();
+    for f in 0..4u32 {
+        let i = f as i32;
+        frames.push((
+            f,
+            Record::FrameStart {
+                frame: f,
+                time: fx(i),
+            },
+        ));
+        frames.push((
+            f,
+            Record::Segment {
+                a: [fx(0), fx(i), Fx::ZERO],
+                b: [fx(10 + i), fx(3), fx(i)],
+                width: Fx::ONE,
+                colour: f as u16,
+            },
+        ));
+        for c in 0..3 {
+            frames.push((
+                f,
+                Record::Cell {
+                    id: c,
+                    kind: (c + f) as u8,
+                    p: [fx(2 * c as i32 + i), fx(4 - i)],
+                },
+            ));
+        }
+        frames.push((f, Record::FrameEnd { frame: f }));
+    }
+    let mut bounds = Bounds::new();
+    frames.iter().for_each(|(_, r)| bounds.include(r));
+    let header = Record::Header(crate::stream::Header {
+        version: 1,
+        preset: "frames".try_into().unwrap(),
+        seed: 1,
+        params: 2,
+    });
+    let mut encoder = crate::stream::Encoder::new(std::vec::Vec::new());
+    let mut ends = std::vec::Vec::new();
+    let all = [(None, header), (None, bounds.to_record())]
+        .into_iter()
+        .chain(frames.into_iter().map(|(f, r)| (Some(f), r)));
+    for (frame, record) in all {
+        crate::stream::Sink::record(&mut encoder, &record).unwrap();
+        ends.push((frame, encoder.bytes() as usize));
+    }
+    (encoder.into_writer(), ends)
+}
+
+/// What a receiver shows of `wire`: each shown frame and its picture.
+fn received(wire: &[u8]) -> std::vec::Vec<(u32, Screen)> {
+    let mut plane = std::vec![0; plane_bytes(SCREEN)];
+    let mut receiver = Receiver::new(SCREEN, 1, &RGB, &mut plane);
+    let mut reader = crate::stream::Reader::new();
+    let mut screen = Screen::new();
+    let mut shown = std::vec::Vec::new();
+    for &byte in wire {
+        if let Some(frame) = reader.push(byte)
+            && let Some(done) = receiver.take(&frame, &mut screen).unwrap()
+            && done.shown
+        {
+            shown.push((done.frame, screen.clone()));
+        }
+    }
+    shown
+}
+
+#[test]
+fn a_receiver_shows_what_the_sender_drew() {
+    let (wire, _) = sent();
+    let shown = received(&wire);
+    assert_eq!(
+        shown.iter().map(|(f, _)| *f).collect::<std::vec::Vec<_>>(),
+        [0, 1, 2, 3]
+    );
+    // The same frames through a rig fitted to the whole stream.
+    let mut records = std::vec::Vec::new();
+    let mut reader = crate::stream::Reader::new();
+    records.extend(
+        wire.iter()
+            .filter_map(|&b| reader.push(b))
+            .map(Result::unwrap),
+    );
+    let mut bounds = Bounds::new();
+    records.iter().for_each(|r| bounds.include(r));
+    let mut plane = std::vec![0; plane_bytes(SCREEN)];
+    let mut rig = Rig::new(View::fit(&bounds, SCREEN, 1), &RGB, &mut plane);
+    let mut screen = Screen::new();
+    let mut pictures = std::vec::Vec::new();
+    for r in &records {
+        rig.draw(r, &mut screen).unwrap();
+        if let Record::FrameEnd { .. } = r {
+            pictures.push(screen.clone());
+        }
+    }
+    for (f, picture) in &shown {
+        assert_eq!(picture, &pictures[*f as usize], "frame {f}");
+    }
+    // Each frame differs from the one before: a stale picture would show.
+    assert!(pictures.windows(2).all(|w| w[0] != w[1]));
+}
+
+#[test]
+fn a_flipped_bit_skips_its_frame_and_nothing_is_drawn_wrong() {
+    let (wire, ends) = sent();
+    let intact: std::collections::BTreeMap<u32, Screen> = received(&wire).into_iter().collect();
+    for i in 0..wire.len() {
+        // The records whose frames the flip damages: its own, and the
+        // next one too if it hits a delimiter.
+        let k = ends.iter().position(|&(_, end)| i < end).unwrap();
+        let lost = if i + 1 == ends[k].1 { k..=k + 1 } else { k..=k };
+        let fitted = !lost.contains(&0) && !lost.contains(&1);
+        let want: std::vec::Vec<u32> = (0..4)
+            .filter(|&f| {
+                fitted
+                    && !lost
+                        .clone()
+                        .any(|j| ends.get(j).is_some_and(|e| e.0 == Some(f)))
+            })
+            .collect();
+        for bit in 0..8 {
+            let mut damaged = wire.clone();
+            damaged[i] ^= 1 << bit;
+            let shown = received(&damaged);
+            let frames: std::vec::Vec<u32> = shown.iter().map(|(f, _)| *f).collect();
+            assert_eq!(frames, want, "bit {bit} of byte {i}");
+            for (f, picture) in &shown {
+                assert_eq!(picture, &intact[f], "frame {f}, bit {bit} of byte {i}");
+            }
+        }
+    }
+}
+
+#[test]
+fn an_extent_that_no_projection_gives_is_refused() {
+    let far = Record::Extent {
+        min: [i64::MIN, 0],
+        max: [0, 0],
+        chart: false,
+        frames: 1,
+    };
+    assert_eq!(Bounds::from_record(&far), None);
+    assert_eq!(Bounds::from_record(&Record::FrameEnd { frame: 0 }), None);
+    let nothing = Bounds::new();
+    assert_eq!(Bounds::from_record(&nothing.to_record()), Some(nothing));
+}

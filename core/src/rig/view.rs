@@ -15,6 +15,9 @@ pub(super) const SUBPIXEL_SHIFT: u32 = 4;
 const CABINET_K_BITS: i64 = 23_170;
 /// The widest line drawn, in pixels.
 const MAX_LINE_WIDTH: i64 = 64;
+/// Beyond any projected coordinate: `|u|, |v| < 2^32` (see [`project`]).
+/// A [`Record::Extent`] past it did not come from a projection.
+const PROJECTED_LIMIT: i64 = 1 << 33;
 
 /// Projects a model point onto the view plane, in I16F16 bits (see the
 /// module documentation for the cabinet projection).
@@ -29,14 +32,16 @@ pub fn project(p: [Fx; 3]) -> [i64; 2] {
     [x - depth, y - depth]
 }
 
-/// The extent of a stream's projected geometry, for [`View::fit`]. Also a
-/// [`Sink`], so a run can be measured without storing it.
+/// The extent of a stream's projected geometry, for [`View::fit`], and its
+/// number of frames. Also a [`Sink`], so a run can be measured without
+/// storing it, and sent ahead of the stream as a [`Record::Extent`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Bounds {
     min: [i64; 2],
     max: [i64; 2],
     empty: bool,
     only_samples: bool,
+    frames: u32,
 }
 
 impl Default for Bounds {
@@ -54,7 +59,52 @@ impl Bounds {
             max: [i64::MIN; 2],
             empty: true,
             only_samples: true,
+            frames: 0,
         }
+    }
+
+    /// The frames seen (their [`Record::FrameEnd`]s).
+    #[must_use]
+    pub const fn frames(&self) -> u32 {
+        self.frames
+    }
+
+    /// The [`Record::Extent`] that carries these bounds to a receiver.
+    #[must_use]
+    pub const fn to_record(&self) -> Record {
+        Record::Extent {
+            min: self.min,
+            max: self.max,
+            chart: self.only_samples,
+            frames: self.frames,
+        }
+    }
+
+    /// The bounds a [`Record::Extent`] carries; `None` for another record
+    /// or coordinates no projection gives (beyond ±2^33 bits).
+    #[must_use]
+    pub fn from_record(record: &Record) -> Option<Bounds> {
+        let Record::Extent {
+            min,
+            max,
+            chart,
+            frames,
+        } = *record
+        else {
+            return None;
+        };
+        let nothing = min == [i64::MAX; 2] && max == [i64::MIN; 2];
+        let projected = |c: &i64| (-PROJECTED_LIMIT..=PROJECTED_LIMIT).contains(c);
+        if !nothing && !min.iter().chain(&max).all(projected) {
+            return None;
+        }
+        Some(Bounds {
+            min,
+            max,
+            empty: min[0] > max[0] || min[1] > max[1],
+            only_samples: chart,
+            frames,
+        })
     }
 
     /// Whether no drawable record has been seen.
@@ -98,6 +148,7 @@ impl Bounds {
                 self.only_samples = false;
             }
             Record::Sample { x, y, .. } => self.add(project([*x, *y, Fx::ZERO])),
+            Record::FrameEnd { .. } => self.frames = self.frames.saturating_add(1),
             _ => {}
         }
     }

@@ -120,8 +120,8 @@ mod tests {
 
     #[test]
     fn a_record_of_a_newer_kind_is_skipped_not_corrupt() {
-        // Tag 12 with two bytes of payload, framed as the encoder frames.
-        let record = [12u8, 1, 2];
+        // Tag 13 with two bytes of payload, framed as the encoder frames.
+        let record = [13u8, 1, 2];
         let mut raw = Vec::from(record);
         raw.extend_from_slice(&FRAME_CRC.checksum(&record).to_le_bytes());
         let mut framed = [0u8; 32];
@@ -130,8 +130,8 @@ mod tests {
         bytes.push(0);
         bytes.extend(encode(&sample_records()[..2]));
         let decoded: Vec<Decoded> = Decoder::new(&bytes).collect();
-        assert_eq!(decoded[0].result, Err(FrameError::UnknownKind { tag: 12 }));
-        assert!(!FrameError::UnknownKind { tag: 12 }.is_corrupt());
+        assert_eq!(decoded[0].result, Err(FrameError::UnknownKind { tag: 13 }));
+        assert!(!FrameError::UnknownKind { tag: 13 }.is_corrupt());
         assert_eq!(decoded.len(), 3);
         assert!(decoded[1].result.is_ok() && decoded[2].result.is_ok());
         // A known tag whose payload does not parse is corrupt.

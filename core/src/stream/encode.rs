@@ -85,6 +85,20 @@ impl<W: Write> Encoder<W> {
         self.writer
     }
 
+    /// Writes a link record ([`Record::Extent`]) beside the stream: framed
+    /// like any record, but not counted in [`Encoder::digest`],
+    /// [`Encoder::frames`] or [`Encoder::bytes`] — it is not part of the
+    /// stream (docs/stream-format.md, "The extent").
+    ///
+    /// # Errors
+    /// As [`Sink::record`].
+    pub fn link(&mut self, record: &Record) -> Result<(), SinkError> {
+        let mut frame = [0u8; MAX_FRAME];
+        let len = Self::encode_frame(record, &mut frame)?;
+        let bytes = frame.get(..len).ok_or(SinkError::RecordTooLarge)?;
+        self.writer.write_all(bytes).map_err(|_| SinkError::Write)
+    }
+
     /// Encodes one record into `frame` and returns the frame's length.
     ///
     /// # Errors
@@ -94,12 +108,7 @@ impl<W: Write> Encoder<W> {
         let len = postcard::to_slice(record, &mut raw[..MAX_RECORD])
             .map_err(|_| SinkError::RecordTooLarge)?
             .len();
-        let crc = FRAME_CRC.checksum(&raw[..len]).to_le_bytes();
-        raw[len..len + 4].copy_from_slice(&crc);
-        let encoded = cobs::try_encode(&raw[..len + 4], &mut frame[..MAX_FRAME - 1])
-            .map_err(|_| SinkError::RecordTooLarge)?;
-        frame[encoded] = 0;
-        Ok(encoded + 1)
+        frame_payload(&mut raw, len, frame).ok_or(SinkError::RecordTooLarge)
     }
 }
 
@@ -114,4 +123,17 @@ impl<W: Write> Sink for Encoder<W> {
         self.bytes += len as u64;
         Ok(())
     }
+}
+
+/// Frames the payload `raw[..len]` into `frame`: appends its CRC-32 in
+/// `raw` (which needs 4 bytes to spare), COBS-encodes, ends with the zero
+/// delimiter; the frame's length, or `None` when `raw` or `frame` is too
+/// small.
+pub(crate) fn frame_payload(raw: &mut [u8], len: usize, frame: &mut [u8]) -> Option<usize> {
+    let crc = FRAME_CRC.checksum(raw.get(..len)?).to_le_bytes();
+    raw.get_mut(len..len + 4)?.copy_from_slice(&crc);
+    let room = frame.len().checked_sub(1)?;
+    let encoded = cobs::try_encode(raw.get(..len + 4)?, frame.get_mut(..room)?).ok()?;
+    *frame.get_mut(encoded)? = 0;
+    Some(encoded + 1)
 }

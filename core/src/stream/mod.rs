@@ -16,8 +16,9 @@ mod record;
 
 pub use decode::{Decoded, Decoder};
 pub use digest::{ParamDigest, StreamDigest, params_digest};
+pub(crate) use encode::frame_payload;
 pub use encode::{Encoder, MAX_FRAME, MAX_RECORD};
-pub use read::{FrameError, Reader};
+pub use read::{Deframer, FrameError, Reader};
 pub use record::{FORMAT_VERSION, Header, PresetName, Record};
 
 /// Where records go.

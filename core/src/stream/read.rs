@@ -74,6 +74,106 @@ impl FrameError {
 /// The decoded bytes of the largest frame: a record and its CRC-32.
 const MAX_DECODED: usize = MAX_RECORD + 4;
 
+/// Takes COBS frames off the wire one byte at a time into a buffer `B`
+/// (`[u8; N]`, or a `&mut [u8]` its owner lends) and gives each frame's
+/// payload once its CRC-32 checks: the framing of every record
+/// (docs/stream-format.md, "Layers"), for payloads of any size up to the
+/// buffer's less the CRC. [`Reader`] is one for records; a device reads a
+/// sent scenario with another (`crate::sent`).
+#[derive(Debug)]
+pub struct Deframer<B> {
+    cobs: DecoderState,
+    decoded: B,
+    /// Bytes decoded into `decoded`.
+    len: usize,
+    /// Bytes of the frame so far, its delimiter not included.
+    wire: usize,
+    /// The frame's first fault, reported at its delimiter.
+    fault: Option<FrameError>,
+}
+
+impl<B: AsRef<[u8]> + AsMut<[u8]>> Deframer<B> {
+    /// A deframer decoding into `buffer`, waiting for a frame's first byte.
+    pub const fn new(buffer: B) -> Deframer<B> {
+        Deframer {
+            cobs: DecoderState::Idle,
+            decoded: buffer,
+            len: 0,
+            wire: 0,
+            fault: None,
+        }
+    }
+
+    /// Bytes of the frame in progress (0 between frames).
+    #[must_use]
+    pub const fn pending(&self) -> usize {
+        self.wire
+    }
+
+    /// Takes one byte off the wire. At a zero byte, the payload of the
+    /// frame it ends — CRC checked and removed — or why the frame is
+    /// unreadable ([`FrameError::Cobs`], [`FrameError::TooLong`] beyond the
+    /// buffer, [`FrameError::TooShort`], [`FrameError::Crc`]); the next byte
+    /// starts a new frame.
+    pub fn push(&mut self, byte: u8) -> Option<Result<&[u8], FrameError>> {
+        if byte != 0 {
+            self.take(byte);
+            return None;
+        }
+        let (fault, wire, len) = (self.fault.take(), self.wire, self.len);
+        let end = self.cobs.feed(0);
+        (self.cobs, self.len, self.wire) = (DecoderState::Idle, 0, 0);
+        Some(match (fault, wire, end) {
+            (Some(fault), _, _) => Err(fault),
+            // An empty frame is not valid COBS.
+            (None, 1.., Ok(DecodeResult::DataComplete)) => {
+                payload(self.decoded.as_ref().get(..len).unwrap_or_default())
+            }
+            (None, _, _) => Err(FrameError::Cobs),
+        })
+    }
+
+    fn take(&mut self, byte: u8) {
+        self.wire = self.wire.saturating_add(1);
+        if self.fault.is_some() {
+            return;
+        }
+        // Longer than any frame the buffer holds: refused before decoding
+        // (COBS adds a byte per 254, the delimiter is not counted).
+        let capacity = self.decoded.as_ref().len();
+        if self.wire > capacity + capacity.div_ceil(254) {
+            self.fault = Some(FrameError::TooLong);
+            return;
+        }
+        match self.cobs.feed(byte) {
+            Ok(DecodeResult::DataContinue(b)) => match self.decoded.as_mut().get_mut(self.len) {
+                Some(slot) => {
+                    *slot = b;
+                    self.len += 1;
+                }
+                None => self.fault = Some(FrameError::TooLong),
+            },
+            Ok(DecodeResult::NoData | DecodeResult::DataComplete) => {}
+            Err(_) => self.fault = Some(FrameError::Cobs),
+        }
+    }
+}
+
+/// The payload of a COBS-decoded frame: the bytes before its CRC-32, if
+/// the CRC matches.
+fn payload(decoded: &[u8]) -> Result<&[u8], FrameError> {
+    let Some(split) = decoded.len().checked_sub(4).filter(|&n| n > 0) else {
+        return Err(FrameError::TooShort);
+    };
+    let (payload, crc) = decoded.split_at(split);
+    let carried = u32::from_le_bytes(crc.try_into().map_err(|_| FrameError::TooShort)?);
+    let computed = FRAME_CRC.checksum(payload);
+    if carried != computed {
+        return Err(FrameError::Crc { carried, computed });
+    }
+    Ok(payload)
+}
+
 /// Reads frames one byte at a time, holding at most one frame: one byte
 /// in, at most one record out. A damaged frame costs that frame only.
 ///
@@ -92,12 +192,7 @@ const MAX_DECODED: usize = MAX_RECORD + 4;
 /// ```
 #[derive(Debug)]
 pub struct Reader {
-    cobs: DecoderState,
-    decoded: heapless::Vec<u8, MAX_DECODED>,
-    /// Bytes of the frame so far, its delimiter not included.
-    wire: usize,
-    /// The frame's first fault, reported at its delimiter.
-    fault: Option<FrameError>,
+    frames: Deframer<[u8; MAX_DECODED]>,
 }
 
 impl Reader {
@@ -105,10 +200,7 @@ impl Reader {
     #[must_use]
     pub const fn new() -> Reader {
         Reader {
-            cobs: DecoderState::Idle,
-            decoded: heapless::Vec::new(),
-            wire: 0,
-            fault: None,
+            frames: Deframer::new([0; MAX_DECODED]),
         }
     }
 
@@ -116,56 +208,14 @@ impl Reader {
     /// its record, or why the frame is unreadable (checked in the order
     /// of docs/stream-format.md); the reader then starts a new frame.
     pub fn push(&mut self, byte: u8) -> Option<Result<Record, FrameError>> {
-        if byte != 0 {
-            self.take(byte);
-            return None;
-        }
-        let frame = self.finish();
-        *self = Reader::new();
-        Some(frame)
+        self.frames.push(byte).map(|frame| frame.and_then(record))
     }
 
     /// Bytes of the frame in progress (0 between frames): what a stream
     /// that ends now would leave [`FrameError::Truncated`].
     #[must_use]
-    pub fn pending(&self) -> usize {
-        self.wire
-    }
-
-    fn take(&mut self, byte: u8) {
-        self.wire = self.wire.saturating_add(1);
-        if self.fault.is_some() {
-            return;
-        }
-        // Longer than any frame: refused before it is decoded.
-        if self.wire > MAX_FRAME - 1 {
-            self.fault = Some(FrameError::TooLong);
-            return;
-        }
-        match self.cobs.feed(byte) {
-            Ok(DecodeResult::DataContinue(b)) => {
-                if self.decoded.push(b).is_err() {
-                    self.fault = Some(FrameError::TooLong);
-                }
-            }
-            Ok(DecodeResult::NoData | DecodeResult::DataComplete) => {}
-            Err(_) => self.fault = Some(FrameError::Cobs),
-        }
-    }
-
-    /// The frame the zero byte just received ends.
-    fn finish(&mut self) -> Result<Record, FrameError> {
-        if let Some(fault) = self.fault {
-            return Err(fault);
-        }
-        // An empty frame is not valid COBS.
-        if self.wire == 0 {
-            return Err(FrameError::Cobs);
-        }
-        match self.cobs.feed(0) {
-            Ok(DecodeResult::DataComplete) => record(&self.decoded),
-            _ => Err(FrameError::Cobs),
-        }
+    pub const fn pending(&self) -> usize {
+        self.frames.pending()
     }
 }
 
@@ -175,28 +225,19 @@ impl Default for Reader {
     }
 }
 
-/// The record in a COBS-decoded frame: record bytes, then their CRC-32.
-fn record(decoded: &[u8]) -> Result<Record, FrameError> {
-    let Some(split) = decoded.len().checked_sub(4).filter(|&n| n > 0) else {
-        return Err(FrameError::TooShort);
-    };
-    let (record, crc) = decoded.split_at(split);
-    let carried = u32::from_le_bytes(crc.try_into().map_err(|_| FrameError::TooShort)?);
-    let computed = FRAME_CRC.checksum(record);
-    if carried != computed {
-        return Err(FrameError::Crc { carried, computed });
-    }
-    match postcard::take_from_bytes::<Record>(record) {
+/// The record in a frame's payload.
+fn record(payload: &[u8]) -> Result<Record, FrameError> {
+    match postcard::take_from_bytes::<Record>(payload) {
         Ok((r, [])) => Ok(r),
-        _ => match tag(record) {
+        _ => match tag(payload) {
             Some(tag) if tag >= RECORD_KINDS => Err(FrameError::UnknownKind { tag }),
             _ => Err(FrameError::Record),
         },
     }
 }
 
-/// Record kinds of this version (tags 0 to 11, docs/stream-format.md).
-const RECORD_KINDS: u32 = 12;
+/// Record kinds of this version (tags 0 to 12, docs/stream-format.md).
+const RECORD_KINDS: u32 = 13;
 
 /// The record's tag: postcard's leading varint.
 fn tag(record: &[u8]) -> Option<u32> {

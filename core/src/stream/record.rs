@@ -120,6 +120,23 @@ pub enum Record {
         /// Position on the mesh (x, y, z).
         p: [Fx; 3],
     },
+    /// The extent of what the stream draws and its number of frames
+    /// (tag 12): a *link* record, sent right after the header by a sender
+    /// that measured its run first (the firmware does, to fit its OLED), so
+    /// that a receiver can fit its own view before frame 0. It is not part
+    /// of the stream: not in `stream.bin`, fixtures or digests
+    /// (docs/stream-format.md, "The extent").
+    Extent {
+        /// Lowest projected `(u, v)` (`rig::project`), in I16F16 bits;
+        /// above `max` when nothing is drawn.
+        min: [i64; 2],
+        /// Highest projected `(u, v)`, in I16F16 bits.
+        max: [i64; 2],
+        /// Whether only samples are drawn (a chart, stretched to fill).
+        chart: bool,
+        /// Frames in the stream.
+        frames: u32,
+    },
 }
 
 impl Record {
@@ -139,6 +156,7 @@ impl Record {
             Record::Sample { .. } => "sample",
             Record::Ring { .. } => "ring",
             Record::SurfaceCell { .. } => "surface_cell",
+            Record::Extent { .. } => "extent",
         }
     }
 }

@@ -1,0 +1,51 @@
+//! What the two Morphogen programs for the LM3S6965 evaluation board share:
+//! the board (`board`: clock, UART0/UART1), its OLED (`oled`), the screen
+//! handshake of the check script (`screen`), the semihosting arguments
+//! (`args`), run costs (`cost`), how a program ends (`exit`) and where its
+//! `defmt` logs and panics go.
+//!
+//! - The **sender** (`src/main.rs`, binary `morphogen-firmware`) runs every
+//!   built-in preset, streams it on UART0 and draws it on the OLED.
+//! - The **receiver** (`src/bin/receiver.rs`, binary `morphogen-receiver`)
+//!   reads a sender's stream on UART0 and draws it on its own OLED.
+#![no_std]
+#![deny(missing_docs, clippy::unwrap_used, clippy::expect_used)]
+
+#[cfg(all(feature = "semihosting", feature = "rtt"))]
+compile_error!(
+    "choose one defmt transport: `semihosting` (default) or `rtt` (with --no-default-features)"
+);
+#[cfg(not(any(feature = "semihosting", feature = "rtt")))]
+compile_error!("enable a defmt transport: `semihosting` (default) or `rtt`");
+
+#[cfg(feature = "rtt")]
+use defmt_rtt as _;
+#[cfg(feature = "semihosting")]
+use defmt_semihosting as _;
+
+pub mod args;
+pub mod board;
+pub mod cost;
+pub mod exit;
+pub mod oled;
+pub mod screen;
+
+/// The margin around a fitted view, in pixels (as the host's `--rig`).
+pub const MARGIN: u32 = 1;
+
+/// Logs where the panic happened (no message formatting: it would pull
+/// `core::fmt` into flash) and exits with a failure code.
+#[panic_handler]
+fn panic(info: &core::panic::PanicInfo<'_>) -> ! {
+    match info.location() {
+        Some(at) => defmt::error!("panicked at {=str}:{=u32}", at.file(), at.line()),
+        None => defmt::error!("panicked"),
+    }
+    exit::failure()
+}
+
+/// `defmt::panic!` and friends end here.
+#[defmt::panic_handler]
+fn defmt_panic() -> ! {
+    exit::failure()
+}
