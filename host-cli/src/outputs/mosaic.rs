@@ -578,6 +578,116 @@ impl Indexed {
     }
 }
 
+/// The pixels of a Voronoi picture being coloured, `scale` pixels a
+/// domain unit.
+struct Canvas<'a> {
+    pixels: &'a mut [u8],
+    width: usize,
+    scale: f64,
+}
+
+/// A box of at most this many pixels is coloured pixel by pixel.
+const LEAF_PIXELS: usize = 64;
+
+impl Canvas<'_> {
+    /// The domain coordinate of the centre of pixel `p` (along either axis).
+    fn centre(&self, p: usize) -> f64 {
+        (p as f64 + 0.5) / self.scale
+    }
+
+    /// Colours the pixels `x0..=x1` × `y0..=y1`, whose nearest cells are
+    /// all in `near` (by order), quadrant by quadrant: a quadrant whose
+    /// candidates within reach are of one type is filled, the others are
+    /// split again down to [`LEAF_PIXELS`], then coloured by their nearest
+    /// candidate. The same pixels as testing every candidate at every
+    /// pixel: a quadrant's nearest cells are among its candidates, which
+    /// keep their order (ties still go to the lower). `scratch` holds the
+    /// candidates of each depth.
+    fn split(
+        &mut self,
+        [x0, y0, x1, y1]: [usize; 4],
+        near: &[Site],
+        depth: usize,
+        scratch: &mut Vec<Vec<Site>>,
+    ) {
+        let (mx, my) = ((x0 + x1) / 2, (y0 + y1) / 2);
+        let xs = [(x0, mx), (mx + 1, x1)];
+        let ys = [(y0, my), (my + 1, y1)];
+        if scratch.len() <= depth {
+            scratch.push(Vec::new());
+        }
+        for &(qy0, qy1) in ys.iter().filter(|(a, b)| a <= b) {
+            for &(qx0, qx1) in xs.iter().filter(|(a, b)| a <= b) {
+                let mut candidates = std::mem::take(&mut scratch[depth]);
+                self.quadrant([qx0, qy0, qx1, qy1], near, &mut candidates);
+                let pixels = (qx1 - qx0 + 1) * (qy1 - qy0 + 1);
+                match candidates.first() {
+                    Some(first) if candidates.iter().all(|c| c.colour == first.colour) => {
+                        for py in qy0..=qy1 {
+                            self.pixels[py * self.width + qx0..=py * self.width + qx1]
+                                .fill(first.colour);
+                        }
+                    }
+                    _ if pixels <= LEAF_PIXELS => {
+                        self.each_pixel([qx0, qy0, qx1, qy1], &candidates);
+                    }
+                    _ => self.split([qx0, qy0, qx1, qy1], &candidates, depth + 1, scratch),
+                }
+                scratch[depth] = candidates;
+            }
+        }
+    }
+
+    /// The sites of `near` within reach of the box `x0..=x1` × `y0..=y1`
+    /// (by order) into `out`: as `Bins::near_box`, the reach being the
+    /// distance from the candidate nearest the box's middle to the box's
+    /// farthest corner, which no pixel's nearest cell is farther than.
+    fn quadrant(&self, [x0, y0, x1, y1]: [usize; 4], near: &[Site], out: &mut Vec<Site>) {
+        out.clear();
+        let (lo, hi) = (
+            [self.centre(x0), self.centre(y0)],
+            [self.centre(x1), self.centre(y1)],
+        );
+        let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+        let Some(s) = near.iter().min_by(|a, b| {
+            let d = |s: &Site| (s.x - mid[0]).powi(2) + (s.y - mid[1]).powi(2);
+            d(a).total_cmp(&d(b))
+        }) else {
+            return;
+        };
+        // The farthest corner is the farther one along each axis.
+        let far_x = (s.x - lo[0]).abs().max((s.x - hi[0]).abs());
+        let far_y = (s.y - lo[1]).abs().max((s.y - hi[1]).abs());
+        let reach = (far_x * far_x + far_y * far_y).sqrt();
+        // Slightly wider than `reach`, so rounding cannot drop a tie.
+        let limit = (reach * (1.0 + 1e-9) + 1e-9).powi(2);
+        out.extend(near.iter().copied().filter(|s| {
+            let dx = (lo[0] - s.x).max(s.x - hi[0]).max(0.0);
+            let dy = (lo[1] - s.y).max(s.y - hi[1]).max(0.0);
+            dx * dx + dy * dy <= limit
+        }));
+    }
+
+    /// Colours each pixel of the box by its nearest site of `near`, the
+    /// first of equals winning.
+    fn each_pixel(&mut self, [x0, y0, x1, y1]: [usize; 4], near: &[Site]) {
+        for py in y0..=y1 {
+            let y = self.centre(py);
+            for px in x0..=x1 {
+                let x = self.centre(px);
+                let mut best = (f64::INFINITY, EMPTY);
+                for s in near {
+                    let d2 = (x - s.x) * (x - s.x) + (y - s.y) * (y - s.y);
+                    if d2 < best.0 {
+                        best = (d2, s.colour);
+                    }
+                }
+                self.pixels[py * self.width + px] = best.1;
+            }
+        }
+    }
+}
+
 /// The Voronoi picture of `cells` on `domain`, type `k` in `colours[k]`.
 #[must_use]
 pub fn voronoi(domain: &Domain, colours: &[[u8; 3]], cells: &[(u32, u8, Fx, Fx)]) -> Indexed {
@@ -605,6 +715,7 @@ pub fn voronoi(domain: &Domain, colours: &[[u8; 3]], cells: &[(u32, u8, Fx, Fx)]
     let mut pixels = vec![EMPTY; w * h];
     let centre = |p: usize| (p as f64 + 0.5) / scale;
     let mut near = Vec::new();
+    let mut scratch = Vec::new();
     for ty in (0..h).step_by(tile) {
         for tx in (0..w).step_by(tile) {
             let (px1, py1) = ((tx + tile).min(w) - 1, (ty + tile).min(h) - 1);
@@ -627,22 +738,12 @@ pub fn voronoi(domain: &Domain, colours: &[[u8; 3]], cells: &[(u32, u8, Fx, Fx)]
                 }
                 continue;
             }
-            for py in ty..=py1 {
-                let y = centre(py);
-                let row = &mut pixels[py * w..(py + 1) * w];
-                for (px, pixel) in row.iter_mut().enumerate().take(px1 + 1).skip(tx) {
-                    let x = centre(px);
-                    let mut best = (f64::INFINITY, EMPTY);
-                    // By order, so the first of equals wins.
-                    for s in &near {
-                        let d2 = (x - s.x) * (x - s.x) + (y - s.y) * (y - s.y);
-                        if d2 < best.0 {
-                            best = (d2, s.colour);
-                        }
-                    }
-                    *pixel = best.1;
-                }
-            }
+            let mut canvas = Canvas {
+                pixels: &mut pixels,
+                width: w,
+                scale,
+            };
+            canvas.split([tx, ty, px1, py1], &near, 0, &mut scratch);
         }
     }
     Indexed {
