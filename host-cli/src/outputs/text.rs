@@ -63,13 +63,15 @@ pub fn fx(out: &mut Vec<u8>, v: Fx, whole: Whole) {
     out.extend_from_slice(&digits[..=end]);
 }
 
-/// Writes `n` (below 10⁸) as exactly 8 digits, zero-padded, into `out`.
-fn eight_digits(out: &mut [u8], n: u64) {
-    const PAIRS: &[u8; 200] = b"0001020304050607080910111213141516171819\
+/// The two digits of each number below 100, `00` to `99`.
+const PAIRS: &[u8; 200] = b"0001020304050607080910111213141516171819\
         2021222324252627282930313233343536373839\
         4041424344454647484950515253545556575859\
         6061626364656667686970717273747576777879\
         8081828384858687888990919293949596979899";
+
+/// Writes `n` (below 10⁸) as exactly 8 digits, zero-padded, into `out`.
+fn eight_digits(out: &mut [u8], n: u64) {
     // Each quotient is below 100.
     let n = n as u32;
     let (upper, lower) = (n / 10_000, n % 10_000);
@@ -125,14 +127,16 @@ pub fn decimals_5(out: &mut Vec<u8>, x: f64) {
         out.push(b'-');
     }
     int(out, rounded / 100_000);
-    let mut decimals = [b'.', b'0', b'0', b'0', b'0', b'0'];
-    let mut rest = rounded % 100_000;
-    for digit in decimals[1..].iter_mut().rev() {
-        // Below 10: `rest % 10`.
-        *digit = b'0' + (rest % 10) as u8;
-        rest /= 10;
-    }
-    out.extend_from_slice(&decimals);
+    // Below 10⁵: the first digit, then two pairs.
+    let rest = (rounded % 100_000) as u32;
+    let (first, pairs) = (rest / 10_000, rest % 10_000);
+    let pair = |n: u32| {
+        let at = 2 * n as usize;
+        [PAIRS[at], PAIRS[at + 1]]
+    };
+    let ([a, b], [c, d]) = (pair(pairs / 100), pair(pairs % 100));
+    // `first` is below 10.
+    out.extend_from_slice(&[b'.', b'0' + first as u8, a, b, c, d]);
 }
 
 /// `x` as a fixed-point value, when it is one exactly (every coordinate
