@@ -58,8 +58,9 @@ pub fn fx(out: &mut Vec<u8>, v: Fx, whole: Whole) {
     let (high, low) = (decimals / 100_000_000, decimals % 100_000_000);
     eight_digits(&mut digits[1..9], high);
     eight_digits(&mut digits[9..17], low);
-    // The last digit is not 0: `fraction` is not.
-    let end = digits.iter().rposition(|&d| d != b'0').unwrap_or(0);
+    // `fraction / 2¹⁶` with `fraction = odd · 2ᵏ` (k < 16) has exactly
+    // 16 − k decimals, the last one not 0.
+    let end = 16 - fraction.trailing_zeros() as usize;
     out.extend_from_slice(&digits[..=end]);
 }
 
