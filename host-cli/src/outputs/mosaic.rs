@@ -527,6 +527,9 @@ pub struct Indexed {
     height: usize,
     palette: Vec<[u8; 3]>,
     pixels: Vec<u8>,
+    /// The pixels of each palette index but [`EMPTY`], counted as they
+    /// were coloured.
+    counts: Box<[u64; 256]>,
 }
 
 impl Indexed {
@@ -548,11 +551,7 @@ impl Indexed {
     /// its cells, in pixels).
     #[must_use]
     pub fn areas(&self, types: usize) -> Vec<u64> {
-        let mut by_index = [0u64; 256];
-        for &i in &self.pixels {
-            by_index[usize::from(i)] += 1;
-        }
-        by_index[2..].iter().take(types).copied().collect()
+        self.counts[2..].iter().take(types).copied().collect()
     }
 
     /// The colour at the fractions (`u`, `v`) of its width and height
@@ -592,6 +591,8 @@ impl Indexed {
 /// domain unit.
 struct Canvas<'a> {
     pixels: &'a mut [u8],
+    /// The pixels coloured with each palette index so far.
+    counts: &'a mut [u64; 256],
     width: usize,
     scale: f64,
 }
@@ -633,6 +634,7 @@ impl Canvas<'_> {
                 let pixels = (qx1 - qx0 + 1) * (qy1 - qy0 + 1);
                 match candidates.first() {
                     Some(first) if candidates.iter().all(|c| c.colour == first.colour) => {
+                        self.counts[usize::from(first.colour)] += pixels as u64;
                         for py in qy0..=qy1 {
                             self.pixels[py * self.width + qx0..=py * self.width + qx1]
                                 .fill(first.colour);
@@ -693,6 +695,7 @@ impl Canvas<'_> {
                     }
                 }
                 self.pixels[py * self.width + px] = best.1;
+                self.counts[usize::from(best.1)] += 1;
             }
         }
     }
@@ -723,6 +726,7 @@ pub fn voronoi(domain: &Domain, colours: &[[u8; 3]], cells: &[(u32, u8, Fx, Fx)]
     let spacing = (w * h) as f64 / bins.sites.len().max(1) as f64;
     let tile = ((spacing.sqrt() * TILE.0) as usize).clamp(TILE.1, TILE.2);
     let mut pixels = vec![EMPTY; w * h];
+    let mut counts = Box::new([0; 256]);
     let centre = |p: usize| (p as f64 + 0.5) / scale;
     let mut near = Vec::new();
     let mut scratch = Vec::new();
@@ -743,6 +747,7 @@ pub fn voronoi(domain: &Domain, colours: &[[u8; 3]], cells: &[(u32, u8, Fx, Fx)]
             bins.near_box(lo, hi, reach, &mut near);
             if near.iter().all(|n| n.colour == s.colour) {
                 // One type within reach: the whole tile has its colour.
+                counts[usize::from(s.colour)] += ((px1 + 1 - tx) * (py1 + 1 - ty)) as u64;
                 for py in ty..=py1 {
                     pixels[py * w + tx..=py * w + px1].fill(s.colour);
                 }
@@ -750,6 +755,7 @@ pub fn voronoi(domain: &Domain, colours: &[[u8; 3]], cells: &[(u32, u8, Fx, Fx)]
             }
             let mut canvas = Canvas {
                 pixels: &mut pixels,
+                counts: &mut counts,
                 width: w,
                 scale,
             };
@@ -761,6 +767,7 @@ pub fn voronoi(domain: &Domain, colours: &[[u8; 3]], cells: &[(u32, u8, Fx, Fx)]
         height: h,
         palette,
         pixels,
+        counts,
     }
 }
 
@@ -812,7 +819,16 @@ mod tests {
                     .collect();
                 let dir = tempfile::tempdir().unwrap();
                 let path = dir.path().join("v.png");
-                voronoi(&domain, &types, &cells).save(&path).unwrap();
+                let drawn = voronoi(&domain, &types, &cells);
+                // The areas counted while colouring are the pixels' own.
+                let mut counted = vec![0u64; types.len()];
+                for &i in &drawn.pixels {
+                    if let Some(n) = counted.get_mut(usize::from(i).wrapping_sub(2)) {
+                        *n += 1;
+                    }
+                }
+                assert_eq!(drawn.areas(types.len()), counted);
+                drawn.save(&path).unwrap();
                 let picture = tiny_skia::Pixmap::load_png(&path).unwrap();
                 let bins = Bins::new(&domain, Vec::new());
                 let scale = LONG_SIDE / bins.size[0];
