@@ -195,6 +195,15 @@ pub(crate) fn pack_rgb([a, b, c, d]: [u32; 4]) -> [u8; 12] {
     out
 }
 
+/// `depth` as an integer that orders as [`f64::total_cmp`] does: sorting
+/// `(depth_key(depth), position)` pairs unstably is the stable sort by
+/// depth, on 16-byte items however large the things sorted.
+#[must_use]
+pub(crate) fn depth_key(depth: f64) -> i64 {
+    let bits = depth.to_bits() as i64;
+    bits ^ ((((bits >> 63) as u64) >> 1) as i64)
+}
+
 /// `x` with at most `decimals` decimals, trailing zeros cut (`2.5`,
 /// `3`, `0.08`): a frame label's number.
 #[must_use]
