@@ -21,7 +21,7 @@ impl<'a> Object<'a> {
     /// Opens the object with its `kind`.
     fn new(out: &'a mut Vec<u8>, kind: &str) -> Object<'a> {
         out.extend_from_slice(b"{\"kind\":");
-        string(out, kind);
+        name(out, kind);
         Object { out }
     }
 
@@ -81,6 +81,18 @@ impl<'a> Object<'a> {
 
     fn close(&mut self) {
         self.out.push(b'}');
+    }
+}
+
+/// Appends `s` as a JSON string: a name of letters, digits and `_` (every
+/// record kind) as it is, anything else through [`string`].
+fn name(out: &mut Vec<u8>, s: &str) {
+    if s.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_') {
+        out.push(b'"');
+        out.extend_from_slice(s.as_bytes());
+        out.push(b'"');
+    } else {
+        string(out, s);
     }
 }
 

@@ -183,19 +183,16 @@ pub(crate) fn draw(pixmap: &mut Pixmap, frame: &Frame, base: [f32; 3], s: f32, o
         let n = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt();
         l.map(|c| c / n)
     };
-    let mut order: Vec<(f64, usize)> = Vec::with_capacity(frame.triangles.len());
+    let mut order: Vec<(i64, usize)> = Vec::with_capacity(frame.triangles.len());
     for (i, t) in frame.triangles.iter().enumerate() {
-        let Some(p) = t
-            .iter()
-            .map(|&v| frame.vertices.get(v as usize))
-            .collect::<Option<Vec<_>>>()
-        else {
+        let z = |v: u32| frame.vertices.get(v as usize).map(|p| p[2]);
+        let (Some(a), Some(b), Some(c)) = (z(t[0]), z(t[1]), z(t[2])) else {
             continue;
         };
-        let z = (p[0][2] + p[1][2] + p[2][2]) / 3.0;
-        order.push((z, i));
+        order.push((super::depth_key((a + b + c) / 3.0), i));
     }
-    order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Back to front: the stable sort by depth, as keys and positions.
+    order.sort_unstable();
     for (_, i) in order {
         let t = frame.triangles[i];
         let [a, b, c] = t.map(|v| frame.vertices[v as usize]);

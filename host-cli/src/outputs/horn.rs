@@ -25,8 +25,8 @@ use super::chart::{Axis, Chart, Series, write_png, write_svg};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
 use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, label_tile, mesh, picture,
-    pipeline, raster, trimmed,
+    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, depth_key, label_tile,
+    mesh, picture, pipeline, raster, trimmed,
 };
 use crate::records::{Place, Records};
 
@@ -376,7 +376,7 @@ fn draw(pixmap: &mut Pixmap, mesh: &Mesh, view: &View, origin: [f64; 2], at: [f3
         [l[0] / n, l[1] / n, l[2] / n]
     };
     let screen: Vec<P3> = mesh.vertices.iter().map(|&p| view.apply(p)).collect();
-    let mut tris: Vec<(f64, [usize; 3], Option<u32>)> = mesh
+    let tris: Vec<(f64, [usize; 3], Option<u32>)> = mesh
         .groups
         .iter()
         .flat_map(|g| g.1.iter())
@@ -387,7 +387,13 @@ fn draw(pixmap: &mut Pixmap, mesh: &Mesh, view: &View, origin: [f64; 2], at: [f3
             (n[2] > 0.0).then(|| ((a[2] + b[2] + c[2]) / 3.0, t, month))
         })
         .collect();
-    tris.sort_by(|x, y| x.0.total_cmp(&y.0));
+    // Back to front: the stable sort by depth, of keys and positions.
+    let mut order: Vec<(i64, usize)> = tris
+        .iter()
+        .enumerate()
+        .map(|(i, t)| (depth_key(t.0), i))
+        .collect();
+    order.sort_unstable();
     let px = |p: P3| {
         [
             at[0] + ((p[0] - origin[0]) * scale) as f32,
@@ -396,7 +402,7 @@ fn draw(pixmap: &mut Pixmap, mesh: &Mesh, view: &View, origin: [f64; 2], at: [f3
     };
     // No anti-aliasing per triangle (it would leave seams between them);
     // pictures are drawn at twice their size and averaged down instead.
-    for (_, t, month) in tris {
+    for (_, t, month) in order.into_iter().map(|(_, i)| tris[i]) {
         let (a, b, c) = (screen[t[0]], screen[t[1]], screen[t[2]]);
         let n = cross(sub(b, a), sub(c, a));
         let len = dot(n, n).sqrt().max(1e-12);

@@ -637,6 +637,18 @@ pub fn obj(
 /// When `out` fails.
 pub fn obj_part(mesh: &Mesh, style: ObjStyle, before: u64, out: &mut impl Write) -> io::Result<()> {
     let colours = mesh.colours.as_deref().filter(|_| style.vertex_colours);
+    // A colour channel is one of 256 bytes: its text (` 0.41176`) once.
+    let channels: Vec<Vec<u8>> = if colours.is_some() {
+        (0..=255u8)
+            .map(|k| {
+                let mut text = vec![b' '];
+                text::decimals_5(&mut text, f64::from(k) / 255.0);
+                text
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
     let mut line = Vec::with_capacity(96);
     for (i, p) in mesh.positions.iter().enumerate() {
         line.clear();
@@ -647,8 +659,7 @@ pub fn obj_part(mesh: &Mesh, style: ObjStyle, before: u64, out: &mut impl Write)
         }
         if let Some(rgb) = colours.map(|c| c[i]) {
             for k in rgb {
-                line.push(b' ');
-                text::decimals_5(&mut line, f64::from(k) / 255.0);
+                line.extend_from_slice(&channels[usize::from(k)]);
             }
         }
         line.push(b'\n');

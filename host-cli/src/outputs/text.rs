@@ -31,31 +31,57 @@ pub fn int(out: &mut Vec<u8>, n: impl itoa::Integer) {
 /// Appends the exact decimal value of `v`, whole numbers written as
 /// `whole` says.
 ///
-/// The fraction is 16 bits `f`; each digit is `⌊10·f / 2¹⁶⌋`, the rest
-/// `10·f mod 2¹⁶` (below 655 360, so no overflow), until nothing is left:
-/// at most 16 digits, since 10¹⁶ is a multiple of 2¹⁶. Hand-written:
+/// The fraction is 16 bits `f`, worth `f / 2¹⁶ = f · 5¹⁶ / 10¹⁶`: its 16
+/// decimals are those of the integer `f · 5¹⁶` (below 2¹⁶ · 5¹⁶ < 10¹⁶,
+/// so a `u64`), zero-padded to 16 digits, trailing zeros cut. Hand-written:
 /// fixed-point crates print the shortest text that reads back (not every
 /// digit), and float printers would need the `f64` round trip.
 pub fn fx(out: &mut Vec<u8>, v: Fx, whole: Whole) {
+    /// 5¹⁶: one 2⁻¹⁶ in units of 10⁻¹⁶.
+    const UNIT: u64 = 152_587_890_625;
     let bits = v.to_bits();
     if bits < 0 {
         out.push(b'-');
     }
     let magnitude = bits.unsigned_abs();
     int(out, magnitude >> 16);
-    let mut fraction = magnitude & 0xffff;
+    let fraction = u64::from(magnitude & 0xffff);
     if fraction == 0 {
         if whole == Whole::PointZero {
             out.extend_from_slice(b".0");
         }
         return;
     }
-    out.push(b'.');
-    while fraction != 0 {
-        fraction *= 10;
-        // The digit is below 10: `fraction` < 10·2¹⁶ here.
-        out.push(b'0' + (fraction >> 16) as u8);
-        fraction &= 0xffff;
+    let mut digits = [b'.'; 17];
+    // Below 10¹⁶: the 16 digits after the point.
+    let decimals = fraction * UNIT;
+    let (high, low) = (decimals / 100_000_000, decimals % 100_000_000);
+    eight_digits(&mut digits[1..9], high);
+    eight_digits(&mut digits[9..17], low);
+    // `fraction / 2¹⁶` with `fraction = odd · 2ᵏ` (k < 16) has exactly
+    // 16 − k decimals, the last one not 0.
+    let end = 16 - fraction.trailing_zeros() as usize;
+    out.extend_from_slice(&digits[..=end]);
+}
+
+/// The two digits of each number below 100, `00` to `99`.
+const PAIRS: &[u8; 200] = b"0001020304050607080910111213141516171819\
+        2021222324252627282930313233343536373839\
+        4041424344454647484950515253545556575859\
+        6061626364656667686970717273747576777879\
+        8081828384858687888990919293949596979899";
+
+/// Writes `n` (below 10⁸) as exactly 8 digits, zero-padded, into `out`.
+fn eight_digits(out: &mut [u8], n: u64) {
+    // Each quotient is below 100.
+    let n = n as u32;
+    let (upper, lower) = (n / 10_000, n % 10_000);
+    for (k, pair) in [upper / 100, upper % 100, lower / 100, lower % 100]
+        .into_iter()
+        .enumerate()
+    {
+        let at = 2 * pair as usize;
+        out[2 * k..2 * k + 2].copy_from_slice(&PAIRS[at..at + 2]);
     }
 }
 
@@ -102,14 +128,16 @@ pub fn decimals_5(out: &mut Vec<u8>, x: f64) {
         out.push(b'-');
     }
     int(out, rounded / 100_000);
-    let mut decimals = [b'.', b'0', b'0', b'0', b'0', b'0'];
-    let mut rest = rounded % 100_000;
-    for digit in decimals[1..].iter_mut().rev() {
-        // Below 10: `rest % 10`.
-        *digit = b'0' + (rest % 10) as u8;
-        rest /= 10;
-    }
-    out.extend_from_slice(&decimals);
+    // Below 10⁵: the first digit, then two pairs.
+    let rest = (rounded % 100_000) as u32;
+    let (first, pairs) = (rest / 10_000, rest % 10_000);
+    let pair = |n: u32| {
+        let at = 2 * n as usize;
+        [PAIRS[at], PAIRS[at + 1]]
+    };
+    let ([a, b], [c, d]) = (pair(pairs / 100), pair(pairs % 100));
+    // `first` is below 10.
+    out.extend_from_slice(&[b'.', b'0' + first as u8, a, b, c, d]);
 }
 
 /// `x` as a fixed-point value, when it is one exactly (every coordinate
@@ -135,7 +163,7 @@ pub fn float(out: &mut Vec<u8>, x: f64) {
     // an exponent; Rust's `{}` writes `1` and never uses an exponent.
     if let Some(bare) = text.strip_suffix(".0") {
         out.extend_from_slice(bare.as_bytes());
-    } else if text.contains(['e', 'N', 'i']) {
+    } else if text.bytes().any(|b| matches!(b, b'e' | b'N' | b'i')) {
         let mut s = String::new();
         let _ = write!(s, "{x}");
         out.extend_from_slice(s.as_bytes());

@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 
 use super::Item;
+use crate::outputs::depth_key as key;
 
 /// The bytes of items held before they are sorted and spilled as a run.
 pub(crate) const BUDGET: usize = 1 << 20;
@@ -35,12 +36,6 @@ fn weight(item: &Item) -> usize {
         Item::Polygon { points, .. } => points.len(),
     };
     size_of::<(f64, Item)>() + points * size_of::<[f64; 3]>()
-}
-
-/// `depth` as an integer that orders as [`f64::total_cmp`] does.
-fn key(depth: f64) -> i64 {
-    let bits = depth.to_bits() as i64;
-    bits ^ ((((bits >> 63) as u64) >> 1) as i64)
 }
 
 impl Sort {
