@@ -15,8 +15,8 @@
 # verification, builds and runs the firmware with two user scenarios
 # (MORPHOGEN_SCENARIOS: a changed ram-horn made on the fly and the user body
 # examples/wagging-tail.toml, verified against fixtures blessed on the host),
-# sends four scenarios to the built-in firmware over UART0 (`morphogen send`,
-# the firmware's `--serve 4`) and checks its capture and OLED,
+# sends five scenarios to the built-in firmware over UART0 (`morphogen send`,
+# the firmware's `--serve 5`) and checks its capture and OLED,
 # and rewrites firmware-example/REPORT.md (sizes and costs of the built-in
 # presets).
 #
@@ -193,34 +193,49 @@ done
 
 # ---- run in QEMU and verify ----------------------------------------------------
 qemu_cpu() { case "$1" in thumbv7em-*) echo cortex-m4 ;; *) echo cortex-m3 ;; esac; }
-# qemu_run TARGET ELF NAME: boots ELF, UART0 → $work/NAME.bin, defmt log →
-# $work/NAME.log, the OLED after each preset → $work/screens-NAME/; fails
-# unless every preset streamed and was photographed.
 sockets="$(mktemp -d)" # short paths: UNIX sockets allow ~100 bytes
 trap 'rm -rf "$user_dir" "$sockets"' EXIT
-qemu_run() {
-  local t="$1" elf="$2" name="$3" status capturer capture_status
-  say "QEMU lm3s6965evb -cpu $(qemu_cpu "$t"): $name"
+# boot NAME ELF CPU FEED DONE [ARG...]: boots ELF on QEMU's -cpu CPU with the
+# semihosting arguments `--screen-sync ARG…`; UART0 goes to $work/NAME.bin
+# and, unless FEED is empty, is fed FEED through a socket
+# (`oled-screens.py feed`); the OLED after each stream's last frame →
+# $work/screens-NAME/, the defmt log → $work/NAME.log. Fails unless the log
+# has the line DONE, every picture was taken and the stack kept its margin.
+boot() {
+  local name="$1" elf="$2" cpu="$3" feed="$4" done="$5" serial0 status capturer feeder="" capture_status feed_status=0 arg
+  shift 5
+  local semihosting="enable=on,target=native,arg=$(basename "$elf" .elf),arg=--screen-sync"
+  for arg in "$@"; do semihosting+=",arg=$arg"; done
+  say "QEMU lm3s6965evb -cpu $cpu: $name${feed:+, fed $(basename "$feed") ($(stat -c %s "$feed") bytes)}"
   rm -f "$sockets"/*
   python3 "$root/scripts/oled-screens.py" capture "$sockets/sync" "$sockets/qmp" "$work/screens-$name" \
     >"$work/$name.screens.log" 2>&1 &
   capturer=$!
+  serial0="file:$work/$name.bin"
+  if [ -n "$feed" ]; then
+    serial0="unix:$sockets/rx,server=on,wait=on"
+    python3 "$root/scripts/oled-screens.py" feed "$sockets/rx" "$feed" "$work/$name.bin" >"$work/$name.feed.log" 2>&1 &
+    feeder=$!
+  fi
   set +e
-  timeout "${QEMU_TIMEOUT:-600}" qemu-system-arm -machine lm3s6965evb -cpu "$(qemu_cpu "$t")" \
+  timeout "${QEMU_TIMEOUT:-600}" qemu-system-arm -machine lm3s6965evb -cpu "$cpu" \
     -display none -monitor none -parallel none \
-    -semihosting-config enable=on,target=native,arg=morphogen-firmware,arg=--screen-sync \
+    -semihosting-config "$semihosting" \
     -icount shift=0 \
-    -serial "file:$work/$name.bin" -serial "unix:$sockets/sync,server=on,wait=on" \
+    -serial "$serial0" -serial "unix:$sockets/sync,server=on,wait=on" \
     -qmp "unix:$sockets/qmp,server=on,wait=off" \
     -kernel "$elf" 2>"$work/$name.qemu.err" \
     | defmt-print -e "$elf" >"$work/$name.log" 2>&1
   status=("${PIPESTATUS[@]}")
   wait "$capturer"; capture_status=$?
+  [ -z "$feeder" ] || { wait "$feeder"; feed_status=$?; }
   set -e
   cat "$work/$name.log" "$work/$name.screens.log"
-  [ "${status[0]}" -eq 0 ] || { cat "$work/$name.qemu.err" >&2; die "$name: QEMU exited ${status[0]} (firmware panic, fault, failed preset or timeout)"; }
-  grep -q "all .* presets streamed" "$work/$name.log" || die "$name: the firmware did not report completion"
+  [ -z "$feeder" ] || cat "$work/$name.feed.log"
+  [ "${status[0]}" -eq 0 ] || { cat "$work/$name.qemu.err" >&2; die "$name: QEMU exited ${status[0]} (panic, fault, failed run or timeout)"; }
+  grep -q "$done" "$work/$name.log" || die "$name: no \"$done\" in the log"
   [ "$capture_status" -eq 0 ] || die "$name: the OLED pictures could not be taken"
+  [ "$feed_status" -eq 0 ] || die "$name: $(basename "$feed") could not be fed"
   stack_check "$name"
 }
 
@@ -252,55 +267,19 @@ oled_check() {
 for t in "${targets[@]}"; do
   elf="$tdir/$t/release/morphogen-firmware"
   cp "$elf" "$work/$t.elf"
-  qemu_run "$t" "$elf" "$t"
+  boot "$t" "$elf" "$(qemu_cpu "$t")" "" "all .* presets streamed"
   say "verify $t capture ($(stat -c %s "$work/$t.bin") bytes)"
   verify "$work/$t.bin" "$work/$t.verify.log" || { cat "$work/$t.verify.log"; die "$t: capture does not match the fixtures"; }
   cat "$work/$t.verify.log"
   oled_check "$t"
 done
 # ---- the receiver ------------------------------------------------------------
-# fed_run NAME ELF FEED DONE ARG...: boots ELF (thumbv7m) with the
-# semihosting arguments ARG…, feeds FEED into its UART0 and captures what it
-# writes there → $work/NAME.bin, photographs its OLED after each stream's
-# last frame → $work/screens-NAME/, its defmt log → $work/NAME.log; fails
-# unless the log has the line DONE.
 cp "$tdir/thumbv7m-none-eabi/release/morphogen-receiver" "$work/receiver.elf"
-fed_run() {
-  local name="$1" elf="$2" feed="$3" done="$4" status capturer feeder capture_status feed_status arg
-  shift 4
-  local semihosting="enable=on,target=native,arg=$(basename "$elf" .elf),arg=--screen-sync"
-  for arg in "$@"; do semihosting+=",arg=$arg"; done
-  say "QEMU lm3s6965evb: $name, fed $(basename "$feed") ($(stat -c %s "$feed") bytes)"
-  rm -f "$sockets"/*
-  python3 "$root/scripts/oled-screens.py" capture "$sockets/sync" "$sockets/qmp" "$work/screens-$name" \
-    >"$work/$name.screens.log" 2>&1 &
-  capturer=$!
-  python3 "$root/scripts/oled-screens.py" feed "$sockets/rx" "$feed" "$work/$name.bin" >"$work/$name.feed.log" 2>&1 &
-  feeder=$!
-  set +e
-  timeout "${QEMU_TIMEOUT:-600}" qemu-system-arm -machine lm3s6965evb -cpu cortex-m3 \
-    -display none -monitor none -parallel none \
-    -semihosting-config "$semihosting" \
-    -icount shift=0 \
-    -serial "unix:$sockets/rx,server=on,wait=on" -serial "unix:$sockets/sync,server=on,wait=on" \
-    -qmp "unix:$sockets/qmp,server=on,wait=off" \
-    -kernel "$elf" 2>"$work/$name.qemu.err" \
-    | defmt-print -e "$elf" >"$work/$name.log" 2>&1
-  status=("${PIPESTATUS[@]}")
-  wait "$capturer"; capture_status=$?
-  wait "$feeder"; feed_status=$?
-  set -e
-  cat "$work/$name.log" "$work/$name.feed.log" "$work/$name.screens.log"
-  [ "${status[0]}" -eq 0 ] || { cat "$work/$name.qemu.err" >&2; die "$name: QEMU exited ${status[0]} (panic, fault, failed run or timeout)"; }
-  grep -q "$done" "$work/$name.log" || die "$name: no \"$done\" in the log"
-  [ "$capture_status" -eq 0 ] || die "$name: the OLED pictures could not be taken"
-  [ "$feed_status" -eq 0 ] || die "$name: $(basename "$feed") could not be fed"
-}
 
 # Every stream of the sender's capture, drawn exactly as the sender drew it.
 sent="${targets[0]}"
 streams=$(wc -l <"$work/screens-$sent/captured.txt")
-fed_run receiver "$work/receiver.elf" "$work/$sent.bin" "all $streams streams received" --streams "$streams"
+boot receiver "$work/receiver.elf" cortex-m3 "$work/$sent.bin" "all $streams streams received" --streams "$streams"
 [ "$(grep -c "report received .* skipped=0 bad=0" "$work/receiver.log")" -eq "$streams" ] \
   || die "receiver: a frame of an intact capture was skipped"
 say "OLED: the receiver against the sender"
@@ -331,7 +310,7 @@ open(out, "wb").write(bytes(damaged))
 print(len(starts), *hit)
 PY
 )
-fed_run damaged "$work/receiver.elf" "$damaged" "all 1 streams received" --streams 1
+boot damaged "$work/receiver.elf" cortex-m3 "$damaged" "all 1 streams received" --streams 1
 for k in "$mid" "$last"; do
   grep -q "frame $k skipped (damaged)" "$work/damaged.log" || die "damaged stream: frame $k was not skipped"
 done
@@ -358,7 +337,7 @@ echo "OLED pictures: $screens"
 # ---- user scenarios (MORPHOGEN_SCENARIOS) -----------------------------------------
 # The firmware built above from the two user scenarios alone streams exactly
 # what the host blesses from the same files.
-qemu_run thumbv7m-none-eabi "$work/user.elf" user
+boot user "$work/user.elf" cortex-m3 "" "all .* presets streamed"
 grep -q "all 2 presets streamed" "$work/user.log" || die "user scenarios: the firmware did not run exactly two presets"
 for name in "$user_name" wagging-tail; do
   grep -q "report preset=$name " "$work/user.log" || die "user scenarios: the firmware did not run $name"
@@ -385,25 +364,24 @@ echo "user scenarios: $user_name and wagging-tail streamed on the firmware match
 oled_check user --fixtures "$user_dir/fixtures"
 
 # ---- scenarios sent over UART0 (morphogen send) ------------------------------------
-# The built-in firmware, started with `--serve 4`, waits for scenarios on
+# The built-in firmware, started with `--serve 5`, waits for scenarios on
 # UART0 and runs what `morphogen send` wrote: my-horn (the user scenario
 # above), abop-shrub (an L-system), long-bone-random (a bone: the largest
-# message) and growth-curve. Its capture must match the fixtures bit for bit
+# message), growth-curve and croton-mcu (a mosaic). Its capture must match the fixtures bit for bit
 # and its OLED the host's pictures pixel for pixel.
 sent_feed="$work/sent.feed"
 : >"$sent_feed"
 : >"$work/send.log"
-for scenario in "$user_toml" abop-shrub long-bone-random growth-curve; do
+for scenario in "$user_toml" abop-shrub long-bone-random growth-curve croton-mcu; do
   (cd "$root" && "${send_cmd[@]}" "$scenario" "$work/sent.one") >>"$work/send.log" 2>&1 \
     || { cat "$work/send.log"; die "morphogen send $scenario failed"; }
   cat "$work/sent.one" >>"$sent_feed"
 done
 cat "$work/send.log"
-for name in abop-shrub long-bone-random growth-curve; do
+for name in abop-shrub long-bone-random growth-curve croton-mcu; do
   cp -r "$root/fixtures/$name" "$user_dir/fixtures/"
 done
-fed_run served "$work/thumbv7m-none-eabi.elf" "$sent_feed" "all 4 presets streamed" --serve 4
-stack_check served
+boot served "$work/thumbv7m-none-eabi.elf" cortex-m3 "$sent_feed" "all 5 presets streamed" --serve 5
 say "verify the capture of the sent scenarios ($(stat -c %s "$work/served.bin") bytes)"
 verify "$work/served.bin" "$work/served.verify.log" --fixtures "$user_dir/fixtures" \
   || { cat "$work/served.verify.log"; die "sent scenarios: the capture does not match the fixtures"; }

@@ -13,7 +13,8 @@
 //!
 //! Semihosting arguments (QEMU's `-semihosting-config arg=…`): with
 //! `--serve N` it runs, instead of its presets, N scenarios sent over UART0
-//! by `morphogen send` (a growth curve, a horn, an L-system or a bone:
+//! by `morphogen send` (a growth curve, a horn, an L-system, a bone or a
+//! flat mosaic:
 //! `morphogen::sent`); the RTT build (hardware) runs its presets and then
 //! serves for ever. With `--screen-sync` it writes each preset's name on
 //! UART1 once its last frame is shown and waits for a byte back, so that

@@ -41,7 +41,13 @@ fn fixture_params(name: &str) -> u64 {
 #[test]
 fn a_sent_scenario_carries_the_fixture_header() {
     let dir = tempfile::tempdir().unwrap();
-    for name in ["ram-horn", "abop-shrub", "long-bone-random", "growth-curve"] {
+    for name in [
+        "ram-horn",
+        "abop-shrub",
+        "long-bone-random",
+        "growth-curve",
+        "croton-mcu",
+    ] {
         let file = dir.path().join(format!("{name}.sent"));
         let o = send(&[name, file.to_str().unwrap()]);
         assert_eq!(o.status.code(), Some(0), "{o:?}");
@@ -78,15 +84,23 @@ fn a_changed_scenario_is_sent_as_changed_and_to_standard_output() {
 fn what_does_not_fit_a_message_is_refused_with_the_reason() {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("x.sent");
-    for (name, model) in [("croton-mcu", "mosaic"), ("horse-trot", "body")] {
+    for (name, why) in [
+        (
+            "horse-trot",
+            "a body cannot be sent to a device: its mesh and tables do not fit a message; \
+             build it into the firmware with MORPHOGEN_SCENARIOS",
+        ),
+        (
+            "croton",
+            "a scenario this large cannot be sent to a device: \
+             it does not fit the firmware's memory (`Model::fits_mcu`)",
+        ),
+    ] {
         let o = send(&[name, file.to_str().unwrap()]);
         assert_eq!(o.status.code(), Some(2));
         assert_eq!(
             String::from_utf8_lossy(&o.stderr),
-            format!(
-                "error: {name}: a {model} cannot be sent to a device (its data does not fit a message); \
-                 build it into the firmware with MORPHOGEN_SCENARIOS\n"
-            )
+            format!("error: {name}: {why}\n")
         );
     }
     assert!(!file.exists());

@@ -44,7 +44,9 @@
 //! vertices for a 128×64 OLED); a triangle naming a vertex that did not
 //! fit, or one that has not come, is not filled. Since runs are
 //! deterministic, a device can run a preset once into [`Bounds`] to fit the
-//! view, and again into the rig (see [`Rig::sink`]).
+//! view, and again into the rig (see [`Rig::sink`]); it sends the bounds
+//! after the header ([`Record::Extent`]) so that a device that only
+//! receives the stream can fit the same view: a [`Receiver`].
 //!
 //! ```
 //! use embedded_graphics::mock_display::MockDisplay;

@@ -1,0 +1,58 @@
+//! Built-in scenarios through `morphogen::sent`: what a device reads is
+//! the preset the host runs (issue 17, item 6).
+
+use morphogen::sent::{MAX_SENT, SentModel, SentReader, SentScenario};
+
+/// `sent` framed and read back as the firmware reads it.
+fn through_the_wire(sent: &SentScenario) -> SentScenario {
+    let mut frame = [0u8; MAX_SENT + 3];
+    let len = sent.encode(&mut frame).unwrap();
+    let mut buffer = [0u8; MAX_SENT];
+    let mut reader = SentReader::new(&mut buffer);
+    let mut read: Vec<_> = frame[..len]
+        .iter()
+        .filter_map(|&b| reader.push(b))
+        .collect();
+    assert_eq!(read.len(), 1);
+    read.pop().unwrap().unwrap()
+}
+
+#[test]
+fn every_sendable_built_in_arrives_as_it_was() {
+    let mut sent = 0;
+    for scenario in morphogen_scenario::builtins() {
+        // What `morphogen send` sends: grammars without their comments.
+        let Ok(message) = morphogen_scenario::firmware::sent(&scenario, 1) else {
+            continue;
+        };
+        let back = through_the_wire(&message);
+        assert_eq!(back, message, "{}", scenario.name());
+        assert_eq!(
+            back.params,
+            scenario.with_preset(|p| p.model.params_digest())
+        );
+        // The preset it lends is the one it was made from.
+        if !matches!(back.model, SentModel::LSystem(_) | SentModel::Bones { .. }) {
+            let model = back.with_preset(|p| format!("{:?}", p.model));
+            assert_eq!(model, scenario.with_preset(|p| format!("{:?}", p.model)));
+        }
+        sent += 1;
+    }
+    // The growth curve, two horns, four L-systems, three bones, croton-mcu.
+    assert_eq!(sent, 11);
+}
+
+#[test]
+fn momentum_is_refused_with_its_reason() {
+    let croton = morphogen_scenario::builtin("croton-mcu").unwrap();
+    let sets = [("mosaic.momentum".to_string(), "0.5".to_string())];
+    let moving = croton.clone_with_sets(&sets).unwrap();
+    let e = moving
+        .with_preset(|p| SentScenario::new(p, 1, 0))
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "a mosaic with momentum cannot be sent to a device: \
+         its velocities do not fit a device's memory"
+    );
+}
