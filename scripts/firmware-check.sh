@@ -15,8 +15,8 @@
 # verification, builds and runs the firmware with two user scenarios
 # (MORPHOGEN_SCENARIOS: a changed ram-horn made on the fly and the user body
 # examples/wagging-tail.toml, verified against fixtures blessed on the host),
-# sends five scenarios to the built-in firmware over UART0 (`morphogen send`,
-# the firmware's `--serve 5`) and checks its capture and OLED,
+# sends four scenarios to the built-in firmware over UART0 (`morphogen send`,
+# the firmware's `--serve 4`) and checks its capture and OLED,
 # and rewrites firmware-example/REPORT.md (sizes and costs of the built-in
 # presets).
 #
@@ -364,24 +364,24 @@ echo "user scenarios: $user_name and wagging-tail streamed on the firmware match
 oled_check user --fixtures "$user_dir/fixtures"
 
 # ---- scenarios sent over UART0 (morphogen send) ------------------------------------
-# The built-in firmware, started with `--serve 5`, waits for scenarios on
+# The built-in firmware, started with `--serve 4`, waits for scenarios on
 # UART0 and runs what `morphogen send` wrote: my-horn (the user scenario
 # above), abop-shrub (an L-system), long-bone-random (a bone: the largest
-# message), growth-curve and croton-mcu (a mosaic). Its capture must match the fixtures bit for bit
+# message) and growth-curve. Its capture must match the fixtures bit for bit
 # and its OLED the host's pictures pixel for pixel.
 sent_feed="$work/sent.feed"
 : >"$sent_feed"
 : >"$work/send.log"
-for scenario in "$user_toml" abop-shrub long-bone-random growth-curve croton-mcu; do
+for scenario in "$user_toml" abop-shrub long-bone-random growth-curve; do
   (cd "$root" && "${send_cmd[@]}" "$scenario" "$work/sent.one") >>"$work/send.log" 2>&1 \
     || { cat "$work/send.log"; die "morphogen send $scenario failed"; }
   cat "$work/sent.one" >>"$sent_feed"
 done
 cat "$work/send.log"
-for name in abop-shrub long-bone-random growth-curve croton-mcu; do
+for name in abop-shrub long-bone-random growth-curve; do
   cp -r "$root/fixtures/$name" "$user_dir/fixtures/"
 done
-boot served "$work/thumbv7m-none-eabi.elf" cortex-m3 "$sent_feed" "all 5 presets streamed" --serve 5
+boot served "$work/thumbv7m-none-eabi.elf" cortex-m3 "$sent_feed" "all 4 presets streamed" --serve 4
 say "verify the capture of the sent scenarios ($(stat -c %s "$work/served.bin") bytes)"
 verify "$work/served.bin" "$work/served.verify.log" --fixtures "$user_dir/fixtures" \
   || { cat "$work/served.verify.log"; die "sent scenarios: the capture does not match the fixtures"; }

@@ -5,10 +5,10 @@
 //! it into a [`SentScenario`] of fixed capacity, then runs it as it runs
 //! its built-in presets.
 //!
-//! A growth curve, a horn, an L-system, a bone or a flat mosaic can be
-//! sent. A body's mesh and tables, a mosaic's mask, anisotropy field or
-//! surface are far bigger than a device's spare RAM: such scenarios are
-//! built in (`MORPHOGEN_SCENARIOS`).
+//! A growth curve, a horn, an L-system or a bone can be sent. A body's
+//! mesh and tables do not fit a message, and a mosaic's parameters do not
+//! fit the stack the firmware has left: they are built in
+//! (`MORPHOGEN_SCENARIOS`).
 
 use serde::{Deserialize, Serialize};
 
@@ -17,7 +17,6 @@ use crate::fx::Fx;
 use crate::growth::Sigmoid;
 use crate::growth_curve;
 use crate::horn::{HornParams, Module};
-use crate::mosaic::{self, CellType, Domain, MAX_TYPES};
 use crate::preset::{Model, Preset};
 use crate::shrinkwrap::WrapParams;
 use crate::stream::{Deframer, FORMAT_VERSION, FrameError, PresetName};
@@ -29,8 +28,6 @@ pub const SENT_OUTLINE: usize = 32;
 /// Bytes of a sent L-system grammar (the built-in ones have at most 493
 /// without their comments).
 pub const SENT_GRAMMAR: usize = 512;
-/// Days listed in a sent mosaic's `frames`.
-pub const SENT_DAYS: usize = 64;
 /// The largest message: a [`SentScenario`]'s postcard bytes and their
 /// CRC-32 (the frame that carries it is at most 3 bytes longer).
 pub const MAX_SENT: usize = 640;
@@ -69,36 +66,6 @@ pub enum SentModel {
         /// As [`BonesParams::frames`].
         frames: Frames,
     },
-    /// A mosaic on a flat domain, without a mask or an anisotropy field.
-    Mosaic(SentMosaic),
-}
-
-/// A flat mosaic's [`mosaic::Params`] in fixed-capacity storage (no mask,
-/// anisotropy, surface or momentum: a device has no room for them).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SentMosaic {
-    /// As [`mosaic::Params::domain`].
-    pub domain: Domain,
-    /// As [`mosaic::Params::initial_cells`].
-    pub initial_cells: u32,
-    /// As [`mosaic::Params::types`].
-    pub types: heapless::Vec<CellType, MAX_TYPES>,
-    /// As [`mosaic::Params::adhesion`].
-    pub adhesion: [[Fx; MAX_TYPES]; MAX_TYPES],
-    /// As [`mosaic::Params::mutation`].
-    pub mutation: [[Fx; MAX_TYPES]; MAX_TYPES],
-    /// As [`mosaic::Params::radius_weight`].
-    pub radius_weight: Fx,
-    /// As [`mosaic::Params::push_weight`].
-    pub push_weight: Fx,
-    /// As [`mosaic::Params::initial_relaxations`].
-    pub initial_relaxations: u16,
-    /// As [`mosaic::Params::daily_relaxations`].
-    pub daily_relaxations: u16,
-    /// As [`mosaic::Params::days`].
-    pub days: u16,
-    /// The days streamed ([`mosaic::Frames::Days`]), or every day (`None`).
-    pub frames: Option<heapless::Vec<u16, SENT_DAYS>>,
 }
 
 /// [`HornParams`] in fixed-capacity storage.
@@ -226,52 +193,6 @@ fn fill<T: Copy, const N: usize>(
     })
 }
 
-impl SentMosaic {
-    /// `m` in fixed-capacity storage.
-    ///
-    /// # Errors
-    /// What a device has no room for, or more than [`SENT_DAYS`] frames.
-    fn new(m: &mosaic::Params<'_>) -> Result<SentMosaic, SentError> {
-        let refuse = |what, why| Err(SentError::NotSendable { what, why });
-        let built_in = "its bitmap does not fit a message; \
-                        build it into the firmware with MORPHOGEN_SCENARIOS";
-        if m.mask.is_some() {
-            return refuse("a mosaic with a mask", built_in);
-        }
-        if m.anisotropy.is_some() {
-            return refuse("a mosaic with an anisotropy field", built_in);
-        }
-        if m.surface.is_some() {
-            return refuse(
-                "a mosaic on a surface",
-                "the firmware has no surface mosaics",
-            );
-        }
-        if m.momentum != Fx::ZERO {
-            return refuse(
-                "a mosaic with momentum",
-                "its velocities do not fit a device's memory",
-            );
-        }
-        Ok(SentMosaic {
-            domain: m.domain,
-            initial_cells: m.initial_cells,
-            types: fill(m.types, "mosaic::MAX_TYPES")?,
-            adhesion: m.adhesion,
-            mutation: m.mutation,
-            radius_weight: m.radius_weight,
-            push_weight: m.push_weight,
-            initial_relaxations: m.initial_relaxations,
-            daily_relaxations: m.daily_relaxations,
-            days: m.days,
-            frames: match m.frames {
-                mosaic::Frames::EveryDay => None,
-                mosaic::Frames::Days(days) => Some(fill(days, "SENT_DAYS")?),
-            },
-        })
-    }
-}
-
 /// A grammar's text, or the limit it exceeds.
 fn text(grammar: &str) -> Result<heapless::String<SENT_GRAMMAR>, SentError> {
     heapless::String::try_from(grammar).map_err(|()| SentError::Capacity {
@@ -285,9 +206,7 @@ impl SentScenario {
     /// parameter digest `params`.
     ///
     /// # Errors
-    /// [`SentError::NotSendable`] for a body, a mosaic with a mask, an
-    /// anisotropy field, a surface or momentum, and a scenario too large
-    /// for the firmware's memory;
+    /// [`SentError::NotSendable`] for a body or a mosaic;
     /// [`SentError::Capacity`] for a part bigger than the message holds.
     pub fn new(preset: &Preset<'_>, seed: u64, params: u64) -> Result<SentScenario, SentError> {
         let model = match preset.model {
@@ -308,7 +227,14 @@ impl SentScenario {
                 wrap: b.wrap.into(),
                 frames: b.frames,
             },
-            Model::Mosaic(m) => SentModel::Mosaic(SentMosaic::new(m)?),
+            Model::Mosaic(_) => {
+                return Err(SentError::NotSendable {
+                    what: "a mosaic",
+                    why: "the parameters it lends a run take 288 B of stack, which the firmware \
+                          (its RAM 99 % used) does not have; build it into the firmware with \
+                          MORPHOGEN_SCENARIOS",
+                });
+            }
             Model::Body(_) => {
                 return Err(SentError::NotSendable {
                     what: "a body",
@@ -317,12 +243,6 @@ impl SentScenario {
                 });
             }
         };
-        if !preset.model.fits_mcu() {
-            return Err(SentError::NotSendable {
-                what: "a scenario this large",
-                why: "it does not fit the firmware's memory (`Model::fits_mcu`)",
-            });
-        }
         let mut name = PresetName::new();
         name.push_str(preset.name)
             .map_err(|()| SentError::Capacity {
@@ -377,29 +297,6 @@ impl SentScenario {
                     frames: *frames,
                 };
                 f(&preset(Model::Bones(&params)))
-            }
-            SentModel::Mosaic(m) => {
-                let params = mosaic::Params {
-                    domain: m.domain,
-                    initial_cells: m.initial_cells,
-                    types: &m.types,
-                    adhesion: m.adhesion,
-                    mutation: m.mutation,
-                    radius_weight: m.radius_weight,
-                    push_weight: m.push_weight,
-                    initial_relaxations: m.initial_relaxations,
-                    daily_relaxations: m.daily_relaxations,
-                    momentum: Fx::ZERO,
-                    days: m.days,
-                    mask: None,
-                    anisotropy: None,
-                    frames: m
-                        .frames
-                        .as_ref()
-                        .map_or(mosaic::Frames::EveryDay, |days| mosaic::Frames::Days(days)),
-                    surface: None,
-                };
-                f(&preset(Model::Mosaic(&params)))
             }
             SentModel::Horn(h) => {
                 let params = HornParams {

@@ -13,8 +13,7 @@
 //!
 //! Semihosting arguments (QEMU's `-semihosting-config arg=…`): with
 //! `--serve N` it runs, instead of its presets, N scenarios sent over UART0
-//! by `morphogen send` (a growth curve, a horn, an L-system, a bone or a
-//! flat mosaic:
+//! by `morphogen send` (a growth curve, a horn, an L-system or a bone:
 //! `morphogen::sent`); the RTT build (hardware) runs its presets and then
 //! serves for ever. With `--screen-sync` it writes each preset's name on
 //! UART1 once its last frame is shown and waits for a byte back, so that
@@ -152,8 +151,7 @@ fn main() -> ! {
     // for ever on hardware (the RTT build).
     let mut served = 0u32;
     while serve.map_or(cfg!(feature = "rtt"), |n| served < n) {
-        let sent = stage.receive(sent);
-        failed += u32::from(!sent.with_preset(|p| stage.show(p, sent.seed, sent.params)));
+        failed += u32::from(!stage.serve(sent));
         served += 1;
     }
     let Ok(()) = stage.uart.flush();
@@ -207,9 +205,7 @@ impl Stage {
             }
         };
         let start = self.clock.now();
-        let mut bounds = Bounds::new();
-        let fitted =
-            preset::run_with_digest(preset, seed, params, runner, &mut bounds, &mut |_| {});
+        let (fitted, bounds) = fit(preset, seed, params, runner);
         let fit_ticks = self.clock.now().wrapping_sub(start);
         let start = self.clock.now();
         let mut rig = Rig::new(
@@ -254,6 +250,15 @@ impl Stage {
         result.is_ok()
     }
 
+    /// Receives a scenario into `slot` and shows it; whether it ran to its
+    /// end. Never inlined: the parameters it lends the run stay off
+    /// `main`'s frame, under every preset's run.
+    #[inline(never)]
+    fn serve(&mut self, slot: &mut MaybeUninit<SentScenario>) -> bool {
+        let sent = self.receive(slot);
+        sent.with_preset(|p| self.show(p, sent.seed, sent.params))
+    }
+
     /// Waits for a scenario on UART0 (`morphogen send`), reading its frame
     /// into the idle cell plane, and keeps it in `slot`; a damaged or
     /// unreadable one is logged and skipped. Never inlined: the decoded
@@ -271,6 +276,20 @@ impl Stage {
             }
         }
     }
+}
+
+/// Runs `preset` into a [`Bounds`], to fit the OLED's view to it. Never
+/// inlined: its frame is gone before the run that streams and draws.
+#[inline(never)]
+fn fit<'r>(
+    preset: &Preset<'r>,
+    seed: u64,
+    params: u64,
+    runner: &mut Runner<'r>,
+) -> (Result<(), morphogen::Error>, Bounds) {
+    let mut bounds = Bounds::new();
+    let fitted = preset::run_with_digest(preset, seed, params, runner, &mut bounds, &mut |_| {});
+    (fitted, bounds)
 }
 
 /// The runner in `slot`, reset, for a run whose parameters live for `'r`.

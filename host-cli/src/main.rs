@@ -161,8 +161,8 @@ enum Command {
     /// and draw it with --rig. Exit 1 on a mismatch or a stream without a
     /// fixture (with --strict, on any bad frame too).
     Listen(listen::Args),
-    /// Send a scenario (a growth curve, a horn, an L-system, a bone or a
-    /// flat mosaic) to a device
+    /// Send a scenario (a growth curve, a horn, an L-system or a bone) to a
+    /// device
     /// over a serial port, or into a file: the firmware runs it and
     /// streams and draws the result, without being reflashed.
     Send(send::Args),

@@ -16,9 +16,8 @@ use crate::{Outcome, exec, say};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The scenario: a built-in preset's name or a scenario file. A growth
-    /// curve, a horn, an L-system, a bone or a flat mosaic can be sent;
-    /// bodies and mosaics with a mask are built into the firmware
-    /// (MORPHOGEN_SCENARIOS).
+    /// curve, a horn, an L-system or a bone can be sent; bodies and
+    /// mosaics are built into the firmware (MORPHOGEN_SCENARIOS).
     scenario: String,
     /// Where it goes: a serial port (`/dev/ttyUSB0`, `COM3`), a file (the
     /// message, for a test or to send later), or `-` for standard output.

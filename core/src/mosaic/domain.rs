@@ -3,12 +3,12 @@
 //! along, walled) — the thesis's control cylinder unrolled (Sec. 3.2.2).
 //! Distances respect periodicity (minimum image).
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use crate::fx::Fx;
 
 /// A rectangle `[0, size_u) × [0, size_v)` whose axes may wrap.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Domain {
     /// Extent along u and v (positive, at most 16 384).

@@ -1,7 +1,7 @@
 //! The parameters of an MClone run (thesis Table 3.1 per type and pair of
 //! types, Table 4.1 per figure).
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use super::control::{Anisotropy, Mask};
 use super::domain::Domain;
@@ -12,7 +12,7 @@ use crate::fx::Fx;
 pub const MAX_TYPES: usize = 4;
 
 /// What a type of cell is (thesis Table 3.1).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CellType {
     /// Display colour (RGB).
