@@ -25,6 +25,7 @@ step "lint"
 cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy -p morphogen --all-targets --features rig,defmt -- -D warnings
 (cd firmware-example && cargo clippy --release -- -D warnings)
+(cd firmware-example && cargo clippy --release --no-default-features --features semihosting -- -D warnings)
 # firmware-rp2040 shares firmware-example's target folder: the host-side
 # build dependencies (the scenario compiler) are built once.
 (cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo clippy --release -- -D warnings)

@@ -182,10 +182,18 @@ say "build thumbv7m-none-eabi with MORPHOGEN_SCENARIOS=$user_toml,$user_body"
 MORPHOGEN_SCENARIOS="$user_toml,$user_body" cargo build --release --target thumbv7m-none-eabi
 cp "$tdir/thumbv7m-none-eabi/release/morphogen-firmware" "$work/user.elf"
 
-# The RTT variant (real hardware) next: it shares the ELF path of the
+# The RTT variant (real hardware) and the stream-only one (no `oled`, no
+# `serve`: issue 15's flash figure) next: they share the ELF path of the
 # default thumbv7m build, which the loop below then rebuilds.
 say "build (rtt feature, thumbv7m-none-eabi)"
-env -u MORPHOGEN_SCENARIOS cargo build --release --no-default-features --features rtt --target thumbv7m-none-eabi
+env -u MORPHOGEN_SCENARIOS cargo build --release --no-default-features --features rtt,oled,serve --target thumbv7m-none-eabi
+say "build (stream only: no oled, no serve; thumbv7m-none-eabi)"
+env -u MORPHOGEN_SCENARIOS cargo build --release --no-default-features --features semihosting --target thumbv7m-none-eabi
+cp "$tdir/thumbv7m-none-eabi/release/morphogen-firmware" "$work/stream-only.elf"
+# Issue 15's goal, kept: every MCU preset, streamed, in under 96 KiB.
+stream_only_flash="$(size -A "$work/stream-only.elf" | awk '$1 ~ /^\.(vector_table|text|rodata|data)$/ {s += $2} END {print s}')"
+[ "$stream_only_flash" -lt 98304 ] \
+  || die "stream-only firmware: $stream_only_flash B of flash, over the 96 KiB (98,304 B) budget (issue 15)"
 for t in "${targets[@]}"; do
   say "build $t"
   env -u MORPHOGEN_SCENARIOS cargo build --release --target "$t"
@@ -274,6 +282,13 @@ for t in "${targets[@]}"; do
   cat "$work/$t.verify.log"
   oled_check "$t"
 done
+# The stream-only build writes the same bytes (extents included) as the
+# default build, which also draws.
+boot stream-only "$work/stream-only.elf" cortex-m3 "" "all .* presets streamed"
+cmp "$work/stream-only.bin" "$work/${targets[0]}.bin" \
+  || die "stream-only: its capture differs from the ${targets[0]} build's"
+say "stream-only: the same $(stat -c %s "$work/stream-only.bin") bytes as ${targets[0]}"
+
 # ---- the receiver ------------------------------------------------------------
 cp "$tdir/thumbv7m-none-eabi/release/morphogen-receiver" "$work/receiver.elf"
 

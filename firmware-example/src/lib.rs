@@ -1,13 +1,19 @@
 //! What the two Morphogen programs for the LM3S6965 evaluation board share:
-//! the board (`board`: clock, UART0/UART1), its OLED (`oled`), the screen
-//! handshake of the check script (`screen`), the semihosting arguments
-//! (`args`), run costs (`cost`), how a program ends (`exit`) and where its
-//! `defmt` logs and panics go.
+//! the board (`board`: clock, UART0/UART1), the stream a sender writes
+//! (`link`), its OLED (`oled`), what the OLED shows and the screen handshake
+//! of the check script (`screen`), the semihosting arguments (`args`), run
+//! costs (`cost`), how a program ends (`exit`) and where its `defmt` logs
+//! and panics go.
 //!
 //! - The **sender** (`src/main.rs`, binary `morphogen-firmware`) runs every
 //!   built-in preset, streams it on UART0 and draws it on the OLED.
 //! - The **receiver** (`src/bin/receiver.rs`, binary `morphogen-receiver`)
 //!   reads a sender's stream on UART0 and draws it on its own OLED.
+//!
+//! Cargo features choose what a sender does besides streaming (each costs
+//! flash, measured in `REPORT.md`): `oled` draws on the OLED (`oled`,
+//! `screen`; the receiver needs it), `serve` runs scenarios sent over UART0
+//! (and needs `oled`, whose idle cell plane holds the message).
 #![no_std]
 #![deny(missing_docs, clippy::unwrap_used, clippy::expect_used)]
 
@@ -27,7 +33,10 @@ pub mod args;
 pub mod board;
 pub mod cost;
 pub mod exit;
+pub mod link;
+#[cfg(feature = "oled")]
 pub mod oled;
+#[cfg(feature = "oled")]
 pub mod screen;
 
 /// The margin around a fitted view, in pixels (as the host's `--rig`).

@@ -1,9 +1,9 @@
 //! Morphogen on a Cortex-M: runs every preset it was built with, each with
 //! its default seed, writes the framed streams to UART0, back to back —
-//! the same bytes `morphogen run` writes to `stream.bin` — and draws each
-//! frame on the board's 128×64 grey OLED with the core's rig renderer (the
-//! picture `morphogen run PRESET --rig 128x64:grey4` draws), while logging
-//! progress and costs with `defmt`.
+//! the same bytes `morphogen run` writes to `stream.bin` — and (feature
+//! `oled`) draws each frame on the board's 128×64 grey OLED with the core's
+//! rig renderer (the picture `morphogen run PRESET --rig 128x64:grey4`
+//! draws), while logging progress and costs with `defmt`.
 //!
 //! Each preset runs twice: first into a [`Bounds`], to fit the view to
 //! everything the stream will draw, then streaming and drawing (runs are
@@ -12,12 +12,13 @@
 //! which a receiver fits its own view to (`src/bin/receiver.rs`).
 //!
 //! Semihosting arguments (QEMU's `-semihosting-config arg=…`): with
-//! `--serve N` it runs, instead of its presets, N scenarios sent over UART0
-//! by `morphogen send` (a growth curve, a horn, an L-system or a bone:
-//! `morphogen::sent`); the RTT build (hardware) runs its presets and then
-//! serves for ever. With `--screen-sync` it writes each preset's name on
-//! UART1 once its last frame is shown and waits for a byte back, so that
-//! `scripts/firmware-check.sh` can take the OLED's picture (`screen.rs`).
+//! `--serve N` (feature `serve`) it runs, instead of its presets, N
+//! scenarios sent over UART0 by `morphogen send` (a growth curve, a horn,
+//! an L-system or a bone: `morphogen::sent`); the RTT build (hardware) runs
+//! its presets and then serves for ever. With `--screen-sync` (feature
+//! `oled`) it writes each preset's name on UART1 once its last frame is
+//! shown and waits for a byte back, so that `scripts/firmware-check.sh` can
+//! take the OLED's picture (`screen.rs`).
 //!
 //! The presets come from scenario files: `build.rs` turns them into
 //! `static` [`morphogen::preset::Preset`]s (`presets::PRESETS`, generated
@@ -47,16 +48,20 @@ use core::mem::MaybeUninit;
 use cortex_m_rt::{ExceptionFrame, entry, exception};
 use morphogen::embedded_io::Write;
 use morphogen::preset::{self, Preset, Runner};
-use morphogen::rig::{self, Bounds, PALETTE_GRAY4, Rig, View};
+use morphogen::rig::Bounds;
+#[cfg(feature = "serve")]
 use morphogen::sent::{SentReader, SentScenario};
 use morphogen::sim::Progress;
-use morphogen::stream::Encoder;
+use morphogen::stream::{Encoder, Sink};
 
 use morphogen_firmware::board::{self, Uart0};
 use morphogen_firmware::cost::{self, InstructionClock, StackPaint};
+use morphogen_firmware::link::Linked;
+#[cfg(feature = "oled")]
 use morphogen_firmware::oled::{self, Frame, Oled};
-use morphogen_firmware::screen::{Drawing, ScreenSync};
-use morphogen_firmware::{MARGIN, args, exit};
+#[cfg(feature = "oled")]
+use morphogen_firmware::screen::{Screen, ScreenSync};
+use morphogen_firmware::{args, exit};
 
 use crate::presets::{PARAMS_DIGESTS, PRESETS};
 
@@ -68,35 +73,35 @@ use crate::presets::{PARAMS_DIGESTS, PRESETS};
 static mut RUNNER: MaybeUninit<Runner<'static>> = MaybeUninit::uninit();
 
 /// The scenario last sent over UART0 (`--serve`), in `.uninit` as RUNNER.
+#[cfg(feature = "serve")]
 #[unsafe(link_section = ".uninit.morphogen.SENT")]
 static mut SENT: MaybeUninit<SentScenario> = MaybeUninit::uninit();
 
 /// The OLED's picture (4 KiB, all zeros: black, in `.bss`).
+#[cfg(feature = "oled")]
 static mut FRAME: Frame = Frame::new();
 
 /// The rig's cell plane: ½ byte per OLED pixel (4 KiB, in `.bss`); between
 /// runs it holds the frame of a scenario being received.
-static mut PLANE: [u8; rig::plane_bytes(oled::SIZE)] = [0; rig::plane_bytes(oled::SIZE)];
+#[cfg(feature = "oled")]
+static mut PLANE: [u8; morphogen::rig::plane_bytes(oled::SIZE)] =
+    [0; morphogen::rig::plane_bytes(oled::SIZE)];
 
 #[entry]
 fn main() -> ! {
-    // SAFETY: `main` runs once and never returns, and nothing else names
-    // RUNNER, SENT, FRAME or PLANE, so these are the only references to
-    // them, ever.
-    let (slot, sent, frame, plane) = unsafe {
-        let statics = (
-            &raw mut RUNNER,
-            &raw mut SENT,
-            &raw mut FRAME,
-            &raw mut PLANE,
-        );
-        (
-            &mut *statics.0,
-            &mut *statics.1,
-            &mut *statics.2,
-            &mut *statics.3,
-        )
-    };
+    // `main` runs once and never returns, and nothing else names RUNNER,
+    // SENT, FRAME or PLANE, so the references made from these pointers are
+    // the only references to them, ever.
+    let slot = &raw mut RUNNER;
+    // SAFETY: see above.
+    let slot = unsafe { &mut *slot };
+    #[cfg(feature = "serve")]
+    let sent = &raw mut SENT;
+    // SAFETY: see above.
+    #[cfg(feature = "serve")]
+    let sent = unsafe { &mut *sent };
+    #[cfg(feature = "oled")]
+    let (frame, plane) = (&raw mut FRAME, &raw mut PLANE);
 
     let Some(peripherals) = cortex_m::Peripherals::take() else {
         exit::failure()
@@ -105,13 +110,17 @@ fn main() -> ! {
     let mut stage = Stage {
         slot,
         uart: Uart0::init(),
-        oled: Oled::init(),
-        frame,
-        plane,
-        sync: ScreenSync::from_args(),
         clock: InstructionClock::start(peripherals.SYST),
+        #[cfg(feature = "oled")]
+        screen: Screen {
+            oled: Oled::init(),
+            // SAFETY: see above.
+            frame: unsafe { &mut *frame },
+            // SAFETY: see above.
+            plane: unsafe { &mut *plane },
+            sync: ScreenSync::from_args(),
+        },
     };
-    let serve = args::number("--serve");
 
     defmt::info!(
         "morphogen firmware: {=usize} presets; runner {=usize} bytes in static RAM",
@@ -140,6 +149,7 @@ fn main() -> ! {
         >()
     );
 
+    let serve = args::number("--serve");
     let mut failed = 0u32;
     if serve.is_none() {
         // Both generated by `build.rs` from one list: same length, same order.
@@ -149,10 +159,18 @@ fn main() -> ! {
     }
     // Then scenarios sent over UART0: `--serve N` of them under QEMU, and
     // for ever on hardware (the RTT build).
-    let mut served = 0u32;
-    while serve.map_or(cfg!(feature = "rtt"), |n| served < n) {
-        failed += u32::from(!stage.serve(sent));
-        served += 1;
+    #[cfg(feature = "serve")]
+    {
+        let mut served = 0u32;
+        while serve.map_or(cfg!(feature = "rtt"), |n| served < n) {
+            failed += u32::from(!stage.serve(sent));
+            served += 1;
+        }
+    }
+    #[cfg(not(feature = "serve"))]
+    if serve.is_some() {
+        defmt::error!("--serve: this firmware was built without the `serve` feature");
+        exit::failure()
     }
     let Ok(()) = stage.uart.flush();
 
@@ -177,11 +195,9 @@ fn main() -> ! {
 struct Stage {
     slot: &'static mut MaybeUninit<Runner<'static>>,
     uart: Uart0,
-    oled: Oled,
-    frame: &'static mut Frame,
-    plane: &'static mut [u8],
-    sync: Option<ScreenSync>,
     clock: InstructionClock,
+    #[cfg(feature = "oled")]
+    screen: Screen,
 }
 
 impl Stage {
@@ -208,32 +224,25 @@ impl Stage {
         let (fitted, bounds) = fit(preset, seed, params, runner);
         let fit_ticks = self.clock.now().wrapping_sub(start);
         let start = self.clock.now();
-        let mut rig = Rig::new(
-            View::fit(&bounds, oled::SIZE, MARGIN),
-            &PALETTE_GRAY4,
-            &mut *self.plane,
-        );
-        let mut drawing = Drawing {
+        let stream = Linked {
             encoder: &mut encoder,
             extent: &bounds,
-            rig: &mut rig,
-            frame: &mut *self.frame,
-            oled: &mut self.oled,
         };
-        let result = fitted.and_then(|()| {
-            preset::run_with_digest(
-                preset,
-                seed,
-                params,
-                runner,
-                &mut drawing,
-                &mut log_progress,
-            )
-        });
+        let run = |sink: &mut dyn Sink| {
+            fitted.and_then(|()| {
+                preset::run_with_digest(preset, seed, params, runner, sink, &mut log_progress)
+            })
+        };
+        #[cfg(feature = "oled")]
+        let result = self.screen.draw(stream, run);
+        #[cfg(not(feature = "oled"))]
+        let result = {
+            let mut run = run;
+            run(&mut { stream })
+        };
         let ticks = self.clock.now().wrapping_sub(start);
-        if let Some(sync) = self.sync.as_mut() {
-            sync.shown(preset.name);
-        }
+        #[cfg(feature = "oled")]
+        self.screen.shown(preset.name);
         match result {
             Ok(()) => defmt::info!(
                 "report preset={=str} seed={=u64} frames={=u32} bytes={=u64} digest={=u64:016x} systicks={=u64} fit_systicks={=u64}",
@@ -253,6 +262,7 @@ impl Stage {
     /// Receives a scenario into `slot` and shows it; whether it ran to its
     /// end. Never inlined: the parameters it lends the run stay off
     /// `main`'s frame, under every preset's run.
+    #[cfg(feature = "serve")]
     #[inline(never)]
     fn serve(&mut self, slot: &mut MaybeUninit<SentScenario>) -> bool {
         let sent = self.receive(slot);
@@ -264,10 +274,11 @@ impl Stage {
     /// unreadable one is logged and skipped. Never inlined: the decoded
     /// scenario passes through its stack frame (¾ KB), which must not
     /// stay under the runs that follow (the stack has ~1 KB to spare).
+    #[cfg(feature = "serve")]
     #[inline(never)]
     fn receive<'s>(&mut self, slot: &'s mut MaybeUninit<SentScenario>) -> &'s SentScenario {
         defmt::info!("waiting for a scenario on UART0 (morphogen send)");
-        let mut reader = SentReader::new(&mut *self.plane);
+        let mut reader = SentReader::new(&mut *self.screen.plane);
         loop {
             match reader.push(self.uart.read_byte()) {
                 Some(Ok(sent)) => return slot.write(sent),

@@ -1,23 +1,65 @@
-//! What the OLED shows while a preset streams ([`Drawing`]), and the
-//! handshake that lets a check script photograph it ([`ScreenSync`]).
+//! What the OLED shows while a preset streams ([`Screen`], [`Drawing`]),
+//! and the handshake that lets a check script photograph it
+//! ([`ScreenSync`]).
 
 use morphogen::embedded_io::Write;
 use morphogen::rig::embedded_graphics::pixelcolor::Gray4;
-use morphogen::rig::{Bounds, Rig};
-use morphogen::stream::{Encoder, Record, Sink, SinkError};
+use morphogen::rig::{PALETTE_GRAY4, Rig, View};
+use morphogen::stream::{Record, Sink, SinkError};
 
+use crate::MARGIN;
 use crate::board::Uart1;
-use crate::oled::{Frame, Oled};
+use crate::link::Linked;
+use crate::oled::{self, Frame, Oled};
 
-/// A sink that sends each record to the UART encoder, draws it into the
-/// frame, and shows the frame on the OLED at each frame's end. After the
-/// header it sends the run's extent (a link record, outside the stream's
-/// digest), so that a receiver can fit its view to it before frame 0.
+/// The OLED and what a sender draws on it with.
+pub struct Screen {
+    /// The panel.
+    pub oled: Oled,
+    /// The picture being drawn.
+    pub frame: &'static mut Frame,
+    /// The rig's cell plane (idle between runs: a sent scenario is read
+    /// into it).
+    pub plane: &'static mut [u8],
+    /// The check script's handshake, if asked for.
+    pub sync: Option<ScreenSync>,
+}
+
+impl Screen {
+    /// Runs `run` into a [`Drawing`]: `stream` and this screen, its view
+    /// fitted to the stream's extent.
+    pub fn draw<W: Write, T>(
+        &mut self,
+        stream: Linked<'_, W>,
+        run: impl FnOnce(&mut dyn Sink) -> T,
+    ) -> T {
+        let mut rig = Rig::new(
+            View::fit(stream.extent, oled::SIZE, MARGIN),
+            &PALETTE_GRAY4,
+            &mut *self.plane,
+        );
+        run(&mut Drawing {
+            stream,
+            rig: &mut rig,
+            frame: &mut *self.frame,
+            oled: &mut self.oled,
+        })
+    }
+
+    /// With the handshake: announces that `name`'s last frame is shown and
+    /// waits until it is photographed.
+    pub fn shown(&mut self, name: &str) {
+        if let Some(sync) = self.sync.as_mut() {
+            sync.shown(name);
+        }
+    }
+}
+
+/// A sink that sends each record on to the stream, draws it into the
+/// frame, and shows the frame on the OLED at each frame's end.
 pub struct Drawing<'a, 'p, W: Write> {
     /// Where the stream goes.
-    pub encoder: &'a mut Encoder<W>,
-    /// What the run draws, measured by a first run.
-    pub extent: &'a Bounds,
+    pub stream: Linked<'a, W>,
     /// The rig renderer, fitted to the preset.
     pub rig: &'a mut Rig<'p, Gray4>,
     /// The picture being drawn.
@@ -28,10 +70,7 @@ pub struct Drawing<'a, 'p, W: Write> {
 
 impl<W: Write> Sink for Drawing<'_, '_, W> {
     fn record(&mut self, record: &Record) -> Result<(), SinkError> {
-        self.encoder.record(record)?;
-        if let Record::Header(_) = record {
-            self.encoder.link(&self.extent.to_record())?;
-        }
+        self.stream.record(record)?;
         // The frame never fails to draw; a rig error is a too-small plane.
         self.rig
             .draw(record, self.frame)

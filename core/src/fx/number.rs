@@ -24,14 +24,17 @@ pub struct Fx(I16F16);
 
 const FRAC: u32 = 16;
 
-/// Narrows an `i64` to `i32`, saturating.
+/// Narrows an `i64` to `i32`, saturating. Written as "does it survive the
+/// round trip" (on a 32-bit core: one compare of the high word with the low
+/// word's sign), and the bound from the sign (`-1 ^ MAX` is `MIN`): inlined
+/// at every product, this is a fifth of the flash the two range compares
+/// took (issue 15).
 const fn saturate(v: i64) -> i32 {
-    if v > i32::MAX as i64 {
-        i32::MAX
-    } else if v < i32::MIN as i64 {
-        i32::MIN
+    let narrow = v as i32;
+    if narrow as i64 == v {
+        narrow
     } else {
-        v as i32
+        (v >> 63) as i32 ^ i32::MAX
     }
 }
 
@@ -374,6 +377,20 @@ impl<'de> Deserialize<'de> for Fx {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn saturate_is_a_clamp() {
+        let edges = [i32::MIN as i64, i32::MAX as i64, 0, 1, -1];
+        for edge in edges {
+            for d in -2..=2i64 {
+                let v = edge + d;
+                assert_eq!(saturate(v) as i64, v.clamp(i32::MIN as i64, i32::MAX as i64), "{v}");
+            }
+        }
+        for v in [i64::MIN, i64::MAX, i64::MIN + 1, i64::MAX - 1, 1 << 40, -(1 << 40)] {
+            assert_eq!(saturate(v) as i64, v.clamp(i32::MIN as i64, i32::MAX as i64), "{v}");
+        }
+    }
 
     #[test]
     fn multiplication_rounds_to_nearest_and_saturates() {
