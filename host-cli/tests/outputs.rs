@@ -165,6 +165,10 @@ fn the_ram_horn_animates_its_frames_and_exports_a_coloured_glb() {
     check_glb(&dir, 16);
     let svg = std::fs::read_to_string(dir.join("bend.svg")).unwrap();
     assert!(svg.contains("time (years)") && svg.contains("length (cm)"));
+    // The paper's Fig. 11: E1's bending angle over its first four years.
+    let fig11 = std::fs::read_to_string(dir.join("e1-bend.svg")).unwrap();
+    assert!(fig11.contains("Fig. 11") && fig11.contains("angle (degrees)"));
+    assert_eq!(image_size(&dir.join("e1-bend.png")), (900, 500));
     // An OBJ per frame, one group per module, all of them in the horn's
     // material from the library they share.
     let obj = std::fs::read_to_string(dir.join("frame_015.obj")).unwrap();

@@ -773,11 +773,28 @@ fn body(b: &schema::Body, files: &dyn Files) -> Result<Checked> {
                 ),
             );
         }
+        let per_length = match c.girth {
+            None => 1.0,
+            Some(e) if (1.0..=100.0).contains(&e) => girth_to_diameter(e),
+            Some(e) => {
+                return invalid(
+                    format!("{key}.girth"),
+                    format!("{e} (allowed: an axis ratio from 1 to 100)"),
+                );
+            }
+        };
         let values = c
             .values
             .iter()
             .enumerate()
-            .map(|(j, v)| fx(&format!("{key}.values[{j}]"), *v, 0.0001, 30000.0))
+            .map(|(j, v)| {
+                fx(
+                    &format!("{key}.values[{j}]"),
+                    *v * per_length,
+                    0.0001,
+                    30000.0,
+                )
+            })
             .collect::<Result<Vec<_>>>()?;
         columns.push((label(&format!("{key}.name"), &c.name)?, values));
     }
@@ -888,6 +905,15 @@ fn body(b: &schema::Body, files: &dyn Files) -> Result<Checked> {
         columns,
         gait,
     })
+}
+
+/// The diameter 2R per unit of girth of an elliptical section whose axes
+/// are in the ratio `e` (major over minor): the growth paper's (Sec. 6)
+/// circumference 2πR·√((e² + 1) / 2e²), the ellipse's perimeter with the
+/// two semi-axes' quadratic mean. Correctly rounded `f64` operations, so
+/// the same on every machine before the value becomes fixed point.
+fn girth_to_diameter(e: f64) -> f64 {
+    1.0 / (std::f64::consts::PI * ((e * e + 1.0) / (2.0 * e * e)).sqrt())
 }
 
 /// A growth table's columns as the core borrows them.
@@ -1042,4 +1068,68 @@ fn bones(b: &schema::Bones, files: &dyn Files) -> Result<Checked> {
         wrap,
         frames,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Scenario;
+
+    /// The yearling of `docs/scenarios.md`, its head width given as `head`.
+    fn yearling(head: &str) -> std::result::Result<Scenario, crate::Error> {
+        Scenario::from_text(
+            "yearling",
+            &format!(
+                r#"name = "yearling"
+summary = "a quarter horse from birth to 12 months"
+seed = 0
+[body]
+model = "horse"
+frames = 2
+first_age = 0
+last_age = 12
+[body.table]
+unit = "in"
+interpolation = "linear"
+ages = [0, 12]
+columns = [
+    {{ name = "elbow-to-ground", values = [25, 33.1] }},
+    {{ name = "cannon-diameter", values = [1.43, 2.19] }},
+    {{ name = "hind-leg", values = [18.1, 22.8] }},
+    {{ name = "head-width", {head} }},
+]
+"#
+            ),
+        )
+    }
+
+    fn head_width(s: &Scenario) -> Vec<Fx> {
+        let Checked::Body { columns, .. } = s.checked() else {
+            panic!("a body")
+        };
+        columns[3].1.clone()
+    }
+
+    /// A girth of a circle is π diameters; of an ellipse whose axes are in
+    /// the ratio 2, π·√(5/8) major diameters (growth paper Sec. 6).
+    #[test]
+    fn girths_become_major_diameters() {
+        let pi = std::f64::consts::PI;
+        let circle =
+            yearling(&format!("values = [{}, {}], girth = 1", 5.6 * pi, 7.8 * pi)).unwrap();
+        let diameters = yearling("values = [5.6, 7.8]").unwrap();
+        let (a, b) = (head_width(&circle), head_width(&diameters));
+        for (a, b) in a.iter().zip(&b) {
+            assert!((a.to_bits() - b.to_bits()).abs() <= 1, "{a:?} {b:?}");
+        }
+        let k = pi * (5.0f64 / 8.0).sqrt();
+        let ellipse = yearling(&format!("values = [{}, {}], girth = 2", 5.6 * k, 7.8 * k)).unwrap();
+        for (a, b) in head_width(&ellipse).iter().zip(&b) {
+            assert!((a.to_bits() - b.to_bits()).abs() <= 1, "{a:?} {b:?}");
+        }
+        let err = yearling("values = [5.6, 7.8], girth = 0.5")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("body.table.columns[3].girth"), "{err}");
+    }
 }

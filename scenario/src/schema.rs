@@ -267,6 +267,11 @@ pub struct Column {
     pub name: String,
     /// One value per age, in the table's unit.
     pub values: Vec<f64>,
+    /// When set, `values` are girths (circumferences) of an elliptical
+    /// section whose axes are in this ratio e ≥ 1 (1: a circle), read as
+    /// the diameter 2R of the major axis (growth paper Sec. 6).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub girth: Option<f64>,
 }
 
 /// A growth table.

@@ -384,11 +384,26 @@ mod tests {
         for edge in edges {
             for d in -2..=2i64 {
                 let v = edge + d;
-                assert_eq!(saturate(v) as i64, v.clamp(i32::MIN as i64, i32::MAX as i64), "{v}");
+                assert_eq!(
+                    saturate(v) as i64,
+                    v.clamp(i32::MIN as i64, i32::MAX as i64),
+                    "{v}"
+                );
             }
         }
-        for v in [i64::MIN, i64::MAX, i64::MIN + 1, i64::MAX - 1, 1 << 40, -(1 << 40)] {
-            assert_eq!(saturate(v) as i64, v.clamp(i32::MIN as i64, i32::MAX as i64), "{v}");
+        for v in [
+            i64::MIN,
+            i64::MAX,
+            i64::MIN + 1,
+            i64::MAX - 1,
+            1 << 40,
+            -(1 << 40),
+        ] {
+            assert_eq!(
+                saturate(v) as i64,
+                v.clamp(i32::MIN as i64, i32::MAX as i64),
+                "{v}"
+            );
         }
     }
 

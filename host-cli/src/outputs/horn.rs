@@ -18,6 +18,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use anyhow::{Context, Result, bail};
+use morphogen::horn::HornParams;
 use morphogen::stream::Record;
 use tiny_skia::{Color, Pixmap};
 
@@ -26,7 +27,7 @@ use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, depth_key, label_tile,
-    mesh, picture, pipeline, raster, trimmed,
+    mesh, picture, pipeline, raster, tip_bend, trimmed,
 };
 use crate::records::{Place, Records};
 
@@ -523,8 +524,9 @@ fn frame_at<R: Records + ?Sized>(records: &R, start: Place) -> Result<Frame> {
 /// `model.glb` with all of them (while the frames are read), `horn.png`,
 /// `years.png` (its frames read again, one at a time, once the last frame
 /// has set the scale), `animation.png` (every frame, or 60 spread evenly,
-/// read again) and `bend.png`/`bend.svg`, the centre line's length and
-/// total turning over time.
+/// read again), `bend.png`/`bend.svg`, the centre line's length and
+/// total turning over time, and `e1-bend.png`/`e1-bend.svg`, the paper's
+/// Fig. 11 from `params` ([`super::tip_bend`]).
 ///
 /// # Errors
 /// A malformed stream, unreadable records, or a file that cannot be
@@ -532,10 +534,10 @@ fn frame_at<R: Records + ?Sized>(records: &R, start: Place) -> Result<Frame> {
 pub fn write<R: Records + ?Sized>(
     records: &R,
     dir: &Path,
-    rings_per_module: u16,
+    params: &HornParams<'_>,
     kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
-    let j = u32::from(rings_per_module);
+    let j = u32::from(params.rings_per_module);
     let mut last: Option<Arc<Frame>> = None;
     // Where each frame starts, which of them end a year, and the last of
     // those.
@@ -676,6 +678,19 @@ pub fn write<R: Records + ?Sized>(
         }
         if kinds.has(Kind::Svg) {
             let path = dir.join("bend.svg");
+            write_svg(&chart, &path, 900, 500)?;
+            written.push(path);
+        }
+    }
+    if kinds.has(Kind::Png) || kinds.has(Kind::Svg) {
+        let chart = tip_bend::chart(&tip_bend::samples(params)?);
+        if kinds.has(Kind::Png) {
+            let path = dir.join("e1-bend.png");
+            write_png(&chart, &path, 900, 500)?;
+            written.push(path);
+        }
+        if kinds.has(Kind::Svg) {
+            let path = dir.join("e1-bend.svg");
             write_svg(&chart, &path, 900, 500)?;
             written.push(path);
         }

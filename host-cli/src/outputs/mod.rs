@@ -32,6 +32,7 @@ pub mod raster;
 pub mod shell;
 pub mod surface;
 pub mod text;
+pub mod tip_bend;
 
 /// A kind of output file `run --only` selects.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -360,7 +361,7 @@ fn write_preset<R: Records + ?Sized>(
 ) -> Result<Vec<PathBuf>> {
     match preset.model {
         Model::GrowthCurve(_) => curve::write(records, dir, kinds),
-        Model::Horn(p) => horn::write(records, dir, p.rings_per_module, kinds),
+        Model::Horn(p) => horn::write(records, dir, p, kinds),
         Model::LSystem(_) => plant::write(records, dir, kinds),
         Model::Body(p) => {
             let binding = morphogen::body::binding_summary::<
