@@ -508,24 +508,42 @@ fn horn(h: &schema::Horn) -> Result<Checked> {
             );
         }
     }
-    if h.outline.len() < 3 || h.outline.len() > 1024 {
-        return invalid(
-            "horn.outline",
-            format!("{} points (allowed: 3 to 1024)", h.outline.len()),
-        );
-    }
-    let outline = h
-        .outline
-        .iter()
-        .enumerate()
-        .map(|(i, [y, z])| {
-            let key = format!("horn.outline[{i}]");
-            Ok([
-                fx(&key, *y, -1000.0, 1000.0)?,
-                fx(&key, *z, -1000.0, 1000.0)?,
-            ])
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let outline = match (&h.outline, &h.section) {
+        (Some(points), None) => {
+            if points.len() < 3 || points.len() > 1024 {
+                return invalid(
+                    "horn.outline",
+                    format!("{} points (allowed: 3 to 1024)", points.len()),
+                );
+            }
+            points
+                .iter()
+                .enumerate()
+                .map(|(i, [y, z])| {
+                    let key = format!("horn.outline[{i}]");
+                    Ok([
+                        fx(&key, *y, -1000.0, 1000.0)?,
+                        fx(&key, *z, -1000.0, 1000.0)?,
+                    ])
+                })
+                .collect::<Result<Vec<_>>>()?
+        }
+        (None, Some(section)) => horn_section(
+            fx("horn.section.radius", section.radius, 0.01, 500.0)?,
+            fx(
+                "horn.section.triangularity",
+                section.triangularity,
+                0.0,
+                1.0,
+            )?,
+        ),
+        _ => {
+            return invalid(
+                "horn.outline",
+                "give the cross-section as `outline` (points) or as `section` (radius, triangularity), one of them",
+            );
+        }
+    };
     let years: u16 = int("horn.years", h.years, 1, modules.len() as i64)?;
     let params = HornParams {
         modules: &[],
@@ -542,6 +560,39 @@ fn horn(h: &schema::Horn) -> Result<Checked> {
         modules,
         outline,
     })
+}
+
+/// Points of a `horn.section`.
+const SECTION_POINTS: u32 = 60;
+
+/// The cross-section between a circle of radius `radius` (triangularity 0)
+/// and the equilateral triangle of the same area with a corner up
+/// (triangularity 1), as the horn paper describes bovid sections (Sec. 2:
+/// "from almost circular to almost triangular"): the polar radii blended,
+/// (1 − t)·R + t·ρ / cos δ, with ρ = R·√(π / 3√3) the triangle's inradius
+/// and δ the angle to the nearest side's normal. Counter-clockwise from the
+/// top corner, in fixed point (the same points on every machine).
+fn horn_section(radius: Fx, triangularity: Fx) -> Vec<[Fx; 2]> {
+    use morphogen::fx::{Angle, Real};
+    // √(π / 3√3) = 0.777_551…, in Q16.
+    let inradius = radius * Fx::from_bits(50_958);
+    let up = Angle::from_degrees(90);
+    (0..SECTION_POINTS)
+        .map(|k| {
+            let turn = Angle::from_turn_ratio(i64::from(k), i64::from(SECTION_POINTS));
+            // The sides' normals are 60° either side of each corner: δ is
+            // the angle from the corner's 120° sector's middle, less 60°.
+            let sector = Angle::from_turn_ratio(
+                i64::from(k % (SECTION_POINTS / 3)),
+                i64::from(SECTION_POINTS),
+            );
+            let delta = Angle(sector.0.wrapping_sub(Angle::from_degrees(60).0));
+            let triangle = inradius / <Fx as Real>::cos(delta);
+            let r = radius + (triangle - radius) * triangularity;
+            let phi = Angle(up.0.wrapping_add(turn.0));
+            [r * <Fx as Real>::cos(phi), r * <Fx as Real>::sin(phi)]
+        })
+        .collect()
 }
 
 fn matrix(key: &str, rows: &[Vec<f64>], n: usize) -> Result<[[Fx; MAX_TYPES]; MAX_TYPES]> {
@@ -1131,5 +1182,60 @@ columns = [
             .unwrap_err()
             .to_string();
         assert!(err.contains("body.table.columns[3].girth"), "{err}");
+    }
+
+    fn f(v: Fx) -> f64 {
+        f64::from(v.to_bits()) / 65_536.0
+    }
+
+    /// Shoelace area of a closed polygon.
+    fn area(points: &[[Fx; 2]]) -> f64 {
+        let n = points.len();
+        (0..n)
+            .map(|i| {
+                let ([y0, z0], [y1, z1]) = (points[i], points[(i + 1) % n]);
+                f(y0) * f(z1) - f(y1) * f(z0)
+            })
+            .sum::<f64>()
+            / 2.0
+    }
+
+    /// Triangularity 0 is the circle, 1 the equilateral triangle of the
+    /// same area, corner up, flat side down; both counter-clockwise.
+    #[test]
+    fn horn_sections_run_from_circle_to_triangle() {
+        let r = Fx::from_int(3);
+        let circle = horn_section(r, Fx::ZERO);
+        assert_eq!(circle.len(), SECTION_POINTS as usize);
+        for [y, z] in &circle {
+            assert!(((f(*y).powi(2) + f(*z).powi(2)).sqrt() - 3.0).abs() < 1e-3);
+        }
+        let triangle = horn_section(r, Fx::ONE);
+        let inradius = 3.0 * (std::f64::consts::PI / (3.0 * 3f64.sqrt())).sqrt();
+        assert!(
+            (f(triangle[0][1]) - 2.0 * inradius).abs() < 1e-3,
+            "the top corner"
+        );
+        assert!(f(triangle[0][0]).abs() < 1e-3);
+        let bottom = &triangle[SECTION_POINTS as usize / 2];
+        assert!(
+            (f(bottom[1]) + inradius).abs() < 1e-3,
+            "the bottom side, flat"
+        );
+        let disc = std::f64::consts::PI * 9.0;
+        // Sixty points cut the circle's area by 0.2 %; the triangle's
+        // corners are points, so its area is exact.
+        assert!(
+            (area(&circle) / disc - 1.0).abs() < 3e-3,
+            "{}",
+            area(&circle)
+        );
+        assert!(
+            (area(&triangle) / disc - 1.0).abs() < 1e-3,
+            "{}",
+            area(&triangle)
+        );
+        let between = horn_section(r, Fx::HALF);
+        assert!(area(&between) > 0.0);
     }
 }

@@ -82,6 +82,17 @@ pub struct HornModule {
     pub path_radius: f64,
 }
 
+/// A horn's cross-section between a circle and an equilateral triangle.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Section {
+    /// The circle's radius, cm (the triangle has the same area).
+    pub radius: f64,
+    /// 0: the circle; 1: the triangle, a corner up (+z); between: the
+    /// polar radii blended.
+    pub triangularity: f64,
+}
+
 /// `[horn]`: modules placed by positioners.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -98,8 +109,14 @@ pub struct Horn {
     pub ring_points: i64,
     /// Cross-sections per module.
     pub rings_per_module: i64,
-    /// The cross-section L_1(T): a closed polyline of (y, z), cm.
-    pub outline: Vec<[f64; 2]>,
+    /// The cross-section L_1(T): a closed polyline of (y, z), cm; or
+    /// instead `section`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub outline: Option<Vec<[f64; 2]>>,
+    /// The cross-section L_1(T) from circular to triangular (horn paper,
+    /// Secs. 2 and 8), instead of `outline`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub section: Option<Section>,
     /// Table 1, tip first.
     pub modules: Vec<HornModule>,
 }
