@@ -15,12 +15,12 @@ use morphogen::fx::{Fx, Real};
 use morphogen::stream::Record;
 use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
-use super::chart::{Axis, Chart, Series, series_colour, write_png, write_svg};
+use super::chart::{Axis, Chart, Series, series_colour};
 use super::mesh::{self, GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, label_tile, picture,
-    pipeline, raster, trimmed,
+    pipeline, raster, trimmed, write_chart,
 };
 use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
@@ -492,16 +492,7 @@ pub fn write<R: Records + ?Sized>(
     }
     if let Some(table) = table.filter(|t| !t.columns.is_empty()) {
         let chart = table_chart(table);
-        if kinds.has(Kind::Png) {
-            let path = dir.join("growth.png");
-            write_png(&chart, &path, 900, 560)?;
-            written.push(path);
-        }
-        if kinds.has(Kind::Svg) {
-            let path = dir.join("growth.svg");
-            write_svg(&chart, &path, 900, 560)?;
-            written.push(path);
-        }
+        write_chart(&chart, dir, "growth", (900, 560), kinds, &mut written)?;
     }
     let path = dir.join("summary.txt");
     write_atomic(&path, summary.as_bytes())?;

@@ -10,9 +10,9 @@ use morphogen::fx::Fx;
 use morphogen::growth_curve::{SERIES_DAILY, SERIES_GROWTH};
 use morphogen::stream::Record;
 
-use super::chart::{Axis, Chart, Series, write_png, write_svg};
+use super::chart::{Axis, Chart, Series};
 use super::text::{self, Whole};
-use super::{Kind, Kinds};
+use super::{Kind, Kinds, write_chart};
 use crate::atomic::OutputFile;
 use crate::records::{Place, Records};
 
@@ -76,16 +76,7 @@ pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Resu
     .with_y2(Axis::new("daily increment", "fraction a day"))
     .with_series(Series::line("f(t)", growth.into_iter().map(real).collect()))
     .with_series(Series::line("daily increment", daily.into_iter().map(real).collect()).on_right());
-    if kinds.has(Kind::Png) {
-        let path = dir.join("growth.png");
-        write_png(&chart, &path, 900, 500)?;
-        written.push(path);
-    }
-    if kinds.has(Kind::Svg) {
-        let path = dir.join("growth.svg");
-        write_svg(&chart, &path, 900, 500)?;
-        written.push(path);
-    }
+    write_chart(&chart, dir, "growth", (900, 500), kinds, &mut written)?;
     Ok(written)
 }
 

@@ -22,12 +22,12 @@ use morphogen::horn::HornParams;
 use morphogen::stream::Record;
 use tiny_skia::{Color, Pixmap};
 
-use super::chart::{Axis, Chart, Series, write_png, write_svg};
+use super::chart::{Axis, Chart, Series};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, depth_key, label_tile,
-    mesh, picture, pipeline, raster, tip_bend, trimmed,
+    mesh, picture, pipeline, raster, tip_bend, trimmed, write_chart,
 };
 use crate::records::{Place, Records};
 
@@ -671,29 +671,11 @@ pub fn write<R: Records + ?Sized>(
         .with_series(
             Series::line("length", lines.iter().map(|&(t, l, _)| (t, l)).collect()).on_right(),
         );
-        if kinds.has(Kind::Png) {
-            let path = dir.join("bend.png");
-            write_png(&chart, &path, 900, 500)?;
-            written.push(path);
-        }
-        if kinds.has(Kind::Svg) {
-            let path = dir.join("bend.svg");
-            write_svg(&chart, &path, 900, 500)?;
-            written.push(path);
-        }
+        write_chart(&chart, dir, "bend", (900, 500), kinds, &mut written)?;
     }
     if kinds.has(Kind::Png) || kinds.has(Kind::Svg) {
         let chart = tip_bend::chart(&tip_bend::samples(params)?);
-        if kinds.has(Kind::Png) {
-            let path = dir.join("e1-bend.png");
-            write_png(&chart, &path, 900, 500)?;
-            written.push(path);
-        }
-        if kinds.has(Kind::Svg) {
-            let path = dir.join("e1-bend.svg");
-            write_svg(&chart, &path, 900, 500)?;
-            written.push(path);
-        }
+        write_chart(&chart, dir, "e1-bend", (900, 500), kinds, &mut written)?;
     }
     Ok(written)
 }

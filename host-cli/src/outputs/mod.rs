@@ -134,6 +134,32 @@ impl Kinds {
     }
 }
 
+/// Writes `chart` as `STEM.png` and `STEM.svg` (those `kinds` asks for),
+/// `width` × `height` pixels, and adds their paths to `written`.
+///
+/// # Errors
+/// A file that cannot be written, or a chart that cannot be drawn.
+pub fn write_chart(
+    chart: &chart::Chart,
+    dir: &Path,
+    stem: &str,
+    (width, height): (u32, u32),
+    kinds: Kinds,
+    written: &mut Vec<PathBuf>,
+) -> Result<()> {
+    if kinds.has(Kind::Png) {
+        let path = dir.join(format!("{stem}.png"));
+        chart::write_png(chart, &path, width, height)?;
+        written.push(path);
+    }
+    if kinds.has(Kind::Svg) {
+        let path = dir.join(format!("{stem}.svg"));
+        chart::write_svg(chart, &path, width, height)?;
+        written.push(path);
+    }
+    Ok(())
+}
+
 /// The most frames an `animation.png` shows: a run with more frames is
 /// subsampled evenly (first and last kept), each frame labelled with its
 /// own time.

@@ -26,12 +26,12 @@ use morphogen::fx::Fx;
 use morphogen::mosaic::{Domain, Params};
 use morphogen::stream::Record;
 
-use super::chart::{Axis, Chart, Series, write_png, write_svg};
+use super::chart::{Axis, Chart, Series};
 use super::mesh::{ObjStyle, write_obj};
 use super::picture::{self, save_indexed};
 use super::surface::Surface;
 use super::text;
-use super::{Kind, Kinds, OrderedAnimation, animation_frames, pipeline};
+use super::{Kind, Kinds, OrderedAnimation, animation_frames, pipeline, write_chart};
 use crate::atomic::{OutputFile, write_atomic};
 use crate::records::{Place, Records};
 
@@ -317,16 +317,7 @@ pub(super) fn write_counts_and_mask(
     let mut written = Vec::new();
     if counts.len() > 1 {
         let chart = cells_chart(&colours, names, counts);
-        if kinds.has(Kind::Png) {
-            let path = dir.join("cells.png");
-            write_png(&chart, &path, 900, 500)?;
-            written.push(path);
-        }
-        if kinds.has(Kind::Svg) {
-            let path = dir.join("cells.svg");
-            write_svg(&chart, &path, 900, 500)?;
-            written.push(path);
-        }
+        write_chart(&chart, dir, "cells", (900, 500), kinds, &mut written)?;
     }
     if let Some(mask) = &params.mask {
         let path = dir.join("mask.pbm");
