@@ -87,11 +87,12 @@ if os.path.exists(f"{work}/stream-only.elf"):
     full_flash = sum(full.get(k, 0) for k in (".vector_table", ".text", ".rodata", ".data"))
     w(f"| {targets[0]}, stream only | {kib(flash)} | {s.get('.text', 0):,} | {s.get('.rodata', 0):,} "
       f"| {ram:,} B | {peak:,} B | {used:,} B of 65,536 ({100 * used / 65536:.1f} %) |\n")
-    w(f"\n*Stream only* is the sender built without its features `oled` and `serve`\n"
-      f"(`--no-default-features --features semihosting`): every preset, streamed\n"
-      f"to UART0 with its extent, the same bytes as the default build (checked);\n"
-      f"issue 15's flash budget is 96 KiB (98,304 B) for it, and the check fails\n"
-      f"above. Drawing on the OLED and serving sent scenarios take the other\n"
+    w(f"\n*Stream only* is the sender built without its features `extent`, `oled`\n"
+      f"and `serve` (`--no-default-features --features semihosting`): every\n"
+      f"preset, streamed to UART0 exactly as `morphogen run` writes `stream.bin`\n"
+      f"(the default build's capture without its extent frames, checked); issue\n"
+      f"15's flash budget is 96 KiB (98,304 B) for it, and the check fails above.\n"
+      f"Extents, drawing on the OLED and serving sent scenarios take the other\n"
       f"{full_flash - flash:,} B of the default build.\n")
 w(f"\nThe preset runner (`morphogen::preset::Runner`, one `static`) takes {main['runner']:,} B.\n")
 if main["models"]:

@@ -11,9 +11,10 @@
 //!   reads a sender's stream on UART0 and draws it on its own OLED.
 //!
 //! Cargo features choose what a sender does besides streaming (each costs
-//! flash, measured in `REPORT.md`): `oled` draws on the OLED (`oled`,
-//! `screen`; the receiver needs it), `serve` runs scenarios sent over UART0
-//! (and needs `oled`, whose idle cell plane holds the message).
+//! flash, measured in `REPORT.md`): `extent` sends each run's extent
+//! (`link`), `oled` draws on the OLED (`oled`, `screen`; needs `extent`;
+//! the receiver needs it), `serve` runs scenarios sent over UART0 (and
+//! needs `oled`, whose idle cell plane holds the message).
 #![no_std]
 #![deny(missing_docs, clippy::unwrap_used, clippy::expect_used)]
 
@@ -33,6 +34,7 @@ pub mod args;
 pub mod board;
 pub mod cost;
 pub mod exit;
+#[cfg(feature = "extent")]
 pub mod link;
 #[cfg(feature = "oled")]
 pub mod oled;

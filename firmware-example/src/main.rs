@@ -5,11 +5,12 @@
 //! rig renderer (the picture `morphogen run PRESET --rig 128x64:grey4`
 //! draws), while logging progress and costs with `defmt`.
 //!
-//! Each preset runs twice: first into a [`Bounds`], to fit the view to
-//! everything the stream will draw, then streaming and drawing (runs are
-//! deterministic, so the second run is the first); after each header it
-//! sends what the first run measured as a link record (`Record::Extent`),
-//! which a receiver fits its own view to (`src/bin/receiver.rs`).
+//! With the feature `extent` each preset runs twice: first into a
+//! `Bounds`, to fit the view to everything the stream will draw, then
+//! streaming and drawing (runs are deterministic, so the second run is the
+//! first); after each header it sends what the first run measured as a
+//! link record (`Record::Extent`), which a receiver fits its own view to
+//! (`src/bin/receiver.rs`). Without it the stream is `stream.bin`'s.
 //!
 //! Semihosting arguments (QEMU's `-semihosting-config arg=…`): with
 //! `--serve N` (feature `serve`) it runs, instead of its presets, N
@@ -48,6 +49,7 @@ use core::mem::MaybeUninit;
 use cortex_m_rt::{ExceptionFrame, entry, exception};
 use morphogen::embedded_io::Write;
 use morphogen::preset::{self, Preset, Runner};
+#[cfg(feature = "extent")]
 use morphogen::rig::Bounds;
 #[cfg(feature = "serve")]
 use morphogen::sent::{SentReader, SentScenario};
@@ -56,6 +58,7 @@ use morphogen::stream::{Encoder, Sink};
 
 use morphogen_firmware::board::{self, Uart0};
 use morphogen_firmware::cost::{self, InstructionClock, StackPaint};
+#[cfg(feature = "extent")]
 use morphogen_firmware::link::Linked;
 #[cfg(feature = "oled")]
 use morphogen_firmware::oled::{self, Frame, Oled};
@@ -221,13 +224,19 @@ impl Stage {
             }
         };
         let start = self.clock.now();
+        #[cfg(feature = "extent")]
         let (fitted, bounds) = fit(preset, seed, params, runner);
+        #[cfg(not(feature = "extent"))]
+        let fitted: Result<(), morphogen::Error> = Ok(());
         let fit_ticks = self.clock.now().wrapping_sub(start);
         let start = self.clock.now();
+        #[cfg(feature = "extent")]
         let stream = Linked {
             encoder: &mut encoder,
             extent: &bounds,
         };
+        #[cfg(not(feature = "extent"))]
+        let stream = &mut encoder;
         let run = |sink: &mut dyn Sink| {
             fitted.and_then(|()| {
                 preset::run_with_digest(preset, seed, params, runner, sink, &mut log_progress)
@@ -235,10 +244,15 @@ impl Stage {
         };
         #[cfg(feature = "oled")]
         let result = self.screen.draw(stream, run);
-        #[cfg(not(feature = "oled"))]
+        #[cfg(all(feature = "extent", not(feature = "oled")))]
         let result = {
             let mut run = run;
             run(&mut { stream })
+        };
+        #[cfg(not(feature = "extent"))]
+        let result = {
+            let mut run = run;
+            run(stream)
         };
         let ticks = self.clock.now().wrapping_sub(start);
         #[cfg(feature = "oled")]
@@ -291,6 +305,7 @@ impl Stage {
 
 /// Runs `preset` into a [`Bounds`], to fit the OLED's view to it. Never
 /// inlined: its frame is gone before the run that streams and draws.
+#[cfg(feature = "extent")]
 #[inline(never)]
 fn fit<'r>(
     preset: &Preset<'r>,
