@@ -124,8 +124,8 @@ impl<R: FieldReal, const C: usize> FieldCache<R, C> {
     /// The field at vertex `i` at `r`, from the cache or evaluated.
     fn field(&self, field: &SkeletonField<'_, R>, i: usize, r: &Vector3<R>) -> (R, Vector3<R>) {
         match self.at.get(i) {
-            Some(&known) => known,
-            None => field.at(r),
+            Some(&known) if C > 0 => known,
+            _ => field.at(r),
         }
     }
 
@@ -368,7 +368,11 @@ impl<R: FieldReal, const V: usize, const T: usize, const C: usize> Shrinkwrap<R,
             if !settled(a) || !settled(b) {
                 return None;
             }
-            let mid = pa.zip_map(pb, R::midpoint);
+            let mid = Vector3::new(
+                pa.x.midpoint(pb.x),
+                pa.y.midpoint(pb.y),
+                pa.z.midpoint(pb.z),
+            );
             off(&field, &mid, level, tolerance).then(|| {
                 let mut r = mid;
                 for _ in 0..MIDPOINT_MOVES {
