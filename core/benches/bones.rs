@@ -1,12 +1,16 @@
 //! Shrinkwrap speed: each bone preset run to the end (skeleton growth,
 //! wrap, streaming into a counting sink), in triangles of the final meshes
-//! per second; and one `long-bone` wrap in fixed point against `f64`.
+//! per second, as the MCU runs it and as a host does (with the field cache,
+//! `HOST_FIELD_CACHE`); and one `long-bone` wrap in fixed point against
+//! `f64`.
 //! The state's size (the peak memory, which is all static) is printed.
 //!
 //! `CARGO_TARGET_DIR=… cargo bench -p morphogen --bench bones`
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use morphogen::bones::{Bones, BonesParams, Grower, MCU_TRIANGLES, MCU_VERTICES, Skeleton};
+use morphogen::bones::{
+    Bones, BonesParams, Grower, HOST_FIELD_CACHE, MCU_TRIANGLES, MCU_VERTICES, Skeleton,
+};
 use morphogen::fx::{Fx, Real};
 use morphogen::preset::Model;
 use morphogen::shrinkwrap::{Element, Shrinkwrap};
@@ -38,8 +42,10 @@ impl Sink for Count {
     }
 }
 
-fn run(params: &BonesParams<'_>) -> u64 {
-    let mut bones = Box::new(McuBones::new());
+/// Runs `params` to the end with a field cache of `C` vertices; returns
+/// the triangles streamed.
+fn run<const C: usize>(params: &BonesParams<'_>) -> u64 {
+    let mut bones = Box::new(Bones::<'_, MCU_VERTICES, MCU_TRIANGLES, C>::new());
     bones.start(params, 1).expect("the preset's grammar parses");
     let mut sink = Count(0);
     while !bones.step(&mut sink).expect("the preset runs").finished() {}
@@ -54,9 +60,12 @@ fn presets_run(c: &mut Criterion) {
     let mut group = c.benchmark_group("bones");
     for name in PRESETS {
         with_bones(name, |params| {
-            group.throughput(Throughput::Elements(run(params)));
+            group.throughput(Throughput::Elements(run::<0>(params)));
             group.bench_function(format!("{name} run (triangles/s)"), |b| {
-                b.iter(|| run(params))
+                b.iter(|| run::<0>(params))
+            });
+            group.bench_function(format!("{name} run on a host (triangles/s)"), |b| {
+                b.iter(|| run::<HOST_FIELD_CACHE>(params))
             });
         });
     }

@@ -1,12 +1,14 @@
 //! Running a [`Preset`] on a computer: every model in the core's
 //! [`Runner`] (the MCU's fixed capacity), except mosaics, whose cells go in
 //! a [`VecStore`] sized for the run, bodies, with room for a user's
-//! [`USER_CYLINDERS`] cylinders, and context-sensitive L-systems, derived in
-//! two heap buffers. Both use the core's one run loop
+//! [`USER_CYLINDERS`] cylinders, context-sensitive L-systems, derived in
+//! two heap buffers, and bones, with the MCU's mesh capacity and a field
+//! cache ([`HOST_FIELD_CACHE`]) the MCU has no RAM for. Both use the core's one run loop
 //! ([`morphogen::preset::drive`]), so the stream is the same bytes the
 //! firmware writes.
 
 use morphogen::body::Body;
+use morphogen::bones::{Bones, HOST_FIELD_CACHE, MCU_TRIANGLES, MCU_VERTICES};
 use morphogen::lsys::{Buffered, Grammar, LSystem, LsysError, Module};
 use morphogen::mosaic::grid::Grid;
 use morphogen::mosaic::mesh::{MeshParts, Place};
@@ -319,6 +321,12 @@ pub fn run(
                 runner.start(&preset.model, seed)?;
                 preset::drive(runner.as_mut(), &header, sink, progress)
             }
+        }
+        Model::Bones(params) => {
+            let mut bones =
+                Box::new(Bones::<'_, MCU_VERTICES, MCU_TRIANGLES, HOST_FIELD_CACHE>::new());
+            bones.start(params, seed)?;
+            preset::drive(bones.as_mut(), &header, sink, progress)
         }
         Model::Body(params) => {
             let mut body = Box::new(Body::<'_, USER_CYLINDERS>::new());

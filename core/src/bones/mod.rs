@@ -27,6 +27,11 @@ pub use sim::Bones;
 pub const MCU_VERTICES: usize = 1200;
 /// Mesh triangles: 2·V − 4, a closed genus-0 mesh's count.
 pub const MCU_TRIANGLES: usize = 2 * MCU_VERTICES - 4;
+/// Vertices at which a host's bone run keeps the field between moves
+/// (`Bones<MCU_VERTICES, MCU_TRIANGLES, HOST_FIELD_CACHE>`): all of them,
+/// 16 B each, which an MCU's RAM cannot spare. The same results, a
+/// third fewer field evaluations.
+pub const HOST_FIELD_CACHE: usize = MCU_VERTICES;
 pub use skeleton::{Grower, MAX_ELEMENTS, MAX_SKELETON_MODULES, Skeleton};
 
 /// Which skeletons a run wraps, one frame each.

@@ -18,24 +18,26 @@ use super::skeleton::{Grower, Skeleton};
 use super::{BonesParams, Frames};
 
 /// A bone simulation with a mesh of at most `V` vertices and `T`
-/// triangles.
+/// triangles, keeping the field at up to `C` of them between moves
+/// ([`Shrinkwrap`]; 0 on an MCU, [`HOST_FIELD_CACHE`](super::HOST_FIELD_CACHE)
+/// on a host).
 #[derive(Debug)]
-pub struct Bones<'a, const V: usize, const T: usize> {
+pub struct Bones<'a, const V: usize, const T: usize, const C: usize = 0> {
     frame: u32,
     wrapping: bool,
     seed: u64,
     params: Option<&'a BonesParams<'a>>,
     grower: Grower,
     skeleton: Skeleton,
-    wrap: Shrinkwrap<Fx, V, T>,
+    wrap: Shrinkwrap<Fx, V, T, C>,
     /// The error that stopped the run, if any.
     failed: Deferred,
 }
 
-impl<'a, const V: usize, const T: usize> Bones<'a, V, T> {
+impl<'a, const V: usize, const T: usize, const C: usize> Bones<'a, V, T, C> {
     /// An idle simulation (`const`, for a `static`).
     #[must_use]
-    pub const fn new() -> Bones<'a, V, T> {
+    pub const fn new() -> Bones<'a, V, T, C> {
         Bones {
             grower: Grower::new(),
             skeleton: Skeleton::new(),
@@ -70,7 +72,7 @@ impl<'a, const V: usize, const T: usize> Bones<'a, V, T> {
 
     /// The shrinkwrap run.
     #[must_use]
-    pub fn wrap(&self) -> &Shrinkwrap<Fx, V, T> {
+    pub fn wrap(&self) -> &Shrinkwrap<Fx, V, T, C> {
         &self.wrap
     }
 
@@ -142,13 +144,13 @@ impl<'a, const V: usize, const T: usize> Bones<'a, V, T> {
     }
 }
 
-impl<const V: usize, const T: usize> Default for Bones<'_, V, T> {
+impl<const V: usize, const T: usize, const C: usize> Default for Bones<'_, V, T, C> {
     fn default() -> Self {
         Bones::new()
     }
 }
 
-impl<'a, const V: usize, const T: usize> Start<'a> for Bones<'a, V, T> {
+impl<'a, const V: usize, const T: usize, const C: usize> Start<'a> for Bones<'a, V, T, C> {
     type Params = BonesParams<'a>;
 
     fn start(&mut self, params: &'a BonesParams<'a>, seed: u64) -> Result<(), Error> {
@@ -156,7 +158,7 @@ impl<'a, const V: usize, const T: usize> Start<'a> for Bones<'a, V, T> {
     }
 }
 
-impl<const V: usize, const T: usize> Simulation for Bones<'_, V, T> {
+impl<const V: usize, const T: usize, const C: usize> Simulation for Bones<'_, V, T, C> {
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
         self.failed.check()?;
         let params = self.params.ok_or(Error::NotStarted)?;

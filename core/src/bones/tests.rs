@@ -98,6 +98,58 @@ fn every_preset_mesh_is_a_closed_genus_0_manifold_wound_outwards() {
     }
 }
 
+/// The field cache of a host's run ([`HOST_FIELD_CACHE`]) changes no bit:
+/// every frame of every preset wraps to the same vertices and triangles
+/// with it and without it, also when the skeleton changes between two
+/// iterations of one run (the cache is then dropped), and with a cache
+/// smaller than the mesh.
+#[test]
+fn the_field_cache_changes_no_bit() {
+    fn same<const C: usize>(a: &McuWrap, b: &Shrinkwrap<Fx, MCU_VERTICES, MCU_TRIANGLES, C>) {
+        assert_eq!(a.mesh().vertices(), b.mesh().vertices());
+        assert_eq!(a.mesh().triangles(), b.mesh().triangles());
+        assert_eq!((a.phase(), a.iterations()), (b.phase(), b.iterations()));
+    }
+    for (name, p) in &PRESETS {
+        let frames = skeletons(p, 1);
+        for skeleton in &frames {
+            let mut plain = Box::new(McuWrap::new(Fx::ZERO));
+            let mut cached = Box::new(Shrinkwrap::<
+                Fx,
+                MCU_VERTICES,
+                MCU_TRIANGLES,
+                HOST_FIELD_CACHE,
+            >::new(Fx::ZERO));
+            let mut small = Box::new(Shrinkwrap::<Fx, MCU_VERTICES, MCU_TRIANGLES, 100>::new(
+                Fx::ZERO,
+            ));
+            plain.run(skeleton, &p.wrap).unwrap();
+            cached.run(skeleton, &p.wrap).unwrap();
+            small.run(skeleton, &p.wrap).unwrap();
+            same(&plain, &cached);
+            same(&plain, &small);
+        }
+        // Started on the first frame's skeleton, iterated on the last one's.
+        let (first, last) = (&frames[0], &frames[frames.len() - 1]);
+        let mut plain = Box::new(McuWrap::new(Fx::ZERO));
+        let mut cached = Box::new(Shrinkwrap::<
+            Fx,
+            MCU_VERTICES,
+            MCU_TRIANGLES,
+            HOST_FIELD_CACHE,
+        >::new(Fx::ZERO));
+        plain.start(first, &p.wrap).unwrap();
+        cached.start(first, &p.wrap).unwrap();
+        for k in 0..6 {
+            let s = if k < 2 { first } else { last };
+            plain.iterate(s).unwrap();
+            cached.iterate(s).unwrap();
+            same(&plain, &cached);
+        }
+        assert!(!plain.mesh().vertices().is_empty(), "{name}");
+    }
+}
+
 #[test]
 fn a_grammar_that_never_draws_ends_with_a_named_limit() {
     let mut g = Grower::new();

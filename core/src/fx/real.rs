@@ -40,6 +40,8 @@ pub trait Real:
     fn to_f64(self) -> f64;
     /// Division (saturating for [`Fx`]; `x / 0` saturates).
     fn div(self, rhs: Self) -> Self;
+    /// (self + other)·½, rounded as that sum and product are in this type.
+    fn midpoint(self, other: Self) -> Self;
     /// Absolute value.
     fn abs(self) -> Self;
     /// Square root; negative input gives zero.
@@ -87,6 +89,13 @@ impl Real for Fx {
     }
     fn div(self, rhs: Fx) -> Fx {
         self.saturating_div(rhs)
+    }
+    fn midpoint(self, other: Fx) -> Fx {
+        // The saturating sum s times ½ (2¹⁵ bits), rounded half up as
+        // `Fx::saturating_mul`: (s·2¹⁵ + 2¹⁵) >> 16 = ⌊(s + 1)/2⌋, within
+        // i32 (no saturation), in three instructions.
+        let s = i64::from((self + other).to_bits());
+        Fx::from_bits(((s + 1) >> 1) as i32)
     }
     fn abs(self) -> Fx {
         Fx::abs(self)
@@ -155,6 +164,9 @@ impl Real for f64 {
     }
     fn div(self, rhs: f64) -> f64 {
         self / rhs
+    }
+    fn midpoint(self, other: f64) -> f64 {
+        (self + other) * 0.5
     }
     fn abs(self) -> f64 {
         libm::fabs(self)

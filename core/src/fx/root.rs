@@ -102,6 +102,24 @@ pub(crate) fn rounded_isqrt_u64(x: u64) -> u64 {
     }
 }
 
+/// [`rounded_isqrt_u64`] for 1 ≤ x < 2⁶² (the caller's range proof), without
+/// its guards for 0 and for roots of 2³² (on 64-bit targets; elsewhere
+/// the same function). Wrapping arithmetic: no panic outside the range,
+/// only a wrong root.
+#[must_use]
+pub(crate) fn rounded_isqrt_u62(x: u64) -> u64 {
+    if cfg!(target_pointer_width = "64") {
+        // y ∈ {⌊√x⌋, ⌊√x⌋ + 1} ⊂ [1, 2³¹]: y² + y fits, y − 1 ≥ 0.
+        let y = newton_candidate(x);
+        let square = y.wrapping_mul(y);
+        let below = u64::from(x > square.wrapping_sub(y));
+        let above = u64::from(x > square.wrapping_add(y));
+        y.wrapping_sub(1).wrapping_add(below).wrapping_add(above)
+    } else {
+        rounded_isqrt_u64(x)
+    }
+}
+
 /// ⌊√x⌋, exactly, in a few instructions where `u64::isqrt` needs a few
 /// dozen on a 64-bit machine: [`newton_candidate`] and one correction.
 #[must_use]
@@ -216,6 +234,30 @@ mod tests {
         }
         check(u64::MAX);
         check(u64::from(u32::MAX) * u64::from(u32::MAX));
+    }
+
+    /// `rounded_isqrt_u62` is `rounded_isqrt_u64` over its range.
+    #[test]
+    fn rounded_isqrt_u62_is_rounded_isqrt_u64_below_2_62() {
+        let check = |x: u64| assert_eq!(rounded_isqrt_u62(x), rounded_isqrt_u64(x), "{x}");
+        for x in 1..1 << 16 {
+            check(x);
+        }
+        interval_middles().filter(|&x| x >> 62 == 0).for_each(check);
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        for _ in 0..200_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let x = (state >> 2) >> (state % 62);
+            let r = x.isqrt();
+            for y in [x, r * r, r * r + r, r * r + r + 1] {
+                if y > 0 {
+                    check(y);
+                }
+            }
+        }
+        check((1 << 62) - 1);
     }
 
     /// `rounded_isqrt_u64` is ⌈⌊√(4x)⌋ / 2⌉ (round half up, in 128 bits) on

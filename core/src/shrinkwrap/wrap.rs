@@ -84,9 +84,10 @@ pub enum Phase {
 }
 
 /// A shrinkwrap run around a skeleton of elements, with a mesh of at most
-/// `V` vertices and `T` triangles.
+/// `V` vertices and `T` triangles, keeping the field at up to `C` vertices
+/// from one move to the next ([`FieldCache`]; 0, the default, on an MCU).
 #[derive(Debug)]
-pub struct Shrinkwrap<R: Real, const V: usize, const T: usize> {
+pub struct Shrinkwrap<R: Real, const V: usize, const T: usize, const C: usize = 0> {
     mesh: Mesh<R, V, T>,
     level: R,
     target: R,
@@ -102,6 +103,49 @@ pub struct Shrinkwrap<R: Real, const V: usize, const T: usize> {
     on_level: Vec<bool, V>,
     /// The skeleton in the kernel's form, prepared once per pass.
     prepared: Vec<PreparedElement, PREPARED_ELEMENTS>,
+    /// V and ∇V where the last move left each of the first vertices.
+    cache: FieldCache<R, C>,
+}
+
+/// V and ∇V at the first `C` vertices where the last move left them: the
+/// level check after a move evaluates the field there, and the next move
+/// starts from the same place, so one evaluation (with the gradient) serves
+/// both instead of a potential and then the field again (issue 15: a
+/// third of a bone's field evaluations). Valid for vertices below its
+/// length while the skeleton stays the same (`Shrinkwrap::iterate`
+/// checks); the results are those of evaluating again, bit for bit.
+/// 16 B per vertex for `Fx`: for a host; an MCU keeps `C` = 0.
+#[derive(Debug)]
+struct FieldCache<R: Real, const C: usize> {
+    at: Vec<(R, Vector3<R>), C>,
+}
+
+impl<R: FieldReal, const C: usize> FieldCache<R, C> {
+    /// The field at vertex `i` at `r`, from the cache or evaluated.
+    fn field(&self, field: &SkeletonField<'_, R>, i: usize, r: &Vector3<R>) -> (R, Vector3<R>) {
+        match self.at.get(i) {
+            Some(&known) if C > 0 => known,
+            _ => field.at(r),
+        }
+    }
+
+    /// V at vertex `i`, just moved to `r`: with the gradient kept for
+    /// the next move when the cache has room for it (vertex `i` follows
+    /// the ones kept, as `move_all` visits them in order), else alone.
+    fn level_after_move(&mut self, field: &SkeletonField<'_, R>, i: usize, r: &Vector3<R>) -> R {
+        if C == 0 || i > self.at.len() || i >= C {
+            return field.potential_at(r);
+        }
+        let known = field.at(r);
+        match self.at.get_mut(i) {
+            Some(slot) => *slot = known,
+            // i == len < C: room for it.
+            None => {
+                let _ = self.at.push(known);
+            }
+        }
+        known.0
+    }
 }
 
 /// The centroid of the element ends and the largest distance of an end
@@ -136,7 +180,17 @@ fn toward<R: FieldReal>(
     level: R,
     max_move: R,
 ) -> Vector3<R> {
-    let (v, g) = field.at(r);
+    toward_from(field.at(r), r, level, max_move)
+}
+
+/// r, where the field is `(v, g)`, moved towards the level `level` along
+/// ∇V, by at most `max_move`.
+fn toward_from<R: FieldReal>(
+    (v, g): (R, Vector3<R>),
+    r: &Vector3<R>,
+    level: R,
+    max_move: R,
+) -> Vector3<R> {
     let norm = R::norm(&g);
     if norm <= R::zero() {
         return *r;
@@ -153,13 +207,18 @@ fn toward<R: FieldReal>(
 
 /// Whether V at `r` is off `level` by more than `split` (relative).
 fn off<R: FieldReal>(field: &SkeletonField<'_, R>, r: &Vector3<R>, level: R, split: R) -> bool {
-    (field.potential_at(r) - level).abs() > level * split
+    off_level(field.potential_at(r), level, split)
 }
 
-impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
+/// Whether `v` is off `level` by more than `split` (relative).
+fn off_level<R: FieldReal>(v: R, level: R, split: R) -> bool {
+    (v - level).abs() > level * split
+}
+
+impl<R: FieldReal, const V: usize, const T: usize, const C: usize> Shrinkwrap<R, V, T, C> {
     /// An idle run (`const`, for a `static`).
     #[must_use]
-    pub const fn new(zero: R) -> Shrinkwrap<R, V, T> {
+    pub const fn new(zero: R) -> Shrinkwrap<R, V, T, C> {
         Shrinkwrap {
             mesh: Mesh::new(),
             level: zero,
@@ -172,6 +231,7 @@ impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
             phase: Phase::Idle,
             on_level: Vec::new(),
             prepared: Vec::new(),
+            cache: FieldCache { at: Vec::new() },
         }
     }
 
@@ -229,6 +289,7 @@ impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
         self.iterations = 0;
         self.max_iterations = params.max_iterations;
         self.split = R::from_fx(params.split_tolerance);
+        self.cache.at.clear();
         let field = SkeletonField::new(elements, &mut self.prepared);
         let mut sum = R::Wide::default();
         for r in self.mesh.vertices() {
@@ -244,6 +305,7 @@ impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
             if move_all(
                 &mut self.mesh,
                 &mut self.on_level,
+                &mut self.cache,
                 &field,
                 self.level,
                 self.max_move,
@@ -284,10 +346,15 @@ impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
             }
         }
         let (level, max_move, tolerance) = (self.level, self.max_move, self.split);
+        // The cached field holds for the skeleton it was computed for.
+        if C > 0 && !SkeletonField::holds(elements, &self.prepared) {
+            self.cache.at.clear();
+        }
         let field = SkeletonField::new(elements, &mut self.prepared);
         move_all(
             &mut self.mesh,
             &mut self.on_level,
+            &mut self.cache,
             &field,
             level,
             max_move,
@@ -301,7 +368,11 @@ impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
             if !settled(a) || !settled(b) {
                 return None;
             }
-            let mid = (pa + pb) * R::from_ratio(1, 2);
+            let mid = Vector3::new(
+                pa.x.midpoint(pb.x),
+                pa.y.midpoint(pb.y),
+                pa.z.midpoint(pb.z),
+            );
             off(&field, &mid, level, tolerance).then(|| {
                 let mut r = mid;
                 for _ in 0..MIDPOINT_MOVES {
@@ -334,19 +405,21 @@ impl<R: FieldReal, const V: usize, const T: usize> Shrinkwrap<R, V, T> {
 /// Moves every vertex of `mesh` towards `level` and flags in `on_level`
 /// whether it is on it afterwards (within `split`); returns how many are
 /// not.
-fn move_all<R: FieldReal, const V: usize, const T: usize>(
+fn move_all<R: FieldReal, const V: usize, const T: usize, const C: usize>(
     mesh: &mut Mesh<R, V, T>,
     on_level: &mut Vec<bool, V>,
+    cache: &mut FieldCache<R, C>,
     field: &SkeletonField<'_, R>,
     level: R,
     max_move: R,
     split: R,
 ) -> usize {
     on_level.clear();
-    for r in mesh.vertices_mut() {
-        *r = toward(field, r, level, max_move);
+    for (i, r) in mesh.vertices_mut().iter_mut().enumerate() {
+        *r = toward_from(cache.field(field, i, r), r, level, max_move);
+        let v = cache.level_after_move(field, i, r);
         // As many flags as vertices: this cannot fail.
-        let _ = on_level.push(!off(field, r, level, split));
+        let _ = on_level.push(!off_level(v, level, split));
     }
     on_level.iter().filter(|&&on| !on).count()
 }
