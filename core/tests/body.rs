@@ -517,57 +517,72 @@ fn hoof_heights(params: &BodyParams<'_>, frame: u32) -> ([[f64; 2]; 2], f64) {
 #[test]
 fn every_body_stands_on_its_hooves() {
     let mut failures = Vec::new();
-    for name in ALL {
-        with_body(name, |params| {
-            let tolerance = if params.table.unit == "cm" { 0.6 } else { 0.25 };
-            let (mut worst_floating, mut worst_sunk) = ((0.0_f64, 0), (0.0_f64, 0));
-            for frame in 0..u32::from(params.frames) {
-                let (hooves, lowest) = hoof_heights(params, frame);
-                for pair in hooves {
-                    let standing: &[f64] = if params.gait.is_some() {
-                        &[pair[0].min(pair[1])]
-                    } else {
-                        &pair
-                    };
-                    for &h in standing {
-                        if h.abs() > worst_floating.0.abs() {
-                            worst_floating = (h, frame);
-                        }
+    let mut check = |name: &'static str, params: &BodyParams<'_>| {
+        let tolerance = if params.table.unit == "cm" { 0.6 } else { 0.25 };
+        let (mut worst_floating, mut worst_sunk) = ((0.0_f64, 0), (0.0_f64, 0));
+        for frame in 0..u32::from(params.frames) {
+            let (hooves, lowest) = hoof_heights(params, frame);
+            for pair in hooves {
+                let standing: &[f64] = if params.gait.is_some() {
+                    &[pair[0].min(pair[1])]
+                } else {
+                    &pair
+                };
+                for &h in standing {
+                    if h.abs() > worst_floating.0.abs() {
+                        worst_floating = (h, frame);
                     }
                 }
-                if lowest < worst_sunk.0 {
-                    worst_sunk = (lowest, frame);
-                }
-                if frame == 0 || frame + 1 == u32::from(params.frames) {
-                    // The trunk's slope: its axis, model base to tip.
-                    let s = posed::<f64>(params, frame);
-                    let torso = &params.model.cylinders[0];
-                    let [a, b] = [torso.base, torso.tip]
-                        .map(|p| s.follow(0, &p.map(Fx::to_f64).into()).unwrap());
-                    println!(
-                        "{name} frame {frame}: trunk pitch {:.2} degrees",
-                        (b.y - a.y).atan2(b.x - a.x).to_degrees()
-                    );
-                    println!(
-                        "{name} frame {frame} (age {}): fore {:.3} {:.3}, hind {:.3} {:.3}, lowest vertex {:.3} {}",
-                        params.age(frame),
-                        hooves[0][0],
-                        hooves[0][1],
-                        hooves[1][0],
-                        hooves[1][1],
-                        lowest,
-                        params.table.unit
-                    );
-                }
             }
-            println!(
-                "{name}: worst standing hoof {:.3} {} (frame {}), lowest vertex {:.3} (frame {})",
-                worst_floating.0, params.table.unit, worst_floating.1, worst_sunk.0, worst_sunk.1
-            );
-            if worst_floating.0.abs() > tolerance || worst_sunk.0 < -tolerance {
-                failures.push((name, worst_floating, worst_sunk));
+            if lowest < worst_sunk.0 {
+                worst_sunk = (lowest, frame);
             }
-        });
+            if frame == 0 || frame + 1 == u32::from(params.frames) {
+                // The trunk's slope: its axis, model base to tip.
+                let s = posed::<f64>(params, frame);
+                let torso = &params.model.cylinders[0];
+                let [a, b] = [torso.base, torso.tip]
+                    .map(|p| s.follow(0, &p.map(Fx::to_f64).into()).unwrap());
+                println!(
+                    "{name} frame {frame}: trunk pitch {:.2} degrees",
+                    (b.y - a.y).atan2(b.x - a.x).to_degrees()
+                );
+                println!(
+                    "{name} frame {frame} (age {}): fore {:.3} {:.3}, hind {:.3} {:.3}, lowest vertex {:.3} {}",
+                    params.age(frame),
+                    hooves[0][0],
+                    hooves[0][1],
+                    hooves[1][0],
+                    hooves[1][1],
+                    lowest,
+                    params.table.unit
+                );
+            }
+        }
+        println!(
+            "{name}: worst standing hoof {:.3} {} (frame {}), lowest vertex {:.3} (frame {})",
+            worst_floating.0, params.table.unit, worst_floating.1, worst_sunk.0, worst_sunk.1
+        );
+        if worst_floating.0.abs() > tolerance || worst_sunk.0 < -tolerance {
+            failures.push((name, worst_floating, worst_sunk));
+        }
+    };
+    for name in ALL {
+        with_body(name, |params| check(name, params));
     }
+    // The paper's transfer of motion (Sec. 8; examples/cow-trot.toml): the
+    // cow trotting with the horse's gait.
+    with_body("horse-trot", |trot| {
+        with_body("cow-growth", |cow| {
+            let params = BodyParams {
+                gait: trot.gait,
+                frames_per_stride: trot.frames_per_stride,
+                frames: 36,
+                first_age: Fx::from_int(3),
+                ..*cow
+            };
+            check("cow-trot", &params);
+        });
+    });
     assert!(failures.is_empty(), "{failures:?}");
 }
