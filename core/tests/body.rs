@@ -465,3 +465,124 @@ fn the_simulation_state_is_small() {
     println!("size_of::<Body>() = {size} bytes");
     assert!(size < 4096, "{size}");
 }
+
+/// The legs' last cylinders (pastern and hoof), fore pair then hind pair.
+const HOOVES: [[&str; 2]; 2] = [
+    ["l-fore-pastern", "r-fore-pastern"],
+    ["l-hind-pastern", "r-hind-pastern"],
+];
+
+/// Heights above the ground (y = 0) at frame `frame`: of each hoof of
+/// [`HOOVES`] — the lowest deformed vertex whose largest weight is that
+/// leg's last cylinder, i.e. the sole the viewer sees — and of the whole
+/// mesh's lowest vertex.
+fn hoof_heights(params: &BodyParams<'_>, frame: u32) -> ([[f64; 2]; 2], f64) {
+    let s = posed::<Fx>(params, frame);
+    let cylinders = params.model.cylinders;
+    let index = |name: &str| {
+        cylinders
+            .iter()
+            .position(|c| c.name == Label::new(name))
+            .unwrap()
+    };
+    let legs = HOOVES.map(|pair| pair.map(index));
+    let mut hooves = [[f64::MAX; 2]; 2];
+    let mut lowest = f64::MAX;
+    let mesh = &params.model.mesh;
+    for i in 0..mesh.vertex_count() {
+        let b = s.bind(&mesh.vertex::<Fx>(i).unwrap()).unwrap();
+        let y = s.blend(&b).y.to_f64();
+        lowest = lowest.min(y);
+        let (mut best, mut weight) = (usize::MAX, Fx::ZERO);
+        for (&c, &w) in b.cylinders().iter().zip(b.weights()) {
+            if w > weight {
+                (best, weight) = (usize::from(c), w);
+            }
+        }
+        for (pair, heights) in legs.iter().zip(hooves.iter_mut()) {
+            for (&leg, h) in pair.iter().zip(heights.iter_mut()) {
+                if leg == best {
+                    *h = h.min(y);
+                }
+            }
+        }
+    }
+    (hooves, lowest)
+}
+
+/// Issue 18: every body of every frame stands on its hooves. Without a
+/// gait all four touch the ground; in a trot the gait lifts one hoof of
+/// each pair, and the lower (supporting) fore and hind hooves touch. No
+/// vertex goes below the ground. Tolerance: 0.25 in (horse), 0.6 cm (cow).
+#[test]
+fn every_body_stands_on_its_hooves() {
+    let mut failures = Vec::new();
+    let mut check = |name: &'static str, params: &BodyParams<'_>| {
+        let tolerance = if params.table.unit == "cm" { 0.6 } else { 0.25 };
+        let (mut worst_floating, mut worst_sunk) = ((0.0_f64, 0), (0.0_f64, 0));
+        for frame in 0..u32::from(params.frames) {
+            let (hooves, lowest) = hoof_heights(params, frame);
+            for pair in hooves {
+                let standing: &[f64] = if params.gait.is_some() {
+                    &[pair[0].min(pair[1])]
+                } else {
+                    &pair
+                };
+                for &h in standing {
+                    if h.abs() > worst_floating.0.abs() {
+                        worst_floating = (h, frame);
+                    }
+                }
+            }
+            if lowest < worst_sunk.0 {
+                worst_sunk = (lowest, frame);
+            }
+            if frame == 0 || frame + 1 == u32::from(params.frames) {
+                // The trunk's slope: its axis, model base to tip.
+                let s = posed::<f64>(params, frame);
+                let torso = &params.model.cylinders[0];
+                let [a, b] = [torso.base, torso.tip]
+                    .map(|p| s.follow(0, &p.map(Fx::to_f64).into()).unwrap());
+                println!(
+                    "{name} frame {frame}: trunk pitch {:.2} degrees",
+                    (b.y - a.y).atan2(b.x - a.x).to_degrees()
+                );
+                println!(
+                    "{name} frame {frame} (age {}): fore {:.3} {:.3}, hind {:.3} {:.3}, lowest vertex {:.3} {}",
+                    params.age(frame),
+                    hooves[0][0],
+                    hooves[0][1],
+                    hooves[1][0],
+                    hooves[1][1],
+                    lowest,
+                    params.table.unit
+                );
+            }
+        }
+        println!(
+            "{name}: worst standing hoof {:.3} {} (frame {}), lowest vertex {:.3} (frame {})",
+            worst_floating.0, params.table.unit, worst_floating.1, worst_sunk.0, worst_sunk.1
+        );
+        if worst_floating.0.abs() > tolerance || worst_sunk.0 < -tolerance {
+            failures.push((name, worst_floating, worst_sunk));
+        }
+    };
+    for name in ALL {
+        with_body(name, |params| check(name, params));
+    }
+    // The paper's transfer of motion (Sec. 8; examples/cow-trot.toml): the
+    // cow trotting with the horse's gait.
+    with_body("horse-trot", |trot| {
+        with_body("cow-growth", |cow| {
+            let params = BodyParams {
+                gait: trot.gait,
+                frames_per_stride: trot.frames_per_stride,
+                frames: 36,
+                first_age: Fx::from_int(3),
+                ..*cow
+            };
+            check("cow-trot", &params);
+        });
+    });
+    assert!(failures.is_empty(), "{failures:?}");
+}

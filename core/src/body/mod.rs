@@ -12,6 +12,8 @@
 //! - [`mesh`]: the surface (procedural tubes or an indexed mesh);
 //! - [`quadruped`]: the built-in horse and cow;
 //! - [`gait`]: joint angles over a stride (the trot);
+//! - [`stance`]: the supports, the trunk's pitch and the lift that keep
+//!   the body standing;
 //! - [`skeleton`]: the posed hierarchy, generic over [`Real`](crate::fx::Real);
 //! - [`sim`]: the [`Body`] simulation and its [`BodyParams`] (the built-in
 //!   bodies are the scenarios `horse-growth`, `cow-growth`, `horse-trot`).
@@ -53,6 +55,7 @@ pub mod quadruped;
 pub mod sim;
 pub mod skeleton;
 pub mod solve;
+pub mod stance;
 pub mod table;
 
 use serde::Serialize;

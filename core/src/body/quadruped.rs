@@ -381,6 +381,8 @@ static HORSE_SPINE: [Station; 16] = at_z(
     0,
 );
 
+/// Elbow or stifle to sole; the last two rings one above the other: a
+/// flat sole on the ground (issue 18).
 const HORSE_FORE: [(i32, i32, i32, i32); 11] = [
     (200, 440, 45, 38),
     (200, 370, 42, 32),
@@ -391,9 +393,11 @@ const HORSE_FORE: [(i32, i32, i32, i32); 11] = [
     (200, 100, 15, 13),
     (202, 70, 18, 15),
     (208, 35, 14, 13),
-    (214, 8, 21, 19),
+    (215, 8, 21, 19),
     (215, 0, 22, 20),
 ];
+/// Elbow or stifle to sole; the last two rings one above the other: a
+/// flat sole on the ground (issue 18).
 const HORSE_HIND: [(i32, i32, i32, i32); 11] = [
     (-215, 470, 60, 45),
     (-205, 400, 55, 40),
@@ -404,7 +408,7 @@ const HORSE_HIND: [(i32, i32, i32, i32); 11] = [
     (-270, 120, 15, 13),
     (-268, 75, 18, 15),
     (-262, 35, 14, 13),
-    (-256, 8, 21, 19),
+    (-255, 8, 21, 19),
     (-255, 0, 22, 20),
 ];
 const HORSE_TAIL: [(i32, i32, i32, i32); 5] = [
@@ -707,6 +711,8 @@ static COW_SPINE: [Station; 15] = at_z(
     0,
 );
 
+/// Elbow or stifle to sole; the last two rings one above the other: a
+/// flat sole on the ground (issue 18).
 const COW_FORE: [(i32, i32, i32, i32); 11] = [
     (330, 800, 110, 90),
     (330, 700, 100, 80),
@@ -717,9 +723,11 @@ const COW_FORE: [(i32, i32, i32, i32); 11] = [
     (330, 200, 40, 34),
     (333, 125, 45, 38),
     (345, 60, 40, 36),
-    (355, 15, 50, 45),
+    (358, 15, 50, 45),
     (358, 0, 52, 47),
 ];
+/// Elbow or stifle to sole; the last two rings one above the other: a
+/// flat sole on the ground (issue 18).
 const COW_HIND: [(i32, i32, i32, i32); 11] = [
     (-600, 880, 140, 100),
     (-560, 730, 120, 90),
@@ -730,7 +738,7 @@ const COW_HIND: [(i32, i32, i32, i32); 11] = [
     (-680, 230, 40, 34),
     (-678, 125, 45, 38),
     (-668, 60, 40, 36),
-    (-660, 15, 50, 45),
+    (-658, 15, 50, 45),
     (-658, 0, 52, 47),
 ];
 const COW_TAIL: [(i32, i32, i32, i32); 5] = [

@@ -2,9 +2,12 @@
 //! model space to the deformed world, for a pose of the joints — the
 //! kernel that [`super::Body`] runs in fixed point and tests run in `f64`.
 //!
-//! The feet stay on the ground: after the chain is evaluated the whole body
-//! is lifted or lowered so that the lowest cylinder-axis end is where it is
-//! in the model (in a trot this is the supporting hoof, so the body bobs).
+//! The feet stay on the ground ([`super::stance`]): after the chain is
+//! evaluated the trunk pitches so that the lowest fore and hind soles are
+//! level and the body is lifted or lowered so that they touch the model's
+//! ground (in a trot these are the supporting hooves, so the body bobs). A
+//! body without fore and hind supports is lifted so that its lowest
+//! cylinder-axis end stays where it is in the model.
 
 use heapless::Vec;
 use nalgebra::Vector3;
@@ -13,6 +16,7 @@ use super::binding::{Binding, bind};
 use super::chain::{Affine, Joint, deformation, link, root};
 use super::cylinder::{Anchor, Cylinder, Rest, point, validate_hierarchy};
 use super::solve::{self, Growth};
+use super::stance::{self, Part};
 use super::{BodyModel, GrowthTable};
 use crate::Error;
 use crate::fx::Real;
@@ -24,6 +28,8 @@ pub struct Skeleton<R: Real, const C: usize> {
     growth: Vec<Growth<R>, C>,
     maps: Vec<Affine<R>, C>,
     model_ground: Option<R>,
+    parts: Vec<Part<R>, C>,
+    ground: Option<R>,
 }
 
 impl<R: Real, const C: usize> Default for Skeleton<R, C> {
@@ -48,6 +54,8 @@ impl<R: Real, const C: usize> Skeleton<R, C> {
             growth: Vec::new(),
             maps: Vec::new(),
             model_ground: None,
+            parts: Vec::new(),
+            ground: None,
         }
     }
 
@@ -61,6 +69,8 @@ impl<R: Real, const C: usize> Skeleton<R, C> {
         self.growth.clear();
         self.maps.clear();
         self.model_ground = None;
+        self.parts.clear();
+        self.ground = None;
         if model.cylinders.len() > C || model.cylinders.len() > usize::from(u8::MAX) {
             return Err(capacity::<C>());
         }
@@ -80,6 +90,10 @@ impl<R: Real, const C: usize> Skeleton<R, C> {
             self.rests.push(rest).map_err(|_| capacity::<C>())?;
         }
         self.model_ground = ground;
+        if let Some((parts, ground)) = ground.and_then(|g| stance::parts(model, &self.rests, g)) {
+            self.parts = parts;
+            self.ground = Some(ground);
+        }
         Ok(())
     }
 
@@ -115,19 +129,31 @@ impl<R: Real, const C: usize> Skeleton<R, C> {
             self.growth.push(g).map_err(|_| capacity::<C>())?;
             self.maps.push(world).map_err(|_| capacity::<C>())?;
         }
-        // Keep the lowest axis end at the model's ground.
-        let mut lowest: Option<R> = None;
-        for ((w, g), rest) in self.maps.iter().zip(&self.growth).zip(&self.rests) {
-            let tip = w.apply(&Vector3::new(g.length * rest.length, R::zero(), R::zero()));
-            for y in [w.translation.y, tip.y] {
-                if lowest.is_none_or(|l| y < l) {
-                    lowest = Some(y);
+        let lift = match self.ground {
+            Some(ground) => stance::stand(
+                &self.parts,
+                &self.rests,
+                &self.growth,
+                &mut self.maps,
+                ground,
+            )
+            .unwrap_or_else(R::zero),
+            None => {
+                // Keep the lowest axis end at the model's ground.
+                let mut lowest: Option<R> = None;
+                for ((w, g), rest) in self.maps.iter().zip(&self.growth).zip(&self.rests) {
+                    let tip = w.apply(&Vector3::new(g.length * rest.length, R::zero(), R::zero()));
+                    for y in [w.translation.y, tip.y] {
+                        if lowest.is_none_or(|l| y < l) {
+                            lowest = Some(y);
+                        }
+                    }
+                }
+                match (self.model_ground, lowest) {
+                    (Some(g), Some(l)) => g - l,
+                    _ => R::zero(),
                 }
             }
-        }
-        let lift = match (self.model_ground, lowest) {
-            (Some(g), Some(l)) => g - l,
-            _ => R::zero(),
         };
         for (w, g) in self.maps.iter_mut().zip(&self.growth) {
             w.translation.y += lift;
