@@ -31,7 +31,9 @@
 //! previous one, or a last vertex equal to the first, is dropped). `!`
 //! multiplies the width by `thin` (`!(w)` sets it), `'` adds 1 to the
 //! colour index (`'(c)` sets it). `[`/`]` push/pop the whole state (not the
-//! polygon). Any other symbol is ignored.
+//! polygon). Any other symbol draws nothing; the grammar parser refuses
+//! the symbols that ABOP or L-Py give a meaning this turtle does not
+//! implement ([`crate::lsys::UNSUPPORTED_SYMBOLS`]).
 
 use heapless::Vec;
 use nalgebra::Vector3;

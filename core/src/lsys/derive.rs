@@ -241,14 +241,32 @@ struct Frame {
 /// is carried to the last level at once: it is counted once in `carried`
 /// at its level, and a module's index at level `k` is its level's counter
 /// plus the modules carried from levels above `k`.
+///
+/// Cuts (`%`, ABOP p. 28): a `%` in level `k`'s string removes itself and
+/// the rest of its branch from that string. Level `k`'s modules arrive in
+/// string order (from its frame, or carried from a level above), so a
+/// per-level state — cutting or not, and the bracket depth inside the cut
+/// — removes them as they arrive; a removed module is neither counted nor
+/// expanded. A module carried from level `j` and removed at level `k > j`
+/// is counted at the levels `j + 1 .. k` it still reaches.
 #[derive(Clone, Debug)]
 pub struct Streaming {
     frames: Vec<Frame, { MAX_STEPS + 1 }>,
     positions: [u64; MAX_STEPS + 1],
     carried: [u64; MAX_STEPS + 1],
+    /// Per level: the bracket depth inside an active cut (`u32::MAX`: no
+    /// cut).
+    cuts: [u32; MAX_STEPS + 1],
+    /// Bit `k` set while level `k` is cutting (the fast path needs none).
+    cutting: u64,
     steps: u8,
     seed: u64,
 }
+
+/// No cut active at a level.
+const NOT_CUTTING: u32 = u32::MAX;
+
+const _: () = assert!(MAX_STEPS < 64, "`Streaming::cutting` is a 64-bit set");
 
 impl Default for Streaming {
     fn default() -> Self {
@@ -264,9 +282,55 @@ impl Streaming {
             frames: Vec::new(),
             positions: [0; MAX_STEPS + 1],
             carried: [0; MAX_STEPS + 1],
+            cuts: [NOT_CUTTING; MAX_STEPS + 1],
+            cutting: 0,
             steps: 0,
             seed: 0,
         }
+    }
+
+    /// Whether module `m` of level `level`'s string survives the cuts
+    /// (updating that level's cut state): a `%` starts a cut and is
+    /// removed; inside a cut every module is removed up to the `]` that
+    /// closes the cut branch, which is kept.
+    fn survives_cut(&mut self, level: usize, m: &Module) -> bool {
+        let Some(depth) = self.cuts.get_mut(level) else {
+            return true;
+        };
+        if *depth == NOT_CUTTING {
+            if m.symbol == b'%' {
+                *depth = 0;
+                self.cutting |= 1 << level;
+                return false;
+            }
+            return true;
+        }
+        match m.symbol {
+            b'[' => *depth = depth.saturating_add(1),
+            b']' if *depth == 0 => {
+                *depth = NOT_CUTTING;
+                self.cutting &= !(1 << level);
+                return true;
+            }
+            b']' => *depth -= 1,
+            _ => {}
+        }
+        false
+    }
+
+    /// Passes a module carried from `level` through the cuts of the levels
+    /// below it; true if it reaches the last level. If a cut removes it at
+    /// level `k`, it is counted at the levels `level + 1 .. k` it reached.
+    fn carry_through_cuts(&mut self, level: usize, m: &Module) -> bool {
+        for k in level + 1..=self.steps as usize {
+            if !self.survives_cut(k, m) {
+                for counter in self.positions.get_mut(level + 1..k).unwrap_or(&mut []) {
+                    *counter += 1;
+                }
+                return false;
+            }
+        }
+        true
     }
 
     /// After a complete derivation, the length of every intermediate
@@ -307,6 +371,9 @@ impl Streaming {
             }
             let m = grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
             frame.next += 1;
+            if !self.survives_cut(level, &m) {
+                continue;
+            }
             let Some(counter) = self.positions.get_mut(level) else {
                 return Ok(None);
             };
@@ -339,6 +406,9 @@ impl Streaming {
                         })?;
                 }
                 None => {
+                    if self.cutting >> (level + 1) != 0 && !self.carry_through_cuts(level, &m) {
+                        continue;
+                    }
                     if let Some(carried) = self.carried.get_mut(level) {
                         *carried += 1;
                     }
@@ -363,6 +433,8 @@ impl Derivation for Streaming {
         self.frames.clear();
         self.positions = [0; MAX_STEPS + 1];
         self.carried = [0; MAX_STEPS + 1];
+        self.cuts = [NOT_CUTTING; MAX_STEPS + 1];
+        self.cutting = 0;
         self.steps = steps;
         self.seed = seed;
         let _ = self.frames.push(Frame {
@@ -378,7 +450,8 @@ impl Derivation for Streaming {
         // frame is at the last level, or no production rewrites the
         // module), so it is counted and returned as it is.
         let last = self.steps as usize;
-        if let Some(level) = self.frames.len().checked_sub(1)
+        if self.cutting == 0
+            && let Some(level) = self.frames.len().checked_sub(1)
             && let Some(frame) = self.frames.last_mut()
         {
             let span = frame.successor;
@@ -386,7 +459,7 @@ impl Derivation for Streaming {
                 let m =
                     grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
                 let carried = level < last;
-                if !carried || !grammar.is_rewritten(m.symbol) {
+                if m.symbol != b'%' && (!carried || !grammar.is_rewritten(m.symbol)) {
                     frame.next += 1;
                     if let Some(counter) = self.positions.get_mut(level) {
                         *counter += 1;
@@ -400,6 +473,46 @@ impl Derivation for Streaming {
         }
         self.descend(grammar)
     }
+}
+
+/// Applies the cuts of ABOP p. 28 to a derived string in place: each `%`
+/// is removed with the rest of its branch (up to, not including, the `]`
+/// that closes it, or to the end of the string at the top level). Returns
+/// the new length.
+fn cut(s: &mut [Module], len: usize) -> usize {
+    let mut out = 0usize;
+    // Bracket depth inside the current cut, if any.
+    let mut cutting: Option<u32> = None;
+    for read in 0..len.min(s.len()) {
+        let Some(&m) = s.get(read) else { break };
+        let keep = match (cutting, m.symbol) {
+            (None, b'%') => {
+                cutting = Some(0);
+                false
+            }
+            (None, _) => true,
+            (Some(0), b']') => {
+                cutting = None;
+                true
+            }
+            (Some(d), b']') => {
+                cutting = Some(d - 1);
+                false
+            }
+            (Some(d), b'[') => {
+                cutting = Some(d.saturating_add(1));
+                false
+            }
+            (Some(_), _) => false,
+        };
+        if keep {
+            if let Some(slot) = s.get_mut(out) {
+                *slot = m;
+            }
+            out += 1;
+        }
+    }
+    out
 }
 
 /// Derivation into two caller-provided module buffers (a fixed-capacity
@@ -465,6 +578,10 @@ impl Derivation for Buffered<'_> {
             self.len += 1;
         }
         self.peak = self.peak.max(self.len);
+        let cuts = grammar.has_cut();
+        if cuts {
+            self.len = cut(self.a, self.len);
+        }
         for step in 1..=steps {
             let error = self.capacity_error();
             let (front, back): (&[Module], &mut [Module]) = if self.front_is_a {
@@ -497,7 +614,7 @@ impl Derivation for Buffered<'_> {
                 }
             }
             self.peak = self.peak.max(self.len + out);
-            self.len = out;
+            self.len = if cuts { cut(back, out) } else { out };
             self.front_is_a = !self.front_is_a;
         }
         Ok(())

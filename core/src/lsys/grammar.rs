@@ -197,6 +197,12 @@ impl Grammar {
         self.productions.iter().any(|p| p.weight.is_some())
     }
 
+    /// Whether a successor or the axiom has a `%` (a cut, ABOP p. 28).
+    #[must_use]
+    pub fn has_cut(&self) -> bool {
+        self.templates.iter().any(|t| t.symbol == b'%')
+    }
+
     /// Whether `symbol` is in the `ignore:` set.
     #[must_use]
     pub fn is_ignored(&self, symbol: u8) -> bool {

@@ -119,7 +119,32 @@ pub enum ParseErrorKind {
         /// Its value.
         capacity: u32,
     },
+    /// A module symbol that ABOP or L-Py gives a meaning Morphogen does
+    /// not implement: refused rather than silently drawn as nothing.
+    UnsupportedSymbol {
+        /// The symbol.
+        symbol: u8,
+        /// Its meaning elsewhere, and what to use instead.
+        meaning: &'static str,
+    },
 }
+
+/// Module symbols that ABOP or L-Py give a meaning Morphogen does not
+/// implement, with that meaning: a grammar using one is a located
+/// [`ParseErrorKind::UnsupportedSymbol`] error.
+pub const UNSUPPORTED_SYMBOLS: [(u8, &str); 5] = [
+    (b'~', "ABOP/L-Py: a predefined surface"),
+    (
+        b'@',
+        "L-Py/cpfg multi-letter turtle commands (@O sphere, @o circle, @M move to, @Tp tropism, ...)",
+    ),
+    (
+        b'?',
+        "L-Py/cpfg query modules (?P position, ?H heading, ...) that read the turtle back",
+    ),
+    (b'_', "L-Py: increase the width (use `!(w)` to set it)"),
+    (b';', "L-Py: next colour index (use `'` or `'(c)`)"),
+];
 
 impl core::fmt::Display for ParseErrorKind {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
@@ -146,6 +171,11 @@ impl core::fmt::Display for ParseErrorKind {
             ParseErrorKind::Capacity { limit, capacity } => write!(
                 f,
                 "capacity {limit} = {capacity} exceeded (raise it in core/src/lsys/mod.rs)"
+            ),
+            ParseErrorKind::UnsupportedSymbol { symbol, meaning } => write!(
+                f,
+                "the symbol `{}` is not supported (its meaning elsewhere: {meaning})",
+                char::from(*symbol)
             ),
         }
     }

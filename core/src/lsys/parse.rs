@@ -10,7 +10,7 @@ use super::grammar::{Grammar, Pattern, Production, Span, Template};
 use super::{
     MAX_CODE, MAX_CONSTANTS, MAX_CONTEXT_MODULES, MAX_EXPR_STACK, MAX_FORMALS, MAX_LITERALS,
     MAX_NAME, MAX_NESTING, MAX_PARAMS, MAX_PRODUCTIONS, MAX_STEPS, MAX_SUCCESSOR_MODULES,
-    ParseError, ParseErrorKind,
+    ParseError, ParseErrorKind, UNSUPPORTED_SYMBOLS,
 };
 
 type Name = Vec<u8, MAX_NAME>;
@@ -29,6 +29,17 @@ const fn capacity(limit: &'static str, capacity: usize) -> ParseErrorKind {
 #[must_use]
 pub(crate) fn is_symbol(b: u8) -> bool {
     b.is_ascii_graphic() && !b"(),#<>:".contains(&b)
+}
+
+/// The located error for a symbol that ABOP or L-Py gives a meaning
+/// Morphogen does not implement.
+fn unsupported(c: &Cursor<'_>, at: usize, symbol: u8) -> Result<(), ParseError> {
+    match UNSUPPORTED_SYMBOLS.iter().find(|(s, _)| *s == symbol) {
+        Some(&(symbol, meaning)) => {
+            Err(c.err_at(at, ParseErrorKind::UnsupportedSymbol { symbol, meaning }))
+        }
+        None => Ok(()),
+    }
 }
 
 /// A position in one line, limited to `pos..end`.
@@ -533,11 +544,20 @@ impl Grammar {
         c.skip_ws();
         let at = c.pos;
         let symbol = c.symbol()?;
+        unsupported(c, at, symbol)?;
         if symbol == b'[' || symbol == b']' {
             return Err(c.err_at(
                 at,
                 ParseErrorKind::Expected(
                     "a module other than `[` or `]` (brackets are neither rewritten nor matched)",
+                ),
+            ));
+        }
+        if symbol == b'%' {
+            return Err(c.err_at(
+                at,
+                ParseErrorKind::Expected(
+                    "a module other than `%` (a cut is removed after the step that makes it, so it is never rewritten or matched)",
                 ),
             ));
         }
@@ -720,6 +740,7 @@ impl Grammar {
         while !c.at_end() {
             let at = c.pos;
             let symbol = c.symbol()?;
+            unsupported(c, at, symbol)?;
             match symbol {
                 b'[' => {
                     if depth == 0 {

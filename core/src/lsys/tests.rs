@@ -498,3 +498,82 @@ fn a_negative_width_or_an_out_of_range_colour_is_an_error() {
         assert_eq!(e, crate::Error::Lsys(LsysError::Turtle(error)), "{text}");
     }
 }
+
+fn segment_count(source: &str) -> usize {
+    segments(source, 0).len()
+}
+
+#[test]
+fn cut_removes_the_rest_of_its_branch() {
+    // ABOP p. 28: each step adds a branch [+F%F] and an F to the axis; the
+    // cut leaves [+F], so after n steps there are 1 + 2n segments (with no
+    // cut, [+FF]: 1 + 3n).
+    let cut = "n = 4\naxiom: F A\nA -> [+F%F]F A";
+    let uncut = "n = 4\naxiom: F A\nA -> [+F F]F A";
+    assert_eq!(segment_count(cut), 1 + 2 * 4);
+    assert_eq!(segment_count(uncut), 1 + 3 * 4);
+    let g = grammar(cut);
+    assert_eq!(text(&buffered(&g, 2, 0)), "F[+F]F[+F]FA");
+    assert_eq!(text(&streamed(&g, 2, 0)), "F[+F]F[+F]FA");
+    // At the top level a cut runs to the end of the string; in the axiom
+    // too.
+    let g = grammar("n = 1\naxiom: F%[+F]F\nF -> FF");
+    assert_eq!(text(&buffered(&g, 0, 0)), "F");
+    assert_eq!(text(&streamed(&g, 1, 0)), "FF");
+    // A branch closed by a `]` of an earlier level: A's successor cuts C's
+    // expansion too, and the `]` stays.
+    let g = grammar("n = 2\naxiom: [A C]B\nA -> F%\nC -> G\nB -> BB");
+    assert_eq!(text(&buffered(&g, 1, 0)), "[F]BB");
+    assert_eq!(text(&streamed(&g, 1, 0)), "[F]BB");
+    assert_eq!(text(&streamed(&g, 2, 0)), "[F]BBBB");
+    // `%` cannot be a predecessor.
+    assert_eq!(parse_err("n = 1\naxiom: F\n% -> F").column, 1);
+}
+
+#[test]
+fn cuts_stream_as_they_buffer_with_stochastic_positions() {
+    // Cuts at every level, inside and across successors, with stochastic
+    // choices keyed by position: streaming must count exactly the modules
+    // the buffered derivation keeps.
+    let grammars = [
+        "n = 6\naxiom: A\nA -> (1) F[+A%B]A\nA -> (1) F[-B]%A\nA -> (1) [A]B\nB -> (1) F%[A]\nB -> (2) B F",
+        "n = 5\naxiom: [A]A%B\nA -> (1) A[%A]B\nA -> (2) F[B%]A\nB -> (1) [A%F]\nB -> (1) G B",
+        "n = 7\naxiom: X\nX -> (1) F[+X][-X%X]X\nX -> (1) F%\nX -> (1) [X%]F X\nF -> (3) F\nF -> (1) F F",
+    ];
+    for source in grammars {
+        let g = grammar(source);
+        for seed in 0..12 {
+            for steps in 0..=g.settings().steps {
+                let s = streamed(&g, steps, seed);
+                let b = buffered(&g, steps, seed);
+                assert!(
+                    s == b,
+                    "{source} seed {seed} n {steps}:\n{}\n{}",
+                    text(&s),
+                    text(&b)
+                );
+                assert!(!text(&s).contains('%'));
+            }
+        }
+    }
+}
+
+#[test]
+fn symbols_with_a_meaning_elsewhere_are_located_errors() {
+    // Each symbol of the table, in the axiom, a successor and a
+    // predecessor: an error at its column naming it, never drawn as
+    // nothing.
+    for (symbol, meaning) in UNSUPPORTED_SYMBOLS {
+        let s = char::from(symbol);
+        let kind = ParseErrorKind::UnsupportedSymbol { symbol, meaning };
+        for (text, line, column) in [
+            (format!("n = 1\naxiom: F {s}F"), 2, 10),
+            (format!("n = 1\naxiom: F\nF -> F[+F]{s}(2)"), 3, 11),
+            (format!("n = 1\naxiom: F\n{s} -> F"), 3, 1),
+        ] {
+            let e = parse_err(&text);
+            assert_eq!((e.line, e.column, e.kind), (line, column, kind), "{text}");
+            assert!(std::format!("{e}").contains(&std::format!("`{s}`")), "{e}");
+        }
+    }
+}
