@@ -154,6 +154,11 @@ pub struct Params<R: Real = Fx> {
     pub width: R,
     /// Width factor of a bare `!`.
     pub thin: R,
+    /// The tropism vector T (ABOP Sec. 2.2), in world coordinates.
+    pub tropism: Vector3<R>,
+    /// The susceptibility e to tropism (0: none). After each `F` or `G`
+    /// the frame turns by α = e·‖H × T‖ radians about H × T.
+    pub elasticity: R,
 }
 
 /// The 3D turtle with a bounded stack.
@@ -224,6 +229,12 @@ fn turn<R: Real>(state: &mut State<R>, axis: Axis, c: R, s: R) {
         Axis::Left => rotate(&mut state.up, &mut state.heading, c, s),
         Axis::Heading => rotate(&mut state.left, &mut state.up, c, s),
     }
+    orthonormalise(state);
+}
+
+/// Pulls a rotated frame back to orthonormal: one Newton step towards
+/// unit length for H, L made orthogonal to H and unit, U = H × L.
+fn orthonormalise<R: Real>(state: &mut State<R>) {
     let (three, half) = (R::from_int(3), R::from_ratio(1, 2));
     let h = state.heading;
     let h = h * ((three - h.dot(&h)) * half);
@@ -407,6 +418,8 @@ impl Turtle<Fx> {
                 delta: Angle::ZERO,
                 width: o,
                 thin: o,
+                tropism: zero,
+                elasticity: o,
             },
             cos_delta: o,
             sin_delta: o,
@@ -512,6 +525,33 @@ impl<R: Turning> Turtle<R> {
         Ok(from)
     }
 
+    /// Tropism (ABOP Sec. 2.2, Eq. 2.3 and Fig. 2.8): rotates the frame by
+    /// α = e·‖H × T‖ radians about the axis H × T, which bends H towards
+    /// T, then re-orthonormalises it as a turn does. Nothing happens when
+    /// e = 0 or when H is within ~2⁻¹² of parallel to T (there α is below
+    /// e·2⁻¹² and the axis is lost in rounding).
+    fn bend(&mut self) {
+        let e = self.params.elasticity;
+        if e == R::zero() {
+            return;
+        }
+        let s = &mut self.state;
+        let axis = s.heading.cross(&self.params.tropism);
+        let norm = R::norm(&axis);
+        if norm < R::from_ratio(1, 4096) {
+            return;
+        }
+        let k = Vector3::new(axis.x.div(norm), axis.y.div(norm), axis.z.div(norm));
+        let alpha = (e * norm).scale_angle(Angle::from_radians_fx(Fx::ONE));
+        let (c, sin) = (R::cos(alpha), R::sin(alpha));
+        let one_minus_c = R::one() - c;
+        // Rodrigues: v' = v·cos α + (k × v)·sin α + k (k·v)(1 − cos α).
+        let rotate = |v: Vector3<R>| v * c + k.cross(&v) * sin + k * (k.dot(&v) * one_minus_c);
+        s.heading = rotate(s.heading);
+        s.left = rotate(s.left);
+        orthonormalise(s);
+    }
+
     /// `$`: rolls about H so that L is horizontal (left unchanged when H is
     /// within ~0.2° of vertical).
     fn level(&mut self) {
@@ -539,11 +579,14 @@ impl<R: Turning> Turtle<R> {
                 if m.symbol == b'F' && self.polygon_open {
                     self.add_vertex()?;
                 }
+                let (width, colour) = (self.state.width, self.state.colour);
+                let b = self.state.position;
+                self.bend();
                 return Ok(Drawn::Segment {
                     a,
-                    b: self.state.position,
-                    width: self.state.width,
-                    colour: self.state.colour,
+                    b,
+                    width,
+                    colour,
                 });
             }
             b'f' | b'g' => {
@@ -631,6 +674,8 @@ mod tests {
             delta: Angle::from_degrees(delta_deg),
             width: R::one(),
             thin: R::from_ratio(1, 2),
+            tropism: Vector3::zeros(),
+            elasticity: R::zero(),
         }
     }
 

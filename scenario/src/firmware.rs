@@ -5,8 +5,8 @@
 //! call [`write_presets`] from their `build.rs`.
 //!
 //! - By default: every built-in scenario (`scenarios/*.toml`) that fits
-//!   the MCU ([`morphogen::preset::Model::fits_mcu`]), in `morphogen list`
-//!   order.
+//!   the MCU ([`morphogen::preset::Model::fits_mcu`]) and does not say
+//!   `firmware = false`, in `morphogen list` order.
 //! - With `MORPHOGEN_SCENARIOS=a.toml,b.toml`: exactly those files, in that
 //!   order. Relative paths are taken from the directory `cargo` was started
 //!   in (the shell's `$PWD`; a build script runs in its package directory).
@@ -52,7 +52,7 @@ pub fn write_presets() -> Result<(), String> {
     let scenarios = match env::var_os(VAR) {
         None => crate::builtins()
             .into_iter()
-            .filter(|s| s.with_preset(|p| p.model.fits_mcu()))
+            .filter(|s| s.in_firmware_set() && s.with_preset(|p| p.model.fits_mcu()))
             .collect(),
         Some(list) => user_scenarios(list.to_str().ok_or(format!("{VAR} is not UTF-8"))?)?,
     };

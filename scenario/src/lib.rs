@@ -333,6 +333,13 @@ impl Scenario {
         &self.file.name
     }
 
+    /// Whether the firmware's default set may take it (when it fits the
+    /// MCU): the file's `firmware` key, true when absent.
+    #[must_use]
+    pub fn in_firmware_set(&self) -> bool {
+        self.file.firmware.unwrap_or(true)
+    }
+
     /// Its one-line summary.
     #[must_use]
     pub fn summary(&self) -> &str {

@@ -16,6 +16,10 @@ pub struct File {
     /// The seed used when `--seed` is not given.
     #[serde(default)]
     pub seed: u64,
+    /// `false` keeps a built-in preset out of the firmware's default set
+    /// even when it fits the MCU (absent: in it when it fits).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub firmware: Option<bool>,
     /// The seasonal growth curve.
     pub curve: Option<Curve>,
     /// A horn from positioners.

@@ -18,7 +18,9 @@ use super::{
 /// the width by \[0.7\], `plants` how many plants to draw side by side,
 /// each from its own seed `seed + i` \[1\], `spacing` the distance between
 /// them along x \[0\], `animate` 1 to draw every derivation step as its own
-/// frame (0 draws only step `n`) \[0\].
+/// frame (0 draws only step `n`) \[0\], `tropism = x, y, z` the tropism
+/// vector T \[0, 0, 0\] and `elasticity` the susceptibility e to it \[0\]
+/// (ABOP Sec. 2.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Settings {
@@ -38,6 +40,11 @@ pub struct Settings {
     pub spacing: Fx,
     /// Whether every derivation step is drawn as a frame.
     pub animate: bool,
+    /// The tropism vector T (`tropism = x, y, z`, ABOP Sec. 2.2).
+    pub tropism: [Fx; 3],
+    /// The susceptibility e to tropism (`elasticity`; 0, the default,
+    /// turns tropism off).
+    pub elasticity: Fx,
 }
 
 impl Settings {
@@ -51,6 +58,8 @@ impl Settings {
         plants: 1,
         spacing: Fx::ZERO,
         animate: false,
+        tropism: [Fx::ZERO; 3],
+        elasticity: Fx::ZERO,
     };
 }
 
@@ -165,6 +174,8 @@ impl Grammar {
                 plants: 0,
                 spacing: Fx::ZERO,
                 animate: false,
+                tropism: [Fx::ZERO; 3],
+                elasticity: Fx::ZERO,
             },
         }
     }

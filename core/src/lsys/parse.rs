@@ -374,6 +374,7 @@ struct State {
     constants: Constants,
     axiom_seen: bool,
     steps_seen: bool,
+    tropism_seen: bool,
 }
 
 impl Grammar {
@@ -388,6 +389,7 @@ impl Grammar {
             constants: Vec::new(),
             axiom_seen: false,
             steps_seen: false,
+            tropism_seen: false,
         };
         let mut lines = 0u32;
         for raw in text.split('\n') {
@@ -484,6 +486,9 @@ impl Grammar {
         if state.constants.iter().any(|(n, _)| *n == name) {
             return Err(c.err_at(start, ParseErrorKind::DuplicateName));
         }
+        if word == "tropism" {
+            return self.tropism(c, start, state);
+        }
         let value_at = {
             c.skip_ws();
             c.pos
@@ -518,6 +523,7 @@ impl Grammar {
             "step" => s.step = value,
             "width" => s.width = value,
             "thin" => s.thin = value,
+            "elasticity" => s.elasticity = value,
             "spacing" => s.spacing = value,
             "plants" => {
                 s.plants = integer(1, 16)
@@ -533,6 +539,41 @@ impl Grammar {
             .constants
             .push((name, value))
             .map_err(|_| c.err_at(start, capacity("MAX_CONSTANTS", MAX_CONSTANTS)))
+    }
+
+    /// `tropism = x, y, z` (ABOP Sec. 2.2): three constant expressions, the
+    /// vector T. Not a constant itself (it is three numbers).
+    fn tropism(
+        &mut self,
+        c: &mut Cursor<'_>,
+        start: usize,
+        state: &mut State,
+    ) -> Result<(), ParseError> {
+        if state.tropism_seen {
+            return Err(c.err_at(start, ParseErrorKind::DuplicateName));
+        }
+        state.tropism_seen = true;
+        let (code_len, literal_len) = (self.code.len(), self.literals.len());
+        let mut t = [Fx::ZERO; 3];
+        for (i, slot) in t.iter_mut().enumerate() {
+            if i > 0 {
+                c.expect(b',', "`,` (tropism = x, y, z)")?;
+            }
+            let mut compiler = Compiler {
+                grammar: self,
+                formals: &[],
+                constants: &state.constants,
+                depth: 0,
+                nesting: 0,
+            };
+            let at = compiler.expression(c)?;
+            *slot = self.eval(at as usize, &[]).0;
+        }
+        c.expect_end()?;
+        self.code.truncate(code_len);
+        self.literals.truncate(literal_len);
+        self.settings.tropism = t;
+        Ok(())
     }
 
     /// `pattern ('(' name (',' name)* ')')?`, appending formals.

@@ -42,6 +42,8 @@ pub(crate) fn turtle_params(g: &Grammar) -> Params<Fx> {
         delta: crate::fx::Angle::from_degrees_fx(s.delta),
         width: s.width,
         thin: s.thin,
+        tropism: Vector3::new(s.tropism[0], s.tropism[1], s.tropism[2]),
+        elasticity: s.elasticity,
     }
 }
 

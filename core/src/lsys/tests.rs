@@ -21,13 +21,17 @@ const STOCHASTIC: &str = include_str!("../../../grammars/abop-stochastic.lsys");
 /// ABOP Fig. 2.6a, the parametric monopodial tree (n = 10).
 const MONOPODIAL: &str = include_str!("../../../grammars/abop-monopodial.lsys");
 
+/// ABOP Fig. 2.8a, a tree bent by tropism (n = 6).
+const TROPISM: &str = include_str!("../../../grammars/abop-tropism.lsys");
+
 /// The grammars of the built-in L-system scenarios (`scenarios/abop-*.toml`
 /// read these files), with their scenario names.
-pub(super) const ALL: [(&str, &str); 4] = [
+pub(super) const ALL: [(&str, &str); 5] = [
     ("abop-shrub", SHRUB),
     ("abop-2d-plant", PLANT_2D),
     ("abop-stochastic", STOCHASTIC),
     ("abop-monopodial", MONOPODIAL),
+    ("abop-tropism", TROPISM),
 ];
 
 fn grammar(text: &str) -> Grammar {
@@ -317,12 +321,16 @@ fn fixed_point_shrub_tracks_the_f64_reference() {
         delta: crate::fx::Angle::from_degrees_fx(s.delta),
         width: s.width,
         thin: s.thin,
+        tropism: nalgebra::Vector3::zeros(),
+        elasticity: Fx::ZERO,
     });
     let mut reference = Turtle::<f64>::new(Params {
         step: 1.0,
         delta: crate::fx::Angle::from_degrees_fx(s.delta),
         width: s.width.to_f64(),
         thin: s.thin.to_f64(),
+        tropism: nalgebra::Vector3::zeros(),
+        elasticity: 0.0,
     });
     let mut d = Streaming::new();
     d.restart(&g, 7, 0).unwrap();
@@ -576,4 +584,92 @@ fn symbols_with_a_meaning_elsewhere_are_located_errors() {
             assert!(std::format!("{e}").contains(&std::format!("`{s}`")), "{e}");
         }
     }
+}
+
+#[test]
+fn tropism_bends_a_straight_line_towards_t() {
+    // H = (sin φ, cos φ, 0) and T = (1, 0, 0): ‖H × T‖ = cos φ, so each F
+    // draws along φ_k and then turns by e·cos φ_k towards +x (ABOP Eq.
+    // 2.3). The end points, from that recurrence in f64:
+    let e = 0.2f64;
+    let mut phi = 0.0f64;
+    let mut p = [0.0f64; 2];
+    let mut expected = Vec::new();
+    for _ in 0..40 {
+        p[0] += phi.sin();
+        p[1] += phi.cos();
+        expected.push(p);
+        phi += e * phi.cos();
+    }
+    let source = format!(
+        "n = 0\ntropism = 1, 0, 0\nelasticity = {e}\naxiom: {}",
+        "F".repeat(40)
+    );
+    let segs = segments(&source, 0);
+    assert_eq!(segs.len(), 40);
+    for (k, (s, q)) in segs.iter().zip(&expected).enumerate() {
+        let (x, y) = (s.1[0].to_f64(), s.1[1].to_f64());
+        assert!(
+            (x - q[0]).abs() < 2e-3 && (y - q[1]).abs() < 2e-3,
+            "segment {k}: ({x}, {y}) vs {q:?}"
+        );
+        assert_eq!(s.1[2], Fx::ZERO, "stays in the plane of H and T");
+    }
+    // By the end the line runs along T.
+    let (a, b) = segs[39];
+    assert!((b[0] - a[0]).to_f64() > 0.999, "{a:?} -> {b:?}");
+    // Without elasticity the line is straight; a negative one bends away.
+    let straight = source.replace("elasticity = 0.2", "elasticity = 0");
+    assert_eq!(segments(&straight, 0)[39].1[1], Fx::from_int(40));
+    let away = source.replace("elasticity = 0.2", "elasticity = -0.2");
+    assert!(segments(&away, 0)[10].1[0] < Fx::ZERO);
+    // Settings errors are located.
+    assert_eq!(
+        parse_err("n = 0\ntropism = 1, 0\naxiom: F").kind,
+        ParseErrorKind::Expected("`,` (tropism = x, y, z)")
+    );
+    let e = parse_err("n = 0\ntropism = 0, 1, 0\ntropism = 0, 1, 0\naxiom: F");
+    assert_eq!((e.line, e.kind), (3, ParseErrorKind::DuplicateName));
+}
+
+#[test]
+fn abop_fig_2_8a_tracks_an_f64_turtle_and_droops() {
+    // The fixed-point turtle against the generic one in f64 on the whole
+    // tree (tropism after each of 1 457 F: 1 + 4·(3⁶ − 1)/2), and the tips
+    // bent below the branch points: T = (0, −1, 0) pulls them down.
+    let g = grammar(TROPISM);
+    let s = g.settings();
+    assert_eq!(s.tropism, [Fx::ZERO, -Fx::ONE, Fx::ZERO]);
+    let mut fx = Turtle::<Fx>::new(crate::lsys::turtle_params(&g));
+    let mut reference = Turtle::<f64>::new(Params {
+        step: 1.0,
+        delta: crate::fx::Angle::from_degrees_fx(s.delta),
+        width: 1.0,
+        thin: 0.7,
+        tropism: nalgebra::Vector3::new(0.0, -1.0, 0.0),
+        elasticity: s.elasticity.to_f64(),
+    });
+    let (mut worst, mut extent, mut n) = (0.0f64, 0.0f64, 0);
+    for m in streamed(&g, 6, 0) {
+        let (a, b) = (fx.apply(&m).unwrap(), reference.apply(&m).unwrap());
+        if let (Drawn::Segment { b: p, .. }, Drawn::Segment { b: q, .. }) = (a, b) {
+            for i in 0..3 {
+                worst = worst.max((p[i].to_f64() - q[i]).abs());
+                extent = extent.max(q[i].abs());
+            }
+            n += 1;
+        }
+    }
+    assert_eq!(n, 1457);
+    std::println!("Fig. 2.8a: fixed vs f64 worst {worst:.5} of extent {extent:.1}");
+    assert!(worst < extent / 1000.0, "worst {worst} of extent {extent}");
+    // Without tropism the same tree's segments end far higher on average.
+    let mean_height = |source: &str| {
+        let segs = segments(source, 0);
+        segs.iter().map(|s| s.1[1].to_f64()).sum::<f64>() / segs.len() as f64
+    };
+    let bent = mean_height(TROPISM);
+    let upright = mean_height(&TROPISM.replace("elasticity = 0.22", "elasticity = 0"));
+    std::println!("Fig. 2.8a: mean height {bent:.1}, without tropism {upright:.1}");
+    assert!(bent < upright - 100.0, "{bent} vs {upright}");
 }
