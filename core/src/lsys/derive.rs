@@ -18,8 +18,10 @@ use heapless::Vec;
 use crate::fx::Fx;
 use crate::rng::KeyedRng;
 
-use super::grammar::{AXIOM, Grammar, Production, Span, bind, matches};
-use super::{LsysError, MAX_FORMALS, MAX_PARAMS, MAX_PRODUCTIONS, MAX_STEPS, Module};
+use super::grammar::{AXIOM, Grammar, Production, Section, Span, bind, matches};
+use super::{
+    LsysError, MAX_DECOMPOSITION_DEPTH, MAX_FORMALS, MAX_PARAMS, MAX_PRODUCTIONS, MAX_STEPS, Module,
+};
 
 /// The RNG stream of the choice for the module at `position` of the string
 /// rewritten by derivation step `step` (from 1): the step in the top 8 bits,
@@ -152,13 +154,26 @@ fn choose(
     position: u64,
     seed: u64,
 ) -> Option<(u8, [Fx; MAX_FORMALS])> {
-    if !g.is_rewritten(m.symbol) {
+    choose_in(g, Section::Production, m, context, step, position, seed)
+}
+
+/// [`choose`] among the rules of `section`.
+fn choose_in(
+    g: &Grammar,
+    section: Section,
+    m: &Module,
+    context: Option<(&[Module], usize)>,
+    step: u8,
+    position: u64,
+    seed: u64,
+) -> Option<(u8, [Fx; MAX_FORMALS])> {
+    if !g.has_rule_for(section, m.symbol) {
         return None;
     }
     let mut candidates = Vec::<(u8, Fx), MAX_PRODUCTIONS>::new();
     let mut weighted = false;
     for (k, p) in g.productions.iter().enumerate() {
-        if !matches(&p.predecessor, m) {
+        if p.section != section || !matches(&p.predecessor, m) {
             continue;
         }
         let mut formals = [Fx::ZERO; MAX_FORMALS];
@@ -184,7 +199,7 @@ fn choose(
                 .productions
                 .iter()
                 .skip(k + 1)
-                .any(|q| matches(&q.predecessor, m));
+                .any(|q| q.section == section && matches(&q.predecessor, m));
             if !more {
                 return Some((k as u8, formals));
             }
@@ -224,10 +239,80 @@ fn choose(
 /// is pushed), how far, and the bound parameters of the module it
 /// replaced.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-struct Frame {
+pub(crate) struct Frame {
     successor: Span,
     next: u16,
     formals: [Fx; MAX_PARAMS],
+}
+
+impl Frame {
+    /// The frame expanding the first rule of `section` (a decomposition or
+    /// interpretation rule: deterministic, context-free) that applies to
+    /// `m`, if any.
+    pub(crate) fn for_rule(g: &Grammar, section: Section, m: &Module) -> Option<Frame> {
+        let (rule, formals) = choose_in(g, section, m, None, 0, 0, 0)?;
+        let mut f = [Fx::ZERO; MAX_PARAMS];
+        f.copy_from_slice(formals.get(..MAX_PARAMS)?);
+        Some(Frame {
+            successor: g.successor(rule),
+            next: 0,
+            formals: f,
+        })
+    }
+
+    /// The next module of the successor, `None` at its end.
+    pub(crate) fn next_module(&mut self, g: &Grammar) -> Option<Module> {
+        if self.next >= self.successor.len {
+            return None;
+        }
+        let m = g.instantiate(
+            self.successor.start as usize + self.next as usize,
+            &self.formals,
+        );
+        self.next += 1;
+        Some(m)
+    }
+}
+
+/// Writes `m` at `back[*out]`, or, when decomposition rules apply to it,
+/// the modules they decompose it into (depth first, until no rule applies,
+/// ABOP/L-Py decomposition), advancing `*out`.
+fn put_decomposed(
+    g: &Grammar,
+    m: Module,
+    back: &mut [Module],
+    out: &mut usize,
+    full: LsysError,
+) -> Result<(), LsysError> {
+    let mut put = |x: Module, out: &mut usize| -> Result<(), LsysError> {
+        *back.get_mut(*out).ok_or(full)? = x;
+        *out += 1;
+        Ok(())
+    };
+    let Some(first) = Frame::for_rule(g, Section::Decomposition, &m) else {
+        return put(m, out);
+    };
+    let depth = g.decomposition_depth as usize;
+    let mut stack = Vec::<Frame, MAX_DECOMPOSITION_DEPTH>::new();
+    let _ = stack.push(first);
+    while let Some(top) = stack.last_mut() {
+        let Some(x) = top.next_module(g) else {
+            stack.pop();
+            continue;
+        };
+        match Frame::for_rule(g, Section::Decomposition, &x) {
+            Some(frame) => {
+                if stack.len() >= depth || stack.push(frame).is_err() {
+                    return Err(LsysError::DepthExceeded {
+                        rules: "decomposition",
+                        depth: depth as u32,
+                    });
+                }
+            }
+            None => put(x, out)?,
+        }
+    }
+    Ok(())
 }
 
 /// Depth-first derivation of a context-free grammar: the string of step
@@ -421,7 +506,7 @@ impl Streaming {
 
 impl Derivation for Streaming {
     fn restart(&mut self, grammar: &Grammar, steps: u8, seed: u64) -> Result<(), LsysError> {
-        if grammar.is_context_sensitive() {
+        if grammar.needs_buffer() {
             return Err(LsysError::NeedsBuffer);
         }
         if steps as usize > MAX_STEPS {
@@ -573,9 +658,16 @@ impl Derivation for Buffered<'_> {
         if axiom.len() > self.a.len().min(self.b.len()) {
             return Err(self.capacity_error());
         }
-        for (slot, t) in self.a.iter_mut().zip(axiom) {
-            *slot = grammar.instantiate(t, &[]);
-            self.len += 1;
+        let decomposes = grammar.has_decomposition();
+        let full = self.capacity_error();
+        for t in axiom {
+            let m = grammar.instantiate(t, &[]);
+            if decomposes {
+                put_decomposed(grammar, m, self.a, &mut self.len, full)?;
+            } else if let Some(slot) = self.a.get_mut(self.len) {
+                *slot = m;
+                self.len += 1;
+            }
         }
         self.peak = self.peak.max(self.len);
         let cuts = grammar.has_cut();
@@ -603,8 +695,13 @@ impl Derivation for Buffered<'_> {
                 match chosen {
                     Some((production, formals)) => {
                         for t in grammar.successor(production).range() {
-                            *back.get_mut(out).ok_or(error)? = grammar.instantiate(t, &formals);
-                            out += 1;
+                            let m = grammar.instantiate(t, &formals);
+                            if decomposes {
+                                put_decomposed(grammar, m, back, &mut out, error)?;
+                            } else {
+                                *back.get_mut(out).ok_or(error)? = m;
+                                out += 1;
+                            }
                         }
                     }
                     None => {

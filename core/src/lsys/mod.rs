@@ -71,6 +71,12 @@ pub const MAX_EXPR_STACK: usize = 16;
 pub const MAX_NESTING: usize = 16;
 /// Derivation steps `n`.
 pub const MAX_STEPS: usize = 32;
+/// Nesting of decomposition rules applied to one module (`maximum depth:`
+/// of a `decomposition:` section, at most this).
+pub const MAX_DECOMPOSITION_DEPTH: usize = 16;
+/// Nesting of interpretation rules applied to one module (`maximum
+/// depth:` of an `interpretation:` section, at most this).
+pub const MAX_INTERPRETATION_DEPTH: usize = 8;
 
 /// Where a grammar is wrong: 1-based line and column (in characters).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -203,9 +209,18 @@ pub enum LsysError {
         /// Its value.
         capacity: u32,
     },
-    /// A context-sensitive grammar cannot be derived by [`Streaming`]; use
-    /// [`Buffered`].
+    /// A context-sensitive grammar, or one with decomposition rules,
+    /// cannot be derived by [`Streaming`]; use [`Buffered`].
     NeedsBuffer,
+    /// Decomposition or interpretation rules still applied at their
+    /// `maximum depth` (a rule that keeps producing its own predecessor
+    /// never ends).
+    DepthExceeded {
+        /// `decomposition` or `interpretation`.
+        rules: &'static str,
+        /// The `maximum depth` in force.
+        depth: u32,
+    },
     /// The turtle failed.
     Turtle(TurtleError),
 }
@@ -218,7 +233,11 @@ impl core::fmt::Display for LsysError {
                 write!(f, "capacity {limit} = {capacity} exceeded")
             }
             LsysError::NeedsBuffer => f.write_str(
-                "a context-sensitive grammar needs buffered derivation (streaming cannot see the context)",
+                "a context-sensitive grammar, or one with decomposition rules, needs buffered derivation",
+            ),
+            LsysError::DepthExceeded { rules, depth } => write!(
+                f,
+                "{rules} rules still apply at `maximum depth` = {depth} (the limit; at most MAX_DECOMPOSITION_DEPTH = {MAX_DECOMPOSITION_DEPTH}, MAX_INTERPRETATION_DEPTH = {MAX_INTERPRETATION_DEPTH})"
             ),
             LsysError::Turtle(e) => write!(f, "turtle: {e}"),
         }

@@ -6,11 +6,12 @@ use heapless::Vec;
 use crate::fx::Fx;
 
 use super::expr::{self, FUNCTIONS};
-use super::grammar::{Grammar, Pattern, Production, Span, Template};
+use super::grammar::{Grammar, Pattern, Production, Section, Span, Template};
 use super::{
-    MAX_CODE, MAX_CONSTANTS, MAX_CONTEXT_MODULES, MAX_EXPR_STACK, MAX_FORMALS, MAX_LITERALS,
-    MAX_NAME, MAX_NESTING, MAX_PARAMS, MAX_PRODUCTIONS, MAX_STEPS, MAX_SUCCESSOR_MODULES,
-    ParseError, ParseErrorKind, UNSUPPORTED_SYMBOLS,
+    MAX_CODE, MAX_CONSTANTS, MAX_CONTEXT_MODULES, MAX_DECOMPOSITION_DEPTH, MAX_EXPR_STACK,
+    MAX_FORMALS, MAX_INTERPRETATION_DEPTH, MAX_LITERALS, MAX_NAME, MAX_NESTING, MAX_PARAMS,
+    MAX_PRODUCTIONS, MAX_STEPS, MAX_SUCCESSOR_MODULES, ParseError, ParseErrorKind,
+    UNSUPPORTED_SYMBOLS,
 };
 
 type Name = Vec<u8, MAX_NAME>;
@@ -375,6 +376,8 @@ struct State {
     axiom_seen: bool,
     steps_seen: bool,
     tropism_seen: bool,
+    /// The section the next rules belong to.
+    section: Section,
 }
 
 impl Grammar {
@@ -390,6 +393,7 @@ impl Grammar {
             axiom_seen: false,
             steps_seen: false,
             tropism_seen: false,
+            section: Section::Production,
         };
         let mut lines = 0u32;
         for raw in text.split('\n') {
@@ -453,6 +457,24 @@ impl Grammar {
                     self.ignore_line(c)
                 };
             }
+            let section = match word {
+                "production" => Some(Section::Production),
+                "decomposition" => Some(Section::Decomposition),
+                "interpretation" | "homomorphism" => Some(Section::Interpretation),
+                _ => None,
+            };
+            if let Some(section) = section
+                && c.peek() == Some(b':')
+                && arrow.is_none()
+            {
+                c.bump();
+                c.expect_end()?;
+                state.section = section;
+                return Ok(());
+            }
+            if word == "maximum" && arrow.is_none() {
+                return self.maximum_depth(c, start, state);
+            }
             if c.peek() == Some(b'=') && c.peek_at(1) != Some(b'=') && arrow.is_none() {
                 c.bump();
                 return self.assignment(c, start, word, state);
@@ -460,9 +482,9 @@ impl Grammar {
         }
         c.pos = start;
         match arrow {
-            Some(at) => self.production(c, at, &state.constants),
+            Some(at) => self.production(c, at, &state.constants, state.section),
             None => Err(c.err(ParseErrorKind::Expected(
-                "a production `pred -> successor`, `axiom:`, `ignore:` or `name = value`",
+                "a production `pred -> successor`, `axiom:`, `ignore:`, `name = value`, a section `production:`, `decomposition:`, `interpretation:` or `maximum depth: n`",
             ))),
         }
     }
@@ -539,6 +561,63 @@ impl Grammar {
             .constants
             .push((name, value))
             .map_err(|_| c.err_at(start, capacity("MAX_CONSTANTS", MAX_CONSTANTS)))
+    }
+
+    /// `maximum depth: n` in a `decomposition:` or `interpretation:`
+    /// section (L-Py): how deep its rules may nest.
+    fn maximum_depth(
+        &mut self,
+        c: &mut Cursor<'_>,
+        start: usize,
+        state: &State,
+    ) -> Result<(), ParseError> {
+        c.skip_ws();
+        if c.ident() != Some("depth") {
+            return Err(c.err(ParseErrorKind::Expected("`depth` (maximum depth: n)")));
+        }
+        c.expect(b':', "`:` (maximum depth: n)")?;
+        c.skip_ws();
+        let value_at = c.pos;
+        let (code_len, literal_len) = (self.code.len(), self.literals.len());
+        let at = Compiler {
+            grammar: self,
+            formals: &[],
+            constants: &state.constants,
+            depth: 0,
+            nesting: 0,
+        }
+        .expression(c)?;
+        c.expect_end()?;
+        let (value, _) = self.eval(at as usize, &[]);
+        self.code.truncate(code_len);
+        self.literals.truncate(literal_len);
+        let whole = value.to_bits() & 0xFFFF == 0;
+        let depth = value.floor_int();
+        let (slot, limit, message) = match state.section {
+            Section::Production => {
+                return Err(c.err_at(
+                    start,
+                    ParseErrorKind::InvalidValue(
+                        "`maximum depth` belongs in a `decomposition:` or `interpretation:` section",
+                    ),
+                ));
+            }
+            Section::Decomposition => (
+                &mut self.decomposition_depth,
+                MAX_DECOMPOSITION_DEPTH,
+                "`maximum depth` of decomposition must be a whole number from 1 to MAX_DECOMPOSITION_DEPTH = 16",
+            ),
+            Section::Interpretation => (
+                &mut self.interpretation_depth,
+                MAX_INTERPRETATION_DEPTH,
+                "`maximum depth` of interpretation must be a whole number from 1 to MAX_INTERPRETATION_DEPTH = 8",
+            ),
+        };
+        if !whole || !(1..=limit as i32).contains(&depth) {
+            return Err(c.err_at(value_at, ParseErrorKind::InvalidValue(message)));
+        }
+        *slot = depth as u8;
+        Ok(())
     }
 
     /// `tropism = x, y, z` (ABOP Sec. 2.2): three constant expressions, the
@@ -670,6 +749,7 @@ impl Grammar {
         c: &mut Cursor<'_>,
         arrow: usize,
         constants: &Constants,
+        section: Section,
     ) -> Result<(), ParseError> {
         let line_end = c.end;
         let colon = find(c.bytes(), c.pos, arrow, b":");
@@ -710,6 +790,14 @@ impl Grammar {
             return Err(c.err(ParseErrorKind::Expected("`>` or `->` (only one `<`)")));
         }
         c.expect_end()?;
+        if section != Section::Production && !(left.is_empty() && right.is_empty()) {
+            return Err(c.err_at(
+                first_at,
+                ParseErrorKind::Expected(
+                    "a rule without context (decomposition and interpretation rules are context-free)",
+                ),
+            ));
+        }
         let left = self.context(c, first_at, &left)?;
         let right = self.context(c, pred_at, &right)?;
         // Condition.
@@ -731,16 +819,43 @@ impl Grammar {
         c.skip_ws();
         let mut weight = None;
         if c.peek() == Some(b'(') {
+            if section != Section::Production {
+                return Err(c.err(ParseErrorKind::Expected(
+                    "a successor without a probability (decomposition and interpretation rules are deterministic)",
+                )));
+            }
             c.bump();
             weight = Some(self.compile(c, &formals, constants)?);
             c.expect(b')', "`)` after the probability")?;
         }
+        let successor_at = {
+            c.skip_ws();
+            c.pos
+        };
         let successor = self.parse_successor(c, &formals, constants)?;
-        if let Some(word) = self.rewritten.get_mut(predecessor.symbol as usize / 32) {
+        let cuts = self
+            .templates
+            .get(successor.range())
+            .is_some_and(|t| t.iter().any(|t| t.symbol == b'%'));
+        if section == Section::Interpretation && cuts {
+            return Err(c.err_at(
+                successor_at,
+                ParseErrorKind::Expected(
+                    "an interpretation successor without `%` (a cut acts on the derivation, which interpretation rules never reach)",
+                ),
+            ));
+        }
+        let set = match section {
+            Section::Production => &mut self.rewritten,
+            Section::Decomposition => &mut self.decomposed,
+            Section::Interpretation => &mut self.interpreted,
+        };
+        if let Some(word) = set.get_mut(predecessor.symbol as usize / 32) {
             *word |= 1 << (predecessor.symbol % 32);
         }
         self.productions
             .push(Production {
+                section,
                 predecessor: *predecessor,
                 left,
                 right,
