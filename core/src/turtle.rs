@@ -70,6 +70,8 @@ pub enum TurtleError {
     OutOfRange,
     /// `!(w)` with a negative width.
     NegativeWidth,
+    /// `~` naming no predefined surface (see [`SURFACES`]).
+    UnknownSurface,
     /// `'(c)` with a colour index outside 0 to 65 535.
     ColourOutOfRange,
 }
@@ -94,6 +96,7 @@ impl core::fmt::Display for TurtleError {
                 "the turtle left the drawable range ±COORDINATE_LIMIT = {COORDINATE_LIMIT}"
             ),
             TurtleError::NegativeWidth => f.write_str("`!(w)` with a negative width"),
+            TurtleError::UnknownSurface => f.write_str("`~` naming no predefined surface"),
             TurtleError::ColourOutOfRange => {
                 f.write_str("`'(c)` with a colour index outside 0 to 65535")
             }
@@ -198,6 +201,44 @@ fn push_vertex<R: Real>(
     }
     polygon.push(*p).map_err(|_| TurtleError::TooManyVertices)
 }
+
+/// A surface's outline: `(l, h)` points in hundredths of its scale.
+pub type Outline = &'static [(i32, i32)];
+
+/// The predefined surfaces `~X` draws (ABOP Sec. 5.1's `~`, L-Py's
+/// `~l`): each a polygon outline in the turtle's frame, `(l, h)` in
+/// hundredths of the scale along L and H, from the turtle's position
+/// (the surface's base) to its tip at `h = 100`.
+pub const SURFACES: [(u8, &str, Outline); 2] = [
+    (
+        b'L',
+        "leaf",
+        &[
+            (0, 0),
+            (-25, 30),
+            (-30, 55),
+            (-20, 80),
+            (0, 100),
+            (20, 80),
+            (30, 55),
+            (25, 30),
+        ],
+    ),
+    (
+        b'P',
+        "petal",
+        &[
+            (0, 0),
+            (-15, 20),
+            (-35, 60),
+            (-30, 90),
+            (0, 100),
+            (30, 90),
+            (35, 60),
+            (15, 20),
+        ],
+    ),
+];
 
 /// An axis of the turtle's own frame, which a turn rotates about.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -552,6 +593,39 @@ impl<R: Turning> Turtle<R> {
         orthonormalise(s);
     }
 
+    /// `~X(s)`: the predefined surface X scaled by s (default 1) as a
+    /// polygon in the turtle's frame, left in [`Turtle::polygon`]. Its
+    /// module is `~` with the surface's index in [`SURFACES`] as the first
+    /// parameter (the parser writes it) and the scale as the second.
+    fn surface(&mut self, m: &Module) -> Result<Drawn<R>, TurtleError> {
+        if self.polygon_open {
+            return Err(TurtleError::NestedPolygon);
+        }
+        let outline = m
+            .args()
+            .first()
+            .and_then(|&i| usize::try_from(i.floor_int()).ok())
+            .and_then(|i| SURFACES.get(i))
+            .ok_or(TurtleError::UnknownSurface)?
+            .2;
+        let scale = m.args().get(1).map_or(R::one(), |&s| R::from_fx(s));
+        let s = &self.state;
+        let limit = R::from_int(COORDINATE_LIMIT);
+        self.polygon.clear();
+        for &(l, h) in outline {
+            let p = s.position
+                + s.left * (R::from_ratio(l, 100) * scale)
+                + s.heading * (R::from_ratio(h, 100) * scale);
+            if p.iter().any(|&x| x.abs() > limit) {
+                return Err(TurtleError::OutOfRange);
+            }
+            push_vertex(&mut self.polygon, &p)?;
+        }
+        Ok(Drawn::Polygon {
+            colour: self.state.colour,
+        })
+    }
+
     /// `$`: rolls about H so that L is horizontal (left unchanged when H is
     /// within ~0.2° of vertical).
     fn level(&mut self) {
@@ -614,6 +688,7 @@ impl<R: Turning> Turtle<R> {
                 s.left = -s.left;
             }
             b'$' => self.level(),
+            b'~' => return self.surface(m),
             b'[' => {
                 let copy = *s;
                 self.stack

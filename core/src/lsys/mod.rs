@@ -125,6 +125,9 @@ pub enum ParseErrorKind {
         /// Its value.
         capacity: u32,
     },
+    /// `~` not followed by the letter of a predefined surface
+    /// ([`crate::turtle::SURFACES`]).
+    UnknownSurface,
     /// A module symbol that ABOP or L-Py gives a meaning Morphogen does
     /// not implement: refused rather than silently drawn as nothing.
     UnsupportedSymbol {
@@ -138,8 +141,7 @@ pub enum ParseErrorKind {
 /// Module symbols that ABOP or L-Py give a meaning Morphogen does not
 /// implement, with that meaning: a grammar using one is a located
 /// [`ParseErrorKind::UnsupportedSymbol`] error.
-pub const UNSUPPORTED_SYMBOLS: [(u8, &str); 5] = [
-    (b'~', "ABOP/L-Py: a predefined surface"),
+pub const UNSUPPORTED_SYMBOLS: [(u8, &str); 4] = [
     (
         b'@',
         "L-Py/cpfg multi-letter turtle commands (@O sphere, @o circle, @M move to, @Tp tropism, ...)",
@@ -177,6 +179,9 @@ impl core::fmt::Display for ParseErrorKind {
             ParseErrorKind::Capacity { limit, capacity } => write!(
                 f,
                 "capacity {limit} = {capacity} exceeded (raise it in core/src/lsys/mod.rs)"
+            ),
+            ParseErrorKind::UnknownSurface => f.write_str(
+                "`~` must be followed by a predefined surface: `~L` (leaf) or `~P` (petal), optionally `(scale)`",
             ),
             ParseErrorKind::UnsupportedSymbol { symbol, meaning } => write!(
                 f,

@@ -13,6 +13,7 @@ use super::{
     MAX_PRODUCTIONS, MAX_STEPS, MAX_SUCCESSOR_MODULES, ParseError, ParseErrorKind,
     UNSUPPORTED_SYMBOLS,
 };
+use crate::turtle::SURFACES;
 
 type Name = Vec<u8, MAX_NAME>;
 type Constants = Vec<(Name, Fx), MAX_CONSTANTS>;
@@ -673,11 +674,11 @@ impl Grammar {
                 ),
             ));
         }
-        if symbol == b'%' {
+        if symbol == b'%' || symbol == b'~' {
             return Err(c.err_at(
                 at,
                 ParseErrorKind::Expected(
-                    "a module other than `%` (a cut is removed after the step that makes it, so it is never rewritten or matched)",
+                    "a module other than `%` or `~` (a cut is removed after the step that makes it, a surface is only drawn)",
                 ),
             ));
         }
@@ -916,6 +917,25 @@ impl Grammar {
                 arity: 0,
                 code: self.code.len() as u16,
             };
+            if symbol == b'~' {
+                // `~X`: the surface's index becomes the first parameter.
+                let surface = c
+                    .peek()
+                    .and_then(|x| SURFACES.iter().position(|(letter, _, _)| *letter == x))
+                    .ok_or_else(|| c.err(ParseErrorKind::UnknownSurface))?;
+                let letter_at = c.pos;
+                c.bump();
+                let mut compiler = Compiler {
+                    grammar: self,
+                    formals,
+                    constants,
+                    depth: 0,
+                    nesting: 0,
+                };
+                compiler.literal(c, letter_at, Fx::from_int(surface as i32))?;
+                compiler.emit(c, expr::END, None)?;
+                t.arity = 1;
+            }
             if c.peek() == Some(b'(') {
                 c.bump();
                 loop {

@@ -24,14 +24,18 @@ const MONOPODIAL: &str = include_str!("../../../grammars/abop-monopodial.lsys");
 /// ABOP Fig. 2.8a, a tree bent by tropism (n = 6).
 const TROPISM: &str = include_str!("../../../grammars/abop-tropism.lsys");
 
+/// Predefined surfaces drawn by interpretation rules.
+const FLOWER: &str = include_str!("../../../grammars/lsys-flower.lsys");
+
 /// The grammars of the built-in L-system scenarios (`scenarios/abop-*.toml`
 /// read these files), with their scenario names.
-pub(super) const ALL: [(&str, &str); 5] = [
+pub(super) const ALL: [(&str, &str); 6] = [
     ("abop-shrub", SHRUB),
     ("abop-2d-plant", PLANT_2D),
     ("abop-stochastic", STOCHASTIC),
     ("abop-monopodial", MONOPODIAL),
     ("abop-tropism", TROPISM),
+    ("lsys-flower", FLOWER),
 ];
 
 fn grammar(text: &str) -> Grammar {
@@ -817,4 +821,64 @@ fn section_rules_are_checked_where_they_are_written() {
     // Back to `production:` after a section.
     let g = grammar("n = 1\naxiom: A\ninterpretation:\nA -> F\nproduction:\nA -> B");
     assert_eq!(text(&streamed(&g, 1, 0)), "B");
+}
+
+fn polygons(source: &str) -> Vec<Vec<[Fx; 3]>> {
+    let mut sim = LSystem::new();
+    sim.load(source, 0).unwrap();
+    let mut out: Vec<Vec<[Fx; 3]>> = Vec::new();
+    for r in run_sim(&mut sim) {
+        match r {
+            Record::Polygon { vertices, .. } => out.push(Vec::with_capacity(vertices as usize)),
+            Record::Point { p } => out.last_mut().unwrap().push(p),
+            _ => {}
+        }
+    }
+    out
+}
+
+#[test]
+fn surfaces_are_polygons_in_the_turtle_frame() {
+    use crate::turtle::SURFACES;
+    let f = |x: i32| Fx::from_ratio(x, 100);
+    // At the start H = +y and L = −x: the leaf's outline point (l, h)
+    // lands at (−l, h) in hundredths.
+    let leaf = polygons("n = 0\naxiom: ~L");
+    assert_eq!(leaf.len(), 1);
+    let expected: Vec<[Fx; 3]> = SURFACES[0]
+        .2
+        .iter()
+        .map(|&(l, h)| [f(-l), f(h), Fx::ZERO])
+        .collect();
+    assert_eq!(leaf[0], expected);
+    // Scaled by its parameter, after a move and a quarter turn left
+    // (H = −x, L = −y), as a petal: (l, h) lands at (−2h, 1 − 2l).
+    let petal = polygons("n = 0\naxiom: F + ~P(2)");
+    let expected: Vec<[Fx; 3]> = SURFACES[1]
+        .2
+        .iter()
+        .map(|&(l, h)| [f(-2 * h), Fx::ONE - f(2 * l), Fx::ZERO])
+        .collect();
+    assert_eq!(petal[0].len(), expected.len());
+    for (p, q) in petal[0].iter().zip(&expected) {
+        // Within 4 LSB: the turned frame and the scaled ratios round.
+        assert!(
+            (0..3).all(|i| (p[i].to_bits() - q[i].to_bits()).abs() <= 4),
+            "{p:?} vs {q:?}"
+        );
+    }
+    // The preset: seven leaves and five petals, from twelve polygons.
+    assert_eq!(polygons(FLOWER).len(), 12);
+    // Emitted by productions, with parameters, like any module.
+    let g = "n = 2\naxiom: A(1)\nA(s) -> F [+ ~L(s)] A(s * 2)";
+    assert_eq!(polygons(g).len(), 2);
+    // A letter that names no surface, `~` as a predecessor, or `~` in an
+    // open polygon are errors.
+    let e = parse_err("n = 0\naxiom: F ~Q");
+    assert_eq!((e.column, e.kind), (11, ParseErrorKind::UnknownSurface));
+    assert_eq!(parse_err("n = 1\naxiom: F\n~ -> F").column, 1);
+    assert_eq!(
+        sim_error("n = 0\naxiom: {F ~L F}"),
+        crate::Error::Lsys(LsysError::Turtle(crate::turtle::TurtleError::NestedPolygon))
+    );
 }
