@@ -506,14 +506,16 @@ impl Streaming {
 
 impl Derivation for Streaming {
     fn restart(&mut self, grammar: &Grammar, steps: u8, seed: u64) -> Result<(), LsysError> {
-        if grammar.needs_buffer() {
-            return Err(LsysError::NeedsBuffer);
-        }
-        if steps as usize > MAX_STEPS {
+        // The grammar's own `n` too, so that an animation fails at its
+        // first frame rather than at step 33.
+        if steps.max(grammar.settings().steps) as usize > MAX_STEPS {
             return Err(LsysError::Capacity {
                 limit: "MAX_STEPS",
                 capacity: MAX_STEPS as u32,
             });
+        }
+        if grammar.needs_buffer() {
+            return Err(LsysError::NeedsBuffer);
         }
         self.frames.clear();
         self.positions = [0; MAX_STEPS + 1];

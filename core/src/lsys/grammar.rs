@@ -247,10 +247,13 @@ impl Grammar {
     }
 
     /// Whether only [`super::Buffered`] can derive the grammar: it is
-    /// context-sensitive or has decomposition rules.
+    /// context-sensitive, has decomposition rules, or asks for more than
+    /// [`super::MAX_STEPS`] steps.
     #[must_use]
     pub fn needs_buffer(&self) -> bool {
-        self.is_context_sensitive() || self.has_decomposition()
+        self.is_context_sensitive()
+            || self.has_decomposition()
+            || self.settings.steps as usize > super::MAX_STEPS
     }
 
     /// Whether some rule of `section` may apply to `symbol`.

@@ -69,8 +69,13 @@ pub const MAX_NAME: usize = 16;
 pub const MAX_EXPR_STACK: usize = 16;
 /// Nesting of parentheses and unary operators in one expression.
 pub const MAX_NESTING: usize = 16;
-/// Derivation steps `n`.
+/// Derivation steps `n` that [`Streaming`] derives (its frame arrays
+/// have `MAX_STEPS + 1` entries); [`Buffered`] derives up to
+/// [`MAX_BUFFERED_STEPS`].
 pub const MAX_STEPS: usize = 32;
+/// Derivation steps `n` any grammar may ask for: the 8-bit step field of
+/// [`stream_id`]. Beyond [`MAX_STEPS`] only [`Buffered`] derives it.
+pub const MAX_BUFFERED_STEPS: usize = 255;
 /// Nesting of decomposition rules applied to one module (`maximum depth:`
 /// of a `decomposition:` section, at most this).
 pub const MAX_DECOMPOSITION_DEPTH: usize = 16;

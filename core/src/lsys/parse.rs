@@ -8,9 +8,9 @@ use crate::fx::Fx;
 use super::expr::{self, FUNCTIONS};
 use super::grammar::{Grammar, Pattern, Production, Section, Span, Template};
 use super::{
-    MAX_CODE, MAX_CONSTANTS, MAX_CONTEXT_MODULES, MAX_DECOMPOSITION_DEPTH, MAX_EXPR_STACK,
-    MAX_FORMALS, MAX_INTERPRETATION_DEPTH, MAX_LITERALS, MAX_NAME, MAX_NESTING, MAX_PARAMS,
-    MAX_PRODUCTIONS, MAX_STEPS, MAX_SUCCESSOR_MODULES, ParseError, ParseErrorKind,
+    MAX_BUFFERED_STEPS, MAX_CODE, MAX_CONSTANTS, MAX_CONTEXT_MODULES, MAX_DECOMPOSITION_DEPTH,
+    MAX_EXPR_STACK, MAX_FORMALS, MAX_INTERPRETATION_DEPTH, MAX_LITERALS, MAX_NAME, MAX_NESTING,
+    MAX_PARAMS, MAX_PRODUCTIONS, MAX_SUCCESSOR_MODULES, ParseError, ParseErrorKind,
     UNSUPPORTED_SYMBOLS,
 };
 use crate::turtle::SURFACES;
@@ -537,8 +537,8 @@ impl Grammar {
         let s = &mut self.settings;
         match word {
             "n" => {
-                s.steps = integer(0, MAX_STEPS as i32).ok_or(invalid(
-                    "`n` must be a whole number from 0 to MAX_STEPS = 32",
+                s.steps = integer(0, MAX_BUFFERED_STEPS as i32).ok_or(invalid(
+                    "`n` must be a whole number from 0 to MAX_BUFFERED_STEPS = 255 (above MAX_STEPS = 32 only buffered derivation derives it)",
                 ))? as u8;
                 state.steps_seen = true;
             }

@@ -419,10 +419,12 @@ fn malformed_grammars_get_located_errors() {
         ("n = 1\n", 2, 1, K::MissingAxiom),
         ("axiom: F", 1, 1, K::MissingSteps),
         (
-            "n = 99\naxiom: F",
+            "n = 256\naxiom: F",
             1,
             5,
-            K::InvalidValue("`n` must be a whole number from 0 to MAX_STEPS = 32"),
+            K::InvalidValue(
+                "`n` must be a whole number from 0 to MAX_BUFFERED_STEPS = 255 (above MAX_STEPS = 32 only buffered derivation derives it)",
+            ),
         ),
         ("n = 1\naxiom: F(40000)", 2, 10, K::NumberOutOfRange),
         ("n = 1\naxiom: F\nF -> F é", 3, 8, K::NotAscii),
@@ -881,4 +883,32 @@ fn surfaces_are_polygons_in_the_turtle_frame() {
         sim_error("n = 0\naxiom: {F ~L F}"),
         crate::Error::Lsys(LsysError::Turtle(crate::turtle::TurtleError::NestedPolygon))
     );
+}
+
+#[test]
+fn more_than_max_steps_derive_buffered_and_streaming_names_its_limit() {
+    // A counter and a stochastic choice at every one of 200 steps: the
+    // buffered derivation reaches A(200), keyed to the last step.
+    let g = grammar("n = 200\naxiom: A(0) B\nA(k) -> A(k + 1)\nB -> (1) B\nB -> (1) C");
+    assert!(g.needs_buffer());
+    let s = buffered(&g, 200, 0);
+    assert_eq!(s[0].args(), [Fx::from_int(200)]);
+    assert_eq!(
+        Streaming::new().restart(&g, 200, 0),
+        Err(LsysError::Capacity {
+            limit: "MAX_STEPS",
+            capacity: MAX_STEPS as u32
+        })
+    );
+    assert_eq!(
+        sim_error("n = 33\naxiom: F"),
+        crate::Error::Lsys(LsysError::Capacity {
+            limit: "MAX_STEPS",
+            capacity: 32
+        })
+    );
+    // At MAX_STEPS both still agree.
+    let g = grammar("n = 32\naxiom: A\nA -> (1) A B\nA -> (1) B A\nB -> C");
+    assert!(!g.needs_buffer());
+    assert!(streamed(&g, 32, 3) == buffered(&g, 32, 3));
 }
