@@ -753,10 +753,16 @@ impl Grammar {
         section: Section,
     ) -> Result<(), ParseError> {
         let line_end = c.end;
-        let colon = find(c.bytes(), c.pos, arrow, b":");
+        // L-Py writes `-->`: the rule text ends before it.
+        let rule_end = if arrow > c.pos && c.bytes().get(arrow - 1) == Some(&b'-') {
+            arrow - 1
+        } else {
+            arrow
+        };
+        let colon = find(c.bytes(), c.pos, rule_end, b":");
         let mut formals = Formals::new();
         // Predecessor with contexts.
-        c.end = colon.unwrap_or(arrow);
+        c.end = colon.unwrap_or(rule_end);
         let first_at = {
             c.skip_ws();
             c.pos
@@ -805,7 +811,7 @@ impl Grammar {
         let mut condition = None;
         if let Some(colon) = colon {
             c.pos = colon + 1;
-            c.end = arrow;
+            c.end = rule_end;
             c.skip_ws();
             if c.peek() == Some(b'*') {
                 c.bump();

@@ -820,6 +820,14 @@ fn section_rules_are_checked_where_they_are_written() {
         let e = parse_err(text);
         assert_eq!((e.line, e.kind), (line, kind), "{text}");
     }
+    // L-Py's arrow `-->` reads as `->` (so `-->` cannot make `-` a
+    // predecessor: write `- -> …`).
+    let g = grammar("n = 1\naxiom: A-\nA --> F B\n- -> +\ninterpretation:\nB --> [+F]");
+    assert_eq!(text(&streamed(&g, 1, 0)), "FB+");
+    assert_eq!(
+        segments("n = 1\naxiom: A\nA --> F B\ninterpretation:\nB --> [+F]", 0).len(),
+        2
+    );
     // Back to `production:` after a section.
     let g = grammar("n = 1\naxiom: A\ninterpretation:\nA -> F\nproduction:\nA -> B");
     assert_eq!(text(&streamed(&g, 1, 0)), "B");
