@@ -195,6 +195,11 @@ cp "$tdir/thumbv7m-none-eabi/release/morphogen-firmware" "$work/stream-only.elf"
 stream_only_flash="$(size -A "$work/stream-only.elf" | awk '$1 ~ /^\.(vector_table|text|rodata|data)$/ {s += $2} END {print s}')"
 [ "$stream_only_flash" -le 131072 ] \
   || die "stream-only firmware: $stream_only_flash B of flash, over 128 KiB (131,072 B)"
+# An idle model with one non-zero byte would be copied into the runner from
+# a constant of its whole size in flash (core/src/preset.rs, IDLE_*): no
+# constant that big may be there (the largest, the CRC-64 table, is 2 KB).
+big="$(nm -S --size-sort -t d -C "$work/stream-only.elf" | awk '$3 ~ /^[rR]$/ && $2 + 0 >= 4096 {print $2 + 0 " B: " $4}')"
+[ -z "$big" ] || die "stream-only firmware: a constant of an idle model's size in flash (a non-zero byte in an IDLE_ model?): $big"
 for t in "${targets[@]}"; do
   say "build $t"
   env -u MORPHOGEN_SCENARIOS cargo build --release --target "$t"

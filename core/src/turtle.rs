@@ -31,7 +31,9 @@
 //! previous one, or a last vertex equal to the first, is dropped). `!`
 //! multiplies the width by `thin` (`!(w)` sets it), `'` adds 1 to the
 //! colour index (`'(c)` sets it). `[`/`]` push/pop the whole state (not the
-//! polygon). Any other symbol is ignored.
+//! polygon). Any other symbol draws nothing; the grammar parser refuses
+//! the symbols that ABOP or L-Py give a meaning this turtle does not
+//! implement ([`crate::lsys::UNSUPPORTED_SYMBOLS`]).
 
 use heapless::Vec;
 use nalgebra::Vector3;
@@ -68,6 +70,8 @@ pub enum TurtleError {
     OutOfRange,
     /// `!(w)` with a negative width.
     NegativeWidth,
+    /// `~` naming no predefined surface (see [`SURFACES`]).
+    UnknownSurface,
     /// `'(c)` with a colour index outside 0 to 65 535.
     ColourOutOfRange,
 }
@@ -92,6 +96,7 @@ impl core::fmt::Display for TurtleError {
                 "the turtle left the drawable range ±COORDINATE_LIMIT = {COORDINATE_LIMIT}"
             ),
             TurtleError::NegativeWidth => f.write_str("`!(w)` with a negative width"),
+            TurtleError::UnknownSurface => f.write_str("`~` naming no predefined surface"),
             TurtleError::ColourOutOfRange => {
                 f.write_str("`'(c)` with a colour index outside 0 to 65535")
             }
@@ -152,6 +157,11 @@ pub struct Params<R: Real = Fx> {
     pub width: R,
     /// Width factor of a bare `!`.
     pub thin: R,
+    /// The tropism vector T (ABOP Sec. 2.2), in world coordinates.
+    pub tropism: Vector3<R>,
+    /// The susceptibility e to tropism (0: none). After each `F` or `G`
+    /// the frame turns by α = e·‖H × T‖ radians about H × T.
+    pub elasticity: R,
 }
 
 /// The 3D turtle with a bounded stack.
@@ -192,6 +202,44 @@ fn push_vertex<R: Real>(
     polygon.push(*p).map_err(|_| TurtleError::TooManyVertices)
 }
 
+/// A surface's outline: `(l, h)` points in hundredths of its scale.
+pub type Outline = &'static [(i32, i32)];
+
+/// The predefined surfaces `~X` draws (ABOP Sec. 5.1's `~`, L-Py's
+/// `~l`): each a polygon outline in the turtle's frame, `(l, h)` in
+/// hundredths of the scale along L and H, from the turtle's position
+/// (the surface's base) to its tip at `h = 100`.
+pub const SURFACES: [(u8, &str, Outline); 2] = [
+    (
+        b'L',
+        "leaf",
+        &[
+            (0, 0),
+            (-25, 30),
+            (-30, 55),
+            (-20, 80),
+            (0, 100),
+            (20, 80),
+            (30, 55),
+            (25, 30),
+        ],
+    ),
+    (
+        b'P',
+        "petal",
+        &[
+            (0, 0),
+            (-15, 20),
+            (-35, 60),
+            (-30, 90),
+            (0, 100),
+            (30, 90),
+            (35, 60),
+            (15, 20),
+        ],
+    ),
+];
+
 /// An axis of the turtle's own frame, which a turn rotates about.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Axis {
@@ -222,6 +270,12 @@ fn turn<R: Real>(state: &mut State<R>, axis: Axis, c: R, s: R) {
         Axis::Left => rotate(&mut state.up, &mut state.heading, c, s),
         Axis::Heading => rotate(&mut state.left, &mut state.up, c, s),
     }
+    orthonormalise(state);
+}
+
+/// Pulls a rotated frame back to orthonormal: one Newton step towards
+/// unit length for H, L made orthogonal to H and unit, U = H × L.
+fn orthonormalise<R: Real>(state: &mut State<R>) {
     let (three, half) = (R::from_int(3), R::from_ratio(1, 2));
     let h = state.heading;
     let h = h * ((three - h.dot(&h)) * half);
@@ -405,6 +459,8 @@ impl Turtle<Fx> {
                 delta: Angle::ZERO,
                 width: o,
                 thin: o,
+                tropism: zero,
+                elasticity: o,
             },
             cos_delta: o,
             sin_delta: o,
@@ -510,6 +566,66 @@ impl<R: Turning> Turtle<R> {
         Ok(from)
     }
 
+    /// Tropism (ABOP Sec. 2.2, Eq. 2.3 and Fig. 2.8): rotates the frame by
+    /// α = e·‖H × T‖ radians about the axis H × T, which bends H towards
+    /// T, then re-orthonormalises it as a turn does. Nothing happens when
+    /// e = 0 or when H is within ~2⁻¹² of parallel to T (there α is below
+    /// e·2⁻¹² and the axis is lost in rounding).
+    fn bend(&mut self) {
+        let e = self.params.elasticity;
+        if e == R::zero() {
+            return;
+        }
+        let s = &mut self.state;
+        let axis = s.heading.cross(&self.params.tropism);
+        let norm = R::norm(&axis);
+        if norm < R::from_ratio(1, 4096) {
+            return;
+        }
+        let k = Vector3::new(axis.x.div(norm), axis.y.div(norm), axis.z.div(norm));
+        let alpha = (e * norm).scale_angle(Angle::from_radians_fx(Fx::ONE));
+        let (c, sin) = (R::cos(alpha), R::sin(alpha));
+        let one_minus_c = R::one() - c;
+        // Rodrigues: v' = v·cos α + (k × v)·sin α + k (k·v)(1 − cos α).
+        let rotate = |v: Vector3<R>| v * c + k.cross(&v) * sin + k * (k.dot(&v) * one_minus_c);
+        s.heading = rotate(s.heading);
+        s.left = rotate(s.left);
+        orthonormalise(s);
+    }
+
+    /// `~X(s)`: the predefined surface X scaled by s (default 1) as a
+    /// polygon in the turtle's frame, left in [`Turtle::polygon`]. Its
+    /// module is `~` with the surface's index in [`SURFACES`] as the first
+    /// parameter (the parser writes it) and the scale as the second.
+    fn surface(&mut self, m: &Module) -> Result<Drawn<R>, TurtleError> {
+        if self.polygon_open {
+            return Err(TurtleError::NestedPolygon);
+        }
+        let outline = m
+            .args()
+            .first()
+            .and_then(|&i| usize::try_from(i.floor_int()).ok())
+            .and_then(|i| SURFACES.get(i))
+            .ok_or(TurtleError::UnknownSurface)?
+            .2;
+        let scale = m.args().get(1).map_or(R::one(), |&s| R::from_fx(s));
+        let s = &self.state;
+        let limit = R::from_int(COORDINATE_LIMIT);
+        self.polygon.clear();
+        for &(l, h) in outline {
+            let p = s.position
+                + s.left * (R::from_ratio(l, 100) * scale)
+                + s.heading * (R::from_ratio(h, 100) * scale);
+            if p.iter().any(|&x| x.abs() > limit) {
+                return Err(TurtleError::OutOfRange);
+            }
+            push_vertex(&mut self.polygon, &p)?;
+        }
+        Ok(Drawn::Polygon {
+            colour: self.state.colour,
+        })
+    }
+
     /// `$`: rolls about H so that L is horizontal (left unchanged when H is
     /// within ~0.2° of vertical).
     fn level(&mut self) {
@@ -537,11 +653,14 @@ impl<R: Turning> Turtle<R> {
                 if m.symbol == b'F' && self.polygon_open {
                     self.add_vertex()?;
                 }
+                let (width, colour) = (self.state.width, self.state.colour);
+                let b = self.state.position;
+                self.bend();
                 return Ok(Drawn::Segment {
                     a,
-                    b: self.state.position,
-                    width: self.state.width,
-                    colour: self.state.colour,
+                    b,
+                    width,
+                    colour,
                 });
             }
             b'f' | b'g' => {
@@ -569,6 +688,7 @@ impl<R: Turning> Turtle<R> {
                 s.left = -s.left;
             }
             b'$' => self.level(),
+            b'~' => return self.surface(m),
             b'[' => {
                 let copy = *s;
                 self.stack
@@ -629,6 +749,8 @@ mod tests {
             delta: Angle::from_degrees(delta_deg),
             width: R::one(),
             thin: R::from_ratio(1, 2),
+            tropism: Vector3::zeros(),
+            elasticity: R::zero(),
         }
     }
 

@@ -310,7 +310,7 @@ pub fn run(
             grammar
                 .parse(text)
                 .map_err(|e| morphogen::Error::Lsys(LsysError::Parse(e)))?;
-            if grammar.is_context_sensitive() {
+            if grammar.needs_buffer() {
                 let mut a = vec![Module::default(); HOST_BUFFER_MODULES];
                 let mut b = vec![Module::default(); HOST_BUFFER_MODULES];
                 let mut sim = Box::new(LSystem::with_derivation(Buffered::new(&mut a, &mut b)));

@@ -92,7 +92,7 @@ fuzz_target!(|data: &[u8]| {
         "peak {} modules in two buffers of {BUFFER_MODULES}",
         buffered.derivation().peak_modules()
     );
-    if buffered.grammar().is_context_sensitive() {
+    if buffered.grammar().needs_buffer() {
         return;
     }
     let mut streaming = Box::new(LSystem::new());

@@ -18,8 +18,10 @@ use heapless::Vec;
 use crate::fx::Fx;
 use crate::rng::KeyedRng;
 
-use super::grammar::{AXIOM, Grammar, Production, Span, bind, matches};
-use super::{LsysError, MAX_FORMALS, MAX_PARAMS, MAX_PRODUCTIONS, MAX_STEPS, Module};
+use super::grammar::{AXIOM, Grammar, Production, Section, Span, bind, matches};
+use super::{
+    LsysError, MAX_DECOMPOSITION_DEPTH, MAX_FORMALS, MAX_PARAMS, MAX_PRODUCTIONS, MAX_STEPS, Module,
+};
 
 /// The RNG stream of the choice for the module at `position` of the string
 /// rewritten by derivation step `step` (from 1): the step in the top 8 bits,
@@ -152,13 +154,26 @@ fn choose(
     position: u64,
     seed: u64,
 ) -> Option<(u8, [Fx; MAX_FORMALS])> {
-    if !g.is_rewritten(m.symbol) {
+    choose_in(g, Section::Production, m, context, step, position, seed)
+}
+
+/// [`choose`] among the rules of `section`.
+fn choose_in(
+    g: &Grammar,
+    section: Section,
+    m: &Module,
+    context: Option<(&[Module], usize)>,
+    step: u8,
+    position: u64,
+    seed: u64,
+) -> Option<(u8, [Fx; MAX_FORMALS])> {
+    if !g.has_rule_for(section, m.symbol) {
         return None;
     }
     let mut candidates = Vec::<(u8, Fx), MAX_PRODUCTIONS>::new();
     let mut weighted = false;
     for (k, p) in g.productions.iter().enumerate() {
-        if !matches(&p.predecessor, m) {
+        if p.section != section || !matches(&p.predecessor, m) {
             continue;
         }
         let mut formals = [Fx::ZERO; MAX_FORMALS];
@@ -184,7 +199,7 @@ fn choose(
                 .productions
                 .iter()
                 .skip(k + 1)
-                .any(|q| matches(&q.predecessor, m));
+                .any(|q| q.section == section && matches(&q.predecessor, m));
             if !more {
                 return Some((k as u8, formals));
             }
@@ -224,10 +239,80 @@ fn choose(
 /// is pushed), how far, and the bound parameters of the module it
 /// replaced.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-struct Frame {
+pub(crate) struct Frame {
     successor: Span,
     next: u16,
     formals: [Fx; MAX_PARAMS],
+}
+
+impl Frame {
+    /// The frame expanding the first rule of `section` (a decomposition or
+    /// interpretation rule: deterministic, context-free) that applies to
+    /// `m`, if any.
+    pub(crate) fn for_rule(g: &Grammar, section: Section, m: &Module) -> Option<Frame> {
+        let (rule, formals) = choose_in(g, section, m, None, 0, 0, 0)?;
+        let mut f = [Fx::ZERO; MAX_PARAMS];
+        f.copy_from_slice(formals.get(..MAX_PARAMS)?);
+        Some(Frame {
+            successor: g.successor(rule),
+            next: 0,
+            formals: f,
+        })
+    }
+
+    /// The next module of the successor, `None` at its end.
+    pub(crate) fn next_module(&mut self, g: &Grammar) -> Option<Module> {
+        if self.next >= self.successor.len {
+            return None;
+        }
+        let m = g.instantiate(
+            self.successor.start as usize + self.next as usize,
+            &self.formals,
+        );
+        self.next += 1;
+        Some(m)
+    }
+}
+
+/// Writes `m` at `back[*out]`, or, when decomposition rules apply to it,
+/// the modules they decompose it into (depth first, until no rule applies,
+/// ABOP/L-Py decomposition), advancing `*out`.
+fn put_decomposed(
+    g: &Grammar,
+    m: Module,
+    back: &mut [Module],
+    out: &mut usize,
+    full: LsysError,
+) -> Result<(), LsysError> {
+    let mut put = |x: Module, out: &mut usize| -> Result<(), LsysError> {
+        *back.get_mut(*out).ok_or(full)? = x;
+        *out += 1;
+        Ok(())
+    };
+    let Some(first) = Frame::for_rule(g, Section::Decomposition, &m) else {
+        return put(m, out);
+    };
+    let depth = g.decomposition_depth as usize;
+    let mut stack = Vec::<Frame, MAX_DECOMPOSITION_DEPTH>::new();
+    let _ = stack.push(first);
+    while let Some(top) = stack.last_mut() {
+        let Some(x) = top.next_module(g) else {
+            stack.pop();
+            continue;
+        };
+        match Frame::for_rule(g, Section::Decomposition, &x) {
+            Some(frame) => {
+                if stack.len() >= depth || stack.push(frame).is_err() {
+                    return Err(LsysError::DepthExceeded {
+                        rules: "decomposition",
+                        depth: depth as u32,
+                    });
+                }
+            }
+            None => put(x, out)?,
+        }
+    }
+    Ok(())
 }
 
 /// Depth-first derivation of a context-free grammar: the string of step
@@ -241,14 +326,30 @@ struct Frame {
 /// is carried to the last level at once: it is counted once in `carried`
 /// at its level, and a module's index at level `k` is its level's counter
 /// plus the modules carried from levels above `k`.
+///
+/// Cuts (`%`, ABOP p. 28): a `%` in level `k`'s string removes itself and
+/// the rest of its branch from that string. Level `k`'s modules arrive in
+/// string order (from its frame, or carried from a level above), so a
+/// per-level state — cutting or not, and the bracket depth inside the cut
+/// — removes them as they arrive; a removed module is neither counted nor
+/// expanded. A module carried from level `j` and removed at level `k > j`
+/// is counted at the levels `j + 1 .. k` it still reaches.
 #[derive(Clone, Debug)]
 pub struct Streaming {
     frames: Vec<Frame, { MAX_STEPS + 1 }>,
     positions: [u64; MAX_STEPS + 1],
     carried: [u64; MAX_STEPS + 1],
+    /// Per level: the bracket depth inside its cut, while it is cutting.
+    cuts: [u32; MAX_STEPS + 1],
+    /// Bit `k` set while level `k` is cutting (the fast path needs none).
+    /// Idle, both are zeros: the whole derivation is (a `Runner` writes an
+    /// idle model with a memset, not from a template in flash).
+    cutting: u64,
     steps: u8,
     seed: u64,
 }
+
+const _: () = assert!(MAX_STEPS < 64, "`Streaming::cutting` is a 64-bit set");
 
 impl Default for Streaming {
     fn default() -> Self {
@@ -264,9 +365,55 @@ impl Streaming {
             frames: Vec::new(),
             positions: [0; MAX_STEPS + 1],
             carried: [0; MAX_STEPS + 1],
+            cuts: [0; MAX_STEPS + 1],
+            cutting: 0,
             steps: 0,
             seed: 0,
         }
+    }
+
+    /// Whether module `m` of level `level`'s string survives the cuts
+    /// (updating that level's cut state): a `%` starts a cut and is
+    /// removed; inside a cut every module is removed up to the `]` that
+    /// closes the cut branch, which is kept.
+    fn survives_cut(&mut self, level: usize, m: &Module) -> bool {
+        let Some(depth) = self.cuts.get_mut(level) else {
+            return true;
+        };
+        let bit = 1u64 << level; // level ≤ MAX_STEPS < 64
+        if self.cutting & bit == 0 {
+            if m.symbol == b'%' {
+                *depth = 0;
+                self.cutting |= bit;
+                return false;
+            }
+            return true;
+        }
+        match m.symbol {
+            b'[' => *depth = depth.saturating_add(1),
+            b']' if *depth == 0 => {
+                self.cutting &= !bit;
+                return true;
+            }
+            b']' => *depth -= 1,
+            _ => {}
+        }
+        false
+    }
+
+    /// Passes a module carried from `level` through the cuts of the levels
+    /// below it; true if it reaches the last level. If a cut removes it at
+    /// level `k`, it is counted at the levels `level + 1 .. k` it reached.
+    fn carry_through_cuts(&mut self, level: usize, m: &Module) -> bool {
+        for k in level + 1..=self.steps as usize {
+            if !self.survives_cut(k, m) {
+                for counter in self.positions.get_mut(level + 1..k).unwrap_or(&mut []) {
+                    *counter += 1;
+                }
+                return false;
+            }
+        }
+        true
     }
 
     /// After a complete derivation, the length of every intermediate
@@ -307,6 +454,9 @@ impl Streaming {
             }
             let m = grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
             frame.next += 1;
+            if !self.survives_cut(level, &m) {
+                continue;
+            }
             let Some(counter) = self.positions.get_mut(level) else {
                 return Ok(None);
             };
@@ -339,6 +489,9 @@ impl Streaming {
                         })?;
                 }
                 None => {
+                    if self.cutting >> (level + 1) != 0 && !self.carry_through_cuts(level, &m) {
+                        continue;
+                    }
                     if let Some(carried) = self.carried.get_mut(level) {
                         *carried += 1;
                     }
@@ -351,18 +504,22 @@ impl Streaming {
 
 impl Derivation for Streaming {
     fn restart(&mut self, grammar: &Grammar, steps: u8, seed: u64) -> Result<(), LsysError> {
-        if grammar.is_context_sensitive() {
-            return Err(LsysError::NeedsBuffer);
-        }
-        if steps as usize > MAX_STEPS {
+        // The grammar's own `n` too, so that an animation fails at its
+        // first frame rather than at step 33.
+        if steps.max(grammar.settings().steps) as usize > MAX_STEPS {
             return Err(LsysError::Capacity {
                 limit: "MAX_STEPS",
                 capacity: MAX_STEPS as u32,
             });
         }
+        if grammar.needs_buffer() {
+            return Err(LsysError::NeedsBuffer);
+        }
         self.frames.clear();
         self.positions = [0; MAX_STEPS + 1];
         self.carried = [0; MAX_STEPS + 1];
+        self.cuts = [0; MAX_STEPS + 1];
+        self.cutting = 0;
         self.steps = steps;
         self.seed = seed;
         let _ = self.frames.push(Frame {
@@ -378,7 +535,8 @@ impl Derivation for Streaming {
         // frame is at the last level, or no production rewrites the
         // module), so it is counted and returned as it is.
         let last = self.steps as usize;
-        if let Some(level) = self.frames.len().checked_sub(1)
+        if self.cutting == 0
+            && let Some(level) = self.frames.len().checked_sub(1)
             && let Some(frame) = self.frames.last_mut()
         {
             let span = frame.successor;
@@ -386,7 +544,7 @@ impl Derivation for Streaming {
                 let m =
                     grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
                 let carried = level < last;
-                if !carried || !grammar.is_rewritten(m.symbol) {
+                if m.symbol != b'%' && (!carried || !grammar.is_rewritten(m.symbol)) {
                     frame.next += 1;
                     if let Some(counter) = self.positions.get_mut(level) {
                         *counter += 1;
@@ -400,6 +558,46 @@ impl Derivation for Streaming {
         }
         self.descend(grammar)
     }
+}
+
+/// Applies the cuts of ABOP p. 28 to a derived string in place: each `%`
+/// is removed with the rest of its branch (up to, not including, the `]`
+/// that closes it, or to the end of the string at the top level). Returns
+/// the new length.
+fn cut(s: &mut [Module], len: usize) -> usize {
+    let mut out = 0usize;
+    // Bracket depth inside the current cut, if any.
+    let mut cutting: Option<u32> = None;
+    for read in 0..len.min(s.len()) {
+        let Some(&m) = s.get(read) else { break };
+        let keep = match (cutting, m.symbol) {
+            (None, b'%') => {
+                cutting = Some(0);
+                false
+            }
+            (None, _) => true,
+            (Some(0), b']') => {
+                cutting = None;
+                true
+            }
+            (Some(d), b']') => {
+                cutting = Some(d - 1);
+                false
+            }
+            (Some(d), b'[') => {
+                cutting = Some(d.saturating_add(1));
+                false
+            }
+            (Some(_), _) => false,
+        };
+        if keep {
+            if let Some(slot) = s.get_mut(out) {
+                *slot = m;
+            }
+            out += 1;
+        }
+    }
+    out
 }
 
 /// Derivation into two caller-provided module buffers (a fixed-capacity
@@ -460,11 +658,22 @@ impl Derivation for Buffered<'_> {
         if axiom.len() > self.a.len().min(self.b.len()) {
             return Err(self.capacity_error());
         }
-        for (slot, t) in self.a.iter_mut().zip(axiom) {
-            *slot = grammar.instantiate(t, &[]);
-            self.len += 1;
+        let decomposes = grammar.has_decomposition();
+        let full = self.capacity_error();
+        for t in axiom {
+            let m = grammar.instantiate(t, &[]);
+            if decomposes {
+                put_decomposed(grammar, m, self.a, &mut self.len, full)?;
+            } else if let Some(slot) = self.a.get_mut(self.len) {
+                *slot = m;
+                self.len += 1;
+            }
         }
         self.peak = self.peak.max(self.len);
+        let cuts = grammar.has_cut();
+        if cuts {
+            self.len = cut(self.a, self.len);
+        }
         for step in 1..=steps {
             let error = self.capacity_error();
             let (front, back): (&[Module], &mut [Module]) = if self.front_is_a {
@@ -486,8 +695,13 @@ impl Derivation for Buffered<'_> {
                 match chosen {
                     Some((production, formals)) => {
                         for t in grammar.successor(production).range() {
-                            *back.get_mut(out).ok_or(error)? = grammar.instantiate(t, &formals);
-                            out += 1;
+                            let m = grammar.instantiate(t, &formals);
+                            if decomposes {
+                                put_decomposed(grammar, m, back, &mut out, error)?;
+                            } else {
+                                *back.get_mut(out).ok_or(error)? = m;
+                                out += 1;
+                            }
                         }
                     }
                     None => {
@@ -497,7 +711,7 @@ impl Derivation for Buffered<'_> {
                 }
             }
             self.peak = self.peak.max(self.len + out);
-            self.len = out;
+            self.len = if cuts { cut(back, out) } else { out };
             self.front_is_a = !self.front_is_a;
         }
         Ok(())

@@ -16,7 +16,7 @@ use crate::stream::{Record, Sink, SinkError};
 
 /// Bytes the mutator inserts: the format's punctuation, digits, letters.
 const ALPHABET: &[u8] =
-    b"FfGgABLSX+-&^\\/|$[]{}.!'()<>:,#=*0123456789.  \n\nnxyaxiomignoredelta_^~%";
+    b"FfGgABLSX+-&^\\/|$[]{}.!'()<>:,#=*0123456789.  \n\nnxyaxiomignoredelta_^~%%%@?;~L~P";
 
 /// Counts records, refusing more than a budget (bounds the run time).
 struct Budget(u32);
@@ -88,6 +88,8 @@ fn mutated_grammars_never_panic() {
     let mut seeds: Vec<&[u8]> = ALL.iter().map(|(_, g)| g.as_bytes()).collect();
     let extra = [
         "n = 3\nignore: +-\naxiom: b[a]a+a\nb < a > a -> b\nb -> a\n".as_bytes(),
+        b"n = 4\naxiom: F A\nA -> (1) [+F%F]F A\nA -> (2) F[-A%]%A\n",
+        b"n = 3\ntropism = 0, -1, 0\nelasticity = 0.3\naxiom: A\nA -> F[+~L(0.5)][-~P]A\nA -> I\ndecomposition:\nI -> J J\ninterpretation:\nJ -> F[&F]\n",
         b"n=2\nk=2\naxiom: A(1,2)\nA(x,y) : x>=1 || y<0 -> (k*0.5) A(x^2, y/0)[+(sin(x))F(y)]\n",
     ];
     seeds.extend(extra);

@@ -7,8 +7,8 @@ use crate::fx::Fx;
 
 use super::expr;
 use super::{
-    MAX_CODE, MAX_CONTEXT_MODULES, MAX_FORMALS, MAX_LITERALS, MAX_PARAMS, MAX_PRODUCTIONS,
-    MAX_SUCCESSOR_MODULES, Module,
+    MAX_CODE, MAX_CONTEXT_MODULES, MAX_DECOMPOSITION_DEPTH, MAX_FORMALS, MAX_INTERPRETATION_DEPTH,
+    MAX_LITERALS, MAX_PARAMS, MAX_PRODUCTIONS, MAX_SUCCESSOR_MODULES, Module,
 };
 
 /// The numbers a grammar sets with `name = value` lines (defaults in
@@ -18,7 +18,9 @@ use super::{
 /// the width by \[0.7\], `plants` how many plants to draw side by side,
 /// each from its own seed `seed + i` \[1\], `spacing` the distance between
 /// them along x \[0\], `animate` 1 to draw every derivation step as its own
-/// frame (0 draws only step `n`) \[0\].
+/// frame (0 draws only step `n`) \[0\], `tropism = x, y, z` the tropism
+/// vector T \[0, 0, 0\] and `elasticity` the susceptibility e to it \[0\]
+/// (ABOP Sec. 2.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Settings {
@@ -38,6 +40,11 @@ pub struct Settings {
     pub spacing: Fx,
     /// Whether every derivation step is drawn as a frame.
     pub animate: bool,
+    /// The tropism vector T (`tropism = x, y, z`, ABOP Sec. 2.2).
+    pub tropism: [Fx; 3],
+    /// The susceptibility e to tropism (`elasticity`; 0, the default,
+    /// turns tropism off).
+    pub elasticity: Fx,
 }
 
 impl Settings {
@@ -51,6 +58,8 @@ impl Settings {
         plants: 1,
         spacing: Fx::ZERO,
         animate: false,
+        tropism: [Fx::ZERO; 3],
+        elasticity: Fx::ZERO,
     };
 }
 
@@ -83,9 +92,24 @@ impl Span {
     }
 }
 
+/// The section a rule belongs to (L-Py's `production:`,
+/// `decomposition:` and `interpretation:`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) enum Section {
+    /// Rewrites each derivation step (the default section).
+    #[default]
+    Production,
+    /// Applied after each step (and to the axiom) until no rule applies.
+    Decomposition,
+    /// Applied only to the modules the turtle draws, until no rule
+    /// applies; never fed back into the derivation (a homomorphism).
+    Interpretation,
+}
+
 /// `lc < pred > rc : condition -> (weight) successor`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Production {
+    pub section: Section,
     pub predecessor: Pattern,
     /// Into the context pool, left to right.
     pub left: Span,
@@ -117,6 +141,14 @@ pub struct Grammar {
     /// Symbols that some production's predecessor has, as a 128-bit set:
     /// a module whose symbol is not in it is copied without a choice.
     pub(crate) rewritten: [u32; 4],
+    /// The same for decomposition rules.
+    pub(crate) decomposed: [u32; 4],
+    /// The same for interpretation rules.
+    pub(crate) interpreted: [u32; 4],
+    /// `maximum depth:` of the decomposition rules.
+    pub(crate) decomposition_depth: u8,
+    /// `maximum depth:` of the interpretation rules.
+    pub(crate) interpretation_depth: u8,
     pub(crate) settings: Settings,
 }
 
@@ -139,6 +171,10 @@ impl Grammar {
             axiom: Span { start: 0, len: 0 },
             ignored: [0; 4],
             rewritten: [0; 4],
+            decomposed: [0; 4],
+            interpreted: [0; 4],
+            decomposition_depth: MAX_DECOMPOSITION_DEPTH as u8,
+            interpretation_depth: MAX_INTERPRETATION_DEPTH as u8,
             settings: Settings::DEFAULT,
         }
     }
@@ -156,6 +192,10 @@ impl Grammar {
             axiom: Span { start: 0, len: 0 },
             ignored: [0; 4],
             rewritten: [0; 4],
+            decomposed: [0; 4],
+            interpreted: [0; 4],
+            decomposition_depth: 0,
+            interpretation_depth: 0,
             settings: Settings {
                 steps: 0,
                 delta: Fx::ZERO,
@@ -165,6 +205,8 @@ impl Grammar {
                 plants: 0,
                 spacing: Fx::ZERO,
                 animate: false,
+                tropism: [Fx::ZERO; 3],
+                elasticity: Fx::ZERO,
             },
         }
     }
@@ -197,6 +239,42 @@ impl Grammar {
         self.productions.iter().any(|p| p.weight.is_some())
     }
 
+    /// Whether the grammar has decomposition rules (then only
+    /// [`super::Buffered`] can derive it).
+    #[must_use]
+    pub fn has_decomposition(&self) -> bool {
+        self.decomposed != [0; 4]
+    }
+
+    /// Whether only [`super::Buffered`] can derive the grammar: it is
+    /// context-sensitive, has decomposition rules, or asks for more than
+    /// [`super::MAX_STEPS`] steps.
+    #[must_use]
+    pub fn needs_buffer(&self) -> bool {
+        self.is_context_sensitive()
+            || self.has_decomposition()
+            || self.settings.steps as usize > super::MAX_STEPS
+    }
+
+    /// Whether some rule of `section` may apply to `symbol`.
+    pub(crate) fn has_rule_for(&self, section: Section, symbol: u8) -> bool {
+        let set = match section {
+            Section::Production => &self.rewritten,
+            Section::Decomposition => &self.decomposed,
+            Section::Interpretation => &self.interpreted,
+        };
+        match set.get(symbol as usize / 32) {
+            Some(word) => word & (1 << (symbol % 32)) != 0,
+            None => true,
+        }
+    }
+
+    /// Whether a successor or the axiom has a `%` (a cut, ABOP p. 28).
+    #[must_use]
+    pub fn has_cut(&self) -> bool {
+        self.templates.iter().any(|t| t.symbol == b'%')
+    }
+
     /// Whether `symbol` is in the `ignore:` set.
     #[must_use]
     pub fn is_ignored(&self, symbol: u8) -> bool {
@@ -214,10 +292,7 @@ impl Grammar {
     /// 128-bit set, which a parsed grammar never reaches).
     #[must_use]
     pub fn is_rewritten(&self, symbol: u8) -> bool {
-        match self.rewritten.get(symbol as usize / 32) {
-            Some(word) => word & (1 << (symbol % 32)) != 0,
-            None => true,
-        }
+        self.has_rule_for(Section::Production, symbol)
     }
 
     /// The number of modules in the axiom.

@@ -69,8 +69,19 @@ pub const MAX_NAME: usize = 16;
 pub const MAX_EXPR_STACK: usize = 16;
 /// Nesting of parentheses and unary operators in one expression.
 pub const MAX_NESTING: usize = 16;
-/// Derivation steps `n`.
+/// Derivation steps `n` that [`Streaming`] derives (its frame arrays
+/// have `MAX_STEPS + 1` entries); [`Buffered`] derives up to
+/// [`MAX_BUFFERED_STEPS`].
 pub const MAX_STEPS: usize = 32;
+/// Derivation steps `n` any grammar may ask for: the 8-bit step field of
+/// [`stream_id`]. Beyond [`MAX_STEPS`] only [`Buffered`] derives it.
+pub const MAX_BUFFERED_STEPS: usize = 255;
+/// Nesting of decomposition rules applied to one module (`maximum depth:`
+/// of a `decomposition:` section, at most this).
+pub const MAX_DECOMPOSITION_DEPTH: usize = 16;
+/// Nesting of interpretation rules applied to one module (`maximum
+/// depth:` of an `interpretation:` section, at most this).
+pub const MAX_INTERPRETATION_DEPTH: usize = 8;
 
 /// Where a grammar is wrong: 1-based line and column (in characters).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -119,7 +130,34 @@ pub enum ParseErrorKind {
         /// Its value.
         capacity: u32,
     },
+    /// `~` not followed by the letter of a predefined surface
+    /// ([`crate::turtle::SURFACES`]).
+    UnknownSurface,
+    /// A module symbol that ABOP or L-Py gives a meaning Morphogen does
+    /// not implement: refused rather than silently drawn as nothing.
+    UnsupportedSymbol {
+        /// The symbol.
+        symbol: u8,
+        /// Its meaning elsewhere, and what to use instead.
+        meaning: &'static str,
+    },
 }
+
+/// Module symbols that ABOP or L-Py give a meaning Morphogen does not
+/// implement, with that meaning: a grammar using one is a located
+/// [`ParseErrorKind::UnsupportedSymbol`] error.
+pub const UNSUPPORTED_SYMBOLS: [(u8, &str); 4] = [
+    (
+        b'@',
+        "L-Py/cpfg multi-letter turtle commands (@O sphere, @o circle, @M move to, @Tp tropism, ...)",
+    ),
+    (
+        b'?',
+        "L-Py/cpfg query modules (?P position, ?H heading, ...) that read the turtle back",
+    ),
+    (b'_', "L-Py: increase the width (use `!(w)` to set it)"),
+    (b';', "L-Py: next colour index (use `'` or `'(c)`)"),
+];
 
 impl core::fmt::Display for ParseErrorKind {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
@@ -147,6 +185,14 @@ impl core::fmt::Display for ParseErrorKind {
                 f,
                 "capacity {limit} = {capacity} exceeded (raise it in core/src/lsys/mod.rs)"
             ),
+            ParseErrorKind::UnknownSurface => f.write_str(
+                "`~` must be followed by a predefined surface: `~L` (leaf) or `~P` (petal), optionally `(scale)`",
+            ),
+            ParseErrorKind::UnsupportedSymbol { symbol, meaning } => write!(
+                f,
+                "the symbol `{}` is not supported (its meaning elsewhere: {meaning})",
+                char::from(*symbol)
+            ),
         }
     }
 }
@@ -173,9 +219,18 @@ pub enum LsysError {
         /// Its value.
         capacity: u32,
     },
-    /// A context-sensitive grammar cannot be derived by [`Streaming`]; use
-    /// [`Buffered`].
+    /// A context-sensitive grammar, or one with decomposition rules,
+    /// cannot be derived by [`Streaming`]; use [`Buffered`].
     NeedsBuffer,
+    /// Decomposition or interpretation rules still applied at their
+    /// `maximum depth` (a rule that keeps producing its own predecessor
+    /// never ends).
+    DepthExceeded {
+        /// `decomposition` or `interpretation`.
+        rules: &'static str,
+        /// The `maximum depth` in force.
+        depth: u32,
+    },
     /// The turtle failed.
     Turtle(TurtleError),
 }
@@ -188,7 +243,11 @@ impl core::fmt::Display for LsysError {
                 write!(f, "capacity {limit} = {capacity} exceeded")
             }
             LsysError::NeedsBuffer => f.write_str(
-                "a context-sensitive grammar needs buffered derivation (streaming cannot see the context)",
+                "a context-sensitive grammar, or one with decomposition rules, needs buffered derivation",
+            ),
+            LsysError::DepthExceeded { rules, depth } => write!(
+                f,
+                "{rules} rules still apply at `maximum depth` = {depth} (the limit; at most MAX_DECOMPOSITION_DEPTH = {MAX_DECOMPOSITION_DEPTH}, MAX_INTERPRETATION_DEPTH = {MAX_INTERPRETATION_DEPTH})"
             ),
             LsysError::Turtle(e) => write!(f, "turtle: {e}"),
         }

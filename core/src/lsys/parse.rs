@@ -6,12 +6,14 @@ use heapless::Vec;
 use crate::fx::Fx;
 
 use super::expr::{self, FUNCTIONS};
-use super::grammar::{Grammar, Pattern, Production, Span, Template};
+use super::grammar::{Grammar, Pattern, Production, Section, Span, Template};
 use super::{
-    MAX_CODE, MAX_CONSTANTS, MAX_CONTEXT_MODULES, MAX_EXPR_STACK, MAX_FORMALS, MAX_LITERALS,
-    MAX_NAME, MAX_NESTING, MAX_PARAMS, MAX_PRODUCTIONS, MAX_STEPS, MAX_SUCCESSOR_MODULES,
-    ParseError, ParseErrorKind,
+    MAX_BUFFERED_STEPS, MAX_CODE, MAX_CONSTANTS, MAX_CONTEXT_MODULES, MAX_DECOMPOSITION_DEPTH,
+    MAX_EXPR_STACK, MAX_FORMALS, MAX_INTERPRETATION_DEPTH, MAX_LITERALS, MAX_NAME, MAX_NESTING,
+    MAX_PARAMS, MAX_PRODUCTIONS, MAX_SUCCESSOR_MODULES, ParseError, ParseErrorKind,
+    UNSUPPORTED_SYMBOLS,
 };
+use crate::turtle::SURFACES;
 
 type Name = Vec<u8, MAX_NAME>;
 type Constants = Vec<(Name, Fx), MAX_CONSTANTS>;
@@ -29,6 +31,17 @@ const fn capacity(limit: &'static str, capacity: usize) -> ParseErrorKind {
 #[must_use]
 pub(crate) fn is_symbol(b: u8) -> bool {
     b.is_ascii_graphic() && !b"(),#<>:".contains(&b)
+}
+
+/// The located error for a symbol that ABOP or L-Py gives a meaning
+/// Morphogen does not implement.
+fn unsupported(c: &Cursor<'_>, at: usize, symbol: u8) -> Result<(), ParseError> {
+    match UNSUPPORTED_SYMBOLS.iter().find(|(s, _)| *s == symbol) {
+        Some(&(symbol, meaning)) => {
+            Err(c.err_at(at, ParseErrorKind::UnsupportedSymbol { symbol, meaning }))
+        }
+        None => Ok(()),
+    }
 }
 
 /// A position in one line, limited to `pos..end`.
@@ -363,6 +376,9 @@ struct State {
     constants: Constants,
     axiom_seen: bool,
     steps_seen: bool,
+    tropism_seen: bool,
+    /// The section the next rules belong to.
+    section: Section,
 }
 
 impl Grammar {
@@ -377,6 +393,8 @@ impl Grammar {
             constants: Vec::new(),
             axiom_seen: false,
             steps_seen: false,
+            tropism_seen: false,
+            section: Section::Production,
         };
         let mut lines = 0u32;
         for raw in text.split('\n') {
@@ -440,6 +458,24 @@ impl Grammar {
                     self.ignore_line(c)
                 };
             }
+            let section = match word {
+                "production" => Some(Section::Production),
+                "decomposition" => Some(Section::Decomposition),
+                "interpretation" | "homomorphism" => Some(Section::Interpretation),
+                _ => None,
+            };
+            if let Some(section) = section
+                && c.peek() == Some(b':')
+                && arrow.is_none()
+            {
+                c.bump();
+                c.expect_end()?;
+                state.section = section;
+                return Ok(());
+            }
+            if word == "maximum" && arrow.is_none() {
+                return self.maximum_depth(c, start, state);
+            }
             if c.peek() == Some(b'=') && c.peek_at(1) != Some(b'=') && arrow.is_none() {
                 c.bump();
                 return self.assignment(c, start, word, state);
@@ -447,9 +483,9 @@ impl Grammar {
         }
         c.pos = start;
         match arrow {
-            Some(at) => self.production(c, at, &state.constants),
+            Some(at) => self.production(c, at, &state.constants, state.section),
             None => Err(c.err(ParseErrorKind::Expected(
-                "a production `pred -> successor`, `axiom:`, `ignore:` or `name = value`",
+                "a production `pred -> successor`, `axiom:`, `ignore:`, `name = value`, a section `production:`, `decomposition:`, `interpretation:` or `maximum depth: n`",
             ))),
         }
     }
@@ -472,6 +508,9 @@ impl Grammar {
         let name = c.name(start, word)?;
         if state.constants.iter().any(|(n, _)| *n == name) {
             return Err(c.err_at(start, ParseErrorKind::DuplicateName));
+        }
+        if word == "tropism" {
+            return self.tropism(c, start, state);
         }
         let value_at = {
             c.skip_ws();
@@ -498,8 +537,8 @@ impl Grammar {
         let s = &mut self.settings;
         match word {
             "n" => {
-                s.steps = integer(0, MAX_STEPS as i32).ok_or(invalid(
-                    "`n` must be a whole number from 0 to MAX_STEPS = 32",
+                s.steps = integer(0, MAX_BUFFERED_STEPS as i32).ok_or(invalid(
+                    "`n` must be a whole number from 0 to MAX_BUFFERED_STEPS = 255 (above MAX_STEPS = 32 only buffered derivation derives it)",
                 ))? as u8;
                 state.steps_seen = true;
             }
@@ -507,6 +546,7 @@ impl Grammar {
             "step" => s.step = value,
             "width" => s.width = value,
             "thin" => s.thin = value,
+            "elasticity" => s.elasticity = value,
             "spacing" => s.spacing = value,
             "plants" => {
                 s.plants = integer(1, 16)
@@ -524,6 +564,98 @@ impl Grammar {
             .map_err(|_| c.err_at(start, capacity("MAX_CONSTANTS", MAX_CONSTANTS)))
     }
 
+    /// `maximum depth: n` in a `decomposition:` or `interpretation:`
+    /// section (L-Py): how deep its rules may nest.
+    fn maximum_depth(
+        &mut self,
+        c: &mut Cursor<'_>,
+        start: usize,
+        state: &State,
+    ) -> Result<(), ParseError> {
+        c.skip_ws();
+        if c.ident() != Some("depth") {
+            return Err(c.err(ParseErrorKind::Expected("`depth` (maximum depth: n)")));
+        }
+        c.expect(b':', "`:` (maximum depth: n)")?;
+        c.skip_ws();
+        let value_at = c.pos;
+        let (code_len, literal_len) = (self.code.len(), self.literals.len());
+        let at = Compiler {
+            grammar: self,
+            formals: &[],
+            constants: &state.constants,
+            depth: 0,
+            nesting: 0,
+        }
+        .expression(c)?;
+        c.expect_end()?;
+        let (value, _) = self.eval(at as usize, &[]);
+        self.code.truncate(code_len);
+        self.literals.truncate(literal_len);
+        let whole = value.to_bits() & 0xFFFF == 0;
+        let depth = value.floor_int();
+        let (slot, limit, message) = match state.section {
+            Section::Production => {
+                return Err(c.err_at(
+                    start,
+                    ParseErrorKind::InvalidValue(
+                        "`maximum depth` belongs in a `decomposition:` or `interpretation:` section",
+                    ),
+                ));
+            }
+            Section::Decomposition => (
+                &mut self.decomposition_depth,
+                MAX_DECOMPOSITION_DEPTH,
+                "`maximum depth` of decomposition must be a whole number from 1 to MAX_DECOMPOSITION_DEPTH = 16",
+            ),
+            Section::Interpretation => (
+                &mut self.interpretation_depth,
+                MAX_INTERPRETATION_DEPTH,
+                "`maximum depth` of interpretation must be a whole number from 1 to MAX_INTERPRETATION_DEPTH = 8",
+            ),
+        };
+        if !whole || !(1..=limit as i32).contains(&depth) {
+            return Err(c.err_at(value_at, ParseErrorKind::InvalidValue(message)));
+        }
+        *slot = depth as u8;
+        Ok(())
+    }
+
+    /// `tropism = x, y, z` (ABOP Sec. 2.2): three constant expressions, the
+    /// vector T. Not a constant itself (it is three numbers).
+    fn tropism(
+        &mut self,
+        c: &mut Cursor<'_>,
+        start: usize,
+        state: &mut State,
+    ) -> Result<(), ParseError> {
+        if state.tropism_seen {
+            return Err(c.err_at(start, ParseErrorKind::DuplicateName));
+        }
+        state.tropism_seen = true;
+        let (code_len, literal_len) = (self.code.len(), self.literals.len());
+        let mut t = [Fx::ZERO; 3];
+        for (i, slot) in t.iter_mut().enumerate() {
+            if i > 0 {
+                c.expect(b',', "`,` (tropism = x, y, z)")?;
+            }
+            let mut compiler = Compiler {
+                grammar: self,
+                formals: &[],
+                constants: &state.constants,
+                depth: 0,
+                nesting: 0,
+            };
+            let at = compiler.expression(c)?;
+            *slot = self.eval(at as usize, &[]).0;
+        }
+        c.expect_end()?;
+        self.code.truncate(code_len);
+        self.literals.truncate(literal_len);
+        self.settings.tropism = t;
+        Ok(())
+    }
+
     /// `pattern ('(' name (',' name)* ')')?`, appending formals.
     fn pattern(
         &mut self,
@@ -533,11 +665,20 @@ impl Grammar {
         c.skip_ws();
         let at = c.pos;
         let symbol = c.symbol()?;
+        unsupported(c, at, symbol)?;
         if symbol == b'[' || symbol == b']' {
             return Err(c.err_at(
                 at,
                 ParseErrorKind::Expected(
                     "a module other than `[` or `]` (brackets are neither rewritten nor matched)",
+                ),
+            ));
+        }
+        if symbol == b'%' || symbol == b'~' {
+            return Err(c.err_at(
+                at,
+                ParseErrorKind::Expected(
+                    "a module other than `%` or `~` (a cut is removed after the step that makes it, a surface is only drawn)",
                 ),
             ));
         }
@@ -609,12 +750,19 @@ impl Grammar {
         c: &mut Cursor<'_>,
         arrow: usize,
         constants: &Constants,
+        section: Section,
     ) -> Result<(), ParseError> {
         let line_end = c.end;
-        let colon = find(c.bytes(), c.pos, arrow, b":");
+        // L-Py writes `-->`: the rule text ends before it.
+        let rule_end = if arrow > c.pos && c.bytes().get(arrow - 1) == Some(&b'-') {
+            arrow - 1
+        } else {
+            arrow
+        };
+        let colon = find(c.bytes(), c.pos, rule_end, b":");
         let mut formals = Formals::new();
         // Predecessor with contexts.
-        c.end = colon.unwrap_or(arrow);
+        c.end = colon.unwrap_or(rule_end);
         let first_at = {
             c.skip_ws();
             c.pos
@@ -649,13 +797,21 @@ impl Grammar {
             return Err(c.err(ParseErrorKind::Expected("`>` or `->` (only one `<`)")));
         }
         c.expect_end()?;
+        if section != Section::Production && !(left.is_empty() && right.is_empty()) {
+            return Err(c.err_at(
+                first_at,
+                ParseErrorKind::Expected(
+                    "a rule without context (decomposition and interpretation rules are context-free)",
+                ),
+            ));
+        }
         let left = self.context(c, first_at, &left)?;
         let right = self.context(c, pred_at, &right)?;
         // Condition.
         let mut condition = None;
         if let Some(colon) = colon {
             c.pos = colon + 1;
-            c.end = arrow;
+            c.end = rule_end;
             c.skip_ws();
             if c.peek() == Some(b'*') {
                 c.bump();
@@ -670,16 +826,43 @@ impl Grammar {
         c.skip_ws();
         let mut weight = None;
         if c.peek() == Some(b'(') {
+            if section != Section::Production {
+                return Err(c.err(ParseErrorKind::Expected(
+                    "a successor without a probability (decomposition and interpretation rules are deterministic)",
+                )));
+            }
             c.bump();
             weight = Some(self.compile(c, &formals, constants)?);
             c.expect(b')', "`)` after the probability")?;
         }
+        let successor_at = {
+            c.skip_ws();
+            c.pos
+        };
         let successor = self.parse_successor(c, &formals, constants)?;
-        if let Some(word) = self.rewritten.get_mut(predecessor.symbol as usize / 32) {
+        let cuts = self
+            .templates
+            .get(successor.range())
+            .is_some_and(|t| t.iter().any(|t| t.symbol == b'%'));
+        if section == Section::Interpretation && cuts {
+            return Err(c.err_at(
+                successor_at,
+                ParseErrorKind::Expected(
+                    "an interpretation successor without `%` (a cut acts on the derivation, which interpretation rules never reach)",
+                ),
+            ));
+        }
+        let set = match section {
+            Section::Production => &mut self.rewritten,
+            Section::Decomposition => &mut self.decomposed,
+            Section::Interpretation => &mut self.interpreted,
+        };
+        if let Some(word) = set.get_mut(predecessor.symbol as usize / 32) {
             *word |= 1 << (predecessor.symbol % 32);
         }
         self.productions
             .push(Production {
+                section,
                 predecessor: *predecessor,
                 left,
                 right,
@@ -720,6 +903,7 @@ impl Grammar {
         while !c.at_end() {
             let at = c.pos;
             let symbol = c.symbol()?;
+            unsupported(c, at, symbol)?;
             match symbol {
                 b'[' => {
                     if depth == 0 {
@@ -739,6 +923,25 @@ impl Grammar {
                 arity: 0,
                 code: self.code.len() as u16,
             };
+            if symbol == b'~' {
+                // `~X`: the surface's index becomes the first parameter.
+                let surface = c
+                    .peek()
+                    .and_then(|x| SURFACES.iter().position(|(letter, _, _)| *letter == x))
+                    .ok_or_else(|| c.err(ParseErrorKind::UnknownSurface))?;
+                let letter_at = c.pos;
+                c.bump();
+                let mut compiler = Compiler {
+                    grammar: self,
+                    formals,
+                    constants,
+                    depth: 0,
+                    nesting: 0,
+                };
+                compiler.literal(c, letter_at, Fx::from_int(surface as i32))?;
+                compiler.emit(c, expr::END, None)?;
+                t.arity = 1;
+            }
             if c.peek() == Some(b'(') {
                 c.bump();
                 loop {

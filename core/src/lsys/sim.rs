@@ -16,7 +16,11 @@ use crate::sim::{Deferred, Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 use crate::turtle::{Drawn, Params, Turtle};
 
-use super::{Derivation, Grammar, LsysError, Module, Streaming};
+use heapless::Vec;
+
+use super::derive::Frame;
+use super::grammar::Section;
+use super::{Derivation, Grammar, LsysError, MAX_INTERPRETATION_DEPTH, Module, Streaming};
 
 /// Modules interpreted per [`Simulation::step`] at most.
 pub const MODULES_PER_STEP: usize = 512;
@@ -26,6 +30,9 @@ pub const MODULES_PER_STEP: usize = 512;
 pub struct LSystem<D: Derivation = Streaming> {
     grammar: Grammar,
     derivation: D,
+    /// Interpretation rules being expanded for the turtle (L-Py's
+    /// `interpretation:`, a homomorphism): one frame per nested rule.
+    interpreting: Vec<Frame, MAX_INTERPRETATION_DEPTH>,
     turtle: Turtle<Fx>,
     seed: u64,
     frame: u32,
@@ -42,6 +49,8 @@ pub(crate) fn turtle_params(g: &Grammar) -> Params<Fx> {
         delta: crate::fx::Angle::from_degrees_fx(s.delta),
         width: s.width,
         thin: s.thin,
+        tropism: Vector3::new(s.tropism[0], s.tropism[1], s.tropism[2]),
+        elasticity: s.elasticity,
     }
 }
 
@@ -70,6 +79,7 @@ impl<D: Derivation> LSystem<D> {
         LSystem {
             grammar: Grammar::zeroed(),
             derivation,
+            interpreting: Vec::new(),
             turtle: Turtle::zeroed(),
             seed: 0,
             frame: 0,
@@ -153,6 +163,40 @@ impl<D: Derivation> LSystem<D> {
         Ok(())
     }
 
+    /// The next module for the turtle: the derived string with every
+    /// interpretation rule applied (depth first, until none applies), so a
+    /// homomorphism draws without changing what is derived.
+    fn next_drawn(&mut self) -> Result<Option<Module>, LsysError> {
+        loop {
+            let m = match self.interpreting.last_mut() {
+                Some(top) => match top.next_module(&self.grammar) {
+                    Some(m) => m,
+                    None => {
+                        self.interpreting.pop();
+                        continue;
+                    }
+                },
+                None => match self.derivation.next_module(&self.grammar)? {
+                    Some(m) => m,
+                    None => return Ok(None),
+                },
+            };
+            if !self.grammar.has_rule_for(Section::Interpretation, m.symbol) {
+                return Ok(Some(m));
+            }
+            let Some(frame) = Frame::for_rule(&self.grammar, Section::Interpretation, &m) else {
+                return Ok(Some(m));
+            };
+            let depth = self.grammar.interpretation_depth as usize;
+            if self.interpreting.len() >= depth || self.interpreting.push(frame).is_err() {
+                return Err(LsysError::DepthExceeded {
+                    rules: "interpretation",
+                    depth: depth as u32,
+                });
+            }
+        }
+    }
+
     fn advance(&mut self, sink: &mut dyn Sink) -> Result<(), Error> {
         if !self.drawing {
             let depth = self.depth();
@@ -170,10 +214,11 @@ impl<D: Derivation> LSystem<D> {
                 .spacing
                 .saturating_mul_int(self.plant as i32);
             self.turtle.reset(Vector3::new(x, Fx::ZERO, Fx::ZERO));
+            self.interpreting.clear();
             self.drawing = true;
         }
         for _ in 0..MODULES_PER_STEP {
-            let Some(m) = self.derivation.next_module(&self.grammar)? else {
+            let Some(m) = self.next_drawn()? else {
                 self.turtle.finish().map_err(LsysError::from)?;
                 self.drawing = false;
                 self.done += 1;

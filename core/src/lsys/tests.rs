@@ -21,13 +21,21 @@ const STOCHASTIC: &str = include_str!("../../../grammars/abop-stochastic.lsys");
 /// ABOP Fig. 2.6a, the parametric monopodial tree (n = 10).
 const MONOPODIAL: &str = include_str!("../../../grammars/abop-monopodial.lsys");
 
+/// ABOP Fig. 2.8a, a tree bent by tropism (n = 6).
+const TROPISM: &str = include_str!("../../../grammars/abop-tropism.lsys");
+
+/// Predefined surfaces drawn by interpretation rules.
+const FLOWER: &str = include_str!("../../../grammars/lsys-flower.lsys");
+
 /// The grammars of the built-in L-system scenarios (`scenarios/abop-*.toml`
 /// read these files), with their scenario names.
-pub(super) const ALL: [(&str, &str); 4] = [
+pub(super) const ALL: [(&str, &str); 6] = [
     ("abop-shrub", SHRUB),
     ("abop-2d-plant", PLANT_2D),
     ("abop-stochastic", STOCHASTIC),
     ("abop-monopodial", MONOPODIAL),
+    ("abop-tropism", TROPISM),
+    ("lsys-flower", FLOWER),
 ];
 
 fn grammar(text: &str) -> Grammar {
@@ -317,12 +325,16 @@ fn fixed_point_shrub_tracks_the_f64_reference() {
         delta: crate::fx::Angle::from_degrees_fx(s.delta),
         width: s.width,
         thin: s.thin,
+        tropism: nalgebra::Vector3::zeros(),
+        elasticity: Fx::ZERO,
     });
     let mut reference = Turtle::<f64>::new(Params {
         step: 1.0,
         delta: crate::fx::Angle::from_degrees_fx(s.delta),
         width: s.width.to_f64(),
         thin: s.thin.to_f64(),
+        tropism: nalgebra::Vector3::zeros(),
+        elasticity: 0.0,
     });
     let mut d = Streaming::new();
     d.restart(&g, 7, 0).unwrap();
@@ -349,7 +361,9 @@ fn fixed_point_shrub_tracks_the_f64_reference() {
 #[test]
 fn simulation_state_fits_the_mcu_budget() {
     let size = core::mem::size_of::<LSystem>();
-    assert!(size < 6 * 1024, "LSystem is {size} bytes");
+    // 6.5 KB: the cut state per level (140 B), the interpretation stack
+    // (200 B) and the rule sections (100 B) took it past 6 KB.
+    assert!(size < 6 * 1024 + 512, "LSystem is {size} bytes");
     // Buffered derivation of the same shrub holds two strings at once.
     let g = grammar(SHRUB);
     let mut a = vec![Module::default(); 80_000];
@@ -405,10 +419,12 @@ fn malformed_grammars_get_located_errors() {
         ("n = 1\n", 2, 1, K::MissingAxiom),
         ("axiom: F", 1, 1, K::MissingSteps),
         (
-            "n = 99\naxiom: F",
+            "n = 256\naxiom: F",
             1,
             5,
-            K::InvalidValue("`n` must be a whole number from 0 to MAX_STEPS = 32"),
+            K::InvalidValue(
+                "`n` must be a whole number from 0 to MAX_BUFFERED_STEPS = 255 (above MAX_STEPS = 32 only buffered derivation derives it)",
+            ),
         ),
         ("n = 1\naxiom: F(40000)", 2, 10, K::NumberOutOfRange),
         ("n = 1\naxiom: F\nF -> F é", 3, 8, K::NotAscii),
@@ -417,7 +433,9 @@ fn malformed_grammars_get_located_errors() {
             "n = 1\naxiom: F\nwhat is this",
             3,
             1,
-            K::Expected("a production `pred -> successor`, `axiom:`, `ignore:` or `name = value`"),
+            K::Expected(
+                "a production `pred -> successor`, `axiom:`, `ignore:`, `name = value`, a section `production:`, `decomposition:`, `interpretation:` or `maximum depth: n`",
+            ),
         ),
         (
             "n = 1\naxiom: F\n[ -> F",
@@ -497,4 +515,408 @@ fn a_negative_width_or_an_out_of_range_colour_is_an_error() {
         };
         assert_eq!(e, crate::Error::Lsys(LsysError::Turtle(error)), "{text}");
     }
+}
+
+fn segment_count(source: &str) -> usize {
+    segments(source, 0).len()
+}
+
+#[test]
+fn cut_removes_the_rest_of_its_branch() {
+    // ABOP p. 28: each step adds a branch [+F%F] and an F to the axis; the
+    // cut leaves [+F], so after n steps there are 1 + 2n segments (with no
+    // cut, [+FF]: 1 + 3n).
+    let cut = "n = 4\naxiom: F A\nA -> [+F%F]F A";
+    let uncut = "n = 4\naxiom: F A\nA -> [+F F]F A";
+    assert_eq!(segment_count(cut), 1 + 2 * 4);
+    assert_eq!(segment_count(uncut), 1 + 3 * 4);
+    let g = grammar(cut);
+    assert_eq!(text(&buffered(&g, 2, 0)), "F[+F]F[+F]FA");
+    assert_eq!(text(&streamed(&g, 2, 0)), "F[+F]F[+F]FA");
+    // At the top level a cut runs to the end of the string; in the axiom
+    // too.
+    let g = grammar("n = 1\naxiom: F%[+F]F\nF -> FF");
+    assert_eq!(text(&buffered(&g, 0, 0)), "F");
+    assert_eq!(text(&streamed(&g, 1, 0)), "FF");
+    // A branch closed by a `]` of an earlier level: A's successor cuts C's
+    // expansion too, and the `]` stays.
+    let g = grammar("n = 2\naxiom: [A C]B\nA -> F%\nC -> G\nB -> BB");
+    assert_eq!(text(&buffered(&g, 1, 0)), "[F]BB");
+    assert_eq!(text(&streamed(&g, 1, 0)), "[F]BB");
+    assert_eq!(text(&streamed(&g, 2, 0)), "[F]BBBB");
+    // `%` cannot be a predecessor.
+    assert_eq!(parse_err("n = 1\naxiom: F\n% -> F").column, 1);
+}
+
+#[test]
+fn cuts_stream_as_they_buffer_with_stochastic_positions() {
+    // Cuts at every level, inside and across successors, with stochastic
+    // choices keyed by position: streaming must count exactly the modules
+    // the buffered derivation keeps.
+    let grammars = [
+        "n = 6\naxiom: A\nA -> (1) F[+A%B]A\nA -> (1) F[-B]%A\nA -> (1) [A]B\nB -> (1) F%[A]\nB -> (2) B F",
+        "n = 5\naxiom: [A]A%B\nA -> (1) A[%A]B\nA -> (2) F[B%]A\nB -> (1) [A%F]\nB -> (1) G B",
+        "n = 7\naxiom: X\nX -> (1) F[+X][-X%X]X\nX -> (1) F%\nX -> (1) [X%]F X\nF -> (3) F\nF -> (1) F F",
+    ];
+    for source in grammars {
+        let g = grammar(source);
+        for seed in 0..12 {
+            for steps in 0..=g.settings().steps {
+                let s = streamed(&g, steps, seed);
+                let b = buffered(&g, steps, seed);
+                assert!(
+                    s == b,
+                    "{source} seed {seed} n {steps}:\n{}\n{}",
+                    text(&s),
+                    text(&b)
+                );
+                assert!(!text(&s).contains('%'));
+            }
+        }
+    }
+}
+
+#[test]
+fn symbols_with_a_meaning_elsewhere_are_located_errors() {
+    // Each symbol of the table, in the axiom, a successor and a
+    // predecessor: an error at its column naming it, never drawn as
+    // nothing.
+    for (symbol, meaning) in UNSUPPORTED_SYMBOLS {
+        let s = char::from(symbol);
+        let kind = ParseErrorKind::UnsupportedSymbol { symbol, meaning };
+        for (text, line, column) in [
+            (format!("n = 1\naxiom: F {s}F"), 2, 10),
+            (format!("n = 1\naxiom: F\nF -> F[+F]{s}(2)"), 3, 11),
+            (format!("n = 1\naxiom: F\n{s} -> F"), 3, 1),
+        ] {
+            let e = parse_err(&text);
+            assert_eq!((e.line, e.column, e.kind), (line, column, kind), "{text}");
+            assert!(std::format!("{e}").contains(&std::format!("`{s}`")), "{e}");
+        }
+    }
+}
+
+#[test]
+fn tropism_bends_a_straight_line_towards_t() {
+    // H = (sin φ, cos φ, 0) and T = (1, 0, 0): ‖H × T‖ = cos φ, so each F
+    // draws along φ_k and then turns by e·cos φ_k towards +x (ABOP Eq.
+    // 2.3). The end points, from that recurrence in f64:
+    let e = 0.2f64;
+    let mut phi = 0.0f64;
+    let mut p = [0.0f64; 2];
+    let mut expected = Vec::new();
+    for _ in 0..40 {
+        p[0] += phi.sin();
+        p[1] += phi.cos();
+        expected.push(p);
+        phi += e * phi.cos();
+    }
+    let source = format!(
+        "n = 0\ntropism = 1, 0, 0\nelasticity = {e}\naxiom: {}",
+        "F".repeat(40)
+    );
+    let segs = segments(&source, 0);
+    assert_eq!(segs.len(), 40);
+    for (k, (s, q)) in segs.iter().zip(&expected).enumerate() {
+        let (x, y) = (s.1[0].to_f64(), s.1[1].to_f64());
+        assert!(
+            (x - q[0]).abs() < 2e-3 && (y - q[1]).abs() < 2e-3,
+            "segment {k}: ({x}, {y}) vs {q:?}"
+        );
+        assert_eq!(s.1[2], Fx::ZERO, "stays in the plane of H and T");
+    }
+    // By the end the line runs along T.
+    let (a, b) = segs[39];
+    assert!((b[0] - a[0]).to_f64() > 0.999, "{a:?} -> {b:?}");
+    // Without elasticity the line is straight; a negative one bends away.
+    let straight = source.replace("elasticity = 0.2", "elasticity = 0");
+    assert_eq!(segments(&straight, 0)[39].1[1], Fx::from_int(40));
+    let away = source.replace("elasticity = 0.2", "elasticity = -0.2");
+    assert!(segments(&away, 0)[10].1[0] < Fx::ZERO);
+    // Settings errors are located.
+    assert_eq!(
+        parse_err("n = 0\ntropism = 1, 0\naxiom: F").kind,
+        ParseErrorKind::Expected("`,` (tropism = x, y, z)")
+    );
+    let e = parse_err("n = 0\ntropism = 0, 1, 0\ntropism = 0, 1, 0\naxiom: F");
+    assert_eq!((e.line, e.kind), (3, ParseErrorKind::DuplicateName));
+}
+
+#[test]
+fn abop_fig_2_8a_tracks_an_f64_turtle_and_droops() {
+    // The fixed-point turtle against the generic one in f64 on the whole
+    // tree (tropism after each of 1 457 F: 1 + 4·(3⁶ − 1)/2), and the tips
+    // bent below the branch points: T = (0, −1, 0) pulls them down.
+    let g = grammar(TROPISM);
+    let s = g.settings();
+    assert_eq!(s.tropism, [Fx::ZERO, -Fx::ONE, Fx::ZERO]);
+    let mut fx = Turtle::<Fx>::new(crate::lsys::turtle_params(&g));
+    let mut reference = Turtle::<f64>::new(Params {
+        step: 1.0,
+        delta: crate::fx::Angle::from_degrees_fx(s.delta),
+        width: 1.0,
+        thin: 0.7,
+        tropism: nalgebra::Vector3::new(0.0, -1.0, 0.0),
+        elasticity: s.elasticity.to_f64(),
+    });
+    let (mut worst, mut extent, mut n) = (0.0f64, 0.0f64, 0);
+    for m in streamed(&g, 6, 0) {
+        let (a, b) = (fx.apply(&m).unwrap(), reference.apply(&m).unwrap());
+        if let (Drawn::Segment { b: p, .. }, Drawn::Segment { b: q, .. }) = (a, b) {
+            for i in 0..3 {
+                worst = worst.max((p[i].to_f64() - q[i]).abs());
+                extent = extent.max(q[i].abs());
+            }
+            n += 1;
+        }
+    }
+    assert_eq!(n, 1457);
+    std::println!("Fig. 2.8a: fixed vs f64 worst {worst:.5} of extent {extent:.1}");
+    assert!(worst < extent / 1000.0, "worst {worst} of extent {extent}");
+    // Without tropism the same tree's segments end far higher on average.
+    let mean_height = |source: &str| {
+        let segs = segments(source, 0);
+        segs.iter().map(|s| s.1[1].to_f64()).sum::<f64>() / segs.len() as f64
+    };
+    let bent = mean_height(TROPISM);
+    let upright = mean_height(&TROPISM.replace("elasticity = 0.22", "elasticity = 0"));
+    std::println!("Fig. 2.8a: mean height {bent:.1}, without tropism {upright:.1}");
+    assert!(bent < upright - 100.0, "{bent} vs {upright}");
+}
+
+fn sim_error(source: &str) -> crate::Error {
+    let mut sim = LSystem::new();
+    sim.load(source, 0).unwrap();
+    let mut sink = Records::default();
+    loop {
+        match sim.step(&mut sink) {
+            Ok(p) if p.finished() => panic!("{source}: ran without an error"),
+            Ok(_) => {}
+            Err(e) => return e,
+        }
+    }
+}
+
+#[test]
+fn interpretation_rules_draw_without_changing_the_derivation() {
+    // L-Py's `interpretation:` (a homomorphism): A grows B's, the turtle
+    // sees A as F and B as [+F]; the derived string keeps A and B.
+    let source = "n = 3\naxiom: A\nA -> A B\ninterpretation:\nA -> F\nB -> [+F]";
+    let g = grammar(source);
+    assert_eq!(text(&streamed(&g, 3, 0)), "ABBB");
+    assert_eq!(text(&buffered(&g, 3, 0)), "ABBB");
+    let segs = segments(source, 0);
+    assert_eq!(segs.len(), 4, "A's F and three B's [+F]");
+    let p = |x: i32, y: i32| [Fx::from_int(x), Fx::from_int(y), Fx::ZERO];
+    assert_eq!(segs[0], (p(0, 0), p(0, 1)));
+    // [+F] turns left by δ = 90° from the end of A's F.
+    assert_eq!(segs[1], (p(0, 1), p(-1, 1)));
+    // Nested rules, within `maximum depth`.
+    let nested = "n = 0\naxiom: A\ninterpretation:\nmaximum depth: 2\nA -> B B\nB -> F";
+    assert_eq!(segments(nested, 0).len(), 2);
+    // Beyond it, or a rule that never ends: a named error.
+    for (source, depth) in [
+        (nested.replace("depth: 2", "depth: 1"), 1),
+        (
+            "n = 0\naxiom: A\ninterpretation:\nA -> F A".to_string(),
+            MAX_INTERPRETATION_DEPTH as u32,
+        ),
+    ] {
+        assert_eq!(
+            sim_error(&source),
+            crate::Error::Lsys(LsysError::DepthExceeded {
+                rules: "interpretation",
+                depth
+            }),
+            "{source}"
+        );
+    }
+}
+
+#[test]
+fn decomposition_rules_apply_after_each_step_until_none_applies() {
+    // L-Py's `decomposition:`: I decomposes into J J right after the step
+    // that makes it (and in the axiom), and the next step rewrites the J's.
+    let source = "n = 2\naxiom: A\nA -> A I\nJ -> F\ndecomposition:\nI -> J J";
+    let g = grammar(source);
+    assert!(g.needs_buffer());
+    assert_eq!(text(&buffered(&g, 1, 0)), "AJJ");
+    assert_eq!(text(&buffered(&g, 2, 0)), "AJJFF");
+    assert_eq!(
+        text(&buffered(
+            &grammar("n = 0\naxiom: I\ndecomposition:\nI -> J J"),
+            0,
+            0
+        )),
+        "JJ"
+    );
+    // Streaming cannot: it says so, and the simulation reports it.
+    assert_eq!(
+        Streaming::new().restart(&g, 2, 0),
+        Err(LsysError::NeedsBuffer)
+    );
+    assert_eq!(
+        sim_error(source),
+        crate::Error::Lsys(LsysError::NeedsBuffer)
+    );
+    // A chain of three rules fits `maximum depth: 3`; a fourth does not.
+    let chain = "n = 1\naxiom: A\nA -> X\ndecomposition:\nmaximum depth: 3\nX -> Y\nY -> Z\nZ -> W";
+    assert_eq!(text(&buffered(&grammar(chain), 1, 0)), "W");
+    let mut a = vec![Module::default(); 64];
+    let mut b = vec![Module::default(); 64];
+    let mut d = Buffered::new(&mut a, &mut b);
+    assert_eq!(
+        d.restart(&grammar(&format!("{chain}\nW -> V")), 1, 0),
+        Err(LsysError::DepthExceeded {
+            rules: "decomposition",
+            depth: 3
+        })
+    );
+    // Cuts act after decomposition.
+    let g = grammar("n = 1\naxiom: A\nA -> [F I F] F\ndecomposition:\nI -> G %");
+    assert_eq!(text(&buffered(&g, 1, 0)), "[FG]F");
+}
+
+#[test]
+fn section_rules_are_checked_where_they_are_written() {
+    use ParseErrorKind as K;
+    for (text, line, kind) in [
+        (
+            "n = 1\naxiom: A\ndecomposition:\nB < A -> F",
+            4,
+            K::Expected(
+                "a rule without context (decomposition and interpretation rules are context-free)",
+            ),
+        ),
+        (
+            "n = 1\naxiom: A\ninterpretation:\nA -> (0.5) F",
+            4,
+            K::Expected(
+                "a successor without a probability (decomposition and interpretation rules are deterministic)",
+            ),
+        ),
+        (
+            "n = 1\naxiom: A\nmaximum depth: 3",
+            3,
+            K::InvalidValue(
+                "`maximum depth` belongs in a `decomposition:` or `interpretation:` section",
+            ),
+        ),
+        (
+            "n = 1\naxiom: A\ndecomposition:\nmaximum depth: 17",
+            4,
+            K::InvalidValue(
+                "`maximum depth` of decomposition must be a whole number from 1 to MAX_DECOMPOSITION_DEPTH = 16",
+            ),
+        ),
+        (
+            "n = 1\naxiom: A\ninterpretation:\nA -> F %",
+            4,
+            K::Expected(
+                "an interpretation successor without `%` (a cut acts on the derivation, which interpretation rules never reach)",
+            ),
+        ),
+    ] {
+        let e = parse_err(text);
+        assert_eq!((e.line, e.kind), (line, kind), "{text}");
+    }
+    // L-Py's arrow `-->` reads as `->` (so `-->` cannot make `-` a
+    // predecessor: write `- -> …`).
+    let g = grammar("n = 1\naxiom: A-\nA --> F B\n- -> +\ninterpretation:\nB --> [+F]");
+    assert_eq!(text(&streamed(&g, 1, 0)), "FB+");
+    assert_eq!(
+        segments("n = 1\naxiom: A\nA --> F B\ninterpretation:\nB --> [+F]", 0).len(),
+        2
+    );
+    // Back to `production:` after a section.
+    let g = grammar("n = 1\naxiom: A\ninterpretation:\nA -> F\nproduction:\nA -> B");
+    assert_eq!(text(&streamed(&g, 1, 0)), "B");
+}
+
+fn polygons(source: &str) -> Vec<Vec<[Fx; 3]>> {
+    let mut sim = LSystem::new();
+    sim.load(source, 0).unwrap();
+    let mut out: Vec<Vec<[Fx; 3]>> = Vec::new();
+    for r in run_sim(&mut sim) {
+        match r {
+            Record::Polygon { vertices, .. } => out.push(Vec::with_capacity(vertices as usize)),
+            Record::Point { p } => out.last_mut().unwrap().push(p),
+            _ => {}
+        }
+    }
+    out
+}
+
+#[test]
+fn surfaces_are_polygons_in_the_turtle_frame() {
+    use crate::turtle::SURFACES;
+    let f = |x: i32| Fx::from_ratio(x, 100);
+    // At the start H = +y and L = −x: the leaf's outline point (l, h)
+    // lands at (−l, h) in hundredths.
+    let leaf = polygons("n = 0\naxiom: ~L");
+    assert_eq!(leaf.len(), 1);
+    let expected: Vec<[Fx; 3]> = SURFACES[0]
+        .2
+        .iter()
+        .map(|&(l, h)| [f(-l), f(h), Fx::ZERO])
+        .collect();
+    assert_eq!(leaf[0], expected);
+    // Scaled by its parameter, after a move and a quarter turn left
+    // (H = −x, L = −y), as a petal: (l, h) lands at (−2h, 1 − 2l).
+    let petal = polygons("n = 0\naxiom: F + ~P(2)");
+    let expected: Vec<[Fx; 3]> = SURFACES[1]
+        .2
+        .iter()
+        .map(|&(l, h)| [f(-2 * h), Fx::ONE - f(2 * l), Fx::ZERO])
+        .collect();
+    assert_eq!(petal[0].len(), expected.len());
+    for (p, q) in petal[0].iter().zip(&expected) {
+        // Within 4 LSB: the turned frame and the scaled ratios round.
+        assert!(
+            (0..3).all(|i| (p[i].to_bits() - q[i].to_bits()).abs() <= 4),
+            "{p:?} vs {q:?}"
+        );
+    }
+    // The preset: seven leaves and five petals, from twelve polygons.
+    assert_eq!(polygons(FLOWER).len(), 12);
+    // Emitted by productions, with parameters, like any module.
+    let g = "n = 2\naxiom: A(1)\nA(s) -> F [+ ~L(s)] A(s * 2)";
+    assert_eq!(polygons(g).len(), 2);
+    // A letter that names no surface, `~` as a predecessor, or `~` in an
+    // open polygon are errors.
+    let e = parse_err("n = 0\naxiom: F ~Q");
+    assert_eq!((e.column, e.kind), (11, ParseErrorKind::UnknownSurface));
+    assert_eq!(parse_err("n = 1\naxiom: F\n~ -> F").column, 1);
+    assert_eq!(
+        sim_error("n = 0\naxiom: {F ~L F}"),
+        crate::Error::Lsys(LsysError::Turtle(crate::turtle::TurtleError::NestedPolygon))
+    );
+}
+
+#[test]
+fn more_than_max_steps_derive_buffered_and_streaming_names_its_limit() {
+    // A counter and a stochastic choice at every one of 200 steps: the
+    // buffered derivation reaches A(200), keyed to the last step.
+    let g = grammar("n = 200\naxiom: A(0) B\nA(k) -> A(k + 1)\nB -> (1) B\nB -> (1) C");
+    assert!(g.needs_buffer());
+    let s = buffered(&g, 200, 0);
+    assert_eq!(s[0].args(), [Fx::from_int(200)]);
+    assert_eq!(
+        Streaming::new().restart(&g, 200, 0),
+        Err(LsysError::Capacity {
+            limit: "MAX_STEPS",
+            capacity: MAX_STEPS as u32
+        })
+    );
+    assert_eq!(
+        sim_error("n = 33\naxiom: F"),
+        crate::Error::Lsys(LsysError::Capacity {
+            limit: "MAX_STEPS",
+            capacity: 32
+        })
+    );
+    // At MAX_STEPS both still agree.
+    let g = grammar("n = 32\naxiom: A\nA -> (1) A B\nA -> (1) B A\nB -> C");
+    assert!(!g.needs_buffer());
+    assert!(streamed(&g, 32, 3) == buffered(&g, 32, 3));
 }
