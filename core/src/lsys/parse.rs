@@ -516,19 +516,8 @@ impl Grammar {
             c.skip_ws();
             c.pos
         };
-        let (code_len, literal_len) = (self.code.len(), self.literals.len());
-        let mut compiler = Compiler {
-            grammar: self,
-            formals: &[],
-            constants: &state.constants,
-            depth: 0,
-            nesting: 0,
-        };
-        let at = compiler.expression(c)?;
+        let value = self.constant(c, state)?;
         c.expect_end()?;
-        let (value, _) = self.eval(at as usize, &[]);
-        self.code.truncate(code_len);
-        self.literals.truncate(literal_len);
         let invalid = |what| c.err_at(value_at, ParseErrorKind::InvalidValue(what));
         let integer = |lo: i32, hi: i32| {
             let i = value.floor_int();
@@ -633,27 +622,34 @@ impl Grammar {
             return Err(c.err_at(start, ParseErrorKind::DuplicateName));
         }
         state.tropism_seen = true;
-        let (code_len, literal_len) = (self.code.len(), self.literals.len());
         let mut t = [Fx::ZERO; 3];
         for (i, slot) in t.iter_mut().enumerate() {
             if i > 0 {
                 c.expect(b',', "`,` (tropism = x, y, z)")?;
             }
-            let mut compiler = Compiler {
-                grammar: self,
-                formals: &[],
-                constants: &state.constants,
-                depth: 0,
-                nesting: 0,
-            };
-            let at = compiler.expression(c)?;
-            *slot = self.eval(at as usize, &[]).0;
+            *slot = self.constant(c, state)?;
         }
         c.expect_end()?;
-        self.code.truncate(code_len);
-        self.literals.truncate(literal_len);
         self.settings.tropism = t;
         Ok(())
+    }
+
+    /// A constant expression at `c` (names are constants), evaluated; the
+    /// code compiled for it is dropped again.
+    fn constant(&mut self, c: &mut Cursor<'_>, state: &State) -> Result<Fx, ParseError> {
+        let (code_len, literal_len) = (self.code.len(), self.literals.len());
+        let mut compiler = Compiler {
+            grammar: self,
+            formals: &[],
+            constants: &state.constants,
+            depth: 0,
+            nesting: 0,
+        };
+        let at = compiler.expression(c)?;
+        let (value, _) = self.eval(at as usize, &[]);
+        self.code.truncate(code_len);
+        self.literals.truncate(literal_len);
+        Ok(value)
     }
 
     /// `pattern ('(' name (',' name)* ')')?`, appending formals.
