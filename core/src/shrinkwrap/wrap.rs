@@ -85,7 +85,7 @@ pub enum Phase {
 
 /// A shrinkwrap run around a skeleton of elements, with a mesh of at most
 /// `V` vertices and `T` triangles, keeping the field at up to `C` vertices
-/// from one move to the next ([`FieldCache`]; 0, the default, on an MCU).
+/// from one move to the next (0, the default, on an MCU).
 #[derive(Debug)]
 pub struct Shrinkwrap<R: Real, const V: usize, const T: usize, const C: usize = 0> {
     mesh: Mesh<R, V, T>,
