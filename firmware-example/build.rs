@@ -29,7 +29,10 @@ fn main() {
     println!("cargo:rerun-if-changed=memory.x");
     println!("cargo:rerun-if-changed=build.rs");
 
-    morphogen_scenario::firmware::write_presets().unwrap_or_else(|e| fail(&e));
+    // Mosaics on a surface only with the feature `surface` (the runner
+    // then runs them).
+    morphogen_scenario::firmware::write_presets(env::var_os("CARGO_FEATURE_SURFACE").is_some())
+        .unwrap_or_else(|e| fail(&e));
 }
 
 /// Fails the build with `message`.

@@ -174,6 +174,14 @@ w(f"The firmware runs every built-in scenario (`scenarios/*.toml`) that fits the
   f"presets by `build.rs`; the big mosaics are host only:\n"
   f"{len(main['presets'])} presets here, none skipped (an error fails the run).\n\n")
 fw_names = [p["name"] for p in main["presets"]]
+try:
+    surface_log = open(f"{work}/surface.log", encoding="utf-8", errors="replace").read()
+except OSError:
+    surface_log = ""
+runs_surface = [m.groupdict() for m in re.finditer(
+    r"report preset=(?P<name>\S+) seed=(?P<seed>\d+) frames=(?P<frames>\d+) "
+    r"bytes=(?P<bytes>\d+) digest=(?P<digest>[0-9a-f]+) systicks=(?P<ticks>\d+)", surface_log)]
+surface_names = [p["name"] for p in runs_surface]
 host = []
 why = {}
 try:
@@ -195,7 +203,11 @@ else:
     w("| preset | on the firmware | why |\n|---|---|---|\n")
     for n in reduced:
         w(f"| {n} | yes, reduced size, own fixture | {summaries.get(n, '')} |\n")
+    for n in surface_names:
+        w(f"| {n} | yes, built with the feature `surface` (below) | {summaries.get(n, '')} |\n")
     for n, s in host_only:
+        if n in surface_names:
+            continue
         reason = why.get(n, "its state exceeds the 64 KiB RAM")
         w(f"| {n} | no: host only | {reason}; {s} |\n")
     if not reduced and not host_only:
@@ -216,6 +228,28 @@ if runs_user:
       "against the fixture `morphogen bless` writes from the same file on the host:\n\n")
     w("| preset | seed | records | bytes | digest | ticks (≈ instr.) |\n|---|---:|---:|---:|---|---:|\n")
     for p in runs_user:
+        ticks = int(p["ticks"])
+        w(f"| {p['name']} | {p['seed']} | {int(p['frames']):,} | {int(p['bytes']):,} | `{p['digest']}` |"
+          f" {ticks:,} (≈ {ticks * ns_per_tick / 1e6:.2f} M) |\n")
+
+if runs_surface:
+    s = sections(f"{work}/surface.elf")
+    flash = s.get(".vector_table", 0) + s.get(".text", 0) + s.get(".rodata", 0) + s.get(".data", 0)
+    ram = s.get(".data", 0) + s.get(".bss", 0) + s.get(".uninit", 0)
+    peak = int(re.search(r"report stack peak=(\d+)", surface_log)[1])
+    state = re.search(r"report surface-state surface-mosaic=(\d+)", surface_log)
+    w("\n## A mosaic on a surface\n\n"
+      "Built with the feature `surface` (the core's `surface-runner`: the runner\n"
+      "also holds a surface mosaic, its cells and mesh inline) and\n"
+      "`MORPHOGEN_SCENARIOS=scenarios/watermelon-mcu.toml`, the firmware grows\n"
+      "the watermelon on its ellipsoid in QEMU (thumbv7m); the capture passed\n"
+      f"`{verifier} CAPTURE` against the fixture the host blessed:\n\n"
+      f"- flash {kib(flash)} (every model's code and this one preset); static RAM\n"
+      f"  {ram:,} B (as the default build's); peak stack {peak:,} B\n"
+      + (f"- surface mosaic state: {int(state[1]):,} B (cells and mesh), within the runner's\n"
+         f"  {main['runner']:,} B\n" if state else "")
+      + "\n| preset | seed | records | bytes | digest | ticks (≈ instr.) |\n|---|---:|---:|---:|---|---:|\n")
+    for p in runs_surface:
         ticks = int(p["ticks"])
         w(f"| {p['name']} | {p['seed']} | {int(p['frames']):,} | {int(p['bytes']):,} | `{p['digest']}` |"
           f" {ticks:,} (≈ {ticks * ns_per_tick / 1e6:.2f} M) |\n")

@@ -17,7 +17,9 @@ fn main() {
     println!("cargo:rerun-if-changed=memory.x");
     println!("cargo:rerun-if-changed=build.rs");
 
-    morphogen_scenario::firmware::write_presets().unwrap_or_else(|e| fail(&e));
+    // No surface mosaics: the Pico's runner is built without the core's
+    // feature `surface-runner`.
+    morphogen_scenario::firmware::write_presets(false).unwrap_or_else(|e| fail(&e));
 }
 
 /// Fails the build with `message`.

@@ -23,9 +23,10 @@ cargo fmt --all --check
 
 step "lint"
 cargo clippy --workspace --all-targets -- -D warnings
-cargo clippy -p morphogen --all-targets --features rig,defmt -- -D warnings
+cargo clippy -p morphogen --all-targets --features rig,defmt,surface-runner -- -D warnings
 (cd firmware-example && cargo clippy --release -- -D warnings)
 (cd firmware-example && cargo clippy --release --no-default-features --features semihosting -- -D warnings)
+(cd firmware-example && cargo clippy --release --features surface -- -D warnings)
 # firmware-rp2040 shares firmware-example's target folder: the host-side
 # build dependencies (the scenario compiler) are built once.
 (cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo clippy --release -- -D warnings)
@@ -50,6 +51,8 @@ export MORPHOGEN_RELEASE_BIN="$morphogen"
 
 step "tests"
 cargo test --workspace
+# The runner with a surface mosaic (the firmware's feature `surface`).
+cargo test -p morphogen --features surface-runner --test mosaic
 
 step "golden fixtures: every built-in scenario re-run (release build)"
 "$morphogen" verify

@@ -181,6 +181,12 @@ user_body="$root/examples/wagging-tail.toml"
 say "build thumbv7m-none-eabi with MORPHOGEN_SCENARIOS=$user_toml,$user_body"
 MORPHOGEN_SCENARIOS="$user_toml,$user_body" cargo build --release --target thumbv7m-none-eabi
 cp "$tdir/thumbv7m-none-eabi/release/morphogen-firmware" "$work/user.elf"
+# A mosaic on a surface (issue 16): the feature `surface` puts it in the
+# runner (cells and mesh inline, no more RAM); built with the one built-in
+# surface preset that fits the MCU.
+say "build thumbv7m-none-eabi with the feature surface, MORPHOGEN_SCENARIOS=scenarios/watermelon-mcu.toml"
+MORPHOGEN_SCENARIOS="$root/scenarios/watermelon-mcu.toml" cargo build --release --features surface --target thumbv7m-none-eabi
+cp "$tdir/thumbv7m-none-eabi/release/morphogen-firmware" "$work/surface.elf"
 
 # The RTT variant (real hardware) and the stream-only one (no `extent`,
 # `oled` or `serve`: issue 15's flash figure) next: they share the ELF path of the
@@ -359,6 +365,15 @@ rm -rf "$screens"; mkdir -p "$screens"
 cp "$work/screens-${targets[0]}"/*.png "$screens/"
 echo "OLED pictures: $screens"
 
+
+# ---- a mosaic on a surface (the feature `surface`) ------------------------------
+boot surface "$work/surface.elf" cortex-m3 "" "all 1 presets streamed"
+grep -q "report preset=watermelon-mcu " "$work/surface.log" || die "surface: the firmware did not run watermelon-mcu"
+say "verify the surface capture ($(stat -c %s "$work/surface.bin") bytes)"
+verify "$work/surface.bin" "$work/surface.verify.log" \
+  || { cat "$work/surface.verify.log"; die "surface: the capture does not match the fixture"; }
+cat "$work/surface.verify.log"
+oled_check surface
 
 # ---- user scenarios (MORPHOGEN_SCENARIOS) -----------------------------------------
 # The firmware built above from the two user scenarios alone streams exactly

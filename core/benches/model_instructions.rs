@@ -30,7 +30,7 @@ use morphogen::mosaic::{MAX_TYPES, Mosaic, Params};
 use morphogen::preset::Model;
 use morphogen::sim::Simulation;
 use morphogen::stream::{Record, Sink, SinkError};
-use morphogen_scenario::run::{VecStore, VecSurfaceStore};
+use morphogen_scenario::run::{MeshVecs, VecStore, VecSurfaceStore};
 
 /// Cells of the relaxation bench.
 const CELLS: u32 = 2_000;
@@ -112,7 +112,7 @@ fn relaxation_step(mut r: Relaxation) -> Relaxation {
 
 /// A surface relaxation ready to run.
 struct SurfaceRelaxation {
-    mosaic: SurfaceMosaic<'static, VecSurfaceStore>,
+    mosaic: SurfaceMosaic<'static, VecSurfaceStore, MeshVecs>,
     forces: SurfaceForces<'static>,
 }
 
@@ -158,7 +158,7 @@ fn fruit_cells() -> SurfaceRelaxation {
     };
     let mesh: &'static Mesh<'static> =
         Box::leak(Box::new(build_mesh(surface, buffers).expect("a mesh")));
-    let mut mosaic = SurfaceMosaic::new(VecSurfaceStore::new(CELLS as usize), *mesh, &mut []);
+    let mut mosaic = SurfaceMosaic::new(VecSurfaceStore::new(CELLS as usize), MeshVecs::default());
     mosaic.start(params, 1).expect("valid");
     while !mosaic.step(&mut Null).expect("runs").finished() {}
     let radius = mosaic.radius().to_bits();

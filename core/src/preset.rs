@@ -13,6 +13,9 @@ use crate::bones::{Bones, BonesParams, MCU_TRIANGLES, MCU_VERTICES};
 use crate::growth_curve::{self, GrowthCurve};
 use crate::horn::{Horn, HornParams};
 use crate::lsys::LSystem;
+#[cfg(feature = "surface-runner")]
+use crate::mosaic::surface::SurfaceMosaic;
+use crate::mosaic::surface::{McuMeshStore, McuSurfaceStore};
 use crate::mosaic::{self, McuStore, Mosaic, Params as MosaicParams};
 use crate::sim::{Progress, Simulation, Start};
 use crate::stream::{FORMAT_VERSION, Header, PresetName, Record, Sink, params_digest};
@@ -54,7 +57,9 @@ impl Model<'_> {
     /// Whether a run fits the [`Runner`]'s fixed capacity (the MCU's
     /// memory): a mosaic fits when its expected peak cell count
     /// ([`mosaic::expected_peak_cells`]) fits the inline store and it needs
-    /// no velocities ([`mosaic::Params::momentum`] 0), a body when
+    /// no velocities ([`mosaic::Params::momentum`] 0); on a surface, also
+    /// when its mesh fits [`McuMeshStore`] and it has no anisotropy field;
+    /// a body when
     /// its cylinders fit [`body::MAX_CYLINDERS`]; every other model's state
     /// is bounded by its type (a run that exceeds a limit stops with an
     /// error naming it).
@@ -62,9 +67,18 @@ impl Model<'_> {
     pub fn fits_mcu(&self) -> bool {
         match self {
             Model::Mosaic(p) => {
+                let peak = mosaic::expected_peak_cells(p);
                 p.momentum == crate::fx::Fx::ZERO
-                    && p.surface.is_none()
-                    && mosaic::expected_peak_cells(p) <= McuStore::CAPACITY as u64
+                    && match p.surface {
+                        None => peak <= McuStore::CAPACITY as u64,
+                        Some(s) => {
+                            let (vertices, faces) = s.counts();
+                            p.anisotropy.is_none()
+                                && vertices <= McuMeshStore::VERTICES
+                                && faces <= McuMeshStore::FACES
+                                && peak <= McuSurfaceStore::CAPACITY as u64
+                        }
+                    }
             }
             Model::Body(p) => p.model.cylinders.len() <= body::MAX_CYLINDERS,
             _ => true,
@@ -148,6 +162,10 @@ pub enum Runner<'a> {
     Horn(Horn<'a>),
     /// A mosaic, its cells stored inline ([`McuStore`]).
     Mosaic(Mosaic<'a, McuStore>),
+    /// A mosaic on a surface, its cells and mesh stored inline
+    /// ([`McuSurfaceStore`], [`McuMeshStore`]; feature `surface-runner`).
+    #[cfg(feature = "surface-runner")]
+    SurfaceMosaic(SurfaceMosaic<'a, McuSurfaceStore, McuMeshStore>),
     /// An L-system, derived streaming.
     LSystem(LSystem),
     /// A body.
@@ -166,6 +184,15 @@ pub enum Runner<'a> {
 /// with one non-zero byte would instead be copied from a constant of its
 /// whole size in flash (50 KB for the mosaic).
 const IDLE_MOSAIC: Mosaic<'static, McuStore> = Mosaic::new(McuStore::EMPTY);
+/// The limit a surface mosaic meets in a [`Runner`] built without the
+/// feature `surface-runner`: it runs none.
+pub const SURFACE_MOSAICS: &str =
+    "surface mosaics a Runner runs (the core's feature `surface-runner`)";
+
+/// An idle mosaic on a surface.
+#[cfg(feature = "surface-runner")]
+const IDLE_SURFACE_MOSAIC: SurfaceMosaic<'static, McuSurfaceStore, McuMeshStore> =
+    SurfaceMosaic::new(McuSurfaceStore::EMPTY, McuMeshStore::EMPTY);
 /// An idle L-system.
 const IDLE_LSYSTEM: LSystem = LSystem::new();
 /// An idle body.
@@ -203,6 +230,15 @@ impl<'a> Runner<'a> {
         let result = match *model {
             Model::GrowthCurve(ref p) => start!(GrowthCurve, GrowthCurve::IDLE, p),
             Model::Horn(p) => start!(Horn, Horn::IDLE, p),
+            #[cfg(feature = "surface-runner")]
+            Model::Mosaic(p) if p.surface.is_some() => {
+                start!(SurfaceMosaic, IDLE_SURFACE_MOSAIC, p)
+            }
+            #[cfg(not(feature = "surface-runner"))]
+            Model::Mosaic(p) if p.surface.is_some() => Err(Error::Capacity {
+                limit: SURFACE_MOSAICS,
+                capacity: 0,
+            }),
             Model::Mosaic(p) => start!(Mosaic, IDLE_MOSAIC, p),
             Model::LSystem(grammar) => start!(LSystem, IDLE_LSYSTEM, grammar),
             Model::Body(p) => start!(Body, IDLE_BODY, p),
@@ -235,6 +271,8 @@ impl Simulation for Runner<'_> {
             Runner::GrowthCurve(sim) => sim.step(sink),
             Runner::Horn(sim) => sim.step(sink),
             Runner::Mosaic(sim) => sim.step(sink),
+            #[cfg(feature = "surface-runner")]
+            Runner::SurfaceMosaic(sim) => sim.step(sink),
             Runner::LSystem(sim) => sim.step(sink),
             Runner::Body(sim) => sim.step(sink),
             Runner::Bones(sim) => sim.step(sink),

@@ -358,3 +358,45 @@ fn a_full_store_is_an_error_naming_the_limit() {
         assert!(small.step(&mut sink).is_err());
     });
 }
+
+/// The firmware's [`Runner`], its surface mosaic's cells and mesh inline,
+/// streams `watermelon-mcu` byte for byte as its fixture (the host's run,
+/// with its heap mesh, inward normals and edge sort).
+#[cfg(feature = "surface-runner")]
+#[test]
+fn the_runner_grows_watermelon_mcu_on_its_inline_mesh_as_the_host_does() {
+    use morphogen::preset::{self, Runner};
+    use morphogen::stream::Encoder;
+    let fixture = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../fixtures/watermelon-mcu/stream.bin"
+    ))
+    .unwrap();
+    let scenario = morphogen_scenario::builtin("watermelon-mcu").unwrap();
+    scenario.with_preset(|p| {
+        assert!(p.model.fits_mcu());
+        let mut runner = Box::new(Runner::new());
+        let mut sink = Encoder::new(Vec::new());
+        preset::run(p, p.default_seed, &mut runner, &mut sink, &mut |_| {}).unwrap();
+        assert!(sink.into_writer() == fixture, "the Runner's stream differs");
+    });
+}
+
+/// Built without the feature `surface-runner`, the Runner refuses a surface
+/// mosaic, naming the feature.
+#[cfg(not(feature = "surface-runner"))]
+#[test]
+fn without_its_feature_the_runner_refuses_a_surface_mosaic_naming_it() {
+    use morphogen::preset::{Runner, SURFACE_MOSAICS};
+    with_mosaic("watermelon-mcu", |params| {
+        let mut runner = Box::new(Runner::new());
+        let refused = runner.start(&Model::Mosaic(params), 1);
+        assert!(matches!(
+            refused,
+            Err(Error::Capacity {
+                limit: SURFACE_MOSAICS,
+                capacity: 0
+            })
+        ));
+    });
+}

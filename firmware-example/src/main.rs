@@ -151,6 +151,17 @@ fn main() -> ! {
             >,
         >()
     );
+    #[cfg(feature = "surface")]
+    defmt::info!(
+        "report surface-state surface-mosaic={=usize}",
+        core::mem::size_of::<
+            morphogen::mosaic::surface::SurfaceMosaic<
+                'static,
+                morphogen::mosaic::surface::McuSurfaceStore,
+                morphogen::mosaic::surface::McuMeshStore,
+            >,
+        >()
+    );
 
     let serve = args::number("--serve");
     let mut failed = 0u32;

@@ -206,6 +206,34 @@ fn sets(sets: &[String]) -> Result<Vec<(String, String)>> {
     sets.iter().map(|s| exec::parse_set(s)).collect()
 }
 
+/// Why the mosaic `m` is host only (it does not fit the MCU's stores).
+fn mcu_note(m: &morphogen::mosaic::Params<'_>) -> String {
+    use morphogen::mosaic::surface::{McuMeshStore, McuSurfaceStore};
+    let peak = morphogen::mosaic::expected_peak_cells(m);
+    let capacity = match m.surface {
+        Some(_) => McuSurfaceStore::CAPACITY,
+        None => morphogen::mosaic::McuStore::CAPACITY,
+    };
+    let surface = m.surface.map(|s| s.counts());
+    if peak > capacity as u64 {
+        format!(
+            "  (host only: up to ~{peak} cells at the fastest type's doubling, an MCU store holds {capacity})"
+        )
+    } else if m.momentum != morphogen::fx::Fx::ZERO {
+        "  (host only: momentum needs a velocity per cell, an MCU store keeps none)".to_owned()
+    } else if m.anisotropy.is_some() && surface.is_some() {
+        "  (host only: the MCU's mesh store keeps no anisotropy field)".to_owned()
+    } else if let Some((vertices, faces)) = surface {
+        format!(
+            "  (host only: a mesh of {vertices} vertices and {faces} triangles, the MCU's mesh store holds {} and {})",
+            McuMeshStore::VERTICES,
+            McuMeshStore::FACES
+        )
+    } else {
+        String::new()
+    }
+}
+
 fn dispatch(command: Command) -> Result<Outcome> {
     match command {
         Command::List => {
@@ -213,20 +241,7 @@ fn dispatch(command: Command) -> Result<Outcome> {
             let width = all.iter().map(|s| s.name().len()).max().unwrap_or(0);
             for s in &all {
                 let note = s.with_preset(|p| match p.model {
-                    morphogen::preset::Model::Mosaic(m) if !p.model.fits_mcu() => {
-                        let peak = morphogen::mosaic::expected_peak_cells(m);
-                        let capacity = morphogen::mosaic::McuStore::CAPACITY;
-                        if peak > capacity as u64 {
-                            format!(
-                                "  (host only: up to ~{peak} cells at the fastest type's doubling, an MCU store holds {capacity})"
-                            )
-                        } else if m.surface.is_some() {
-                            "  (host only: the firmware has no mesh store)".to_owned()
-                        } else {
-                            "  (host only: momentum needs a velocity per cell, an MCU store keeps none)"
-                                .to_owned()
-                        }
-                    }
+                    morphogen::preset::Model::Mosaic(m) if !p.model.fits_mcu() => mcu_note(m),
                     _ => String::new(),
                 });
                 say!(

@@ -11,6 +11,8 @@ use morphogen::bones::{self, BonesParams};
 use morphogen::fx::{Angle, Fx};
 use morphogen::growth::Sigmoid;
 use morphogen::horn::HornParams;
+use morphogen::mosaic::shapes::Shape;
+use morphogen::mosaic::surface::{Surface, SurfaceMesh};
 use morphogen::mosaic::{self, Params as MosaicParams};
 use morphogen::preset::{Model, Preset};
 
@@ -38,6 +40,10 @@ pub fn presets(scenarios: &[Scenario]) -> Result<String, String> {
          use morphogen::horn::{HornParams, Module};\n\
          #[allow(unused_imports)]\n\
          use morphogen::mosaic::{self, Anisotropy, CellType, ControlVector, Domain, Mask};\n\
+         #[allow(unused_imports)]\n\
+         use morphogen::mosaic::shapes::{Shape, Tessellation};\n\
+         #[allow(unused_imports)]\n\
+         use morphogen::mosaic::surface::{ControlMap, Surface, SurfaceMesh};\n\
          #[allow(unused_imports)]\n\
          use morphogen::shrinkwrap::WrapParams;\n\
          use morphogen::preset::{Model, Preset};\n\n\
@@ -125,7 +131,7 @@ fn mosaic(p: &MosaicParams<'_>) -> String {
     let matrix =
         |t: &[[Fx; mosaic::MAX_TYPES]; mosaic::MAX_TYPES]| list(t, |row| list(row, |v| fx(*v)));
     format!(
-        "mosaic::Params {{ domain: Domain {{ size: {}, periodic: {:?} }}, initial_cells: {}, types: &{}, adhesion: {}, mutation: {}, radius_weight: {}, push_weight: {}, initial_relaxations: {}, daily_relaxations: {}, momentum: {}, days: {}, mask: {}, anisotropy: {}, frames: {}, surface: None }}",
+        "mosaic::Params {{ domain: Domain {{ size: {}, periodic: {:?} }}, initial_cells: {}, types: &{}, adhesion: {}, mutation: {}, radius_weight: {}, push_weight: {}, initial_relaxations: {}, daily_relaxations: {}, momentum: {}, days: {}, mask: {}, anisotropy: {}, frames: {}, surface: {} }}",
         list(&p.domain.size, |v| fx(*v)),
         p.domain.periodic,
         p.initial_cells,
@@ -160,8 +166,71 @@ fn mosaic(p: &MosaicParams<'_>) -> String {
         match p.frames {
             mosaic::Frames::EveryDay => "mosaic::Frames::EveryDay".to_string(),
             mosaic::Frames::Days(d) => format!("mosaic::Frames::Days(&{d:?})"),
-        }
+        },
+        p.surface
+            .as_ref()
+            .map_or("None".into(), |s| format!("Some({})", surface(s)))
     )
+}
+
+fn surface(s: &Surface<'_>) -> String {
+    let mesh = match s.mesh {
+        SurfaceMesh::Shape(t) => format!(
+            "SurfaceMesh::Shape(Tessellation {{ shape: {}, rings: {}, segments: {} }})",
+            shape(&t.shape),
+            t.rings,
+            t.segments
+        ),
+        SurfaceMesh::Triangles { vertices, faces } => format!(
+            "SurfaceMesh::Triangles {{ vertices: &{}, faces: &{faces:?} }}",
+            list(vertices, |v| list(v, |x| fx(*x)))
+        ),
+    };
+    format!(
+        "Surface {{ mesh: {mesh}, control: ControlMap::{:?} }}",
+        s.control
+    )
+}
+
+fn shape(s: &Shape) -> String {
+    match *s {
+        Shape::Ellipsoid { radii, square } => format!(
+            "Shape::Ellipsoid {{ radii: {}, square: {} }}",
+            list(&radii, |x| fx(*x)),
+            fx(square)
+        ),
+        Shape::Stem {
+            radius,
+            length,
+            ribs,
+            depth,
+        } => format!(
+            "Shape::Stem {{ radius: {}, length: {}, ribs: {ribs}, depth: {} }}",
+            fx(radius),
+            fx(length),
+            fx(depth)
+        ),
+        Shape::Cap {
+            radius,
+            height,
+            rim,
+        } => format!(
+            "Shape::Cap {{ radius: {}, height: {}, rim: {rim} }}",
+            fx(radius),
+            fx(height)
+        ),
+        Shape::Leaf {
+            length,
+            width,
+            heart,
+            cup,
+        } => format!(
+            "Shape::Leaf {{ length: {}, width: {}, heart: {heart}, cup: {} }}",
+            fx(length),
+            fx(width),
+            fx(cup)
+        ),
+    }
 }
 
 fn label(l: &Label) -> String {

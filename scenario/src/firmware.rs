@@ -6,7 +6,8 @@
 //!
 //! - By default: every built-in scenario (`scenarios/*.toml`) that fits
 //!   the MCU ([`morphogen::preset::Model::fits_mcu`]), in `morphogen list`
-//!   order.
+//!   order; mosaics on a surface only for a firmware whose runner runs
+//!   them (the core's feature `surface-runner`).
 //! - With `MORPHOGEN_SCENARIOS=a.toml,b.toml`: exactly those files, in that
 //!   order. Relative paths are taken from the directory `cargo` was started
 //!   in (the shell's `$PWD`; a build script runs in its package directory).
@@ -29,12 +30,14 @@ pub const VAR: &str = "MORPHOGEN_SCENARIOS";
 
 /// Writes `OUT_DIR/presets.rs` (`PRESETS` and `PARAMS_DIGESTS`) and prints
 /// the `cargo:rerun-if-…` lines for the scenario files it read. Call it
-/// from a build script.
+/// from a build script; `surfaces` says whether the firmware's runner runs
+/// mosaics on a surface (the core's feature `surface-runner`).
 ///
 /// # Errors
 /// A message for the build to fail with: no `OUT_DIR`, a scenario that does
-/// not load or does not fit the MCU, no preset at all, a failed write.
-pub fn write_presets() -> Result<(), String> {
+/// not load or does not fit the MCU (or is a surface mosaic the runner
+/// cannot run), no preset at all, a failed write.
+pub fn write_presets(surfaces: bool) -> Result<(), String> {
     let out = PathBuf::from(
         env::var_os("OUT_DIR").ok_or("OUT_DIR is not set: call this from a build script")?,
     );
@@ -52,9 +55,12 @@ pub fn write_presets() -> Result<(), String> {
     let scenarios = match env::var_os(VAR) {
         None => crate::builtins()
             .into_iter()
-            .filter(|s| s.with_preset(|p| p.model.fits_mcu()))
+            .filter(|s| s.with_preset(|p| p.model.fits_mcu()) && (surfaces || !on_surface(s)))
             .collect(),
-        Some(list) => user_scenarios(list.to_str().ok_or(format!("{VAR} is not UTF-8"))?)?,
+        Some(list) => user_scenarios(
+            list.to_str().ok_or(format!("{VAR} is not UTF-8"))?,
+            surfaces,
+        )?,
     };
     if scenarios.is_empty() {
         return Err("no preset fits the MCU".into());
@@ -158,8 +164,14 @@ fn without_comments(text: &str) -> String {
     lines.join("\n")
 }
 
-/// The scenario files of the comma-separated `list`, loaded and checked.
-fn user_scenarios(list: &str) -> Result<Vec<Scenario>, String> {
+/// Whether `scenario` is a mosaic on a surface.
+fn on_surface(scenario: &Scenario) -> bool {
+    scenario.with_preset(|p| matches!(p.model, Model::Mosaic(m) if m.surface.is_some()))
+}
+
+/// The scenario files of the comma-separated `list`, loaded and checked
+/// (mosaics on a surface only if the runner runs them: `surfaces`).
+fn user_scenarios(list: &str, surfaces: bool) -> Result<Vec<Scenario>, String> {
     let paths: Vec<&str> = list
         .split(',')
         .map(str::trim)
@@ -194,6 +206,14 @@ fn user_scenarios(list: &str) -> Result<Vec<Scenario>, String> {
             return Err(format!(
                 "{VAR}: {}: {} does not fit the MCU (too big for the runner's fixed capacity; \
                  run it on the host with `morphogen run`)",
+                path.display(),
+                scenario.name()
+            ));
+        }
+        if !surfaces && on_surface(&scenario) {
+            return Err(format!(
+                "{VAR}: {}: {} is a mosaic on a surface: build the firmware with its feature \
+                 `surface` (the core's `surface-runner`)",
                 path.display(),
                 scenario.name()
             ));

@@ -11,14 +11,15 @@ use morphogen::body::Body;
 use morphogen::bones::{Bones, HOST_FIELD_CACHE, MCU_TRIANGLES, MCU_VERTICES};
 use morphogen::lsys::{Buffered, Grammar, LSystem, LsysError, Module};
 use morphogen::mosaic::grid::Grid;
-use morphogen::mosaic::mesh::{MeshParts, Place};
+use morphogen::mosaic::mesh::{MeshArrays, MeshParts, Place};
 use morphogen::mosaic::relaxation::{self, Forces, Relax};
 use morphogen::mosaic::store::{CellSlices, CellStore};
+use morphogen::mosaic::surface::meshes::MeshStore;
 use morphogen::mosaic::surface::relaxation::{
     self as surface_relaxation, SurfaceForces, SurfaceRelax,
 };
 use morphogen::mosaic::surface::store::{SurfaceSlices, SurfaceStore};
-use morphogen::mosaic::surface::{MeshBuffers, Surface, SurfaceMosaic, build_mesh};
+use morphogen::mosaic::surface::{MeshBuffers, SurfaceMosaic};
 use morphogen::mosaic::{Mosaic, Params as MosaicParams, host_capacity};
 use morphogen::preset::{self, Model, Preset, Runner};
 use morphogen::sim::Progress;
@@ -230,32 +231,46 @@ impl SurfaceRelax for VecSurfaceStore {
     }
 }
 
-/// The heap buffers of a surface's mesh.
+/// The heap buffers of a surface's mesh, sized for each mesh, with its
+/// inward normals and edge scratch (the fast build and walk), and its
+/// anisotropy field.
 #[derive(Debug, Default)]
-struct MeshVecs {
+pub struct MeshVecs {
     vertices: Vec<[i32; 3]>,
     faces: Vec<[u32; 3]>,
     neighbours: Vec<[u32; 3]>,
     normals: Vec<[i32; 3]>,
     inward: Vec<[[i32; 3]; 3]>,
     edges: Vec<u64>,
+    field: Vec<[i32; 3]>,
 }
 
 impl MeshVecs {
-    fn new(surface: &Surface<'_>) -> MeshVecs {
-        let (nv, nf) = surface.counts();
-        MeshVecs {
-            vertices: vec![[0; 3]; nv],
-            faces: vec![[0; 3]; nf],
-            neighbours: vec![[0; 3]; nf],
-            normals: vec![[0; 3]; nf],
-            inward: vec![[[0; 3]; 3]; nf],
-            edges: vec![0; 3 * nf],
+    fn arrays(&self) -> MeshArrays<'_> {
+        MeshArrays {
+            vertices: &self.vertices,
+            faces: &self.faces,
+            neighbours: &self.neighbours,
+            normals: &self.normals,
+            inward: &self.inward,
         }
     }
+}
 
-    fn buffers(&mut self) -> MeshBuffers<'_> {
-        MeshBuffers {
+impl MeshStore for MeshVecs {
+    fn buffers(
+        &mut self,
+        vertices: usize,
+        faces: usize,
+    ) -> Result<(MeshBuffers<'_>, &mut [[i32; 3]]), morphogen::Error> {
+        self.vertices.resize(vertices, [0; 3]);
+        self.faces.resize(faces, [0; 3]);
+        self.neighbours.resize(faces, [0; 3]);
+        self.normals.resize(faces, [0; 3]);
+        self.inward.resize(faces, [[0; 3]; 3]);
+        self.edges.resize(3 * faces, 0);
+        self.field.resize(faces, [0; 3]);
+        let buffers = MeshBuffers {
             vertices: &mut self.vertices,
             faces: &mut self.faces,
             parts: MeshParts {
@@ -264,7 +279,23 @@ impl MeshVecs {
                 inward: &mut self.inward,
                 edges: &mut self.edges,
             },
-        }
+        };
+        Ok((buffers, &mut self.field))
+    }
+
+    fn arrays(&self) -> (MeshArrays<'_>, &[[i32; 3]]) {
+        (MeshVecs::arrays(self), &self.field)
+    }
+
+    fn arrays_mut(&mut self) -> (MeshArrays<'_>, &mut [[i32; 3]]) {
+        let arrays = MeshArrays {
+            vertices: &self.vertices,
+            faces: &self.faces,
+            neighbours: &self.neighbours,
+            normals: &self.normals,
+            inward: &self.inward,
+        };
+        (arrays, &mut self.field)
     }
 }
 
@@ -288,15 +319,11 @@ pub fn run(
     match preset.model {
         Model::Mosaic(
             params @ &MosaicParams {
-                surface: Some(ref surface),
-                ..
+                surface: Some(_), ..
             },
         ) => {
-            let mut vecs = MeshVecs::new(surface);
-            let mesh = build_mesh(surface, vecs.buffers())?;
             let store = VecSurfaceStore::new(host_capacity(params));
-            let mut field = vec![[0; 3]; mesh.faces().len()];
-            let mut mosaic = SurfaceMosaic::new(store, mesh, &mut field);
+            let mut mosaic = SurfaceMosaic::new(store, MeshVecs::default());
             mosaic.start(params, seed)?;
             preset::drive(&mut mosaic, &header, sink, progress)
         }

@@ -88,7 +88,10 @@ impl core::error::Error for MeshError {}
 
 /// The buffers a [`Mesh`] fills: one entry per face in `neighbours`,
 /// `normals` and `inward`, three per face in `edges` (scratch for the edge
-/// sort).
+/// sort). `inward` and `edges` may be empty, as on the MCU (60 B a face
+/// saved): the inward normals are then worked out where a walk needs them
+/// (the same bits), and the neighbours are found by comparing every edge
+/// with every other (quadratic: for meshes of a few hundred faces).
 #[derive(Debug)]
 pub struct MeshParts<'m> {
     /// The face across each edge (edge k runs from vertex k to k + 1), or
@@ -104,6 +107,35 @@ pub struct MeshParts<'m> {
     pub edges: &'m mut [u64],
 }
 
+/// What [`Mesh::new_checked`] found besides the arrays it filled: the
+/// counts, the area and the bounding box. A store keeps it to view its
+/// checked arrays as a [`Mesh`] again without checking them again; all
+/// zero for no mesh.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MeshInfo {
+    vertices: u32,
+    faces: u32,
+    /// Total area, Q16 square units.
+    area: u64,
+    bounds: [[i32; 3]; 2],
+}
+
+/// The arrays of a mesh [`Mesh::new_checked`] filled, borrowed to be
+/// viewed again ([`MeshInfo`]).
+#[derive(Clone, Copy, Debug)]
+pub struct MeshArrays<'m> {
+    /// Vertices (Q16).
+    pub vertices: &'m [[i32; 3]],
+    /// Faces.
+    pub faces: &'m [[u32; 3]],
+    /// Neighbours.
+    pub neighbours: &'m [[u32; 3]],
+    /// Unit normals.
+    pub normals: &'m [[i32; 3]],
+    /// Inward edge normals (empty: worked out when needed).
+    pub inward: &'m [[[i32; 3]; 3]],
+}
+
 /// A validated triangle mesh with its adjacency and normals.
 #[derive(Clone, Copy, Debug)]
 pub struct Mesh<'m> {
@@ -111,10 +143,9 @@ pub struct Mesh<'m> {
     faces: &'m [[u32; 3]],
     neighbours: &'m [[u32; 3]],
     normals: &'m [[i32; 3]],
+    /// Empty when worked out on demand ([`MeshParts`]).
     inward: &'m [[[i32; 3]; 3]],
-    /// Total area, Q16 square units.
-    area: u64,
-    bounds: [[i32; 3]; 2],
+    info: MeshInfo,
 }
 
 /// Where a cell is: a face and a point on it (Q16).
@@ -184,6 +215,16 @@ fn unit(v: [i64; 3]) -> [i64; 3] {
     w.map(|x| (x << 16) / len)
 }
 
+impl MeshInfo {
+    /// No mesh.
+    pub const EMPTY: MeshInfo = MeshInfo {
+        vertices: 0,
+        faces: 0,
+        area: 0,
+        bounds: [[0; 3]; 2],
+    };
+}
+
 impl<'m> Mesh<'m> {
     /// Validates `vertices` (Q16) and `faces` and fills `parts` with each
     /// face's neighbours and normal.
@@ -203,8 +244,8 @@ impl<'m> Mesh<'m> {
             || n > MAX_FACES
             || parts.neighbours.len() < n
             || parts.normals.len() < n
-            || parts.inward.len() < n
-            || parts.edges.len() < 3 * n
+            || !(parts.inward.is_empty() || parts.inward.len() >= n)
+            || !(parts.edges.is_empty() || parts.edges.len() >= 3 * n)
         {
             return Err(MeshError::TooLarge);
         }
@@ -236,55 +277,73 @@ impl<'m> Mesh<'m> {
             area += double >> 17; // Q32 double area → Q16 area
             let normal = unit(w);
             parts.normals[f] = normal.map(|x| x as i32);
-            for k in 0..3 {
-                let (s, t) = (
-                    vertices[tri[k] as usize],
-                    vertices[tri[(k + 1) % 3] as usize],
-                );
-                // |n × e| ≤ |e| < 2^27: an i32.
-                parts.inward[f][k] = cross_q16(normal, sub(t, s)).map(|x| x as i32);
+            if let Some(inward) = parts.inward.get_mut(f) {
+                *inward = inward_normals(normal, tri.map(|v| vertices[v as usize]));
             }
-            for k in 0..3 {
-                let (p, q) = (tri[k], tri[(k + 1) % 3]);
-                let key = u64::from(p.min(q)) << 44 | u64::from(p.max(q)) << 24;
-                parts.edges[3 * f + k] = key | u64::from(face) << 2 | k as u64;
+            if let Some(keys) = parts.edges.get_mut(3 * f..3 * f + 3) {
+                for (k, key) in keys.iter_mut().enumerate() {
+                    let (p, q) = (tri[k], tri[(k + 1) % 3]);
+                    let edge = u64::from(p.min(q)) << 44 | u64::from(p.max(q)) << 24;
+                    *key = edge | u64::from(face) << 2 | k as u64;
+                }
             }
         }
-        let edges = &mut parts.edges[..3 * n];
-        edges.sort_unstable();
         parts.neighbours[..n].fill([NO_FACE; 3]);
-        let mut i = 0;
-        while i < edges.len() {
-            let shared = edges[i] >> 24;
-            let mut j = i + 1;
-            while j < edges.len() && edges[j] >> 24 == shared {
-                j += 1;
-            }
-            let side = |e: u64| (((e >> 2) & ((1 << 22) - 1)) as usize, (e & 3) as usize);
-            match j - i {
-                1 => {}
-                2 => {
-                    let (f, k) = side(edges[i]);
-                    let (g, l) = side(edges[i + 1]);
-                    parts.neighbours[f][k] = g as u32;
-                    parts.neighbours[g][l] = f as u32;
-                }
-                _ => {
-                    let (f, _) = side(edges[i]);
-                    return Err(MeshError::NonManifold { face: f as u32 });
-                }
-            }
-            i = j;
+        if parts.edges.is_empty() {
+            pair_edges_by_search(faces, &mut parts.neighbours[..n])?;
+        } else {
+            pair_sorted_edges(&mut parts.edges[..3 * n], &mut parts.neighbours[..n])?;
         }
+        let info = MeshInfo {
+            vertices: vertices.len() as u32,
+            faces: n as u32,
+            area,
+            bounds,
+        };
         Ok(Mesh {
             vertices,
             faces,
             neighbours: &parts.neighbours[..n],
             normals: &parts.normals[..n],
-            inward: &parts.inward[..n],
-            area,
-            bounds,
+            inward: parts.inward.get(..n).unwrap_or(&[]),
+            info,
         })
+    }
+
+    /// The mesh of `arrays` that [`Mesh::new_checked`] filled and described
+    /// by `info` (empty if they are shorter than `info` says).
+    #[must_use]
+    pub fn view(info: &MeshInfo, arrays: MeshArrays<'m>) -> Mesh<'m> {
+        let (nv, nf) = (info.vertices as usize, info.faces as usize);
+        match (
+            arrays.vertices.get(..nv),
+            arrays.faces.get(..nf),
+            arrays.neighbours.get(..nf),
+            arrays.normals.get(..nf),
+        ) {
+            (Some(vertices), Some(faces), Some(neighbours), Some(normals)) => Mesh {
+                vertices,
+                faces,
+                neighbours,
+                normals,
+                inward: arrays.inward.get(..nf).unwrap_or(&[]),
+                info: *info,
+            },
+            _ => Mesh {
+                vertices: &[],
+                faces: &[],
+                neighbours: &[],
+                normals: &[],
+                inward: &[],
+                info: MeshInfo::EMPTY,
+            },
+        }
+    }
+
+    /// Its counts, area and bounds, to view it again ([`Mesh::view`]).
+    #[must_use]
+    pub fn info(&self) -> MeshInfo {
+        self.info
     }
 
     /// The vertices (Q16).
@@ -308,13 +367,13 @@ impl<'m> Mesh<'m> {
     /// The total area as Q16 square units.
     #[must_use]
     pub fn area_q16(&self) -> u64 {
-        self.area
+        self.info.area
     }
 
     /// The lowest and highest corner of the bounding box (Q16).
     #[must_use]
     pub fn bounds(&self) -> [[i32; 3]; 2] {
-        self.bounds
+        self.info.bounds
     }
 
     /// The corners of face `f`.
@@ -471,10 +530,17 @@ impl<'m> Mesh<'m> {
         p: [i32; 3],
         d: [i64; 3],
     ) -> Option<(usize, i64)> {
-        let edges = self.inward.get(f as usize)?;
+        if f as usize >= self.faces.len() {
+            return None;
+        }
+        let edges = match self.inward.get(f as usize) {
+            Some(stored) => stored.map(|e| e.map(i64::from)),
+            None => {
+                inward_normals(self.normal(f).map(i64::from), *corners).map(|e| e.map(i64::from))
+            }
+        };
         let mut exit: Option<(usize, i64)> = None;
-        for (k, (inward, s)) in edges.iter().zip(corners).enumerate() {
-            let inward = inward.map(i64::from);
+        for (k, (&inward, s)) in edges.iter().zip(corners).enumerate() {
             let rate = dot(d, inward);
             if rate >= 0 {
                 continue;
@@ -503,6 +569,70 @@ impl<'m> Mesh<'m> {
         let edge = unit(sub(corners[(k + 1) % 3], corners[k]));
         Some(cross_q16(n, edge))
     }
+}
+
+/// Each edge of the triangle `corners` turned a quarter turn about its
+/// unit `normal` (Q16), into it, as long as the edge: |n × e| ≤ |e| < 2^27.
+#[inline]
+fn inward_normals(normal: [i64; 3], corners: [[i32; 3]; 3]) -> [[i32; 3]; 3] {
+    [0, 1, 2].map(|k| cross_q16(normal, sub(corners[(k + 1) % 3], corners[k])).map(|x| x as i32))
+}
+
+/// Fills `neighbours` from the sorted edge keys (`3·f + k` holds edge k
+/// of face f: its vertex pair, face and k).
+fn pair_sorted_edges(edges: &mut [u64], neighbours: &mut [[u32; 3]]) -> Result<(), MeshError> {
+    edges.sort_unstable();
+    let side = |e: u64| (((e >> 2) & ((1 << 22) - 1)) as usize, (e & 3) as usize);
+    for shared in edges.chunk_by(|a, b| a >> 24 == b >> 24) {
+        match *shared {
+            [_] => {}
+            [a, b] => {
+                let ((f, k), (g, l)) = (side(a), side(b));
+                neighbours[f][k] = g as u32;
+                neighbours[g][l] = f as u32;
+            }
+            _ => {
+                return Err(MeshError::NonManifold {
+                    face: side(shared[0]).0 as u32,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Fills `neighbours` by comparing each edge with every other: no scratch,
+/// the same pairs as [`pair_sorted_edges`] (an edge of three or more faces
+/// names the first face found on it).
+fn pair_edges_by_search(faces: &[[u32; 3]], neighbours: &mut [[u32; 3]]) -> Result<(), MeshError> {
+    let edge = |tri: &[u32; 3], k: usize| {
+        let (p, q) = (tri[k], tri[(k + 1) % 3]);
+        (p.min(q), p.max(q))
+    };
+    for (f, tri) in faces.iter().enumerate() {
+        for k in 0..3 {
+            if neighbours[f][k] != NO_FACE {
+                continue;
+            }
+            let e = edge(tri, k);
+            let mut other = None;
+            for (g, t) in faces.iter().enumerate().skip(f + 1) {
+                for l in 0..3 {
+                    if edge(t, l) == e {
+                        if other.is_some() {
+                            return Err(MeshError::NonManifold { face: f as u32 });
+                        }
+                        other = Some((g, l));
+                    }
+                }
+            }
+            if let Some((g, l)) = other {
+                neighbours[f][k] = g as u32;
+                neighbours[g][l] = f as u32;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The point of the triangle `[a, b, c]` at the barycentric weights `w`

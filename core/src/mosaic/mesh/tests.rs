@@ -165,3 +165,74 @@ fn bad_meshes_name_their_problem() {
     );
     assert_eq!(check(&[[0, 1, 2], [1, 0, 3]], &v), Ok(()));
 }
+
+#[test]
+fn without_scratch_the_search_finds_the_neighbours_the_sort_does() {
+    let shapes = [
+        Shape::Ellipsoid {
+            radii: [Fx::from_int(10); 3],
+            square: Fx::ZERO,
+        },
+        Shape::Stem {
+            radius: Fx::from_int(3),
+            length: Fx::from_int(12),
+            ribs: 8,
+            depth: Fx::from_ratio(1, 5),
+        },
+        Shape::Leaf {
+            length: Fx::from_int(20),
+            width: Fx::from_int(10),
+            heart: true,
+            cup: Fx::from_ratio(1, 10),
+        },
+    ];
+    for shape in shapes {
+        let t = Tessellation {
+            shape,
+            rings: 9,
+            segments: 14,
+        };
+        let mut sorted = built(t);
+        let info = sorted.mesh().unwrap().info();
+        let mut searched = built(t);
+        let parts = MeshParts {
+            neighbours: &mut searched.nb,
+            normals: &mut searched.normals,
+            inward: &mut [],
+            edges: &mut [],
+        };
+        let mesh = Mesh::new_checked(&searched.v, &searched.f, parts).unwrap();
+        assert_eq!(mesh.info(), info, "{shape:?}");
+        assert!(mesh.inward.is_empty());
+        // Every stored inward normal is what a walk works out without them.
+        let full = Mesh::view(
+            &info,
+            MeshArrays {
+                vertices: &sorted.v,
+                faces: &sorted.f,
+                neighbours: &sorted.nb,
+                normals: &sorted.normals,
+                inward: &sorted.inward,
+            },
+        );
+        for f in 0..sorted.f.len() as u32 {
+            let computed = inward_normals(mesh.normal(f).map(i64::from), mesh.corners(f));
+            assert_eq!(full.inward[f as usize], computed);
+        }
+        assert_eq!(searched.nb, sorted.nb, "{shape:?}");
+    }
+    // An edge of three faces is refused as by the sort.
+    let v = [[0, 0, 0], [1 << 16, 0, 0], [0, 1 << 16, 0], [0, 0, 1 << 16]];
+    let mut nb = [[0; 3]; 3];
+    let mut normals = [[0; 3]; 3];
+    let parts = MeshParts {
+        neighbours: &mut nb,
+        normals: &mut normals,
+        inward: &mut [],
+        edges: &mut [],
+    };
+    assert_eq!(
+        Mesh::new_checked(&v, &[[0, 1, 2], [1, 0, 3], [0, 1, 3]], parts).map(|_| ()),
+        Err(MeshError::NonManifold { face: 0 })
+    );
+}

@@ -11,13 +11,14 @@
 //! and [`Record::Triangle`]), then each streamed day's cells as
 //! [`Record::SurfaceCell`]s.
 
+pub mod meshes;
 pub mod relaxation;
 pub mod spec;
 pub mod store;
 
 use super::control::{Anisotropy, Field};
 use super::division::{self, Purpose, stream_id};
-use super::mesh::{Mesh, MeshError, MeshParts, Place, along_plane};
+use super::mesh::{Mesh, MeshError, MeshInfo, MeshParts, Place, along_plane};
 use super::params::{MAX_TYPES, Params};
 use super::{CELL_LIMIT, MosaicError, VELOCITY_LIMIT, repulsion, validate};
 use crate::Error;
@@ -25,12 +26,21 @@ use crate::fx::{Fx, Real};
 use crate::rng::KeyedRng;
 use crate::sim::{Deferred, Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
+use meshes::MeshStore;
 use relaxation::{SurfaceForces, SurfaceRelax};
 pub use spec::{ControlMap, Surface, SurfaceMesh};
 
 /// The name of the limit in [`Error::Capacity`] when the buffer for the
 /// anisotropy field has fewer entries than the mesh has faces.
 pub const FIELD_LIMIT: &str = "surface anisotropy field (one vector per face of the mesh)";
+
+/// The MCU's surface cell store: 1 024 cells and 256 grid buckets
+/// (36 868 B).
+pub type McuSurfaceStore = store::ArraySurfaceStore<1024, 257>;
+/// The MCU's mesh store: up to 132 vertices and 256 faces (10 800 B; an
+/// ellipsoid of 10 rings × 14 segments has 128 and 252). With the cells,
+/// a surface mosaic on the MCU holds 47 668 B.
+pub type McuMeshStore = meshes::ArrayMeshStore<132, 256>;
 
 /// The buffers a surface's mesh is built in ([`Surface::counts`] entries
 /// each; three edge keys per face).
@@ -73,11 +83,14 @@ pub fn build_mesh<'m>(surface: &Surface<'_>, buffers: MeshBuffers<'m>) -> Result
         .map_err(|e| MosaicError::Mesh(e).into())
 }
 
-/// A running mosaic on a mesh over the cell store `S`.
+/// A running mosaic over the cell store `S`, on a mesh built at each
+/// start in the mesh store `M`.
 #[derive(Debug)]
-pub struct SurfaceMosaic<'a, S: SurfaceRelax> {
+pub struct SurfaceMosaic<'a, S: SurfaceRelax, M: MeshStore> {
     store: S,
-    mesh: Mesh<'a>,
+    meshes: M,
+    /// The counts, area and bounds of the mesh in `meshes`.
+    mesh: MeshInfo,
     params: Option<&'a Params<'a>>,
     seed: u64,
     cells: u32,
@@ -85,20 +98,42 @@ pub struct SurfaceMosaic<'a, S: SurfaceRelax> {
     done: u32,
     frame: u32,
     radius: i32,
-    /// The anisotropy field at each face, in its plane (Q14).
-    field: &'a mut [[i32; 3]],
     pending: Deferred,
 }
 
-impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
-    /// A mosaic on `mesh` over `store`, not yet started; `field` holds the
-    /// anisotropy field's vector at each face (one entry per face; empty
-    /// for runs without anisotropy).
-    pub const fn new(store: S, mesh: Mesh<'a>, field: &'a mut [[i32; 3]]) -> SurfaceMosaic<'a, S> {
+/// The mesh in `meshes`, as `info` describes it.
+fn mesh_of<'m>(meshes: &'m impl MeshStore, info: &MeshInfo) -> Mesh<'m> {
+    Mesh::view(info, meshes.arrays().0)
+}
+
+/// The (u, v) in the domain of `p` on a mesh with `bounds`, through the
+/// control map (thesis Sec. 3.2.2).
+fn control_uv(params: &Params, [lo, hi]: [[i32; 3]; 2], p: [i32; 3]) -> [i32; 2] {
+    let size = params.domain.size.map(|s| i64::from(s.to_bits()));
+    let along = |x: i32, c: usize, s: i64| {
+        let span = (i64::from(hi[c]) - i64::from(lo[c])).max(1);
+        ((i64::from(x) - i64::from(lo[c])) * s / span).clamp(0, s - 1) as i32
+    };
+    let map = params.surface.map_or(ControlMap::Plane, |s| s.control);
+    match map {
+        ControlMap::Cylinder => {
+            let turn = <Fx as Real>::atan2(Fx::from_bits(p[1]), Fx::from_bits(p[0]));
+            let u = (u64::from(turn.0) * size[0] as u64) >> 32;
+            [u as i32, along(p[2], 2, size[1])]
+        }
+        ControlMap::Plane => [along(p[0], 0, size[0]), along(p[1], 1, size[1])],
+    }
+}
+
+impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
+    /// A mosaic over `store`, its mesh (and the anisotropy field's vector
+    /// at each face, in its plane, Q14) built in `meshes` at each start;
+    /// not yet started.
+    pub const fn new(store: S, meshes: M) -> SurfaceMosaic<'a, S, M> {
         SurfaceMosaic {
             store,
-            mesh,
-            field,
+            meshes,
+            mesh: MeshInfo::EMPTY,
             params: None,
             seed: 0,
             cells: 0,
@@ -123,9 +158,13 @@ impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
 
     fn try_start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
         validate(params)?;
-        if params.surface.is_none() {
+        let Some(surface) = &params.surface else {
             return Err(MosaicError::Param("surface (a surface mosaic needs one)").into());
-        }
+        };
+        self.mesh = MeshInfo::EMPTY;
+        let (nv, nf) = surface.counts();
+        let (buffers, _) = self.meshes.buffers(nv, nf)?;
+        self.mesh = build_mesh(surface, buffers)?.info();
         let capacity = self.store.capacity();
         if params.initial_cells as usize > capacity {
             return Err(Error::Capacity {
@@ -152,10 +191,10 @@ impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
         Ok(())
     }
 
-    /// The mesh.
+    /// The mesh (empty before a start).
     #[must_use]
-    pub fn mesh(&self) -> &Mesh<'a> {
-        &self.mesh
+    pub fn mesh(&self) -> Mesh<'_> {
+        mesh_of(&self.meshes, &self.mesh)
     }
 
     /// Number of cells.
@@ -195,7 +234,7 @@ impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
     /// r = w_r·√(area/N) for the mesh's area.
     fn update_radius(&mut self, params: &Params) {
         let n = u64::from(self.cells.max(1));
-        let area = self.mesh.area_q16();
+        let area = self.mesh().area_q16();
         // area/N as Q32: shifted first while it fits (2^47 square units
         // and more only on meshes of millions of large triangles).
         let per_cell = match area.checked_mul(1 << 16) {
@@ -209,40 +248,28 @@ impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
 
     /// The (u, v) of `p` in the domain, through the control map.
     fn control_uv(&self, params: &Params, p: [i32; 3]) -> [i32; 2] {
-        let [lo, hi] = self.mesh.bounds();
-        let size = params.domain.size.map(|s| i64::from(s.to_bits()));
-        let along = |x: i32, c: usize, s: i64| {
-            let span = (i64::from(hi[c]) - i64::from(lo[c])).max(1);
-            ((i64::from(x) - i64::from(lo[c])) * s / span).clamp(0, s - 1) as i32
-        };
-        let map = params.surface.map_or(ControlMap::Plane, |s| s.control);
-        match map {
-            ControlMap::Cylinder => {
-                let turn = <Fx as Real>::atan2(Fx::from_bits(p[1]), Fx::from_bits(p[0]));
-                let u = (u64::from(turn.0) * size[0] as u64) >> 32;
-                [u as i32, along(p[2], 2, size[1])]
-            }
-            ControlMap::Plane => [along(p[0], 0, size[0]), along(p[1], 1, size[1])],
-        }
+        control_uv(params, self.mesh().bounds(), p)
     }
 
     /// The anisotropy field `a` (defined over the domain's (u, v)) at each
     /// face's centroid, turned into the face's plane: u runs around z on
     /// a cylinder (x on a plane), v along z (y).
     fn tabulate(&mut self, params: &Params, a: &Anisotropy) -> Result<(), Error> {
-        let faces = self.mesh.faces().len();
-        if self.field.len() < faces {
+        let (arrays, out) = self.meshes.arrays_mut();
+        let mesh = Mesh::view(&self.mesh, arrays);
+        let faces = mesh.faces().len();
+        if out.len() < faces {
             return Err(Error::Capacity {
                 limit: FIELD_LIMIT,
-                capacity: self.field.len() as u32,
+                capacity: out.len() as u32,
             });
         }
         let field = Field::interpolate(&params.domain, a).map_err(MosaicError::Control)?;
         let map = params.surface.map_or(ControlMap::Plane, |s| s.control);
         for f in 0..faces as u32 {
-            let c = self.mesh.centroid(f);
+            let c = mesh.centroid(f);
             let v = field
-                .at(&params.domain, self.control_uv(params, c))
+                .at(&params.domain, control_uv(params, mesh.bounds(), c))
                 .map(i64::from);
             let (u_axis, v_axis) = match map {
                 ControlMap::Cylinder => {
@@ -256,8 +283,8 @@ impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
                 ControlMap::Plane => ([1 << 16, 0, 0], [0, 1 << 16, 0]),
             };
             let d = [0, 1, 2].map(|k| (u_axis[k] * v[0] + v_axis[k] * v[1]) >> 16); // Q14
-            let n = self.mesh.normal(f).map(i64::from);
-            self.field[f as usize] = along_plane(d, n).map(|x| x as i32);
+            let n = mesh.normal(f).map(i64::from);
+            out[f as usize] = along_plane(d, n).map(|x| x as i32);
         }
         Ok(())
     }
@@ -265,7 +292,7 @@ impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
     /// A point uniformly at random on the surface: a face by its area
     /// (rejection against the largest), a point by its barycentric weights.
     fn random_place(&self, rng: &mut KeyedRng) -> Place {
-        let faces = self.mesh.faces().len() as u32;
+        let faces = self.mesh().faces().len() as u32;
         let largest = self.largest_double_area();
         for _ in 0..64 {
             let f = rng.below(faces);
@@ -286,13 +313,14 @@ impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
         }
         Place {
             face: f,
-            p: self.mesh.at(f, [(1 << 16) - a - b, a, b]),
+            p: self.mesh().at(f, [(1 << 16) - a - b, a, b]),
         }
     }
 
     fn double_area(&self, f: u32) -> u64 {
-        let n = self.mesh.normal(f).map(i64::from);
-        let [a, b, c] = self.mesh.faces()[f as usize].map(|v| self.mesh.vertices()[v as usize]);
+        let mesh = self.mesh();
+        let n = mesh.normal(f).map(i64::from);
+        let [a, b, c] = mesh.faces()[f as usize].map(|v| mesh.vertices()[v as usize]);
         let e = |p: [i32; 3], q: [i32; 3]| [0, 1, 2].map(|k| i64::from(p[k]) - i64::from(q[k]));
         let (u, v) = (e(b, a), e(c, a));
         let w = [
@@ -305,7 +333,7 @@ impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
     }
 
     fn largest_double_area(&self) -> u64 {
-        (0..self.mesh.faces().len() as u32)
+        (0..self.mesh().faces().len() as u32)
             .map(|f| self.double_area(f))
             .max()
             .unwrap_or(1)
@@ -340,7 +368,7 @@ impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
         let day = self.day;
         let capacity = self.store.capacity();
         let disc = self.radius / 200;
-        let mesh = self.mesh;
+        let mesh = mesh_of(&self.meshes, &self.mesh);
         let cells = self.store.slices();
         let existing = self.cells as usize;
         let mut n = existing;
@@ -378,15 +406,17 @@ impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
         } else {
             [[1 << 16; MAX_TYPES]; MAX_TYPES]
         };
+        let (arrays, field) = self.meshes.arrays();
+        let mesh = Mesh::view(&self.mesh, arrays);
         let forces = SurfaceForces {
-            mesh: &self.mesh,
+            mesh: &mesh,
             radius: self.radius,
             repel,
             push_weight: params.push_weight.to_bits(),
             anisotropy_weight: params
                 .anisotropy
                 .map_or(0, |a| a.weight.clamp(Fx::ZERO, Fx::ONE).to_bits()),
-            field: params.anisotropy.as_ref().map(|_| &*self.field),
+            field: params.anisotropy.as_ref().map(|_| field),
             momentum: params.momentum.to_bits(),
         };
         let n = self.cells as usize;
@@ -404,13 +434,14 @@ impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
             time: Fx::from_int(i32::from(self.day)),
         })?;
         if self.frame == 0 {
-            for (id, v) in self.mesh.vertices().iter().enumerate() {
+            let mesh = self.mesh();
+            for (id, v) in mesh.vertices().iter().enumerate() {
                 sink.record(&Record::MeshVertex {
                     id: id as u32,
                     p: v.map(Fx::from_bits),
                 })?;
             }
-            for f in self.mesh.faces() {
+            for f in mesh.faces() {
                 sink.record(&Record::Triangle { v: *f })?;
             }
         }
@@ -429,7 +460,7 @@ impl<'a, S: SurfaceRelax> SurfaceMosaic<'a, S> {
     }
 }
 
-impl<'a, S: SurfaceRelax> Start<'a> for SurfaceMosaic<'a, S> {
+impl<'a, S: SurfaceRelax, M: MeshStore> Start<'a> for SurfaceMosaic<'a, S, M> {
     type Params = Params<'a>;
 
     fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
@@ -437,7 +468,7 @@ impl<'a, S: SurfaceRelax> Start<'a> for SurfaceMosaic<'a, S> {
     }
 }
 
-impl<S: SurfaceRelax> Simulation for SurfaceMosaic<'_, S> {
+impl<S: SurfaceRelax, M: MeshStore> Simulation for SurfaceMosaic<'_, S, M> {
     /// Step 0 places and relaxes the initial cells; step d ≥ 1 simulates
     /// day d, as on the plane.
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {

@@ -48,6 +48,9 @@ pub struct ArraySurfaceStore<const N: usize, const B: usize> {
 }
 
 impl<const N: usize, const B: usize> ArraySurfaceStore<N, B> {
+    /// The cells it holds.
+    pub const CAPACITY: usize = N;
+
     /// An empty store (`const`, so that it can be written in place).
     pub const EMPTY: Self = ArraySurfaceStore {
         place: [Place { face: 0, p: [0; 3] }; N],

@@ -4,11 +4,14 @@
 
 #![allow(clippy::float_arithmetic)] // f64 measures the fixed-point results
 
+use super::meshes::ArrayMeshStore;
 use super::store::ArraySurfaceStore;
 use super::*;
 use crate::mosaic::Domain;
+use crate::mosaic::mesh::MeshArrays;
 use crate::mosaic::params::{CellType, Frames, NO_MUTATION, pair_table};
 use crate::mosaic::shapes::{Shape, Tessellation};
+use crate::stream::Encoder;
 use crate::stream::SinkError;
 
 static TYPES: [CellType; 2] = [
@@ -64,6 +67,8 @@ fn params(days: u16) -> Params<'static> {
     }
 }
 
+/// A mesh store with every part (the host's layout: inward normals
+/// stored, edges sorted).
 struct MeshVecs {
     v: [[i32; 3]; 256],
     f: [[u32; 3]; 512],
@@ -74,18 +79,34 @@ struct MeshVecs {
 }
 
 impl MeshVecs {
-    fn new() -> Box<MeshVecs> {
-        Box::new(MeshVecs {
+    fn new() -> MeshVecs {
+        MeshVecs {
             v: [[0; 3]; 256],
             f: [[0; 3]; 512],
             nb: [[0; 3]; 512],
             normals: [[0; 3]; 512],
             inward: [[[0; 3]; 3]; 512],
             edges: [0; 1536],
-        })
+        }
     }
 
-    fn mesh(&mut self) -> Mesh<'_> {
+    fn arrays(&self) -> MeshArrays<'_> {
+        MeshArrays {
+            vertices: &self.v,
+            faces: &self.f,
+            neighbours: &self.nb,
+            normals: &self.normals,
+            inward: &self.inward,
+        }
+    }
+}
+
+impl MeshStore for MeshVecs {
+    fn buffers(
+        &mut self,
+        _vertices: usize,
+        _faces: usize,
+    ) -> Result<(MeshBuffers<'_>, &mut [[i32; 3]]), Error> {
         let buffers = MeshBuffers {
             vertices: &mut self.v,
             faces: &mut self.f,
@@ -96,7 +117,15 @@ impl MeshVecs {
                 edges: &mut self.edges,
             },
         };
-        build_mesh(&SPHERE, buffers).unwrap()
+        Ok((buffers, &mut []))
+    }
+
+    fn arrays(&self) -> (MeshArrays<'_>, &[[i32; 3]]) {
+        (MeshVecs::arrays(self), &[])
+    }
+
+    fn arrays_mut(&mut self) -> (MeshArrays<'_>, &mut [[i32; 3]]) {
+        (MeshVecs::arrays(self), &mut [])
     }
 }
 
@@ -141,13 +170,12 @@ fn off_triangle(mesh: &Mesh<'_>, at: Place) -> f64 {
 
 #[test]
 fn cells_stay_on_the_mesh_and_spread_evenly() {
-    let mut vecs = MeshVecs::new();
-    let mesh = vecs.mesh();
     let p = params(6);
-    let mut m = SurfaceMosaic::new(Store::EMPTY, mesh, &mut []);
+    let mut m = SurfaceMosaic::new(Store::EMPTY, MeshVecs::new());
     m.start(&p, 3).unwrap();
     let mut sink = Last::default();
     while !m.step(&mut sink).unwrap().finished() {}
+    let mesh = m.mesh();
     assert_eq!(sink.1, mesh.faces().len(), "the mesh is streamed once");
     assert!(m.len() > 600, "{}", m.len());
     for at in m.places() {
@@ -157,7 +185,7 @@ fn cells_stay_on_the_mesh_and_spread_evenly() {
     }
     // Clark–Evans by 3D distance after the initial relaxation: mean
     // nearest-neighbour distance over 0.5/√density (1 for random points).
-    let mut m = SurfaceMosaic::new(Store::EMPTY, mesh, &mut []);
+    let mut m = SurfaceMosaic::new(Store::EMPTY, MeshVecs::new());
     let p0 = params(0);
     m.start(&p0, 3).unwrap();
     m.step(&mut Last::default()).unwrap();
@@ -178,25 +206,23 @@ fn cells_stay_on_the_mesh_and_spread_evenly() {
         })
         .sum::<f64>()
         / pts.len() as f64;
-    let area = mesh.area_q16() as f64 / 65536.0;
+    let area = m.mesh().area_q16() as f64 / 65536.0;
     let clark_evans = nearest / (0.5 * (area / pts.len() as f64).sqrt());
     assert!(clark_evans >= 1.4, "Clark–Evans index {clark_evans}");
 }
 
 #[test]
 fn a_surface_run_needs_a_surface_and_names_its_limits() {
-    let mut vecs = MeshVecs::new();
-    let mesh = vecs.mesh();
     let mut plain = params(1);
     plain.surface = None;
-    let mut m = SurfaceMosaic::new(Store::EMPTY, mesh, &mut []);
+    let mut m = SurfaceMosaic::new(Store::EMPTY, MeshVecs::new());
     assert!(matches!(
         m.start(&plain, 1),
         Err(Error::Mosaic(MosaicError::Param(_)))
     ));
     let mut heavy = params(1);
     heavy.momentum = Fx::from_ratio(1, 2);
-    let mut m = SurfaceMosaic::new(Store::EMPTY, mesh, &mut []);
+    let mut m = SurfaceMosaic::new(Store::EMPTY, MeshVecs::new());
     assert!(matches!(
         m.start(&heavy, 1),
         Err(Error::Capacity {
@@ -204,4 +230,48 @@ fn a_surface_run_needs_a_surface_and_names_its_limits() {
             ..
         })
     ));
+}
+
+/// The digest of the stream of a run of `p` with seed 3 on `meshes`.
+fn digest(p: &Params<'_>, meshes: impl MeshStore) -> u64 {
+    let mut m = SurfaceMosaic::new(Store::EMPTY, meshes);
+    m.start(p, 3).unwrap();
+    let mut sink = Encoder::new(Vec::new());
+    while !m.step(&mut sink).unwrap().finished() {}
+    sink.digest()
+}
+
+#[test]
+fn the_mcu_mesh_store_gives_the_same_run_without_inward_normals_or_edge_scratch() {
+    // 12 rings × 16 segments: 178 vertices, 352 faces.
+    type Mcu = ArrayMeshStore<178, 352>;
+    let p = params(3);
+    assert_eq!(digest(&p, MeshVecs::new()), digest(&p, Mcu::EMPTY));
+    let mut m = SurfaceMosaic::new(Store::EMPTY, ArrayMeshStore::<177, 352>::EMPTY);
+    assert!(matches!(
+        m.start(&p, 3),
+        Err(Error::Capacity {
+            limit: meshes::MESH_VERTEX_LIMIT,
+            capacity: 177
+        })
+    ));
+    let mut m = SurfaceMosaic::new(Store::EMPTY, ArrayMeshStore::<178, 351>::EMPTY);
+    assert!(matches!(
+        m.start(&p, 3),
+        Err(Error::Capacity {
+            limit: meshes::MESH_FACE_LIMIT,
+            capacity: 351
+        })
+    ));
+}
+
+#[test]
+fn the_mcu_surface_mosaic_holds_at_most_48_kib_within_the_planar_mcu_mosaic() {
+    type Mcu = SurfaceMosaic<'static, McuSurfaceStore, McuMeshStore>;
+    let size = core::mem::size_of::<Mcu>();
+    assert!(size <= 48 * 1024, "{size} B");
+    assert!(
+        size <= core::mem::size_of::<crate::mosaic::Mosaic<'static, crate::mosaic::McuStore>>()
+    );
+    const { assert!(McuSurfaceStore::CAPACITY >= 1000) };
 }
