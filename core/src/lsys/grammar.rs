@@ -99,10 +99,11 @@ pub(crate) enum Section {
     /// Rewrites each derivation step (the default section).
     #[default]
     Production,
-    /// Applied after each step (and to the axiom) until no rule applies.
+    /// Applied to the whole string after each step, nested down to
+    /// `maximum depth` (L-Py).
     Decomposition,
-    /// Applied only to the modules the turtle draws, until no rule
-    /// applies; never fed back into the derivation (a homomorphism).
+    /// Applied only to the modules the turtle draws, nested down to
+    /// `maximum depth`; never fed back into the derivation (a homomorphism).
     Interpretation,
 }
 
