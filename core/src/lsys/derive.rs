@@ -275,8 +275,9 @@ impl Frame {
 }
 
 /// Writes `m` at `back[*out]`, or, when decomposition rules apply to it,
-/// the modules they decompose it into (depth first, until no rule applies,
-/// ABOP/L-Py decomposition), advancing `*out`.
+/// the modules they decompose it into, advancing `*out`: depth first, at
+/// most `maximum depth` nested rules, the modules of the deepest rule kept
+/// as they are (L-Py's `Lsystem::__recursiveSteps`).
 fn put_decomposed(
     g: &Grammar,
     m: Module,
@@ -300,16 +301,12 @@ fn put_decomposed(
             stack.pop();
             continue;
         };
+        // `depth` <= MAX_DECOMPOSITION_DEPTH (parse), so the push fits.
         match Frame::for_rule(g, Section::Decomposition, &x) {
-            Some(frame) => {
-                if stack.len() >= depth || stack.push(frame).is_err() {
-                    return Err(LsysError::DepthExceeded {
-                        rules: "decomposition",
-                        depth: depth as u32,
-                    });
-                }
+            Some(frame) if stack.len() < depth => {
+                let _ = stack.push(frame);
             }
-            None => put(x, out)?,
+            _ => put(x, out)?,
         }
     }
     Ok(())
@@ -658,16 +655,11 @@ impl Derivation for Buffered<'_> {
         if axiom.len() > self.a.len().min(self.b.len()) {
             return Err(self.capacity_error());
         }
+        // As in L-Py, decomposition follows each step, not the axiom.
         let decomposes = grammar.has_decomposition();
-        let full = self.capacity_error();
-        for t in axiom {
-            let m = grammar.instantiate(t, &[]);
-            if decomposes {
-                put_decomposed(grammar, m, self.a, &mut self.len, full)?;
-            } else if let Some(slot) = self.a.get_mut(self.len) {
-                *slot = m;
-                self.len += 1;
-            }
+        self.len = axiom.len();
+        for (slot, t) in self.a.iter_mut().zip(axiom) {
+            *slot = grammar.instantiate(t, &[]);
         }
         self.peak = self.peak.max(self.len);
         let cuts = grammar.has_cut();
@@ -704,6 +696,9 @@ impl Derivation for Buffered<'_> {
                             }
                         }
                     }
+                    // L-Py decomposes the whole string after a step,
+                    // copied modules too.
+                    None if decomposes => put_decomposed(grammar, *m, back, &mut out, error)?,
                     None => {
                         *back.get_mut(out).ok_or(error)? = *m;
                         out += 1;

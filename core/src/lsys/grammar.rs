@@ -7,8 +7,8 @@ use crate::fx::Fx;
 
 use super::expr;
 use super::{
-    MAX_CODE, MAX_CONTEXT_MODULES, MAX_DECOMPOSITION_DEPTH, MAX_FORMALS, MAX_INTERPRETATION_DEPTH,
-    MAX_LITERALS, MAX_PARAMS, MAX_PRODUCTIONS, MAX_SUCCESSOR_MODULES, Module,
+    MAX_CODE, MAX_CONTEXT_MODULES, MAX_FORMALS, MAX_LITERALS, MAX_PARAMS, MAX_PRODUCTIONS,
+    MAX_SUCCESSOR_MODULES, Module,
 };
 
 /// The numbers a grammar sets with `name = value` lines (defaults in
@@ -99,10 +99,11 @@ pub(crate) enum Section {
     /// Rewrites each derivation step (the default section).
     #[default]
     Production,
-    /// Applied after each step (and to the axiom) until no rule applies.
+    /// Applied to the whole string after each step, nested down to
+    /// `maximum depth` (L-Py).
     Decomposition,
-    /// Applied only to the modules the turtle draws, until no rule
-    /// applies; never fed back into the derivation (a homomorphism).
+    /// Applied only to the modules the turtle draws, nested down to
+    /// `maximum depth`; never fed back into the derivation (a homomorphism).
     Interpretation,
 }
 
@@ -173,8 +174,8 @@ impl Grammar {
             rewritten: [0; 4],
             decomposed: [0; 4],
             interpreted: [0; 4],
-            decomposition_depth: MAX_DECOMPOSITION_DEPTH as u8,
-            interpretation_depth: MAX_INTERPRETATION_DEPTH as u8,
+            decomposition_depth: 1,
+            interpretation_depth: 1,
             settings: Settings::DEFAULT,
         }
     }

@@ -222,15 +222,6 @@ pub enum LsysError {
     /// A context-sensitive grammar, or one with decomposition rules,
     /// cannot be derived by [`Streaming`]; use [`Buffered`].
     NeedsBuffer,
-    /// Decomposition or interpretation rules still applied at their
-    /// `maximum depth` (a rule that keeps producing its own predecessor
-    /// never ends).
-    DepthExceeded {
-        /// `decomposition` or `interpretation`.
-        rules: &'static str,
-        /// The `maximum depth` in force.
-        depth: u32,
-    },
     /// The turtle failed.
     Turtle(TurtleError),
 }
@@ -244,10 +235,6 @@ impl core::fmt::Display for LsysError {
             }
             LsysError::NeedsBuffer => f.write_str(
                 "a context-sensitive grammar, or one with decomposition rules, needs buffered derivation",
-            ),
-            LsysError::DepthExceeded { rules, depth } => write!(
-                f,
-                "{rules} rules still apply at `maximum depth` = {depth} (the limit; at most MAX_DECOMPOSITION_DEPTH = {MAX_DECOMPOSITION_DEPTH}, MAX_INTERPRETATION_DEPTH = {MAX_INTERPRETATION_DEPTH})"
             ),
             LsysError::Turtle(e) => write!(f, "turtle: {e}"),
         }

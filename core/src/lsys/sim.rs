@@ -163,8 +163,9 @@ impl<D: Derivation> LSystem<D> {
         Ok(())
     }
 
-    /// The next module for the turtle: the derived string with every
-    /// interpretation rule applied (depth first, until none applies), so a
+    /// The next module for the turtle: the derived string with the
+    /// interpretation rules applied (depth first, at most `maximum depth`
+    /// nested, as L-Py's `Lsystem::__recursiveInterpretation`), so a
     /// homomorphism draws without changing what is derived.
     fn next_drawn(&mut self) -> Result<Option<Module>, LsysError> {
         loop {
@@ -184,16 +185,15 @@ impl<D: Derivation> LSystem<D> {
             if !self.grammar.has_rule_for(Section::Interpretation, m.symbol) {
                 return Ok(Some(m));
             }
+            // At `maximum depth` (<= MAX_INTERPRETATION_DEPTH, so the push
+            // fits) the module is drawn as it is.
+            if self.interpreting.len() >= self.grammar.interpretation_depth as usize {
+                return Ok(Some(m));
+            }
             let Some(frame) = Frame::for_rule(&self.grammar, Section::Interpretation, &m) else {
                 return Ok(Some(m));
             };
-            let depth = self.grammar.interpretation_depth as usize;
-            if self.interpreting.len() >= depth || self.interpreting.push(frame).is_err() {
-                return Err(LsysError::DepthExceeded {
-                    rules: "interpretation",
-                    depth: depth as u32,
-                });
-            }
+            let _ = self.interpreting.push(frame);
         }
     }
 

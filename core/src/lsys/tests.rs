@@ -714,29 +714,26 @@ fn interpretation_rules_draw_without_changing_the_derivation() {
     // Nested rules, within `maximum depth`.
     let nested = "n = 0\naxiom: A\ninterpretation:\nmaximum depth: 2\nA -> B B\nB -> F";
     assert_eq!(segments(nested, 0).len(), 2);
-    // Beyond it, or a rule that never ends: a named error.
-    for (source, depth) in [
-        (nested.replace("depth: 2", "depth: 1"), 1),
-        (
-            "n = 0\naxiom: A\ninterpretation:\nA -> F A".to_string(),
-            MAX_INTERPRETATION_DEPTH as u32,
-        ),
-    ] {
-        assert_eq!(
-            sim_error(&source),
-            crate::Error::Lsys(LsysError::DepthExceeded {
-                rules: "interpretation",
-                depth
-            }),
-            "{source}"
-        );
-    }
+    // At it, the deepest rule's modules are drawn as they are (L-Py): with
+    // depth 1 the turtle sees B B and draws nothing; `A -> F A` draws one
+    // F, at the default depth 1 and at the largest.
+    assert_eq!(
+        segments(&nested.replace("depth: 2", "depth: 1"), 0).len(),
+        0
+    );
+    let endless = "n = 0\naxiom: A\ninterpretation:\nA -> F A";
+    assert_eq!(segments(endless, 0).len(), 1);
+    let deepest = endless.replace(
+        "interpretation:",
+        &format!("interpretation:\nmaximum depth: {MAX_INTERPRETATION_DEPTH}"),
+    );
+    assert_eq!(segments(&deepest, 0).len(), MAX_INTERPRETATION_DEPTH);
 }
 
 #[test]
-fn decomposition_rules_apply_after_each_step_until_none_applies() {
+fn decomposition_rules_apply_after_each_step_to_maximum_depth() {
     // L-Py's `decomposition:`: I decomposes into J J right after the step
-    // that makes it (and in the axiom), and the next step rewrites the J's.
+    // that makes it (not in the axiom), and the next step rewrites the J's.
     let source = "n = 2\naxiom: A\nA -> A I\nJ -> F\ndecomposition:\nI -> J J";
     let g = grammar(source);
     assert!(g.needs_buffer());
@@ -748,7 +745,7 @@ fn decomposition_rules_apply_after_each_step_until_none_applies() {
             0,
             0
         )),
-        "JJ"
+        "I"
     );
     // Streaming cannot: it says so, and the simulation reports it.
     assert_eq!(
@@ -759,19 +756,15 @@ fn decomposition_rules_apply_after_each_step_until_none_applies() {
         sim_error(source),
         crate::Error::Lsys(LsysError::NeedsBuffer)
     );
-    // A chain of three rules fits `maximum depth: 3`; a fourth does not.
+    // A chain of three rules fits `maximum depth: 3`; a fourth is not
+    // applied (L-Py keeps the deepest rule's modules as they are).
     let chain = "n = 1\naxiom: A\nA -> X\ndecomposition:\nmaximum depth: 3\nX -> Y\nY -> Z\nZ -> W";
     assert_eq!(text(&buffered(&grammar(chain), 1, 0)), "W");
-    let mut a = vec![Module::default(); 64];
-    let mut b = vec![Module::default(); 64];
-    let mut d = Buffered::new(&mut a, &mut b);
-    assert_eq!(
-        d.restart(&grammar(&format!("{chain}\nW -> V")), 1, 0),
-        Err(LsysError::DepthExceeded {
-            rules: "decomposition",
-            depth: 3
-        })
-    );
+    let fourth = grammar(&format!("{chain}\nW -> V"));
+    assert_eq!(text(&buffered(&fourth, 1, 0)), "W");
+    // Without `maximum depth:`, one rule (L-Py's default depth 1).
+    let one = grammar(&chain.replace("maximum depth: 3\n", ""));
+    assert_eq!(text(&buffered(&one, 1, 0)), "Y");
     // Cuts act after decomposition.
     let g = grammar("n = 1\naxiom: A\nA -> [F I F] F\ndecomposition:\nI -> G %");
     assert_eq!(text(&buffered(&g, 1, 0)), "[FG]F");
@@ -919,4 +912,135 @@ fn more_than_max_steps_derive_buffered_and_streaming_names_its_limit() {
     let g = grammar("n = 32\naxiom: A\nA -> (1) A B\nA -> (1) B A\nB -> C");
     assert!(!g.needs_buffer());
     assert!(streamed(&g, 32, 3) == buffered(&g, 32, 3));
+}
+
+// L-Py's own examples of interpretation and decomposition rules, from
+// github.com/fredboudon/lpy at f0b604d, translated into this syntax
+// (`-->` is `->`, `produce` a successor, an `if` a condition).
+
+/// The segments a buffered simulation draws (decomposition needs it).
+fn buffered_segments(source: &str) -> Vec<([Fx; 3], [Fx; 3])> {
+    let mut a = vec![Module::default(); 1000];
+    let mut b = vec![Module::default(); 1000];
+    let mut sim = LSystem::with_derivation(Buffered::new(&mut a, &mut b));
+    sim.load(source, 0).unwrap();
+    run_sim(&mut sim)
+        .into_iter()
+        .filter_map(|r| match r {
+            Record::Segment { a, b, .. } => Some((a, b)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The first parameter of each module, as integers.
+fn first_params(modules: &[Module]) -> Vec<i32> {
+    modules
+        .iter()
+        .filter_map(|m| m.args().first().map(|p| p.floor_int()))
+        .collect()
+}
+
+fn distance(p: [Fx; 3], q: [Fx; 3]) -> f64 {
+    p.iter()
+        .zip(q)
+        .map(|(a, b)| (a.to_f64() - b.to_f64()).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+#[test]
+fn lpy_test_homrule_interprets_n_as_ten_segments() {
+    // L-Py test/test_homrule.py lines 6-12: the string
+    // "PANNN[+ANNN][-ANNN]AN" under the interpretation rule `N --> F`
+    // gives `len(scene) == 10`. The string itself is not rewritten.
+    let source = "n = 0\naxiom: PANNN[+ANNN][-ANNN]AN\ninterpretation:\nN -> F";
+    assert_eq!(segment_count(source), 10);
+    assert_eq!(
+        text(&streamed(&grammar(source), 0, 0)),
+        "PANNN[+ANNN][-ANNN]AN"
+    );
+}
+
+#[test]
+fn lpy_test_recursiveinterpretation_needs_maximum_depth_2() {
+    // L-Py test/lpytest/test_recursiveinterpretation.lpy lines 1-13: axiom
+    // A, one step, `interpretation:` with `maximum depth: 2`, A --> B,
+    // B --> F; EndEach asserts `len(lscene) == 1`.
+    let source = "n = 1\naxiom: A\ninterpretation:\nmaximum depth: 2\nA -> B\nB -> F";
+    assert_eq!(segment_count(source), 1);
+    // Without the line, L-Py's default depth 1 (src/cpp/lsystem.cpp line
+    // 140, `__interpretation_max_depth(1)`; line 1456 recurses only while
+    // `maxdepth > 1`) leaves B uninterpreted: nothing is drawn.
+    assert_eq!(segment_count(&source.replace("maximum depth: 2\n", "")), 0);
+}
+
+#[test]
+fn lpy_training_circle_decomposes_into_n_sides() {
+    // L-Py share/training/02-circle.lpy lines 1-21: `C(n): if n >= 0:
+    // produce S(dl)C(n-1)` under `decomposition:` with `maximum depth: N`,
+    // and the homomorphism `S(dl) : produce _(2)-(dalpha)F(dl)`, with
+    // dalpha = 360/N and dl = dalpha*r. The file has N = 100; here N = 16,
+    // MAX_DECOMPOSITION_DEPTH, and `_` (width) is `!`. At depth N the
+    // recursion stops (src/cpp/lsystem.cpp lines 1105-1110 append the
+    // deepest rule's string as it is), so C(N) becomes N S's and C(0): a
+    // closed polygon of N sides, each dl long.
+    let source = "n = 1\nN = 16\nr = 1\ndalpha = 360 / N\ndl = dalpha * r\naxiom: C(N)\n\
+                  decomposition:\nmaximum depth: N\nC(n) : n >= 0 -> S(dl) C(n - 1)\n\
+                  homomorphism:\nS(dl) -> !(2) -(dalpha) F(dl)";
+    let g = grammar(source);
+    let s = buffered(&g, 1, 0);
+    assert_eq!(text(&s), format!("{}C", "S".repeat(16)));
+    assert_eq!(s[16].args(), [Fx::ZERO]);
+    let segs = buffered_segments(source);
+    assert_eq!(segs.len(), 16);
+    for &(a, b) in &segs {
+        assert!((distance(a, b) - 22.5).abs() < 1e-3, "a side of dl = 22.5");
+    }
+    let gap = distance(segs[0].0, segs[15].1);
+    assert!(gap < 1e-2, "the polygon closes: gap {gap}");
+    // One level more and C(0) is decomposed too, leaving C(-1), to which
+    // no rule applies: N + 1 sides.
+    let deeper = source
+        .replace("N = 16", "N = 15")
+        .replace("maximum depth: N", "maximum depth: N + 1");
+    let s = buffered(&grammar(&deeper), 1, 0);
+    assert_eq!(text(&s), format!("{}C", "S".repeat(16)));
+    assert_eq!(s[16].args(), [Fx::from_int(-1)]);
+}
+
+#[test]
+fn lpy_training_fibonacci_decomposes_then_sums_its_left_context() {
+    // L-Py share/training/13-fibonacci.lpy lines 3-35: axiom
+    // `-(90);(3)A(nbValue)`, `derivation length: nbValue+1`, production
+    // `I(j)I(k) < I(i): produce I(k+j)`, decomposition with `maximum
+    // depth: nbValue+1` of `A(i): if i>0: produce I(1)A(i-1) else:
+    // produce` (nothing), homomorphism `I(i): produce
+    // f(1)F(1)[+(135);(4)f(sqrt(2.0)*0.5);(2)@L(str(i))]F(5)`. The file
+    // has nbValue = 20; here 15 (depth 16 = MAX_DECOMPOSITION_DEPTH),
+    // without the colours `;` and the label `@L`, which are not drawn
+    // here. The first step decomposes A(15) into fifteen I(1); the next
+    // fifteen make each I the sum of its two left neighbours in the
+    // previous string, which settles on the Fibonacci numbers.
+    let source = "nbValue = 15\nn = nbValue + 1\naxiom: -(90) A(nbValue)\n\
+                  I(j) I(k) < I(i) -> I(k + j)\n\
+                  decomposition:\nmaximum depth: nbValue + 1\n\
+                  A(i) : i > 0 -> I(1) A(i - 1)\nA(i) : i <= 0 ->\n\
+                  homomorphism:\nI(i) -> f(1) F(1) [+(135) f(sqrt(2) * 0.5)] F(5)";
+    let g = grammar(source);
+    let s = buffered(&g, 16, 0);
+    assert_eq!(text(&s), format!("-{}", "I".repeat(15)));
+    assert_eq!(
+        first_params(&s[1..]),
+        [1, 1, 2, 3, 5, 8, 13, 21, 34, 55, 89, 144, 233, 377, 610]
+    );
+    // Each I draws F(1) and F(5) along +x (`-(90)` turns right from +y),
+    // 7 units with the f(1): the axis ends at x = 105.
+    let segs = buffered_segments(source);
+    assert_eq!(segs.len(), 30);
+    let end = segs.last().unwrap().1;
+    assert!(
+        distance(end, [Fx::from_int(105), Fx::ZERO, Fx::ZERO]) < 1e-3,
+        "{end:?}"
+    );
 }
