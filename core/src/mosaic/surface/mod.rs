@@ -39,7 +39,7 @@ pub const FIELD_LIMIT: &str = "surface anisotropy field (one vector per face of 
 pub type McuSurfaceStore = store::ArraySurfaceStore<1024, 257>;
 /// The MCU's mesh store: up to 132 vertices and 256 faces (10 800 B; an
 /// ellipsoid of 10 rings × 14 segments has 128 and 252). With the cells,
-/// a surface mosaic on the MCU holds 47 668 B.
+/// a surface mosaic on the MCU holds 47 768 B.
 pub type McuMeshStore = meshes::ArrayMeshStore<132, 256>;
 
 /// The buffers a surface's mesh is built in ([`Surface::counts`] entries
