@@ -13,7 +13,7 @@ trap 'rm -rf "$tmp"' EXIT
 presets=(croton croton-individual croton-ageing croton-yellow cactus-spots cactus-uniform
   cactus-stem philodendron philodendron-ageing philodendron-leaf cactus-structured mushroom
   amanita amanita-df8 amanita-df20 amanita-mushroom watermelon-narrow watermelon watermelon-wide
-  watermelon-fruit watermelon-sphere watermelon-square sansevieria sansevieria-leaf)
+  watermelon-fruit watermelon-mcu watermelon-sphere watermelon-square sansevieria sansevieria-leaf)
 for p in "${presets[@]}"; do
   "$bin" run "$p" --only png --quiet --out "$tmp/$p"
   src="$tmp/$p/surface.png"
