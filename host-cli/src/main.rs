@@ -227,6 +227,10 @@ fn dispatch(command: Command) -> Result<Outcome> {
                                 .to_owned()
                         }
                     }
+                    morphogen::preset::Model::Bones(_) if !p.model.fits_mcu() => {
+                        "  (host only: its skeleton grammar needs buffered derivation; the MCU streams)"
+                            .to_owned()
+                    }
                     _ => String::new(),
                 });
                 say!(
