@@ -59,8 +59,8 @@ impl Model<'_> {
     /// ([`mosaic::expected_peak_cells`]) fits the inline store and it needs
     /// no velocities ([`mosaic::Params::momentum`] 0); on a surface, also
     /// when its mesh fits [`McuMeshStore`] and it has no anisotropy field;
-    /// a body when
-    /// its cylinders fit [`body::MAX_CYLINDERS`]; every other model's state
+    /// a body when its cylinders fit [`body::MAX_CYLINDERS`], bones when
+    /// their grammar streams (not context-sensitive); every other model's state
     /// is bounded by its type (a run that exceeds a limit stops with an
     /// error naming it).
     #[must_use]
@@ -81,6 +81,12 @@ impl Model<'_> {
                     }
             }
             Model::Body(p) => p.model.cylinders.len() <= body::MAX_CYLINDERS,
+            // The MCU derives skeletons streaming: context-free, at most
+            // MAX_STEPS steps.
+            Model::Bones(p) => {
+                let mut grammar = crate::lsys::Grammar::new();
+                grammar.parse(p.grammar).is_ok() && !grammar.needs_buffer()
+            }
             _ => true,
         }
     }

@@ -9,6 +9,7 @@ use std::sync::OnceLock;
 use morphogen::Error;
 use morphogen::bones::{BonesParams, Frames, Grower, MCU_TRIANGLES, MCU_VERTICES, Skeleton};
 use morphogen::fx::{Fx, Real};
+use morphogen::lsys::{Buffered, LsysError, Module};
 use morphogen::preset::{self, Model, Runner};
 use morphogen::shrinkwrap::{Element, Shrinkwrap, ShrinkwrapError, WrapParams, worst_level_error};
 use morphogen::stream::{Record, Sink, SinkError};
@@ -16,8 +17,9 @@ use nalgebra::Vector3;
 
 type McuWrap = Shrinkwrap<Fx, MCU_VERTICES, MCU_TRIANGLES>;
 
-/// The built-in bone scenarios.
-const PRESETS: [&str; 3] = ["long-bone", "long-bone-random", "bone-growth"];
+/// The built-in bone scenarios the MCU derives (the streaming derivation);
+/// `bone-ossification` is context-sensitive, for the host.
+const PRESETS: [&str; 4] = ["long-bone", "long-bone-random", "bone-growth", "bone-plate"];
 
 /// Calls `f` with the parameters of the built-in bone scenario `name`.
 fn with_bones<R>(name: &str, f: impl FnOnce(&BonesParams<'_>) -> R) -> R {
@@ -111,13 +113,19 @@ fn every_vertex_of_every_preset_frame_is_within_5_percent_of_v0() {
 /// The fixed-point wrap follows the f64 wrap of the same skeleton. An edge
 /// whose midpoint is within rounding of the 5 % threshold may be split in
 /// one and not the other, so: vertex counts within 2 %; the topologies
-/// agree in at least two thirds of the frames (11 of 16 here), and there
-/// every vertex is within 0.1 % of the bone's length (8.6) of its twin
-/// (measured: 0.0004); and every fixed-point vertex on the exact
-/// (f64) iso-surface within 0.5 % of V0 (measured: 0.18 %).
+/// agree in at least two thirds of the frames of segments and points (11
+/// of 16 here), and there every vertex is within 0.1 % of the bone's
+/// length (8.6) of its twin (measured: 0.0004); and every fixed-point
+/// vertex on the exact (f64) iso-surface within 0.5 % of V0 (measured:
+/// 0.18 %). A frame with a polygon element (`bone-plate`) is held to the
+/// vertex count and the level only: the fixed-point polygon distance is
+/// within 10⁻³ of the f64 one (`shrinkwrap::polygon`'s test), far more
+/// than a segment's rounding, and its one frame splits otherwise.
 #[test]
 fn fixed_point_wrap_matches_the_f64_reference() {
     let (mut same, mut worst_distance, mut worst_level) = (0, 0.0f64, 0.0f64);
+    let plain = |w: &Wrapped| w.skeleton.iter().all(|e| e.polygon == 0);
+    let compared = wrapped().iter().filter(|w| plain(w)).count();
     for w in wrapped() {
         let (a, b) = (w.fx.mesh(), w.f64.mesh());
         let (na, nb) = (a.vertices().len() as f64, b.vertices().len() as f64);
@@ -127,7 +135,7 @@ fn fixed_point_wrap_matches_the_f64_reference() {
             w.name,
             w.frame
         );
-        if a.triangles() == b.triangles() {
+        if plain(w) && a.triangles() == b.triangles() {
             same += 1;
             for (p, q) in a.vertices().iter().zip(b.vertices()) {
                 worst_distance =
@@ -139,14 +147,10 @@ fn fixed_point_wrap_matches_the_f64_reference() {
         worst_level = worst_level.max(worst_level_error(&sf, &points, f64::from_fx(w.target)));
     }
     println!(
-        "{same} of {} frames split alike; largest vertex distance {worst_distance:.6}; largest exact |V − V0|/V0 {worst_level:.6}",
+        "{same} of {compared} frames of segments and points split alike; largest vertex distance {worst_distance:.6}; largest exact |V − V0|/V0 (all {} frames) {worst_level:.6}",
         wrapped().len()
     );
-    assert!(
-        same * 3 >= wrapped().len() * 2,
-        "{same} of {}",
-        wrapped().len()
-    );
+    assert!(same * 3 >= compared * 2, "{same} of {compared}");
     assert!(worst_distance <= 0.001 * 8.6, "{worst_distance}");
     assert!(worst_level <= 0.005, "{worst_level}");
 }
@@ -260,4 +264,124 @@ fn the_stream_holds_the_skeleton_then_the_mesh_of_each_frame() {
             assert!(matches!(frame.last(), Some(Record::FrameEnd { .. })));
         }
     });
+}
+
+/// `bone-plate`'s plate is one polygon element: four edges tagged 4 … 1,
+/// streamed as a `Polygon` record of 4 vertices and its 4 edges, which
+/// the MCU runs.
+#[test]
+fn the_plate_is_a_polygon_element_in_the_stream() {
+    let scenario = morphogen_scenario::builtin("bone-plate").unwrap();
+    scenario.with_preset(|preset| {
+        assert!(preset.model.fits_mcu());
+        let Model::Bones(params) = preset.model else {
+            unreachable!("bone-plate is a bone")
+        };
+        let skeleton = skeletons(params, 0).remove(0);
+        assert_eq!(
+            skeleton.iter().map(|e| e.polygon).collect::<Vec<_>>(),
+            [4, 3, 2, 1, 0, 0, 0]
+        );
+        let mut runner = Box::new(Runner::new());
+        let mut out = Records::default();
+        preset::run(preset, 0, &mut runner, &mut out, &mut |_| {}).unwrap();
+        let start = out
+            .0
+            .iter()
+            .position(|r| matches!(r, Record::FrameStart { .. }))
+            .unwrap();
+        assert!(matches!(
+            out.0[start + 1],
+            Record::Polygon {
+                vertices: 4,
+                colour: 0
+            }
+        ));
+        for (k, e) in skeleton.iter().take(4).enumerate() {
+            assert_eq!(
+                out.0[start + 2 + k],
+                Record::Segment {
+                    a: e.a,
+                    b: e.b,
+                    width: e.weight,
+                    colour: 0
+                }
+            );
+        }
+    });
+}
+
+/// The skeleton of `text` after 0 … `n` steps, derived buffered.
+fn buffered_skeletons(text: &str) -> Vec<Skeleton> {
+    let (mut a, mut b) = (vec![Module::default(); 4096], vec![Module::default(); 4096]);
+    let mut g = Grower::with_derivation(Buffered::new(&mut a, &mut b));
+    g.load(text).unwrap();
+    (0..=g.grammar().settings().steps)
+        .map(|steps| {
+            let mut s = Skeleton::new();
+            g.grow(steps, 0, &mut s).unwrap();
+            s
+        })
+        .collect()
+}
+
+/// `bone-ossification` (the paper's context-sensitive L-system, Sec. 3):
+/// cartilage becomes shaft only beside bone, so the shaft grows one
+/// segment each way per step from the ossification centre, and the end
+/// caps become condyles only when it reaches them (step 5). Were the
+/// contexts ignored, every cartilage piece and both caps would turn at
+/// step 1, as the same rules without their contexts do. The MCU's
+/// streaming derivation refuses the grammar by name; the host runs it.
+#[test]
+fn the_ossifying_bone_follows_its_contexts() {
+    with_bones("bone-ossification", |p| {
+        let segments = |s: &Skeleton| s.iter().filter(|e| e.a != e.b).count();
+        let counted: Vec<usize> = buffered_skeletons(p.grammar).iter().map(segments).collect();
+        assert_eq!(counted, [0, 2, 4, 6, 8, 12, 12, 12, 12]);
+        // Each side of the centre: the shaft reaches the cap in 4 steps.
+        let free: String = p
+            .grammar
+            .lines()
+            .map(|l| {
+                let rule = l.split(" < ").last().unwrap();
+                let rule = match rule.split_once(" > ") {
+                    Some((predecessor, rest)) => {
+                        format!("{predecessor} -> {}", rest.split_once(" -> ").unwrap().1)
+                    }
+                    None => rule.to_string(),
+                };
+                rule + "\n"
+            })
+            .collect();
+        let counted_free: Vec<usize> = buffered_skeletons(&free).iter().map(segments).collect();
+        assert!(counted_free[1] >= 12, "{counted_free:?}");
+        // Streaming (the MCU's) refuses it, naming why.
+        let mut g = Grower::new();
+        g.load(p.grammar).unwrap();
+        assert_eq!(
+            g.grow(1, 0, &mut Skeleton::new()),
+            Err(Error::Lsys(LsysError::NeedsBuffer))
+        );
+    });
+    let scenario = morphogen_scenario::builtin("bone-ossification").unwrap();
+    scenario.with_preset(|preset| {
+        assert!(!preset.model.fits_mcu());
+        let mut runner = Box::new(Runner::new());
+        let e = preset::run(preset, 0, &mut runner, &mut Records::default(), &mut |_| {});
+        assert_eq!(e.unwrap_err(), Error::Lsys(LsysError::NeedsBuffer));
+    });
+}
+
+/// A bone skeleton is the derived string itself: interpretation rules,
+/// which would change only the drawing, are refused naming them rather
+/// than silently ignored.
+#[test]
+fn interpretation_rules_in_a_bone_grammar_are_refused() {
+    let mut grower = Grower::new();
+    let text = "n = 2\naxiom: A\nA -> A F(1)\ninterpretation:\nA -> F(1)\n";
+    assert!(matches!(
+        grower.load(text),
+        Err(LsysError::Unsupported(what)) if what.contains("interpretation")
+    ));
+    assert!(grower.load("n = 2\naxiom: A\nA -> A F(1)\n").is_ok());
 }

@@ -38,8 +38,10 @@ fn every_sendable_built_in_arrives_as_it_was() {
         }
         sent += 1;
     }
-    // The growth curve, two horns, six L-systems, three bones.
-    assert_eq!(sent, 12);
+    // The growth curve, two horns, six L-systems, four bones (not
+    // `bone-ossification`: its context-sensitive grammar the device cannot
+    // derive, `a_bone_needing_buffered_derivation_is_refused`).
+    assert_eq!(sent, 13);
 }
 
 #[test]
@@ -53,5 +55,18 @@ fn a_mosaic_is_refused_with_its_reason() {
         "a mosaic cannot be sent to a device: the parameters it lends a run take 288 B of \
          stack, which the firmware (its RAM 99 % used) does not have; build it into the \
          firmware with MORPHOGEN_SCENARIOS"
+    );
+}
+
+#[test]
+fn a_bone_needing_buffered_derivation_is_refused() {
+    let bone = morphogen_scenario::builtin("bone-ossification").unwrap();
+    let e = morphogen_scenario::firmware::sent(&bone, 0).unwrap_err();
+    assert!(
+        e.to_string().starts_with(
+            "a bone grammar that needs buffered derivation cannot be sent to a device: its \
+             skeleton grammar is context-sensitive"
+        ),
+        "{e}"
     );
 }

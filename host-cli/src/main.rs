@@ -242,6 +242,10 @@ fn dispatch(command: Command) -> Result<Outcome> {
             for s in &all {
                 let note = s.with_preset(|p| match p.model {
                     morphogen::preset::Model::Mosaic(m) if !p.model.fits_mcu() => mcu_note(m),
+                    morphogen::preset::Model::Bones(_) if !p.model.fits_mcu() => {
+                        "  (host only: its skeleton grammar needs buffered derivation; the MCU streams)"
+                            .to_owned()
+                    }
                     _ => String::new(),
                 });
                 say!(

@@ -133,6 +133,10 @@ pub fn sent(scenario: &Scenario, seed: u64) -> Result<SentScenario, SentError> {
                 };
                 SentScenario::new(&preset, seed, params)
             }
+            Model::Bones(_) if !p.model.fits_mcu() => Err(SentError::NotSendable {
+                what: "a bone grammar that needs buffered derivation",
+                why: NEEDS_BUFFER,
+            }),
             Model::Bones(bones) => {
                 let text = without_comments(bones.grammar);
                 let bones = BonesParams {
@@ -149,6 +153,11 @@ pub fn sent(scenario: &Scenario, seed: u64) -> Result<SentScenario, SentError> {
         }
     })
 }
+
+/// Why a bone scenario that does not fit the MCU does not: its grammar.
+const NEEDS_BUFFER: &str = "its skeleton grammar is context-sensitive, has decomposition rules or \
+     n > MAX_STEPS = 32, which only buffered derivation handles, and the device derives \
+     streaming; run it on the host with `morphogen run`";
 
 /// `text` without its comments: each line up to its first `#`, as the
 /// grammar parser reads it (`docs/lsystems.md`), without the blanks before
@@ -203,9 +212,12 @@ fn user_scenarios(list: &str, surfaces: bool) -> Result<Vec<Scenario>, String> {
             }
         }
         if !scenario.with_preset(|p| p.model.fits_mcu()) {
+            let why = scenario.with_preset(|p| match p.model {
+                Model::Bones(_) => NEEDS_BUFFER,
+                _ => "too big for the runner's fixed capacity; run it on the host with `morphogen run`",
+            });
             return Err(format!(
-                "{VAR}: {}: {} does not fit the MCU (too big for the runner's fixed capacity; \
-                 run it on the host with `morphogen run`)",
+                "{VAR}: {}: {} does not fit the MCU ({why})",
                 path.display(),
                 scenario.name()
             ));

@@ -3,7 +3,8 @@
 //! a [`VecStore`] sized for the run, bodies, with room for a user's
 //! [`USER_CYLINDERS`] cylinders, context-sensitive L-systems, derived in
 //! two heap buffers, and bones, with the MCU's mesh capacity and a field
-//! cache ([`HOST_FIELD_CACHE`]) the MCU has no RAM for. Both use the core's one run loop
+//! cache ([`HOST_FIELD_CACHE`]) the MCU has no RAM for (a context-sensitive
+//! skeleton grammar, too, derived in two heap buffers). Both use the core's one run loop
 //! ([`morphogen::preset::drive`]), so the stream is the same bytes the
 //! firmware writes.
 
@@ -304,6 +305,11 @@ impl MeshStore for MeshVecs {
 /// which the MCU uses, handles context-free grammars only.
 pub const HOST_BUFFER_MODULES: usize = 1 << 21;
 
+/// Modules of each buffer of a context-sensitive bone grammar's
+/// derivation: 8 × a skeleton string's limit
+/// ([`morphogen::bones::MAX_SKELETON_MODULES`]), for strings that shrink.
+pub const BONE_BUFFER_MODULES: usize = 8 * morphogen::bones::MAX_SKELETON_MODULES as usize;
+
 /// Runs `preset` with `seed` into `sink`: header, then every step.
 ///
 /// # Errors
@@ -350,10 +356,31 @@ pub fn run(
             }
         }
         Model::Bones(params) => {
-            let mut bones =
-                Box::new(Bones::<'_, MCU_VERTICES, MCU_TRIANGLES, HOST_FIELD_CACHE>::new());
-            bones.start(params, seed)?;
-            preset::drive(bones.as_mut(), &header, sink, progress)
+            let mut grammar = Box::new(Grammar::new());
+            grammar
+                .parse(params.grammar)
+                .map_err(|e| morphogen::Error::Lsys(LsysError::Parse(e)))?;
+            if grammar.needs_buffer() {
+                // A context-sensitive skeleton grammar (the paper's, Sec. 3).
+                let mut a = vec![Module::default(); BONE_BUFFER_MODULES];
+                let mut b = vec![Module::default(); BONE_BUFFER_MODULES];
+                let mut bones = Box::new(Bones::<
+                    '_,
+                    MCU_VERTICES,
+                    MCU_TRIANGLES,
+                    HOST_FIELD_CACHE,
+                    Buffered<'_>,
+                >::with_derivation(Buffered::new(
+                    &mut a, &mut b,
+                )));
+                bones.start(params, seed)?;
+                preset::drive(bones.as_mut(), &header, sink, progress)
+            } else {
+                let mut bones =
+                    Box::new(Bones::<'_, MCU_VERTICES, MCU_TRIANGLES, HOST_FIELD_CACHE>::new());
+                bones.start(params, seed)?;
+                preset::drive(bones.as_mut(), &header, sink, progress)
+            }
         }
         Model::Body(params) => {
             let mut body = Box::new(Body::<'_, USER_CYLINDERS>::new());

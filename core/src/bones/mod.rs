@@ -3,11 +3,14 @@
 //! the iso-surface V(r) = V0 of V(r) = Σ ρ_i / |r − R_i|.
 //!
 //! - [`Grower`] derives a bone grammar and draws its skeleton: `F` is a
-//!   segment of weight = the turtle's width, `O(ρ)` a point of weight ρ.
+//!   segment of weight = the turtle's width, `O(ρ)` a point of weight ρ,
+//!   `{ … }` a convex polygon (Sec. 6); streaming, or buffered for a
+//!   context-sensitive grammar (Sec. 3) on a host.
 //! - [`Bones`] is the simulation: one wrapped frame per skeleton, for the
 //!   final step, every step (the paper's Fig. 2) or several seeds (Fig. 3).
-//! - The built-in bones are the scenarios `long-bone`, `long-bone-random`
-//!   and `bone-growth` (`scenarios/`).
+//! - The built-in bones are the scenarios `long-bone`, `long-bone-random`,
+//!   `bone-growth`, `bone-plate` (a polygon) and `bone-ossification` (a
+//!   context-sensitive grammar, host only) (`scenarios/`).
 
 mod sim;
 mod skeleton;

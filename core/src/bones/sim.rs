@@ -1,7 +1,9 @@
 //! The bone simulation: grow the skeleton, wrap it, stream the frame.
 //!
 //! A frame is one wrapped bone: `FrameStart` (time = derivation steps), a
-//! `Segment` per skeleton element (a point has `a == b`; width = ρ), the
+//! `Segment` per skeleton element (a point has `a == b`; width = ρ; a
+//! polygon element of k edges is a `Polygon` record of k vertices
+//! followed by its k edges as `Segment`s), the
 //! `MeshVertex`es and the `Triangle`s (counter-clockwise seen from
 //! outside), `FrameEnd`. Each [`Simulation::step`] runs one shrinkwrap
 //! iteration; progress counts finished frames.
@@ -10,6 +12,7 @@ use nalgebra::Vector3;
 
 use crate::Error;
 use crate::fx::Fx;
+use crate::lsys::{Derivation, Streaming};
 use crate::shrinkwrap::{Phase, Shrinkwrap};
 use crate::sim::{Deferred, Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
@@ -21,13 +24,16 @@ use super::{BonesParams, Frames};
 /// triangles, keeping the field at up to `C` of them between moves
 /// ([`Shrinkwrap`]; 0 on an MCU, [`HOST_FIELD_CACHE`](super::HOST_FIELD_CACHE)
 /// on a host).
+/// The skeleton is derived by `D`: [`Streaming`] (the MCU's, context-free
+/// grammars only) or [`crate::lsys::Buffered`] ([`Bones::with_derivation`]).
 #[derive(Debug)]
-pub struct Bones<'a, const V: usize, const T: usize, const C: usize = 0> {
+pub struct Bones<'a, const V: usize, const T: usize, const C: usize = 0, D: Derivation = Streaming>
+{
     frame: u32,
     wrapping: bool,
     seed: u64,
     params: Option<&'a BonesParams<'a>>,
-    grower: Grower,
+    grower: Grower<D>,
     skeleton: Skeleton,
     wrap: Shrinkwrap<Fx, V, T, C>,
     /// The error that stopped the run, if any.
@@ -38,8 +44,16 @@ impl<'a, const V: usize, const T: usize, const C: usize> Bones<'a, V, T, C> {
     /// An idle simulation (`const`, for a `static`).
     #[must_use]
     pub const fn new() -> Bones<'a, V, T, C> {
+        Bones::with_derivation(Streaming::new())
+    }
+}
+
+impl<'a, const V: usize, const T: usize, const C: usize, D: Derivation> Bones<'a, V, T, C, D> {
+    /// An idle simulation whose skeletons `derivation` derives.
+    #[must_use]
+    pub const fn with_derivation(derivation: D) -> Bones<'a, V, T, C, D> {
         Bones {
-            grower: Grower::new(),
+            grower: Grower::with_derivation(derivation),
             skeleton: Skeleton::new(),
             wrap: Shrinkwrap::new(Fx::ZERO),
             params: None,
@@ -118,7 +132,17 @@ impl<'a, const V: usize, const T: usize, const C: usize> Bones<'a, V, T, C> {
             frame: self.frame,
             time: Fx::from_int(steps as i32),
         })?;
+        // Edges of the current polygon still to come.
+        let mut edges = 0u8;
         for e in &self.skeleton {
+            if edges == 0 && e.polygon != 0 {
+                edges = e.polygon;
+                sink.record(&Record::Polygon {
+                    vertices: u16::from(edges),
+                    colour: 0,
+                })?;
+            }
+            edges = edges.saturating_sub(1);
             sink.record(&Record::Segment {
                 a: e.a,
                 b: e.b,
@@ -150,7 +174,9 @@ impl<const V: usize, const T: usize, const C: usize> Default for Bones<'_, V, T,
     }
 }
 
-impl<'a, const V: usize, const T: usize, const C: usize> Start<'a> for Bones<'a, V, T, C> {
+impl<'a, const V: usize, const T: usize, const C: usize, D: Derivation> Start<'a>
+    for Bones<'a, V, T, C, D>
+{
     type Params = BonesParams<'a>;
 
     fn start(&mut self, params: &'a BonesParams<'a>, seed: u64) -> Result<(), Error> {
@@ -158,7 +184,9 @@ impl<'a, const V: usize, const T: usize, const C: usize> Start<'a> for Bones<'a,
     }
 }
 
-impl<const V: usize, const T: usize, const C: usize> Simulation for Bones<'_, V, T, C> {
+impl<const V: usize, const T: usize, const C: usize, D: Derivation> Simulation
+    for Bones<'_, V, T, C, D>
+{
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
         self.failed.check()?;
         let params = self.params.ok_or(Error::NotStarted)?;

@@ -1,8 +1,10 @@
-//! The bone skeleton (seed `003_…`, Sec. 2–4): the elements an L-system's
-//! turtle draws. `F` draws a segment element whose weight ρ is the
-//! turtle's width; `O(ρ)` puts a point element at the turtle (`O` alone:
-//! ρ = the width); every other symbol means what it means for plants
-//! (`docs/lsystems.md`).
+//! The bone skeleton (seed `003_…`, Sec. 2–4 and 6): the elements an
+//! L-system's turtle draws. `F` draws a segment element whose weight ρ is
+//! the turtle's width; `O(ρ)` puts a point element at the turtle (`O`
+//! alone: ρ = the width); `{ … }` is a convex polygon element of weight
+//! ρ = the width at `}` (its vertices as the turtle records them: `{`,
+//! every `.` and every `f`/`F` move inside); every other symbol means
+//! what it means for plants (`docs/lsystems.md`).
 
 use heapless::Vec;
 use nalgebra::Vector3;
@@ -10,7 +12,7 @@ use nalgebra::Vector3;
 use crate::Error;
 use crate::fx::Fx;
 use crate::lsys::{Derivation, Grammar, LsysError, Streaming, turtle_params};
-use crate::shrinkwrap::Element;
+use crate::shrinkwrap::{Element, polygon_edges};
 use crate::turtle::{Drawn, Turtle};
 
 /// Skeleton elements of one bone.
@@ -24,22 +26,33 @@ pub const MAX_SKELETON_MODULES: u32 = 8192;
 /// The elements of one bone.
 pub type Skeleton = Vec<Element<Fx>, MAX_ELEMENTS>;
 
-/// A bone grammar with the derivation and the turtle that draw it.
+/// A bone grammar with the derivation and the turtle that draw it:
+/// [`Streaming`] (context-free grammars, the MCU's), or on a host
+/// [`crate::lsys::Buffered`] for the context-sensitive L-systems the
+/// paper chose (Sec. 3).
 #[derive(Debug)]
-pub struct Grower {
+pub struct Grower<D: Derivation = Streaming> {
     grammar: Grammar,
-    derivation: Streaming,
+    derivation: D,
     turtle: Turtle<Fx>,
 }
 
-impl Grower {
+impl Grower<Streaming> {
     /// An empty grower (`const`, for a `static`; all zero bytes, so that
     /// it is written in place).
     #[must_use]
-    pub const fn new() -> Grower {
+    pub const fn new() -> Grower<Streaming> {
+        Grower::with_derivation(Streaming::new())
+    }
+}
+
+impl<D: Derivation> Grower<D> {
+    /// An empty grower over `derivation`.
+    #[must_use]
+    pub const fn with_derivation(derivation: D) -> Grower<D> {
         Grower {
             grammar: Grammar::zeroed(),
-            derivation: Streaming::new(),
+            derivation,
             turtle: Turtle::zeroed(),
         }
     }
@@ -47,9 +60,16 @@ impl Grower {
     /// Parses `text` in place.
     ///
     /// # Errors
-    /// The parse error.
+    /// The parse error; [`LsysError::Unsupported`] for interpretation
+    /// rules (the skeleton is the derived string itself: none is silently
+    /// ignored).
     pub fn load(&mut self, text: &str) -> Result<(), LsysError> {
         self.grammar.parse(text)?;
+        if self.grammar.has_interpretation() {
+            return Err(LsysError::Unsupported(
+                "interpretation rules in a bone skeleton (it is the derived string itself)",
+            ));
+        }
         self.turtle = Turtle::new(turtle_params(&self.grammar));
         Ok(())
     }
@@ -63,8 +83,9 @@ impl Grower {
     /// Derives `steps` steps with `seed` and draws the skeleton into `out`.
     ///
     /// # Errors
-    /// A derivation or turtle error, or [`MAX_ELEMENTS`] or
-    /// [`MAX_SKELETON_MODULES`] exceeded.
+    /// A derivation or turtle error, a polygon that is not a convex
+    /// polygon element ([`polygon_edges`]), or [`MAX_ELEMENTS`] (a
+    /// polygon takes one per edge) or [`MAX_SKELETON_MODULES`] exceeded.
     pub fn grow(&mut self, steps: u8, seed: u64, out: &mut Skeleton) -> Result<(), Error> {
         out.clear();
         self.derivation.restart(&self.grammar, steps, seed)?;
@@ -89,10 +110,18 @@ impl Grower {
                     .map_err(|_| full())?;
                 continue;
             }
-            let drawn = self.turtle.apply(&m).map_err(LsysError::from)?;
-            if let (b'F', Drawn::Segment { a, b, width, .. }) = (m.symbol, drawn) {
-                out.push(Element::segment(a, b, width))
-                    .map_err(|_| full())?;
+            match (m.symbol, self.turtle.apply(&m).map_err(LsysError::from)?) {
+                (b'F', Drawn::Segment { a, b, width, .. }) => {
+                    out.push(Element::segment(a, b, width))
+                        .map_err(|_| full())?;
+                }
+                (_, Drawn::Polygon { .. }) => {
+                    let width = self.turtle.state().width;
+                    for edge in polygon_edges(self.turtle.polygon(), width)? {
+                        out.push(edge).map_err(|_| full())?;
+                    }
+                }
+                _ => {}
             }
         }
         self.turtle.finish().map_err(LsysError::from)?;

@@ -8,7 +8,7 @@ use nalgebra::Vector3;
 use super::*;
 use crate::Error;
 use crate::fx::{Fx, Real};
-use crate::shrinkwrap::{Shrinkwrap, assert_closed_genus_0, signed_volume};
+use crate::shrinkwrap::{Element, Shrinkwrap, assert_closed_genus_0, signed_volume};
 
 type McuWrap = Shrinkwrap<Fx, MCU_VERTICES, MCU_TRIANGLES>;
 
@@ -171,4 +171,120 @@ fn a_grammar_that_never_draws_ends_with_a_named_limit() {
             ..
         }
     ));
+}
+
+/// |v| in f64 (nalgebra's `norm` needs its `libm` feature).
+fn length(v: Vector3<f64>) -> f64 {
+    v.dot(&v).sqrt()
+}
+
+/// The winding number of the closed mesh around `p` (the solid angle of
+/// its triangles seen from `p`, Van Oosterom and Strackee, over 4π): 1
+/// inside, 0 outside.
+fn winding_number(vertices: &[Vector3<f64>], triangles: &[[u16; 3]], p: Vector3<f64>) -> f64 {
+    let mut sum = 0.0;
+    for t in triangles {
+        let [a, b, c] = t.map(|i| vertices[usize::from(i)] - p);
+        let (la, lb, lc) = (length(a), length(b), length(c));
+        let numerator = a.dot(&b.cross(&c));
+        let denominator = la * lb * lc + a.dot(&b) * lc + b.dot(&c) * la + c.dot(&a) * lb;
+        sum += 2.0 * numerator.atan2(denominator);
+    }
+    sum / (4.0 * std::f64::consts::PI)
+}
+
+/// A square plate `{ … }` (one convex polygon element, ρ = 0.5) wraps to a
+/// slab around it: the surface covers the plate's centre, 0.5 = ρ / V0
+/// above and below it. Its four edges as plain segments instead leave the
+/// centre outside the level (V = 4 · 0.5 / 3 there), and no surface lies
+/// 0.5 above it.
+#[test]
+fn a_polygon_element_is_wrapped_as_a_plate() {
+    let params = WrapParams {
+        target: Fx::ONE,
+        step: Fx::from_ratio(1, 20),
+        ..WRAP
+    };
+    let mut g = Grower::new();
+    g.load("n = 0\naxiom: !(0.5) { f(6) +(90) f(6) +(90) f(6) +(90) }")
+        .unwrap();
+    let mut plate = Skeleton::new();
+    g.grow(0, 0, &mut plate).unwrap();
+    assert_eq!(
+        plate
+            .iter()
+            .map(|e| e.polygon)
+            .collect::<std::vec::Vec<_>>(),
+        [4, 3, 2, 1]
+    );
+    let corners: std::vec::Vec<Vector3<f64>> = plate
+        .iter()
+        .map(|e| Vector3::from(e.a).map(f64::from_fx))
+        .collect();
+    let centre = corners.iter().sum::<Vector3<f64>>() / 4.0;
+    assert!(
+        length(centre - Vector3::new(-3.0, 3.0, 0.0)) < 1e-3,
+        "{centre}"
+    );
+    let rings: Skeleton = plate.iter().map(|e| Element { polygon: 0, ..*e }).collect();
+    let near_axis = |skeleton: &Skeleton| {
+        let mut w = Box::new(McuWrap::new(Fx::ZERO));
+        w.run(skeleton, &params).unwrap();
+        let m = w.mesh();
+        assert_closed_genus_0(m.vertices().len(), m.triangles());
+        let v: std::vec::Vec<Vector3<f64>> =
+            m.vertices().iter().map(|v| v.map(f64::from_fx)).collect();
+        let heights: std::vec::Vec<f64> = v
+            .iter()
+            .filter(|p| (p.x - centre.x).hypot(p.y - centre.y) < 1.0)
+            .map(|p| p.z)
+            .collect();
+        (winding_number(&v, m.triangles(), centre), heights)
+    };
+    let (winding, heights) = near_axis(&plate);
+    assert!((winding - 1.0).abs() < 1e-6, "{winding}");
+    assert!(heights.iter().any(|&z| z > 0.0) && heights.iter().any(|&z| z < 0.0));
+    assert!(
+        heights.iter().all(|z| (z.abs() - 0.5).abs() < 0.03),
+        "{heights:?}"
+    );
+    let (_, ring_heights) = near_axis(&rings);
+    assert!(
+        !ring_heights.iter().any(|z| (z.abs() - 0.5).abs() < 0.03),
+        "{ring_heights:?}"
+    );
+    let v = crate::shrinkwrap::potential(
+        &rings,
+        &centre.map(|c| Fx::from_fixed(fixed::types::I16F16::from_num(c))),
+    );
+    assert!(v < Fx::ONE, "{v:?}");
+}
+
+/// A polygon that is not convex, or has more vertices than the turtle
+/// records, stops the skeleton with an error naming why.
+#[test]
+fn bad_polygons_are_errors() {
+    let mut g = Grower::new();
+    let grow = |g: &mut Grower, text: &str| {
+        g.load(text).unwrap();
+        g.grow(0, 0, &mut Skeleton::new()).unwrap_err()
+    };
+    assert!(matches!(
+        grow(
+            &mut g,
+            "n = 0\naxiom: { f(4) +(90) f(4) +(135) f(2) -(90) f(2) }"
+        ),
+        Error::Shrinkwrap(crate::shrinkwrap::ShrinkwrapError::PolygonNotConvex { .. })
+    ));
+    assert!(matches!(
+        grow(&mut g, "n = 0\naxiom: { f(4) +(90) f(4) +(90) &(30) f(4) }"),
+        Error::Shrinkwrap(crate::shrinkwrap::ShrinkwrapError::PolygonNotPlanar { .. })
+    ));
+    let many = format!("n = 0\naxiom: {{ {} }}", "f(1) +(10) ".repeat(30));
+    assert_eq!(
+        grow(&mut g, &many),
+        Error::Lsys(crate::lsys::LsysError::Turtle(
+            crate::turtle::TurtleError::TooManyVertices
+        ))
+    );
 }

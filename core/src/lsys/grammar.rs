@@ -247,6 +247,13 @@ impl Grammar {
         self.decomposed != [0; 4]
     }
 
+    /// Whether the grammar has interpretation rules (`interpretation:`,
+    /// applied only for drawing).
+    #[must_use]
+    pub fn has_interpretation(&self) -> bool {
+        self.interpreted != [0; 4]
+    }
+
     /// Whether only [`super::Buffered`] can derive the grammar: it is
     /// context-sensitive, has decomposition rules, or asks for more than
     /// [`super::MAX_STEPS`] steps.

@@ -224,6 +224,9 @@ pub enum LsysError {
     NeedsBuffer,
     /// The turtle failed.
     Turtle(TurtleError),
+    /// A section the model using the grammar does not apply (named), e.g.
+    /// `interpretation:` rules in a bone skeleton.
+    Unsupported(&'static str),
 }
 
 impl core::fmt::Display for LsysError {
@@ -237,6 +240,7 @@ impl core::fmt::Display for LsysError {
                 "a context-sensitive grammar, or one with decomposition rules, needs buffered derivation",
             ),
             LsysError::Turtle(e) => write!(f, "turtle: {e}"),
+            LsysError::Unsupported(what) => write!(f, "{what} are not supported here"),
         }
     }
 }

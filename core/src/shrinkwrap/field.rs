@@ -5,13 +5,15 @@
 use heapless::Vec;
 use nalgebra::Vector3;
 
+use super::polygon;
 use crate::fx::root::rounded_isqrt_u62;
 use crate::fx::{Fx, Real};
 #[cfg(test)]
 use crate::geom::length_of_squared;
 
 /// One skeleton element: the segment from `a` to `b` (a point when
-/// `a == b`) with weight ρ.
+/// `a == b`) with weight ρ, or one edge of a convex polygon element
+/// (Sec. 6: "points, lines or convex polygons"; [`Element::polygon`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Element<R: Real = Fx> {
@@ -21,6 +23,11 @@ pub struct Element<R: Real = Fx> {
     pub b: [R; 3],
     /// ρ: the surface of this element alone, at level V0, lies ρ / V0 from it.
     pub weight: R,
+    /// 0 for a point or a segment; for an edge of a polygon, the edges
+    /// of that polygon from this one to its last (k, k − 1, …, 1): the
+    /// k consecutive elements from one tagged k are one polygon, whose
+    /// term of V is ρ / (distance to the polygon), with the first edge's ρ.
+    pub polygon: u8,
 }
 
 impl<R: Real> Element<R> {
@@ -37,6 +44,7 @@ impl<R: Real> Element<R> {
             a: [a.x, a.y, a.z],
             b: [b.x, b.y, b.z],
             weight,
+            polygon: 0,
         }
     }
 
@@ -47,6 +55,7 @@ impl<R: Real> Element<R> {
             a: self.a.map(&f),
             b: self.b.map(&f),
             weight: f(self.weight),
+            polygon: self.polygon,
         }
     }
 
@@ -283,8 +292,18 @@ pub fn potential<R: FieldReal>(elements: &[Element<R>], r: &Vector3<R>) -> R {
 pub fn summed_field<R: Real>(elements: &[Element<R>], r: &Vector3<R>) -> (R, Vector3<R>) {
     let mut v = R::Wide::default();
     let mut g = [R::Wide::default(); 3];
-    for e in elements {
-        let (vi, gi) = contribution(e, r);
+    let mut rest = elements;
+    while let Some(e) = rest.first() {
+        // A polygon's edges are one term (a tag beyond the skeleton's end
+        // takes what is left).
+        let (group, next) = rest.split_at(usize::from(e.polygon).clamp(1, rest.len()));
+        rest = next;
+        let nearest = if e.polygon == 0 {
+            e.nearest(r)
+        } else {
+            polygon::nearest(group, r)
+        };
+        let (vi, gi) = contribution(e.weight, r - nearest);
         v = R::widen(v, vi);
         for (gk, gik) in g.iter_mut().zip(gi.iter()) {
             *gk = R::widen(*gk, *gik);
@@ -296,9 +315,9 @@ pub fn summed_field<R: Real>(elements: &[Element<R>], r: &Vector3<R>) -> (R, Vec
     )
 }
 
-/// One element's term of V(r) and of ∇V(r).
-fn contribution<R: Real>(e: &Element<R>, r: &Vector3<R>) -> (R, Vector3<R>) {
-    let p = r - e.nearest(r);
+/// One element's term of V(r) and of ∇V(r), of weight ρ = `weight` and
+/// offset `p` = r − R_i.
+fn contribution<R: Real>(weight: R, p: Vector3<R>) -> (R, Vector3<R>) {
     let d = R::norm(&p);
     let d = if d < min_distance() {
         min_distance()
@@ -307,7 +326,7 @@ fn contribution<R: Real>(e: &Element<R>, r: &Vector3<R>) -> (R, Vector3<R>) {
     };
     // One division per element (the MCU has no 64-bit divider).
     let inverse = R::one().div(d);
-    let vi = e.weight * inverse;
+    let vi = weight * inverse;
     // ∇(ρ/|p|) = −ρ p / |p|³ = −(vi / d) · (p / d)
     let s = vi * inverse;
     (vi, p.map(|pk| -(s * (pk * inverse))))
@@ -387,11 +406,13 @@ fn shared_end(ends: &mut Vec<[i32; 3], SHARED_ENDS>, x: [i32; 3]) -> u8 {
 }
 
 impl PreparedElement {
-    /// The element's integer form, if both ends are within ±8192 units (`NEAR`).
+    /// The element's integer form, if it is a point or a segment (a
+    /// skeleton with polygons is evaluated by [`summed_field`]) and both
+    /// ends are within ±8192 units (`NEAR`).
     fn new(e: &Element<Fx>) -> Option<PreparedElement> {
         let a = e.a.map(Fx::to_bits);
         let b = e.b.map(Fx::to_bits);
-        if (spread(&a) | spread(&b)) >= NEAR {
+        if e.polygon != 0 || (spread(&a) | spread(&b)) >= NEAR {
             return None;
         }
         // Both ends within ±2²⁹: d within ±2³⁰.

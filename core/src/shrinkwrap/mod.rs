@@ -13,6 +13,7 @@
 
 mod field;
 mod mesh;
+mod polygon;
 mod wrap;
 
 pub use field::{
@@ -20,6 +21,7 @@ pub use field::{
     summed_field,
 };
 pub use mesh::{Mesh, VertexId};
+pub use polygon::{MAX_POLYGON_EDGES, POLYGON_TOLERANCE, polygon_edges};
 pub use wrap::{Phase, SPLIT_TOLERANCE, Shrinkwrap, WrapParams, worst_level_error};
 
 #[cfg(test)]
@@ -41,6 +43,23 @@ pub enum ShrinkwrapError {
     Level,
     /// There is nothing to wrap.
     NoSkeleton,
+    /// A polygon element with fewer than 3 vertices, an edge of no
+    /// length, or no area.
+    PolygonDegenerate,
+    /// A polygon element's vertex lies off the plane of the polygon (its
+    /// Newell normal, through the first vertex) by more than the
+    /// tolerance ([`POLYGON_TOLERANCE`]): the farthest such vertex.
+    PolygonNotPlanar {
+        /// The vertex (from 0, in the polygon's order).
+        vertex: u8,
+    },
+    /// A polygon element's vertex lies outside the line of one of its
+    /// edges by more than the tolerance ([`POLYGON_TOLERANCE`]): the
+    /// polygon is not convex (or winds more than once).
+    PolygonNotConvex {
+        /// The vertex (from 0, in the polygon's order).
+        vertex: u8,
+    },
 }
 
 impl core::fmt::Display for ShrinkwrapError {
@@ -57,6 +76,17 @@ impl core::fmt::Display for ShrinkwrapError {
                 f.write_str("the target level V0 and its step ΔV must be positive")
             }
             ShrinkwrapError::NoSkeleton => f.write_str("the skeleton has no elements"),
+            ShrinkwrapError::PolygonDegenerate => {
+                f.write_str("a polygon element needs at least 3 distinct vertices and an area")
+            }
+            ShrinkwrapError::PolygonNotPlanar { vertex } => write!(
+                f,
+                "polygon element: vertex {vertex} lies off the polygon's plane by more than 1/{POLYGON_TOLERANCE} of its size"
+            ),
+            ShrinkwrapError::PolygonNotConvex { vertex } => write!(
+                f,
+                "polygon element is not convex: vertex {vertex} lies outside an edge by more than 1/{POLYGON_TOLERANCE} of its size"
+            ),
         }
     }
 }

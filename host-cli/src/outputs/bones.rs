@@ -1,4 +1,5 @@
-//! Bones (`long-bone`, `long-bone-random`, `bone-growth`): an OBJ and a
+//! Bones (`long-bone`, `long-bone-random`, `bone-growth`, `bone-plate`,
+//! `bone-ossification`): an OBJ and a
 //! shaded PNG per wrapped frame, `model.glb` with every frame,
 //! `animation.png` of the pictures (several frames), `bones.png` with
 //! every frame side by side at one scale, each labelled with its L-system
@@ -35,12 +36,16 @@ const LIBRARY: &str = "bone.mtl";
 type Skeleton = Vec<Element<Fx>>;
 
 /// Splits a bones stream into frames and their skeletons (the segments
-/// since the frame's start, in f64), one record at a time.
+/// since the frame's start, a `Polygon` record tagging the edges that
+/// follow as one polygon element), one record at a time.
 #[derive(Debug, Default)]
 struct Framer {
     frames: body::Framer,
     /// The skeleton of the frame being read, as streamed.
     fixed: Skeleton,
+    /// Edges of the polygon element being read still to come (a
+    /// `Polygon` record of k vertices is followed by its k edges).
+    edges: u8,
 }
 
 impl Framer {
@@ -48,10 +53,20 @@ impl Framer {
     /// (as streamed, and in f64).
     fn push(&mut self, r: &Record) -> Option<(Frame, Skeleton, Vec<Element<f64>>)> {
         match r {
-            Record::FrameStart { .. } => self.fixed.clear(),
+            Record::FrameStart { .. } => {
+                self.fixed.clear();
+                self.edges = 0;
+            }
+            Record::Polygon { vertices, .. } => {
+                self.edges = u8::try_from(*vertices).unwrap_or(u8::MAX);
+            }
             Record::Segment { a, b, width, .. } => {
                 let v = |p: &[Fx; 3]| Vector3::from(*p);
-                self.fixed.push(Element::segment(v(a), v(b), *width));
+                self.fixed.push(Element {
+                    polygon: self.edges,
+                    ..Element::segment(v(a), v(b), *width)
+                });
+                self.edges = self.edges.saturating_sub(1);
             }
             _ => {}
         }
@@ -64,8 +79,7 @@ impl Framer {
 
 /// A skeleton element in f64.
 fn in_f64(e: &Element<Fx>) -> Element<f64> {
-    let v = |p: &[Fx; 3]| Vector3::from(p.map(f64::from_fx));
-    Element::segment(v(&e.a), v(&e.b), f64::from_fx(e.weight))
+    e.convert(f64::from_fx)
 }
 
 /// One iteration of a shrinkwrap run: its level V0, its mesh's vertices
