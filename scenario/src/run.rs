@@ -120,15 +120,18 @@ impl Relax for VecStore {
             .enumerate()
             .for_each(|(chunk, out)| {
                 let first = chunk * RELAX_CHUNK;
-                for (k, m) in out.iter_mut().enumerate() {
-                    let slot = first + k;
+                let mut out = out.iter_mut();
+                snapshot.sweep(first..first + out.len(), |slot, p, d| {
+                    let Some(m) = out.next() else {
+                        return;
+                    };
                     *m = if forces.momentum == 0 {
-                        (snapshot.moved(slot), [0; 2])
+                        (snapshot.moved(p, d), [0; 2])
                     } else {
                         let last = velocity.get(snapshot.cell(slot)).copied();
-                        snapshot.carried(slot, last.unwrap_or([0; 2]))
+                        snapshot.carried(p, d, last.unwrap_or([0; 2]))
                     };
-                }
+                });
             });
         for (slot, (p, v)) in moved.iter().enumerate() {
             let i = snapshot.cell(slot);

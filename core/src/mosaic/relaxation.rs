@@ -14,6 +14,8 @@
 //! moves, so the order of the loops does not matter and integer sums make
 //! the result exact on every machine.
 
+use core::ops::Range;
+
 use super::control::Field;
 use super::domain::Domain;
 use super::grid::Grid;
@@ -165,11 +167,10 @@ impl Snapshot<'_> {
         self.order[slot] as usize
     }
 
-    /// The new position of the cell in grid slot `slot`: its old one
-    /// moved by the pushes of its neighbours within the radius.
+    /// The new position of a cell at `p` displaced by `d` by its
+    /// neighbours' pushes ([`Snapshot::sweep`]).
     #[must_use]
-    pub fn moved(&self, slot: usize) -> [i32; 2] {
-        let (p, d) = self.displaced(slot);
+    pub fn moved(&self, p: [i32; 2], d: [i32; 2]) -> [i32; 2] {
         let domain = self.forces.domain;
         [
             domain.confine(0, i64::from(p[0]) + i64::from(d[0])),
@@ -177,12 +178,11 @@ impl Snapshot<'_> {
         ]
     }
 
-    /// With momentum ([`Forces::momentum`]), the new position of the cell
-    /// in grid slot `slot` and the move it made: its old position moved by
-    /// the pushes of its neighbours and β times its `last` move, within ±r.
+    /// With momentum ([`Forces::momentum`]), the new position of a cell at
+    /// `p` displaced by `d` ([`Snapshot::sweep`]) and the move it made: `d`
+    /// and β times its `last` move, within ±r.
     #[must_use]
-    pub fn carried(&self, slot: usize, last: [i32; 2]) -> ([i32; 2], [i32; 2]) {
-        let (p, d) = self.displaced(slot);
+    pub fn carried(&self, p: [i32; 2], d: [i32; 2], last: [i32; 2]) -> ([i32; 2], [i32; 2]) {
         let (domain, beta) = (self.forces.domain, i64::from(self.forces.momentum));
         let r = i64::from(self.forces.radius);
         let mut to = [0; 2];
@@ -198,20 +198,30 @@ impl Snapshot<'_> {
         (to, step)
     }
 
-    /// The old position of the cell in grid slot `slot` and its
-    /// displacement by its neighbours' pushes. Inlined into both steps on a
-    /// computer; one copy on an MCU, where the neighbour scan is 2 KB of
-    /// flash and a call per cell costs little.
-    #[cfg_attr(target_pointer_width = "64", inline(always))]
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    fn displaced(&self, slot: usize) -> ([i32; 2], [i32; 2]) {
-        let sum = if self.shifted {
-            self.pushes::<true>(slot)
+    /// Calls `each(slot, p, d)` for the grid slots `slots` in order, with
+    /// the old position p of the slot's cell and its displacement d by the
+    /// pushes of its neighbours within the radius.
+    pub fn sweep(&self, slots: Range<usize>, mut each: impl FnMut(usize, [i32; 2], [i32; 2])) {
+        if self.shifted {
+            self.sweep_cells::<true>(slots, &mut each);
         } else {
-            self.pushes::<false>(slot)
-        };
-        let p = self.sorted[slot];
-        (p, self.forces.displacement(sum, p))
+            self.sweep_cells::<false>(slots, &mut each);
+        }
+    }
+
+    /// [`Snapshot::sweep`] with [`Snapshot::pushes`].
+    #[inline(always)]
+    fn sweep_cells<const SHIFTED: bool>(
+        &self,
+        slots: Range<usize>,
+        each: &mut impl FnMut(usize, [i32; 2], [i32; 2]),
+    ) {
+        let end = slots.end.min(self.sorted.len());
+        for slot in slots.start..end {
+            let p = self.sorted[slot];
+            let sum = self.pushes::<SHIFTED>(slot, p);
+            each(slot, p, self.forces.displacement(sum, p));
+        }
     }
 
     /// The sum of the pushes on the cell in grid slot `slot`; `SHIFTED`:
@@ -219,11 +229,8 @@ impl Snapshot<'_> {
     /// [`Domain::delta`](super::domain::Domain::delta). A row's run of
     /// bins is one slice of the sorted positions ([`Snapshot::run_pushes`]).
     #[inline(always)]
-    fn pushes<const SHIFTED: bool>(&self, slot: usize) -> [i64; 2] {
+    fn pushes<const SHIFTED: bool>(&self, slot: usize, p: [i32; 2]) -> [i64; 2] {
         let mut sum = [0i64; 2];
-        let Some(&p) = self.sorted.get(slot) else {
-            return sum;
-        };
         let (grid, bins, forces) = (self.grid, self.bins, self.forces);
         let size = forces.domain.size.map(|s| s.to_bits());
         let r = forces.radius;
@@ -396,21 +403,20 @@ pub fn snapshot<'s>(
 /// One relaxation step over the first `n` cells, one cell after another.
 pub fn relax(cells: &mut CellSlices<'_>, n: usize, grid: &Grid, forces: &Forces<'_>) {
     let (snapshot, moves) = snapshot(cells, n, grid, forces);
-    if forces.momentum == 0 {
-        for slot in 0..snapshot.len() {
-            moves.pos[snapshot.cell(slot)] = snapshot.moved(slot);
-        }
-        return;
-    }
-    for slot in 0..snapshot.len() {
+    // One closure for both cases: one copy of the sweep on an MCU.
+    snapshot.sweep(0..snapshot.len(), |slot, p, d| {
         let i = snapshot.cell(slot);
+        if forces.momentum == 0 {
+            moves.pos[i] = snapshot.moved(p, d);
+            return;
+        }
         let last = moves.velocity.get(i).copied().unwrap_or([0; 2]);
-        let (p, step) = snapshot.carried(slot, last);
-        moves.pos[i] = p;
+        let (to, step) = snapshot.carried(p, d, last);
+        moves.pos[i] = to;
         if let Some(v) = moves.velocity.get_mut(i) {
             *v = step;
         }
-    }
+    });
 }
 
 /// How a cell store runs a relaxation step: one cell after another (the
