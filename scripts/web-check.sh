@@ -16,8 +16,9 @@ export MORPHOGEN_RELEASE_BIN="$morphogen"
 
 if [[ ! -x /usr/bin/chromium ]]; then
     echo "==> web: installing Debian's Chromium"
-    apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium
+    as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
+    as_root apt-get update -qq
+    as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium
 fi
 
 bash scripts/web-build.sh

@@ -168,9 +168,16 @@ function download(name, blob) {
   setTimeout(() => URL.revokeObjectURL(a.href), 1000);
 }
 
-// A dropped or chosen file: a scenario (TOML, its files inline) or an
-// L-system grammar (.lsys), wrapped into a scenario.
+// A dropped or chosen file: a scenario (TOML, its files inline), an
+// L-system grammar (.lsys), wrapped into a scenario, or a mask (.pbm) for
+// the mosaic shown, set inline as `morphogen run --mask` does.
 async function openFile(file) {
+  if (file.name.endsWith(".pbm")) {
+    if (!state.info || !state.info.model.endsWith("mosaic")) throw new Error("a mask is for a mosaic: pick one first");
+    const { value } = await engine.request({ op: "mask", bytes: new Uint8Array(await file.arrayBuffer()) });
+    state.sets.set("mosaic.mask", value);
+    return run();
+  }
   const text = await file.text();
   if (file.name.endsWith(".lsys")) {
     const name = file.name.replace(/\.lsys$/, "").toLowerCase().replace(/[^a-z0-9._-]/g, "-").slice(0, 32) || "grammar";

@@ -1,7 +1,7 @@
 // The page's worker: loads the WebAssembly module (web/wasm) and runs
 // scenarios off the main thread, posting progress, frames and the result.
 // Stopping a run is terminating this worker (main.js starts a new one).
-import init, { presets, Scenario } from "./pkg/morphogen_web.js";
+import init, { maskValue, presets, Scenario } from "./pkg/morphogen_web.js";
 
 const ready = init();
 
@@ -46,6 +46,10 @@ self.onmessage = async (event) => {
     await ready;
     if (msg.op === "presets") {
       postMessage({ id, type: "done", presets: JSON.parse(presets()) });
+      return;
+    }
+    if (msg.op === "mask") {
+      postMessage({ id, type: "done", value: maskValue(msg.bytes) });
       return;
     }
     const s = load(msg);

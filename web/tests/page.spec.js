@@ -96,6 +96,25 @@ test("a parameter changed on the page re-runs and changes the digest", async ({ 
   expect(readFileSync(await stream.path()).length).toBeGreaterThan(0);
 });
 
+test("a scenario, a grammar and a mask opened as files run", async ({ page }) => {
+  await open(page, "croton-mcu");
+  const croton = summary("croton-mcu").digest;
+  await expect(page.locator("#digest")).toHaveText(croton);
+  // A mask for the mosaic shown: its left half only.
+  await page.setInputFiles("#file", { name: "half.pbm", mimeType: "image/x-portable-bitmap", buffer: Buffer.from("P1\n4 2\n0 0 1 1\n0 0 1 1\n") });
+  await expect(page.locator("#digest")).not.toHaveText(croton);
+  await expect(page.locator("#digest")).toHaveText(/^[0-9a-f]{16}$/);
+  // A scenario file: the preset's own gives its fixture.
+  await page.setInputFiles("#file", `${root}scenarios/ram-horn.toml`);
+  await expect(page.locator("#digest")).toHaveText(summary("ram-horn").digest);
+  await expect(page.locator("#summary")).toContainText("ram horn");
+  // A grammar on its own.
+  await page.setInputFiles("#file", `${root}grammars/abop-2d-plant.lsys`);
+  await expect(page.locator("#digest")).not.toHaveText(summary("ram-horn").digest);
+  await expect(page.locator("#digest")).toHaveText(/^[0-9a-f]{16}$/);
+  await expect(page.locator("#status")).not.toHaveClass(/error/);
+});
+
 test("a long run shows progress and frames, and Stop ends it", async ({ page }) => {
   await open(page);
   await page.selectOption("#preset", "croton-ageing");

@@ -154,6 +154,17 @@ pub fn controls(s: &Loaded) -> Vec<Control> {
         .collect()
 }
 
+/// The value of `mosaic.mask` (a `--set`) for the mask file `bytes`
+/// ([`morphogen_scenario::mask::set_value`]; PBM only, the scenario crate's
+/// `png` feature is left out here).
+///
+/// # Errors
+/// Not a PBM, or one past the mask's limits.
+#[wasm_bindgen(js_name = maskValue)]
+pub fn mask_value(bytes: &[u8]) -> Result<String, JsError> {
+    morphogen_scenario::mask::set_value(bytes).map_err(js_error)
+}
+
 /// A finished run: its digest, frames and every byte of its stream.
 #[wasm_bindgen]
 #[derive(Debug)]
@@ -253,8 +264,9 @@ impl Live<'_> {
     }
 }
 
-/// Runs `s` with `seed` through [`morphogen_scenario::run::run`], showing
-/// frames as [`Live`] does and reporting progress to `progress`.
+/// Runs `s` with `seed` through [`morphogen_scenario::run::run`]: each
+/// frame that ends when `due` says so goes to `shown` as a [`Frame`] (and
+/// the last one always), progress to `progress`.
 ///
 /// # Errors
 /// The core's error, or the stream's cap.
@@ -752,6 +764,23 @@ mod tests {
                 .expect("runs")
                 .digest
         );
+    }
+
+    #[test]
+    fn a_mask_file_changes_a_mosaic() {
+        let croton = morphogen_scenario::builtin("croton-mcu").expect("preset");
+        let pbm = b"P1\n4 2\n1 1 0 0\n1 1 0 0\n";
+        let value = morphogen_scenario::mask::set_value(pbm).expect("a PBM");
+        assert!(value.starts_with("{ text = "), "{value}");
+        let masked = croton
+            .clone_with_sets(&[("mosaic.mask".into(), value)])
+            .expect("a mask in range");
+        let digest = |s: &Loaded| {
+            run(s, 1, &mut || false, &mut |_| {}, &mut |_| {})
+                .expect("runs")
+                .digest
+        };
+        assert_ne!(digest(&masked), digest(&croton));
     }
 
     #[test]
