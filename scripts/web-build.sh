@@ -34,7 +34,8 @@ if [[ "$(wasm-bindgen --version 2>/dev/null)" != "wasm-bindgen $version" ]]; the
 fi
 
 step "building the WebAssembly module (release)"
-cargo build --release -p morphogen-web --target "$target"
+# Without the workspace's release debug info: wasm-bindgen drops it anyway.
+CARGO_PROFILE_RELEASE_DEBUG=0 cargo build --release -p morphogen-web --target "$target"
 target_dir="${CARGO_TARGET_DIR:-target}"
 wasm="$target_dir/$target/release/morphogen_web.wasm"
 

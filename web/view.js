@@ -29,7 +29,8 @@ export class View {
     this.renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(window.devicePixelRatio || 1);
     this.scene = new THREE.Scene();
-    this.scene.background = new THREE.Color(0xf7f5f0);
+    // Not white: white cells (amanita's spots) must show.
+    this.scene.background = new THREE.Color(0xd5dbe1);
     this.camera = new THREE.PerspectiveCamera(40, 1, 0.01, 1e6);
     this.scene.add(this.camera);
     this.scene.add(new THREE.HemisphereLight(0xffffff, 0x888877, 1.6));
@@ -106,7 +107,7 @@ export class View {
       // About one cell spacing: the points' area (or surface) over their count.
       const area = flat ? size.x * size.y : 2 * (size.x * size.y + size.y * size.z + size.z * size.x);
       const spacing = Math.sqrt(area / (f.points.length / 3)) || 1;
-      const m = new THREE.PointsMaterial({ vertexColors: true, size: spacing * 1.1, sizeAttenuation: true });
+      const m = new THREE.PointsMaterial({ vertexColors: true, size: spacing * (flat ? 1.1 : 1.6), sizeAttenuation: true });
       this.group.add(new THREE.Points(g, m));
     }
     this.fit();
