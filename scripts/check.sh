@@ -74,6 +74,9 @@ echo "all $(ls "$shown" | wc -l) scenario files reproduce their fixtures"
 step "fuzz smoke: every reader's libFuzzer target for 20 s (docs/robustness.md)"
 bash scripts/fuzz.sh 20
 
+step "the web page: every preset in Chromium through WebAssembly, bit-exact (Playwright)"
+MORPHOGEN_RELEASE_BIN="$morphogen" bash scripts/web-check.sh
+
 step "firmware in QEMU, bit-exact against the fixtures"
 MORPHOGEN_VERIFY="$morphogen verify --stream" MORPHOGEN_BLESS="$morphogen bless" \
   MORPHOGEN_LISTEN="$morphogen listen" MORPHOGEN_SEND="$morphogen send" bash scripts/firmware-check.sh

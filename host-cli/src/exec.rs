@@ -126,16 +126,9 @@ pub fn with_mask(scenario: &Scenario, file: &Path) -> Result<Scenario> {
     }
     let bytes = morphogen_scenario::read_limited(file)
         .map_err(|e| anyhow!("cannot read mask {}: {e}", file.display()))?;
-    let (width, height, bits) = morphogen_scenario::mask::read(&bytes)
+    let value = morphogen_scenario::mask::set_value(&bytes)
         .map_err(|e| anyhow!("mask {}: {e}", file.display()))?;
-    let pbm = morphogen_scenario::mask::to_pbm(&morphogen::mosaic::Mask {
-        width,
-        height,
-        bits: &bits,
-    });
-    let mut inline = toml_edit::InlineTable::new();
-    inline.insert("text", pbm.into());
-    Ok(scenario.clone_with_sets(&[("mosaic.mask".into(), inline.to_string())])?)
+    Ok(scenario.clone_with_sets(&[("mosaic.mask".into(), value)])?)
 }
 
 /// Parses `KEY=VALUE`.

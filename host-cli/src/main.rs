@@ -9,8 +9,8 @@ use clap::{Parser, Subcommand};
 use morphogen_cli::outputs::{Kind, Kinds};
 use morphogen_cli::stdout::StdoutError;
 use morphogen_cli::{
-    Outcome, atomic, body_input, capture, exec, fixture, jsonl, listen, outputs, say, send, sweep,
-    verify,
+    Outcome, atomic, body_input, capture, exec, fixture, jsonl, listen, outputs, say, send, serve,
+    sweep, verify,
 };
 use morphogen_scenario::Scenario;
 
@@ -166,6 +166,10 @@ enum Command {
     /// over a serial port, or into a file: the firmware runs it and
     /// streams and draws the result, without being reflashed.
     Send(send::Args),
+    /// Serve the web page (built by `bash scripts/web-build.sh` into
+    /// web/dist) on http://127.0.0.1:8000/: every preset and your scenario
+    /// files run in the browser, bit-exact (docs/web.md).
+    Serve(serve::Args),
     /// Decode a stream file into JSON Lines (the same as `records.jsonl`).
     Decode {
         /// The stream file.
@@ -370,6 +374,7 @@ fn dispatch(command: Command) -> Result<Outcome> {
         Command::Sweep(args) => sweep::run(&args),
         Command::Listen(args) => listen::run(&args),
         Command::Send(args) => send::run(&args),
+        Command::Serve(args) => serve::run(&args),
         Command::Decode { file, out } => decode(&file, out.as_deref()),
     }
 }

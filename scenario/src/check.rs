@@ -386,6 +386,7 @@ pub fn check(file: &File, files: &dyn Files) -> Result<Checked> {
 
 /// A percentage as a ratio in 16.16.
 fn percent(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
+    crate::value::note(key, v, lo, hi, false);
     if !v.is_finite() || v < lo || v > hi {
         return invalid(
             key,
@@ -398,6 +399,7 @@ fn percent(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
 /// Degrees as a binary angle: whole degrees exactly as the core's
 /// `Angle::from_degrees`, others rounded to the nearest unit.
 fn degrees(key: &str, v: f64) -> Result<Angle> {
+    crate::value::note(key, v, -3600.0, 3600.0, false);
     if !v.is_finite() || v.abs() > 3600.0 {
         return invalid(
             key,

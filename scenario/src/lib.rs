@@ -36,6 +36,7 @@ use std::path::{Path, PathBuf};
 use morphogen::preset::Preset;
 
 pub use check::{BodyShape, Checked, Files, Invalid, UserBody};
+pub use value::Range;
 
 /// The embedded files: `scenarios/*.toml`, `scenarios/masks/*`,
 /// `grammars/*`.
@@ -313,6 +314,15 @@ impl Scenario {
         let mut all = self.sets.clone();
         all.extend_from_slice(sets);
         Scenario::parse(&self.origin, &self.text, self.base.clone(), &all)
+    }
+
+    /// Every number of the scenario with the range its check allows, in
+    /// the order checked (`docs/scenarios.md` gives the same ranges): the
+    /// keys a `--set` or a control may change, with their bounds.
+    #[must_use]
+    pub fn ranges(&self) -> Vec<Range> {
+        let files = self.base.files();
+        value::ranges(|| check::check(&self.file, files.as_ref())).1
     }
 
     /// Whether this is a built-in preset exactly as shipped (no `--set`).

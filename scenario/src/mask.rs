@@ -202,6 +202,27 @@ fn read_pbm(bytes: &[u8]) -> Result<(u16, u16, Vec<u8>), String> {
     Ok((width, height, bits))
 }
 
+/// The value of `mosaic.mask` (a `--set`) that puts the mask file `bytes`
+/// into a scenario: its plain PBM inline (`{ text = "P1 …" }`), so the
+/// scenario stays self-contained (`morphogen run --mask`, the web page).
+///
+/// # Errors
+/// As [`read`].
+pub fn set_value(bytes: &[u8]) -> Result<String, String> {
+    let (width, height, bits) = read(bytes)?;
+    let mut inline = toml_edit::InlineTable::new();
+    inline.insert(
+        "text",
+        to_pbm(&Mask {
+            width,
+            height,
+            bits: &bits,
+        })
+        .into(),
+    );
+    Ok(inline.to_string())
+}
+
 /// A mask as a plain PBM (P1): PBM's 1 is black, i.e. *not* allowed.
 #[must_use]
 pub fn to_pbm(mask: &Mask<'_>) -> String {

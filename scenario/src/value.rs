@@ -1,6 +1,8 @@
 //! Checked values: a number within its range, or an [`Invalid`] naming
 //! the dotted key it came from and what is allowed.
 
+use std::cell::RefCell;
+
 use morphogen::fx::Fx;
 
 /// A value that is not allowed, with the dotted key it came from.
@@ -26,6 +28,7 @@ pub(crate) fn invalid<T>(key: impl Into<String>, message: impl Into<String>) -> 
 /// A real number as 16.16 fixed point, rounded to nearest, within
 /// `lo..=hi`.
 pub(crate) fn fx(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
+    note(key, v, lo, hi, false);
     if !v.is_finite() || v < lo || v > hi {
         return invalid(key, format!("{v} is out of range (allowed: {lo} to {hi})"));
     }
@@ -35,8 +38,55 @@ pub(crate) fn fx(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
 
 /// A whole number within `lo..=hi`.
 pub(crate) fn int<T: TryFrom<i64>>(key: &str, v: i64, lo: i64, hi: i64) -> Result<T> {
+    #[allow(clippy::cast_precision_loss)] // a control's bounds, not a value
+    note(key, v as f64, lo as f64, hi as f64, true);
     if v < lo || v > hi {
         return invalid(key, format!("{v} is out of range (allowed: {lo} to {hi})"));
     }
     T::try_from(v).or_else(|_| invalid(key, format!("{v} is out of range")))
+}
+
+/// A number the check read, with the range it allows: what a control for
+/// it (the web page's sliders) may offer.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Range {
+    /// The dotted key (`horn.modules[0].bend`).
+    pub key: String,
+    /// The value the scenario gives (or its default).
+    pub value: f64,
+    /// The lowest value allowed.
+    pub lo: f64,
+    /// The highest value allowed.
+    pub hi: f64,
+    /// Whether only whole numbers are allowed.
+    pub whole: bool,
+}
+
+thread_local! {
+    /// The ranges [`ranges`] collects on this thread, while it does.
+    static NOTED: RefCell<Option<Vec<Range>>> = const { RefCell::new(None) };
+}
+
+/// Notes a checked number and its range, when [`ranges`] collects them.
+pub(crate) fn note(key: &str, value: f64, lo: f64, hi: f64, whole: bool) {
+    NOTED.with_borrow_mut(|noted| {
+        if let Some(noted) = noted {
+            noted.push(Range {
+                key: key.to_string(),
+                value,
+                lo,
+                hi,
+                whole,
+            });
+        }
+    });
+}
+
+/// Runs `check`, returning its result and every number it checked with
+/// its range, in the order checked.
+pub(crate) fn ranges<R>(check: impl FnOnce() -> R) -> (R, Vec<Range>) {
+    NOTED.with_borrow_mut(|noted| *noted = Some(Vec::new()));
+    let result = check();
+    let noted = NOTED.with_borrow_mut(Option::take).unwrap_or_default();
+    (result, noted)
 }

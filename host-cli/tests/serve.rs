@@ -1,0 +1,95 @@
+//! `morphogen serve`: the page's files over HTTP with their MIME types, and
+//! a clear error when the page is not built.
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::process::{Command, Stdio};
+
+/// The status line, headers and body of `GET path` on 127.0.0.1:`port`.
+fn get(port: u16, path: &str) -> (String, Vec<u8>) {
+    let mut s = TcpStream::connect(("127.0.0.1", port)).expect("connect");
+    write!(
+        s,
+        "GET {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n"
+    )
+    .expect("request");
+    let mut all = Vec::new();
+    s.read_to_end(&mut all).expect("response");
+    let split = all
+        .windows(4)
+        .position(|w| w == b"\r\n\r\n")
+        .expect("headers end");
+    (
+        String::from_utf8_lossy(&all[..split]).to_lowercase(),
+        all[split + 4..].to_vec(),
+    )
+}
+
+#[test]
+fn serves_the_page_with_mime_types() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::create_dir(dir.path().join("pkg")).expect("pkg");
+    std::fs::write(dir.path().join("index.html"), "<!doctype html>page").expect("index");
+    let wasm = b"\0asm\x01\0\0\0";
+    std::fs::write(dir.path().join("pkg/m_bg.wasm"), wasm).expect("wasm");
+    std::fs::write(dir.path().join("main.js"), "export {};").expect("js");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_morphogen"))
+        .args(["serve", "--port", "0", "--dir"])
+        .arg(dir.path())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("morphogen serve starts");
+    let mut line = String::new();
+    BufReader::new(child.stderr.take().expect("stderr"))
+        .read_line(&mut line)
+        .expect("the address line");
+    let port: u16 = line
+        .split("http://127.0.0.1:")
+        .nth(1)
+        .and_then(|rest| rest.split('/').next())
+        .and_then(|p| p.parse().ok())
+        .unwrap_or_else(|| panic!("no port in {line:?}"));
+    let (head, body) = get(port, "/");
+    assert!(head.starts_with("http/1.1 200"), "{head}");
+    assert!(head.contains("content-type: text/html"), "{head}");
+    assert_eq!(body, b"<!doctype html>page");
+    let (head, body) = get(port, "/pkg/m_bg.wasm");
+    assert!(head.contains("content-type: application/wasm"), "{head}");
+    assert_eq!(body, wasm);
+    let (head, _) = get(port, "/main.js?v=1");
+    assert!(
+        head.contains("content-type: text/javascript")
+            || head.contains("content-type: application/javascript"),
+        "{head}"
+    );
+    let (head, _) = get(port, "/nothing.js");
+    assert!(head.starts_with("http/1.1 404"), "{head}");
+    let (head, _) = get(port, "/../Cargo.toml");
+    assert!(head.starts_with("http/1.1 404"), "{head}");
+    child.kill().expect("stop the server");
+    child.wait().expect("reaped");
+}
+
+#[test]
+fn a_missing_page_says_how_to_build_it() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = Command::new(env!("CARGO_BIN_EXE_morphogen"))
+        .args(["serve", "--dir"])
+        .arg(dir.path().join("dist"))
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("run bash scripts/web-build.sh first"), "{err}");
+}
+
+#[test]
+fn help_names_the_port_and_the_folder() {
+    let out = Command::new(env!("CARGO_BIN_EXE_morphogen"))
+        .args(["serve", "--help"])
+        .output()
+        .expect("runs");
+    let help = String::from_utf8_lossy(&out.stdout);
+    assert!(help.contains("--port") && help.contains("--dir"), "{help}");
+    assert!(help.contains("web/dist") && help.contains("8000"), "{help}");
+}

@@ -1,0 +1,39 @@
+// End-to-end tests of the page (docs/web.md): Debian's Chromium, headless,
+// against the page served by the release `morphogen serve` (built once by
+// scripts/check.sh, passed as MORPHOGEN_RELEASE_BIN).
+import { defineConfig } from "@playwright/test";
+
+const port = Number(process.env.MORPHOGEN_WEB_PORT || 8123);
+const morphogen = process.env.MORPHOGEN_RELEASE_BIN || "../target/release/morphogen";
+
+export default defineConfig({
+  testDir: "tests",
+  // One browser at a time: the machine's cores run the simulations.
+  workers: 1,
+  timeout: 10 * 60 * 1000,
+  reporter: [["list"]],
+  use: {
+    baseURL: `http://127.0.0.1:${port}/`,
+    viewport: { width: 1200, height: 800 },
+    launchOptions: {
+      executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
+      // As root, no sandbox; no GPU (WebGL in software); and none of
+      // Chromium's own connections, which this machine's network refuses.
+      args: [
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+      ],
+    },
+  },
+  webServer: {
+    command: `${morphogen} serve --port ${port} --dir dist`,
+    url: `http://127.0.0.1:${port}/`,
+    reuseExistingServer: false,
+    timeout: 30 * 1000,
+  },
+});

@@ -1,0 +1,160 @@
+// The page in a real browser: it loads, every preset's digest is its
+// fixture's, a parameter change re-runs, every kind of model draws.
+import { test, expect } from "@playwright/test";
+import { readFileSync, readdirSync } from "node:fs";
+import { fileURLToPath } from "node:url";
+
+const root = fileURLToPath(new URL("../../", import.meta.url));
+
+// A fixture's summary.toml fields (flat `key = value` lines).
+function summary(name) {
+  const text = readFileSync(`${root}fixtures/${name}/summary.toml`, "utf8");
+  const field = (k) => text.match(new RegExp(`^${k} = "?([^"\\n]*)"?$`, "m"))?.[1];
+  return { seed: field("seed"), digest: field("stream_digest"), frames: Number(field("frames")), bytes: Number(field("bytes")) };
+}
+
+async function open(page, preset = "ram-horn") {
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(e.message));
+  await page.goto(`?preset=${preset}`);
+  await page.waitForFunction(() => document.body.dataset.ready === "yes", null, { timeout: 120000 });
+  return errors;
+}
+
+// The pixel variance of a screenshot of the drawing, decoded in the page.
+async function variance(page) {
+  const png = (await page.locator("#view").screenshot()).toString("base64");
+  return page.evaluate(async (b64) => {
+    const img = new Image();
+    img.src = `data:image/png;base64,${b64}`;
+    await img.decode();
+    const c = new OffscreenCanvas(img.width, img.height);
+    const g = c.getContext("2d");
+    g.drawImage(img, 0, 0);
+    const d = g.getImageData(0, 0, img.width, img.height).data;
+    let sum = 0, sq = 0;
+    const n = d.length / 4;
+    for (let i = 0; i < d.length; i += 4) {
+      const v = (d[i] + d[i + 1] + d[i + 2]) / 3;
+      sum += v;
+      sq += v * v;
+    }
+    return sq / n - (sum / n) ** 2;
+  }, png);
+}
+
+test("the page loads, runs its first preset and shows the fixture's digest", async ({ page }) => {
+  const errors = await open(page);
+  await expect(page.locator("#digest")).toHaveText(summary("ram-horn").digest);
+  const presets = await page.evaluate(() => window.morphogen.presets());
+  expect(presets.map((p) => p.name).sort()).toEqual(readdirSync(`${root}scenarios`).filter((f) => f.endsWith(".toml")).map((f) => f.replace(/\.toml$/, "")).sort());
+  expect(errors).toEqual([]);
+});
+
+test("every built-in preset's digest is its fixture's", async ({ page }) => {
+  await open(page);
+  const presets = await page.evaluate(() => window.morphogen.presets());
+  expect(presets.length).toBeGreaterThan(0);
+  const wrong = [];
+  for (const p of presets) {
+    const want = summary(p.name);
+    const got = await page.evaluate(([n, s]) => window.morphogen.digest(n, s), [p.name, want.seed]);
+    if (got !== want.digest) wrong.push(`${p.name}: ${got}, fixture ${want.digest}`);
+  }
+  expect(wrong).toEqual([]);
+});
+
+test("runScenario runs a scenario file's text with its own seed", async ({ page }) => {
+  await open(page);
+  for (const name of ["ram-horn", "croton-mcu"]) {
+    const toml = readFileSync(`${root}scenarios/${name}.toml`, "utf8");
+    const got = await page.evaluate((t) => window.morphogen.runScenario(t), toml);
+    const want = summary(name);
+    expect(got).toEqual({ digest: want.digest, frames: want.frames, bytes: want.bytes });
+  }
+  await expect(page.evaluate(() => window.morphogen.runScenario("name = 'x'\n[horn]\nyears = 99\n"))).rejects.toThrow(/horn/);
+});
+
+test("a parameter changed on the page re-runs and changes the digest", async ({ page }) => {
+  await open(page, "ram-horn");
+  const before = summary("ram-horn").digest;
+  await expect(page.locator("#digest")).toHaveText(before);
+  const years = page.locator('input[type=number][data-key="horn.years"]');
+  await years.fill("3");
+  await years.dispatchEvent("change");
+  await expect(page.locator("#digest")).not.toHaveText(before);
+  await expect(page.locator("#digest")).toHaveText(/^[0-9a-f]{16}$/);
+  const after = await page.locator("#digest").textContent();
+  // The exported scenario carries the change: run from its text, it gives
+  // the page's digest again.
+  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#export-toml")]);
+  const toml = readFileSync(await download.path(), "utf8");
+  expect(toml).toMatch(/years = 3/);
+  expect((await page.evaluate((t) => window.morphogen.runScenario(t), toml)).digest).toEqual(after);
+  // And the exported stream is the run's bytes.
+  const [stream] = await Promise.all([page.waitForEvent("download"), page.click("#export-stream")]);
+  expect(readFileSync(await stream.path()).length).toBeGreaterThan(0);
+});
+
+test("a scenario, a grammar and a mask opened as files run", async ({ page }) => {
+  await open(page, "croton-mcu");
+  const croton = summary("croton-mcu").digest;
+  await expect(page.locator("#digest")).toHaveText(croton);
+  // A mask for the mosaic shown: its left half only.
+  await page.setInputFiles("#file", { name: "half.pbm", mimeType: "image/x-portable-bitmap", buffer: Buffer.from("P1\n4 2\n0 0 1 1\n0 0 1 1\n") });
+  await expect(page.locator("#digest")).not.toHaveText(croton);
+  await expect(page.locator("#digest")).toHaveText(/^[0-9a-f]{16}$/);
+  // A scenario file: the preset's own gives its fixture.
+  await page.setInputFiles("#file", `${root}scenarios/ram-horn.toml`);
+  await expect(page.locator("#digest")).toHaveText(summary("ram-horn").digest);
+  await expect(page.locator("#summary")).toContainText("ram horn");
+  // A grammar on its own.
+  await page.setInputFiles("#file", `${root}grammars/abop-2d-plant.lsys`);
+  await expect(page.locator("#digest")).not.toHaveText(summary("ram-horn").digest);
+  await expect(page.locator("#digest")).toHaveText(/^[0-9a-f]{16}$/);
+  await expect(page.locator("#status")).not.toHaveClass(/error/);
+});
+
+test("a long run shows progress and frames, and Stop ends it", async ({ page }) => {
+  await open(page);
+  await page.selectOption("#preset", "croton-ageing");
+  await expect(page.locator("#frame")).toHaveText(/^frame \d+/);
+  await expect.poll(() => page.locator("#progress").evaluate((p) => p.value), { timeout: 60000 }).toBeGreaterThan(0);
+  await page.click("#stop");
+  await expect(page.locator("body")).toHaveAttribute("data-state", "stopped");
+  await expect(page.locator("#stop")).toBeDisabled();
+  // The page goes on working after a stop.
+  expect(await page.evaluate(() => window.morphogen.digest("ram-horn", 0))).toEqual(summary("ram-horn").digest);
+});
+
+test("a screenshot of each kind of model is not blank", async ({ page }) => {
+  await open(page);
+  const presets = await page.evaluate(() => window.morphogen.presets());
+  const kinds = new Map();
+  for (const p of presets) if (!kinds.has(p.model) && (p.mcu || p.model === "surface-mosaic")) kinds.set(p.model, p.name);
+  expect([...kinds.keys()].sort()).toEqual(["body", "bones", "curve", "horn", "lsystem", "mosaic", "surface-mosaic"]);
+  for (const [kind, name] of kinds) {
+    await page.selectOption("#preset", name);
+    await expect(page.locator("body")).toHaveAttribute("data-state", "done", { timeout: 300000 });
+    await expect(page.locator("#digest")).toHaveText(summary(name).digest);
+    const v = await variance(page);
+    await page.locator("#view").screenshot({ path: `test-results/${kind}-${name}.png` });
+    expect(v, `${kind} (${name}) pixel variance`).toBeGreaterThan(20);
+  }
+});
+
+test("the MCU presets' run times in the browser", async ({ page }) => {
+  await open(page);
+  const presets = (await page.evaluate(() => window.morphogen.presets())).filter((p) => p.mcu);
+  const rows = [];
+  for (const p of presets) {
+    const seed = summary(p.name).seed;
+    // The best of three runs in the worker (the first warms up).
+    let best = Infinity;
+    for (let i = 0; i < 3; i++) best = Math.min(best, await page.evaluate(([n, s]) => window.morphogen.time(n, s), [p.name, seed]));
+    rows.push([p.name, best]);
+  }
+  console.log(rows.map(([n, ms]) => `${n.padEnd(24)} ${ms.toFixed(0).padStart(6)} ms`).join("\n"));
+  console.log(`MCU presets: ${rows.length}, slowest ${Math.max(...rows.map((r) => r[1])).toFixed(0)} ms`);
+  expect(rows.length).toBeGreaterThan(0);
+});
