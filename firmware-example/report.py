@@ -29,6 +29,18 @@ def kib(n):
     return f"{n:,} B ({n / 1024:.1f} KiB)"
 
 
+def preset_runs(name):
+    """The text of WORKDIR/NAME.log ("" if absent) and its `report preset=` lines."""
+    try:
+        text = open(f"{work}/{name}.log", encoding="utf-8", errors="replace").read()
+    except OSError:
+        text = ""
+    runs = [m.groupdict() for m in re.finditer(
+        r"report preset=(?P<name>\S+) seed=(?P<seed>\d+) frames=(?P<frames>\d+) "
+        r"bytes=(?P<bytes>\d+) digest=(?P<digest>[0-9a-f]+) systicks=(?P<ticks>\d+)", text)]
+    return text, runs
+
+
 def version(cmd):
     try:
         return subprocess.run(cmd, check=True, capture_output=True, text=True).stdout.splitlines()[0].strip()
@@ -174,13 +186,7 @@ w(f"The firmware runs every built-in scenario (`scenarios/*.toml`) that fits the
   f"presets by `build.rs`; the big mosaics are host only:\n"
   f"{len(main['presets'])} presets here, none skipped (an error fails the run).\n\n")
 fw_names = [p["name"] for p in main["presets"]]
-try:
-    surface_log = open(f"{work}/surface.log", encoding="utf-8", errors="replace").read()
-except OSError:
-    surface_log = ""
-runs_surface = [m.groupdict() for m in re.finditer(
-    r"report preset=(?P<name>\S+) seed=(?P<seed>\d+) frames=(?P<frames>\d+) "
-    r"bytes=(?P<bytes>\d+) digest=(?P<digest>[0-9a-f]+) systicks=(?P<ticks>\d+)", surface_log)]
+surface_log, runs_surface = preset_runs("surface")
 surface_names = [p["name"] for p in runs_surface]
 host = []
 why = {}
@@ -213,13 +219,7 @@ else:
     if not reduced and not host_only:
         w("None: every host preset runs on the firmware at full size.\n")
 
-try:
-    user = open(f"{work}/user.log", encoding="utf-8", errors="replace").read()
-except OSError:
-    user = ""
-runs_user = [m.groupdict() for m in re.finditer(
-    r"report preset=(?P<name>\S+) seed=(?P<seed>\d+) frames=(?P<frames>\d+) "
-    r"bytes=(?P<bytes>\d+) digest=(?P<digest>[0-9a-f]+) systicks=(?P<ticks>\d+)", user)]
+_, runs_user = preset_runs("user")
 if runs_user:
     w("\n## A user scenario\n\n"
       "The script also builds the firmware (thumbv7m) with `MORPHOGEN_SCENARIOS` naming a\n"
