@@ -11,14 +11,15 @@
 //! All of it is generic over [`crate::fx::Real`]: the `f64` instance is
 //! the reference the fixed-point one is measured against.
 
+mod element;
 mod field;
 mod mesh;
 mod polygon;
 mod wrap;
 
+pub use element::Element;
 pub use field::{
-    Element, FieldReal, PREPARED_ELEMENTS, PreparedElement, SkeletonField, field, potential,
-    summed_field,
+    FieldReal, PREPARED_ELEMENTS, PreparedElement, SkeletonField, field, potential, summed_field,
 };
 pub use mesh::{Mesh, VertexId};
 pub use polygon::{MAX_POLYGON_EDGES, POLYGON_TOLERANCE, polygon_edges};

@@ -11,7 +11,7 @@
 use nalgebra::Vector3;
 
 use super::ShrinkwrapError;
-use super::field::Element;
+use super::element::Element;
 use crate::Error;
 use crate::fx::Real;
 

@@ -25,7 +25,8 @@ use crate::Error;
 use crate::fx::{Fx, Real};
 
 use super::ShrinkwrapError;
-use super::field::{Element, FieldReal, PREPARED_ELEMENTS, PreparedElement, SkeletonField};
+use super::element::Element;
+use super::field::{FieldReal, PREPARED_ELEMENTS, PreparedElement, SkeletonField};
 use super::mesh::{Mesh, VertexId};
 
 /// The shrinkwrap parameters of a run.
