@@ -169,10 +169,10 @@ function download(name, blob) {
 }
 
 // A dropped or chosen file: a scenario (TOML, its files inline), an
-// L-system grammar (.lsys), wrapped into a scenario, or a mask (.pbm) for
+// L-system grammar (.lsys), wrapped into a scenario, or a mask (.pbm, .png) for
 // the mosaic shown, set inline as `morphogen run --mask` does.
 async function openFile(file) {
-  if (file.name.endsWith(".pbm")) {
+  if (file.name.endsWith(".pbm") || file.name.endsWith(".png")) {
     if (!state.info || !state.info.model.endsWith("mosaic")) throw new Error("a mask is for a mosaic: pick one first");
     const { value } = await engine.request({ op: "mask", bytes: new Uint8Array(await file.arrayBuffer()) });
     state.sets.set("mosaic.mask", value);

@@ -96,7 +96,7 @@ test("a parameter changed on the page re-runs and changes the digest", async ({ 
   expect(readFileSync(await stream.path()).length).toBeGreaterThan(0);
 });
 
-test("a scenario, a grammar and a mask opened as files run", async ({ page }) => {
+test("a scenario, a grammar and PBM and PNG masks opened as files run", async ({ page }) => {
   await open(page, "croton-mcu");
   const croton = summary("croton-mcu").digest;
   await expect(page.locator("#digest")).toHaveText(croton);
@@ -104,6 +104,13 @@ test("a scenario, a grammar and a mask opened as files run", async ({ page }) =>
   await page.setInputFiles("#file", { name: "half.pbm", mimeType: "image/x-portable-bitmap", buffer: Buffer.from("P1\n4 2\n0 0 1 1\n0 0 1 1\n") });
   await expect(page.locator("#digest")).not.toHaveText(croton);
   await expect(page.locator("#digest")).toHaveText(/^[0-9a-f]{16}$/);
+  const half = await page.locator("#digest").textContent();
+  // A PNG mask (white allows): the watermelon picture of docs/mosaics.
+  await page.setInputFiles("#file", `${root}docs/mosaics/watermelon-mcu.png`);
+  await expect(page.locator("#digest")).not.toHaveText(half);
+  await expect(page.locator("#digest")).not.toHaveText(croton);
+  await expect(page.locator("#digest")).toHaveText(/^[0-9a-f]{16}$/);
+  await expect(page.locator("#status")).not.toHaveClass(/error/);
   // A scenario file: the preset's own gives its fixture.
   await page.setInputFiles("#file", `${root}scenarios/ram-horn.toml`);
   await expect(page.locator("#digest")).toHaveText(summary("ram-horn").digest);

@@ -155,11 +155,10 @@ pub fn controls(s: &Loaded) -> Vec<Control> {
 }
 
 /// The value of `mosaic.mask` (a `--set`) for the mask file `bytes`
-/// ([`morphogen_scenario::mask::set_value`]; PBM only, the scenario crate's
-/// `png` feature is left out here).
+/// ([`morphogen_scenario::mask::set_value`]: a PBM or a PNG).
 ///
 /// # Errors
-/// Not a PBM, or one past the mask's limits.
+/// Neither a PBM nor a PNG, or one past the mask's limits.
 #[wasm_bindgen(js_name = maskValue)]
 pub fn mask_value(bytes: &[u8]) -> Result<String, JsError> {
     morphogen_scenario::mask::set_value(bytes).map_err(js_error)
