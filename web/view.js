@@ -88,8 +88,17 @@ export class View {
       g.setAttribute("position", new THREE.BufferAttribute(f.triangles, 3));
       g.setAttribute("color", perVertex(f.triangleColours, 3, (c) => (c === 0 && !this.plant ? MESH : this.index(c))));
       g.computeVertexNormals();
-      const m = new THREE.MeshStandardMaterial({ vertexColors: true, side: THREE.DoubleSide, roughness: 0.7 });
-      this.group.add(new THREE.Mesh(g, m));
+      const mesh = new THREE.Mesh(g, new THREE.MeshStandardMaterial({ vertexColors: true, side: THREE.DoubleSide, roughness: 0.7 }));
+      if (f.points.length > 0) {
+        // Under a surface mosaic's cells (points on its faces) the mesh is
+        // drawn 3 % smaller about its centre, so that its facets do not
+        // cut the cells.
+        g.computeBoundingBox();
+        const centre = g.boundingBox.getCenter(new THREE.Vector3());
+        mesh.scale.setScalar(0.97);
+        mesh.position.copy(centre.multiplyScalar(0.03));
+      }
+      this.group.add(mesh);
     }
     if (lines.length > 0) {
       const g = new THREE.BufferGeometry();

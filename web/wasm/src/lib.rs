@@ -208,6 +208,10 @@ struct Live<'a> {
     records: Vec<Record>,
     /// The last whole frame, when it was not shown.
     unshown: Option<((u32, Fx), Vec<Record>)>,
+    /// The mesh (vertices and triangles) of the last frame that had one: a
+    /// surface mosaic streams it once, in its first frame, and it is drawn
+    /// under the cells of every later frame.
+    mesh: Vec<Record>,
     due: &'a mut dyn FnMut() -> bool,
     shown: &'a mut dyn FnMut(Frame),
 }
@@ -225,11 +229,12 @@ impl Sink for Live<'_> {
                 self.records.clear();
             }
             Record::FrameEnd { .. } => {
+                let records = self.with_mesh();
                 if (self.due)() {
                     self.unshown = None;
-                    (self.shown)(geometry(self.start.0, self.start.1, &self.records));
+                    (self.shown)(geometry(self.start.0, self.start.1, &records));
                 } else {
-                    self.unshown = Some((self.start, mem::take(&mut self.records)));
+                    self.unshown = Some((self.start, records));
                 }
             }
             Record::Header(_) | Record::Extent { .. } => {}
@@ -240,6 +245,24 @@ impl Sink for Live<'_> {
 }
 
 impl Live<'_> {
+    /// The frame's records, after the last mesh when the frame has surface
+    /// cells but no mesh of its own (a surface mosaic's later days).
+    fn with_mesh(&mut self) -> Vec<Record> {
+        let records = mem::take(&mut self.records);
+        let is_mesh = |r: &Record| matches!(r, Record::MeshVertex { .. } | Record::Triangle { .. });
+        if records.iter().any(is_mesh) {
+            self.mesh = records.iter().filter(|r| is_mesh(r)).cloned().collect();
+            records
+        } else if records
+            .iter()
+            .any(|r| matches!(r, Record::SurfaceCell { .. }))
+        {
+            self.mesh.iter().cloned().chain(records).collect()
+        } else {
+            records
+        }
+    }
+
     /// Shows the last frame if it was not, and gives the run's result.
     fn finish(self, ran: Result<(), morphogen::Error>) -> Result<RunResult, String> {
         match ran {
@@ -282,6 +305,7 @@ pub fn run(
         start: (0, Fx::ZERO),
         records: Vec::new(),
         unshown: None,
+        mesh: Vec::new(),
         due,
         shown,
     };
