@@ -50,17 +50,17 @@ PY
 ratio() { python3 -c "print(f'{$1 / $2:.2f}')"; }
 
 # ---- flash ------------------------------------------------------------------
-# The stream-only build (every MCU preset streamed; no `oled`, no `serve`)
-# is the goal's figure, the default build (which also draws and serves)
-# beside it.
+# The stream-only build for size (every MCU preset streamed; no `extent`,
+# `oled` or `serve`; profile `small`, opt-level "z") is the goal's figure,
+# the default build (profile `release`; it also draws and serves) beside it.
 say "flash: firmware, thumbv7m-none-eabi"
-elf="${CARGO_TARGET_DIR:-$root/firmware-example/target}/thumbv7m-none-eabi/release/morphogen-firmware"
-flash_of() { llvm-size -A "$elf" | awk '$1 ~ /^\.(vector_table|text|rodata|data)$/ {s += $2} END {print s}'; }
-(cd firmware-example && env -u MORPHOGEN_SCENARIOS cargo build --release --target thumbv7m-none-eabi \
+fw_target="${CARGO_TARGET_DIR:-$root/firmware-example/target}/thumbv7m-none-eabi"
+flash_of() { llvm-size -A "$1" | awk '$1 ~ /^\.(vector_table|text|rodata|data)$/ {s += $2} END {print s}'; }
+(cd firmware-example && env -u MORPHOGEN_SCENARIOS cargo build --profile small --target thumbv7m-none-eabi \
   --no-default-features --features semihosting)
-flash="$(flash_of)"
+flash="$(flash_of "$fw_target/small/morphogen-firmware")"
 (cd firmware-example && env -u MORPHOGEN_SCENARIOS cargo build --release --target thumbv7m-none-eabi)
-flash_full="$(flash_of)"
+flash_full="$(flash_of "$fw_target/release/morphogen-firmware")"
 
 # ---- outputs ----------------------------------------------------------------
 # CPU for every preset; instructions (callgrind) for those whose simulation
@@ -112,7 +112,7 @@ cat <<EOF2
 
 | figure | now | goal |
 |---|---|---|
-| flash, thumbv7m, all MCU presets | $flash B ($(python3 -c "print(f'{$flash / 1024:.1f}')") KiB) streamed; $flash_full B with \`oled\` and \`serve\` | < 96 KB |
+| flash, thumbv7m, all MCU presets | $flash B ($(python3 -c "print(f'{$flash / 1024:.1f}')") KiB) streamed (profile \`small\`); $flash_full B with \`oled\` and \`serve\` (profile \`release\`) | < 96 KiB |
 | \`run\` ÷ \`verify\` CPU, every preset | $(summary "$ratios") | ≤ 1.3× |
 | \`run\` ÷ \`verify\` instructions, presets simulating in < 0.1 s | $(summary "$work/ratios-ir.md") | ≤ 1.3× |
 | peak RSS, \`run --grammar\` shrub n = 10 | $rss10 MB ($rss) | < 24 MB, flat in n |
