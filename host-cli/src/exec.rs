@@ -131,15 +131,53 @@ pub fn with_mask(scenario: &Scenario, file: &Path) -> Result<Scenario> {
     Ok(scenario.clone_with_sets(&[("mosaic.mask".into(), value)])?)
 }
 
-/// Parses `KEY=VALUE`.
+/// `scenario` with its skeleton or L-system grammar replaced by the grammar
+/// file `file` (read here, then set inline).
 ///
 /// # Errors
-/// When there is no `=`.
+/// When `scenario` has no grammar, or the file cannot be read or checked.
+pub fn with_grammar(scenario: &Scenario, file: &Path) -> Result<Scenario> {
+    let key = match scenario.checked() {
+        morphogen_scenario::Checked::LSystem(_) => "lsystem.grammar",
+        morphogen_scenario::Checked::Bones { .. } => "bones.grammar",
+        _ => anyhow::bail!(
+            "--grammar with a preset needs an L-system or a bone preset, and '{}' is neither \
+             (or give no preset to run the grammar on its own)",
+            scenario.name()
+        ),
+    };
+    let value = read_included(key, &file.display().to_string())?;
+    scenario
+        .clone_with_sets(&[(key.into(), value)])
+        .map_err(|e| anyhow!("{} with --grammar: {}", scenario.name(), e.message))
+}
+
+/// Parses `KEY=VALUE`. A file named on the command line (`--set
+/// bones.grammar=my.lsys`, any of [`morphogen_scenario::INCLUDES`]) is
+/// relative to the current folder, as every path given to a command is,
+/// and is read here and set inline; one named in a scenario file is
+/// relative to that file.
+///
+/// # Errors
+/// When there is no `=`, or a named file cannot be read.
 pub fn parse_set(text: &str) -> Result<(String, String)> {
     let (key, value) = text
         .split_once('=')
         .ok_or_else(|| anyhow!("--set {text}: give KEY=VALUE (e.g. mosaic.days=20)"))?;
-    Ok((key.trim().to_string(), value.trim().to_string()))
+    let (key, value) = (key.trim(), value.trim());
+    if morphogen_scenario::INCLUDES.contains(&key) && !value.starts_with('{') {
+        let value = read_included(key, value.trim_matches('"'))
+            .map_err(|e| anyhow!("--set {text}: {e}"))?;
+        return Ok((key.to_string(), value));
+    }
+    Ok((key.to_string(), value.to_string()))
+}
+
+/// The inline value of the file at `path` for the include `key`.
+fn read_included(key: &str, path: &str) -> Result<String> {
+    let bytes = morphogen_scenario::read_limited(Path::new(path))
+        .map_err(|e| anyhow!("cannot read {path}: {e}"))?;
+    morphogen_scenario::inline_value(key, path, bytes).map_err(|e| anyhow!("{path}: {e}"))
 }
 
 /// Runs `scenario` with `seed` into memory; shows a progress bar once the

@@ -44,16 +44,19 @@ enum Command {
     /// JSON Lines and the model's own files (PNG, OBJ, CSV).
     Run {
         /// A preset's name (see `morphogen list`) or a scenario file
-        /// (`*.toml`); omit it with --grammar.
+        /// (`*.toml`); may be omitted with --grammar.
         #[arg(required_unless_present = "grammar")]
         target: Option<String>,
         /// Change a parameter: a dotted key of the scenario file and a value
         /// (`--set mosaic.days=20`, `--set horn.modules[0].bend=80`);
-        /// repeatable.
+        /// repeatable. A file (`--set bones.grammar=my.lsys`) is relative
+        /// to the current folder.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
-        /// Run an L-system grammar file instead of a preset (format:
-        /// docs/lsystems.md); writes plant.png, plant.obj, segments.csv.
+        /// An L-system grammar file (format: docs/lsystems.md). Alone, it
+        /// runs as a plant (plant.png, plant.obj, segments.csv); with an
+        /// L-system or bone preset or scenario, it replaces that one's
+        /// grammar (a bone preset wraps your skeleton).
         #[arg(long, value_name = "FILE")]
         grammar: Option<PathBuf>,
         /// The seed (default: the scenario's own, the one fixtures use).
@@ -268,6 +271,7 @@ fn dispatch(command: Command) -> Result<Outcome> {
         }
         Command::Run {
             target,
+            sets: set_args,
             grammar: Some(file),
             seed,
             out,
@@ -275,8 +279,13 @@ fn dispatch(command: Command) -> Result<Outcome> {
             only,
             quiet,
             ..
-        } => match target.as_deref() {
-            None | Some("custom") => run_grammar(
+        } if target.as_deref().is_none_or(|t| t == "custom") => {
+            if let Some(set) = set_args.first() {
+                bail!(
+                    "--set {set}: a grammar run on its own has no scenario to change (name a preset or a scenario file, whose grammar --grammar then replaces)"
+                );
+            }
+            run_grammar(
                 &file,
                 seed,
                 out,
@@ -285,15 +294,12 @@ fn dispatch(command: Command) -> Result<Outcome> {
                     kinds: only.unwrap_or(Kinds::ALL),
                     quiet,
                 },
-            ),
-            Some(other) => bail!(
-                "--grammar runs a grammar file: give no preset name (got '{other}'), or `custom`"
-            ),
-        },
+            )
+        }
         Command::Run {
             target: Some(target),
             sets: set_args,
-            grammar: None,
+            grammar,
             seed,
             out,
             mesh,
@@ -312,6 +318,18 @@ fn dispatch(command: Command) -> Result<Outcome> {
             let scenario = match &mask {
                 Some(file) => exec::with_mask(&scenario, file)?,
                 None => scenario,
+            };
+            let (scenario, out) = match &grammar {
+                Some(file) => {
+                    let stem = file
+                        .file_stem()
+                        .map_or_else(|| "grammar".into(), |s| s.to_string_lossy().into_owned());
+                    let out = out.unwrap_or_else(|| {
+                        Path::new("out").join(format!("{}-{stem}", scenario.name()))
+                    });
+                    (exec::with_grammar(&scenario, file)?, Some(out))
+                }
+                None => (scenario, out),
             };
             match (mesh, cylinders) {
                 (Some(mesh), Some(cylinders)) => {

@@ -287,6 +287,141 @@ fn a_user_body_runs_from_its_files_and_their_mistakes_are_named() {
     );
 }
 
+/// A user's skeleton (issue 18): `--grammar` with a bone preset wraps it
+/// with the preset's shrinkwrap, as a scenario file naming it does; a
+/// `--set` names files relative to the current folder, even on a built-in;
+/// mistakes are named by the grammar file.
+#[test]
+fn a_user_skeleton_is_wrapped_by_a_bone_preset() {
+    let tmp = tempfile::tempdir().unwrap();
+    let grammars = Path::new(env!("CARGO_MANIFEST_DIR")).join("../grammars");
+    std::fs::copy(
+        examples().join("wishbone.lsys"),
+        tmp.path().join("wishbone.lsys"),
+    )
+    .unwrap();
+    let stream = |out: &str| std::fs::read(tmp.path().join(out).join("stream.bin")).unwrap();
+    let ok = |args: &[&str]| {
+        let o = morphogen(args, tmp.path());
+        assert!(
+            o.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    };
+    ok(&[
+        "run",
+        "long-bone",
+        "--grammar",
+        "wishbone.lsys",
+        "--out",
+        "a",
+        "-q",
+    ]);
+    ok(&[
+        "run",
+        "long-bone",
+        "--set",
+        "bones.grammar=wishbone.lsys",
+        "--out",
+        "b",
+        "-q",
+    ]);
+    let scenario = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/long-bone.toml"),
+    )
+    .unwrap()
+    .replace("\"../grammars/long-bone.lsys\"", "\"wishbone.lsys\"");
+    std::fs::write(tmp.path().join("wishbone.toml"), scenario).unwrap();
+    ok(&["run", "wishbone.toml", "--out", "c", "-q"]);
+    assert_eq!(stream("a"), stream("b"));
+    assert_eq!(stream("a"), stream("c"));
+    let long_bone = std::fs::read(fixtures().join("long-bone/stream.bin")).unwrap();
+    assert_ne!(stream("a"), long_bone);
+    // The skeleton is the wishbone's: 8 steps, and 15 elements (two arms
+    // of 6 segments, the keel and two knobs).
+    let summary = std::fs::read_to_string(tmp.path().join("a/summary.txt")).unwrap();
+    assert!(
+        summary
+            .lines()
+            .any(|l| l.split_whitespace().take(3).eq(["0", "8", "15"])),
+        "{summary}"
+    );
+    // An absolute path on a built-in reads that file: long-bone's own
+    // grammar gives long-bone's fixture.
+    let own = grammars.join("long-bone.lsys");
+    ok(&[
+        "run",
+        "long-bone",
+        "--set",
+        &format!("bones.grammar={}", own.display()),
+        "--out",
+        "d",
+        "-q",
+    ]);
+    assert_eq!(stream("d"), long_bone);
+    ok(&[
+        "run",
+        "long-bone",
+        "--grammar",
+        own.to_str().unwrap(),
+        "--out",
+        "e",
+        "-q",
+    ]);
+    assert_eq!(stream("e"), long_bone);
+    // Mistakes name the grammar file, its line and column.
+    let error = |text: &str, args: &[&str]| {
+        std::fs::write(tmp.path().join("bad.lsys"), text).unwrap();
+        let o = morphogen(args, tmp.path());
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        String::from_utf8_lossy(&o.stderr).trim().to_string()
+    };
+    let unclosed = "n = 3\naxiom: F(1)\nF(l) -> F(l * 1.1\n";
+    assert_eq!(
+        error(unclosed, &["run", "long-bone", "--grammar", "bad.lsys"]),
+        "error: long-bone with --grammar: bad.lsys:3:18: expected `,` or `)`"
+    );
+    assert_eq!(
+        error(
+            unclosed,
+            &["run", "long-bone", "--set", "bones.grammar=bad.lsys"]
+        ),
+        "error: --set bones.grammar=bad.lsys: bones.grammar: bad.lsys:3:18: expected `,` or `)`"
+    );
+    assert_eq!(
+        error(
+            "n = 1\naxiom: F(1)\ninterpretation:\nF(l) -> F(l) O(0.2)\n",
+            &["run", "long-bone", "--grammar", "bad.lsys"]
+        ),
+        "error: long-bone with --grammar: bad.lsys: `interpretation:` rules change only a plant's \
+         drawing; a skeleton is the derived string itself, so a bone grammar cannot have them"
+    );
+    assert_eq!(
+        error(unclosed, &["run", "ram-horn", "--grammar", "bad.lsys"]),
+        "error: --grammar with a preset needs an L-system or a bone preset, and 'ram-horn' is \
+         neither (or give no preset to run the grammar on its own)"
+    );
+    assert_eq!(
+        error(
+            unclosed,
+            &["run", "long-bone", "--set", "bones.grammar=missing.lsys"]
+        ),
+        "error: --set bones.grammar=missing.lsys: cannot read missing.lsys: No such file or directory (os error 2)"
+    );
+    // An L-system preset takes a grammar the same way, with its settings.
+    ok(&[
+        "run",
+        "abop-shrub",
+        "--grammar",
+        "wishbone.lsys",
+        "--out",
+        "f",
+        "-q",
+    ]);
+    assert!(tmp.path().join("f/plant.png").exists());
+}
+
 #[test]
 fn sweeps_do_not_depend_on_threads_or_shards() {
     let tmp = tempfile::tempdir().unwrap();

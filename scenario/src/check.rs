@@ -418,7 +418,7 @@ fn degrees(key: &str, v: f64) -> Result<Angle> {
 
 fn text(include: &Include, key: &str, files: &dyn Files) -> Result<String> {
     match include {
-        Include::Inline { text } => Ok(text.clone()),
+        Include::Inline { text, .. } => Ok(text.clone()),
         Include::Path(path) => {
             let bytes = files
                 .read(path)
@@ -431,16 +431,41 @@ fn text(include: &Include, key: &str, files: &dyn Files) -> Result<String> {
 /// A grammar's text, parsed once here so that a mistake in it is named by
 /// its own file, line and column.
 fn grammar(include: &Include, key: &str, files: &dyn Files) -> Result<String> {
+    parsed_grammar(include, key, files).map(|(text, _)| text)
+}
+
+/// [`grammar`], with the parsed grammar.
+fn parsed_grammar(
+    include: &Include,
+    key: &str,
+    files: &dyn Files,
+) -> Result<(String, Box<morphogen::lsys::Grammar>)> {
     let text = text(include, key, files)?;
     let mut grammar = Box::new(morphogen::lsys::Grammar::new());
     if let Err(e) = grammar.parse(&text) {
-        let file = match include {
-            Include::Path(path) => path.as_str(),
-            Include::Inline { .. } => "grammar",
-        };
-        return invalid(key, format!("{file}:{}:{}: {}", e.line, e.column, e.kind));
+        return invalid(
+            key,
+            format!(
+                "{}:{}:{}: {}",
+                include_name(include),
+                e.line,
+                e.column,
+                e.kind
+            ),
+        );
     }
-    Ok(text)
+    Ok((text, grammar))
+}
+
+/// The file an include names, or "grammar" for unnamed inline text.
+fn include_name(include: &Include) -> &str {
+    match include {
+        Include::Path(path)
+        | Include::Inline {
+            name: Some(path), ..
+        } => path.as_str(),
+        Include::Inline { name: None, .. } => "grammar",
+    }
 }
 
 // ---------------------------------------------------------------- models
@@ -690,7 +715,7 @@ fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
                 Include::Path(path) => files
                     .read(path)
                     .or_else(|e| invalid("mosaic.mask", format!("cannot read {path}: {e}")))?,
-                Include::Inline { text } => text.clone().into_bytes(),
+                Include::Inline { text, .. } => text.clone().into_bytes(),
             };
             Some(mask::read(&bytes).or_else(|e| invalid("mosaic.mask", e))?)
         }
@@ -764,7 +789,7 @@ fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
             Include::Path(path) => files
                 .read(path)
                 .or_else(|e| invalid("mosaic.surface.file", format!("cannot read {path}: {e}"))),
-            Include::Inline { text } => Ok(text.clone().into_bytes()),
+            Include::Inline { text, .. } => Ok(text.clone().into_bytes()),
         })?),
     };
     Ok(Checked::Mosaic {
@@ -990,8 +1015,11 @@ fn user_body(
     files: &dyn Files,
 ) -> Result<UserBody> {
     let name = |include: &Include, inline: &str| match include {
-        Include::Path(path) => path.clone(),
-        Include::Inline { .. } => inline.to_string(),
+        Include::Path(path)
+        | Include::Inline {
+            name: Some(path), ..
+        } => path.clone(),
+        Include::Inline { name: None, .. } => inline.to_string(),
     };
     let (mesh_name, cylinders_name) = (name(mesh, "mesh"), name(cylinders, "cylinders"));
     let file = body_files::parse_cylinders(
@@ -1071,7 +1099,17 @@ fn cylinder_of(e: &morphogen::Error) -> Option<Label> {
 }
 
 fn bones(b: &schema::Bones, files: &dyn Files) -> Result<Checked> {
-    let grammar = grammar(&b.grammar, "bones.grammar", files)?;
+    let (grammar, parsed) = parsed_grammar(&b.grammar, "bones.grammar", files)?;
+    if parsed.has_interpretation() {
+        return invalid(
+            "bones.grammar",
+            format!(
+                "{}: `interpretation:` rules change only a plant's drawing; a skeleton is the \
+                 derived string itself, so a bone grammar cannot have them",
+                include_name(&b.grammar)
+            ),
+        );
+    }
     let frames = match &b.frames {
         BoneFrames::Keyword(k) if k == "final" => BoneFramesCore::Final,
         BoneFrames::Keyword(k) => {

@@ -263,7 +263,7 @@ impl Scenario {
             .map_err(|e: toml_edit::TomlError| err(Place::File, "", e.message().to_string()))?;
         for (key, value) in sets {
             set(&mut doc, key, value)
-                .map_err(|m| err(Place::Set(format!("{key}={value}")), key, m))?;
+                .map_err(|m| err(Place::Set(shown_set(key, value)), key, m))?;
         }
         let edited = doc.to_string();
         // A bad value is located at the `--set` that gave it (the last one
@@ -278,7 +278,7 @@ impl Scenario {
             |key: &str, k: &str| key == k || nested(k, key) || (!key.is_empty() && nested(key, k));
         let locate = |key: &str| -> Place {
             if let Some((k, v)) = sets.iter().rev().find(|(k, _)| set_for(key, k)) {
-                return Place::Set(format!("{k}={v}"));
+                return Place::Set(shown_set(k, v));
             }
             match span_of(&original, key) {
                 Some(at) => Place::Line(line_of(text, at)),
@@ -408,14 +408,7 @@ impl Scenario {
             let _ = set(&mut doc, key, value); // applied once already
         }
         let files = self.base.files();
-        let included = [
-            "lsystem.grammar",
-            "bones.grammar",
-            "mosaic.mask",
-            "body.mesh",
-            "body.cylinders",
-        ];
-        for key in included {
+        for key in INCLUDES {
             let (table, field) = key.split_once('.').unwrap_or(("", key));
             let Some(item) = doc.get_mut(table).and_then(|t| t.get_mut(field)) else {
                 continue;
@@ -436,12 +429,54 @@ impl Scenario {
                 }
                 _ => String::from_utf8_lossy(&bytes).into_owned(),
             };
-            let mut inline = toml_edit::InlineTable::new();
-            inline.insert("text", text.into());
-            *item = toml_edit::value(inline);
+            *item = toml_edit::value(inline_text(text));
         }
         doc.to_string()
     }
+}
+
+/// The keys whose value names a file (relative to the scenario file) or
+/// holds it inline as `{ text = "…" }`.
+pub const INCLUDES: [&str; 5] = [
+    "lsystem.grammar",
+    "bones.grammar",
+    "mosaic.mask",
+    "body.mesh",
+    "body.cylinders",
+];
+
+/// The `--set` value that holds the file `bytes`, read from `name`, inline
+/// for the include `key` (one of [`INCLUDES`]): a mask is read and written
+/// as a plain PBM, any other file must be UTF-8 text; messages about it
+/// name `name`.
+///
+/// # Errors
+/// A mask that cannot be read, or text that is not UTF-8 (with its line
+/// and column).
+pub fn inline_value(key: &str, name: &str, bytes: Vec<u8>) -> Result<String, String> {
+    if key == "mosaic.mask" {
+        return mask::set_value(&bytes);
+    }
+    let mut inline = inline_text(utf8(bytes)?);
+    inline.insert("name", name.into());
+    Ok(inline.to_string())
+}
+
+/// How a `--set` is shown in a message: a file set inline by its name.
+fn shown_set(key: &str, value: &str) -> String {
+    let name = value.parse::<toml_edit::Value>().ok().and_then(|v| {
+        v.as_inline_table()
+            .and_then(|t| t.get("name"))
+            .and_then(|n| n.as_str().map(str::to_string))
+    });
+    format!("{key}={}", name.as_deref().unwrap_or(value))
+}
+
+/// `{ text = "…" }`: a named file's contents in place of its path.
+pub(crate) fn inline_text(text: String) -> toml_edit::InlineTable {
+    let mut inline = toml_edit::InlineTable::new();
+    inline.insert("text", text.into());
+    inline
 }
 
 /// What the user sees for a serde error at `key`: unknown keys get a

@@ -210,17 +210,12 @@ fn read_pbm(bytes: &[u8]) -> Result<(u16, u16, Vec<u8>), String> {
 /// As [`read`].
 pub fn set_value(bytes: &[u8]) -> Result<String, String> {
     let (width, height, bits) = read(bytes)?;
-    let mut inline = toml_edit::InlineTable::new();
-    inline.insert(
-        "text",
-        to_pbm(&Mask {
-            width,
-            height,
-            bits: &bits,
-        })
-        .into(),
-    );
-    Ok(inline.to_string())
+    let pbm = to_pbm(&Mask {
+        width,
+        height,
+        bits: &bits,
+    });
+    Ok(crate::inline_text(pbm).to_string())
 }
 
 /// A mask as a plain PBM (P1): PBM's 1 is black, i.e. *not* allowed.

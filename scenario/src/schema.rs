@@ -41,6 +41,10 @@ pub enum Include {
     Inline {
         /// The text.
         text: String,
+        /// Where the text came from, to name it in messages (`--set
+        /// KEY=FILE` and `--grammar FILE` set it).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        name: Option<String>,
     },
 }
 
