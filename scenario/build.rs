@@ -1,5 +1,5 @@
 //! Embeds the built-in scenarios (`scenarios/*.toml`) and the files they
-//! name (grammars, masks) so that the host needs no files at run time.
+//! name (grammars, masks, body meshes and cylinders) so that the host needs no files at run time.
 
 use std::env;
 use std::fmt::Write as _;
@@ -13,7 +13,12 @@ fn main() {
         .expect("the workspace root exists");
     let mut out = String::from("/// Repository-relative path and bytes of every embedded file.\n");
     out.push_str("pub static FILES: &[(&str, &[u8])] = &[\n");
-    for dir in ["scenarios", "scenarios/masks", "grammars"] {
+    for dir in [
+        "scenarios",
+        "scenarios/masks",
+        "scenarios/bodies",
+        "grammars",
+    ] {
         println!("cargo:rerun-if-changed={}", root.join(dir).display());
         let mut names: Vec<PathBuf> = fs::read_dir(root.join(dir))
             .map(|entries| entries.filter_map(|e| e.ok().map(|e| e.path())).collect())

@@ -253,7 +253,13 @@ fn dispatch(command: Command) -> Result<Outcome> {
                         "  (host only: its skeleton grammar needs buffered derivation; the MCU streams)"
                             .to_owned()
                     }
-                    _ => String::new(),
+                    _ => match morphogen_scenario::firmware::on_own_mesh(s) {
+                        Some(bytes) => format!(
+                            "  (on the MCU only when named by MORPHOGEN_SCENARIOS: its own mesh takes {} KB of flash)",
+                            bytes.div_ceil(1000)
+                        ),
+                        None => String::new(),
+                    },
                 });
                 say!(
                     "{:width$}  seed {:<4} {}{note}",

@@ -7,7 +7,8 @@
 //! - By default: every built-in scenario (`scenarios/*.toml`) that fits
 //!   the MCU ([`morphogen::preset::Model::fits_mcu`]), in `morphogen list`
 //!   order; mosaics on a surface only for a firmware whose runner runs
-//!   them (the core's feature `surface-runner`).
+//!   them (the core's feature `surface-runner`); no body on its own mesh
+//!   ([`on_own_mesh`]: its vertices and triangles would be in flash).
 //! - With `MORPHOGEN_SCENARIOS=a.toml,b.toml`: exactly those files, in that
 //!   order. Relative paths are taken from the directory `cargo` was started
 //!   in (the shell's `$PWD`; a build script runs in its package directory).
@@ -55,7 +56,11 @@ pub fn write_presets(surfaces: bool) -> Result<(), String> {
     let scenarios = match env::var_os(VAR) {
         None => crate::builtins()
             .into_iter()
-            .filter(|s| s.with_preset(|p| p.model.fits_mcu()) && (surfaces || !on_surface(s)))
+            .filter(|s| {
+                s.with_preset(|p| p.model.fits_mcu())
+                    && (surfaces || !on_surface(s))
+                    && on_own_mesh(s).is_none()
+            })
             .collect(),
         Some(list) => user_scenarios(
             list.to_str().ok_or(format!("{VAR} is not UTF-8"))?,
@@ -173,6 +178,24 @@ fn without_comments(text: &str) -> String {
     lines.join("\n")
 }
 
+/// For a body grown on its own mesh (a built-in preset such as
+/// `horse-with-cow-growth`, or a user's), the flash its mesh takes in a
+/// firmware, in bytes (12 a vertex, 12 a triangle); such a preset is built
+/// in only when named by [`VAR`].
+#[must_use]
+pub fn on_own_mesh(scenario: &Scenario) -> Option<usize> {
+    scenario.with_preset(|p| match p.model {
+        Model::Body(b) => match b.model.mesh {
+            morphogen::body::Mesh::Indexed {
+                vertices,
+                triangles,
+            } => Some(size_of_val(vertices) + size_of_val(triangles)),
+            morphogen::body::Mesh::Tubes(_) => None,
+        },
+        _ => None,
+    })
+}
+
 /// Whether `scenario` is a mosaic on a surface.
 fn on_surface(scenario: &Scenario) -> bool {
     scenario.with_preset(|p| matches!(p.model, Model::Mosaic(m) if m.surface.is_some()))
@@ -198,13 +221,15 @@ fn user_scenarios(list: &str, surfaces: bool) -> Result<Vec<Scenario>, String> {
         let path = resolve(given)?;
         println!("cargo:rerun-if-changed={}", path.display());
         let scenario = Scenario::load(&path, &[]).map_err(|e| format!("{VAR}: {e}"))?;
-        // The grammar and mask files it names, relative to its folder.
+        // The files it names, relative to its folder.
         let file = scenario.file();
         let folder = path.parent().unwrap_or(Path::new("."));
         let includes = [
             file.lsystem.as_ref().map(|l| &l.grammar),
             file.bones.as_ref().map(|b| &b.grammar),
             file.mosaic.as_ref().and_then(|m| m.mask.as_ref()),
+            file.body.as_ref().and_then(|b| b.mesh.as_ref()),
+            file.body.as_ref().and_then(|b| b.cylinders.as_ref()),
         ];
         for include in includes.into_iter().flatten() {
             if let Include::Path(named) = include {
