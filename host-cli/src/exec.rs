@@ -161,16 +161,33 @@ pub fn with_grammar(scenario: &Scenario, file: &Path) -> Result<Scenario> {
 /// # Errors
 /// When there is no `=`, or a named file cannot be read.
 pub fn parse_set(text: &str) -> Result<(String, String)> {
+    let (key, value) = split_set(text)?;
+    let value = set_value(&key, &value).map_err(|e| anyhow!("--set {text}: {e}"))?;
+    Ok((key, value))
+}
+
+/// Splits `KEY=VALUE` (trimmed), reading no file.
+///
+/// # Errors
+/// When there is no `=`.
+pub fn split_set(text: &str) -> Result<(String, String)> {
     let (key, value) = text
         .split_once('=')
         .ok_or_else(|| anyhow!("--set {text}: give KEY=VALUE (e.g. mosaic.days=20)"))?;
-    let (key, value) = (key.trim(), value.trim());
+    Ok((key.trim().to_string(), value.trim().to_string()))
+}
+
+/// The value to set for `key`: for a file key (one of
+/// [`morphogen_scenario::INCLUDES`]) given a path, the file read from the
+/// current folder and inlined; else `value` itself.
+///
+/// # Errors
+/// A named file that cannot be read.
+pub fn set_value(key: &str, value: &str) -> Result<String> {
     if morphogen_scenario::INCLUDES.contains(&key) && !value.starts_with('{') {
-        let value = read_included(key, value.trim_matches('"'))
-            .map_err(|e| anyhow!("--set {text}: {e}"))?;
-        return Ok((key.to_string(), value));
+        return read_included(key, value.trim_matches('"'));
     }
-    Ok((key.to_string(), value.to_string()))
+    Ok(value.to_string())
 }
 
 /// The inline value of the file at `path` for the include `key`.

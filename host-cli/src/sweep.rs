@@ -88,6 +88,20 @@ fn values(text: &str) -> Result<Vec<String>> {
     Ok(out)
 }
 
+/// The `--set`s of one combination for the scenario (all but the seed),
+/// files named read from the current folder as `run --set` reads them
+/// (`chosen` keeps the paths, for the table).
+fn scenario_sets(chosen: &[(String, String)]) -> Result<Vec<(String, String)>> {
+    chosen
+        .iter()
+        .filter(|(k, _)| k != "seed")
+        .map(|(k, v)| {
+            let value = exec::set_value(k, v).map_err(|e| anyhow!("--set {k}={v}: {e}"))?;
+            Ok((k.clone(), value))
+        })
+        .collect()
+}
+
 fn shard(text: &str) -> Result<(usize, usize)> {
     let bad = || anyhow!("--shard {text}: give I/N with 1 ≤ I ≤ N");
     let (i, n) = text.split_once('/').ok_or_else(bad)?;
@@ -115,7 +129,7 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
         .sets
         .iter()
         .map(|s| {
-            let (key, v) = exec::parse_set(s)?;
+            let (key, v) = exec::split_set(s)?;
             Ok(Axis {
                 key,
                 values: values(&v)?,
@@ -149,12 +163,7 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
         .collect();
     // Check every combination before running any.
     for (_, chosen) in &combos {
-        let sets: Vec<(String, String)> = chosen
-            .iter()
-            .filter(|(k, _)| k != "seed")
-            .cloned()
-            .collect();
-        base.clone_with_sets(&sets)?;
+        base.clone_with_sets(&scenario_sets(chosen)?)?;
     }
     fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
@@ -221,12 +230,7 @@ fn one_run(
     chosen: &[(String, String)],
     out: &Path,
 ) -> Result<String> {
-    let sets: Vec<(String, String)> = chosen
-        .iter()
-        .filter(|(k, _)| k != "seed")
-        .cloned()
-        .collect();
-    let scenario = base.clone_with_sets(&sets)?;
+    let scenario = base.clone_with_sets(&scenario_sets(chosen)?)?;
     let seed = match chosen.iter().find(|(k, _)| k == "seed") {
         Some((_, v)) => v
             .parse()

@@ -409,6 +409,24 @@ fn a_user_skeleton_is_wrapped_by_a_bone_preset() {
         ),
         "error: --set bones.grammar=missing.lsys: cannot read missing.lsys: No such file or directory (os error 2)"
     );
+    // A sweep over skeletons reads them the same way; its table keeps
+    // their names.
+    std::fs::copy(&own, tmp.path().join("long-bone.lsys")).unwrap();
+    ok(&[
+        "sweep",
+        "long-bone",
+        "--set",
+        "bones.grammar=wishbone.lsys,long-bone.lsys",
+        "--out",
+        "sweep",
+    ]);
+    let table = std::fs::read_to_string(tmp.path().join("sweep/sweep.csv")).unwrap();
+    assert!(
+        table.contains("\n0,wishbone.lsys,") && table.contains("\n1,long-bone.lsys,"),
+        "{table}"
+    );
+    assert_eq!(stream("sweep/run-00000"), stream("a"));
+    assert_eq!(stream("sweep/run-00001"), long_bone);
     // An L-system preset takes a grammar the same way, with its settings.
     ok(&[
         "run",
