@@ -166,11 +166,13 @@ impl<D: Derivation> LSystem<D> {
     /// The next module for the turtle: the derived string with the
     /// interpretation rules applied (depth first, at most `maximum depth`
     /// nested, as L-Py's `Lsystem::__recursiveInterpretation`), so a
-    /// homomorphism draws without changing what is derived. Kept out of
-    /// line: inlined, it slows the per-module loop of every grammar (the
+    /// homomorphism draws without changing what is derived. On computers
+    /// a grammar without interpretation rules skips it, and it is kept out
+    /// of line: inlined, it slows the per-module loop of every grammar (the
     /// shrub bench, issue 15: 19.6 M instructions out of line, 21.2 M
-    /// inlined), and a grammar without interpretation rules skips it.
-    #[inline(never)]
+    /// inlined). 32-bit targets always call it, inlined: one copy of the
+    /// derivation's fast path in flash.
+    #[cfg_attr(target_pointer_width = "64", inline(never))]
     fn next_drawn(&mut self) -> Result<Option<Module>, LsysError> {
         loop {
             let m = match self.interpreting.last_mut() {
@@ -222,13 +224,13 @@ impl<D: Derivation> LSystem<D> {
             self.drawing = true;
         }
         // Without interpretation rules the turtle draws the derived string
-        // itself: no per-module rule lookup (issue 15, the shrub bench).
-        let interprets = self.grammar.has_interpretation();
+        // itself: no per-module rule lookup (see `next_drawn`).
+        let direct = cfg!(target_pointer_width = "64") && !self.grammar.has_interpretation();
         for _ in 0..MODULES_PER_STEP {
-            let next = if interprets {
-                self.next_drawn()?
-            } else {
+            let next = if direct {
                 self.derivation.next_module(&self.grammar)?
+            } else {
+                self.next_drawn()?
             };
             let Some(m) = next else {
                 self.turtle.finish().map_err(LsysError::from)?;
