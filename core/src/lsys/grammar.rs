@@ -265,6 +265,7 @@ impl Grammar {
     }
 
     /// Whether some rule of `section` may apply to `symbol`.
+    #[inline]
     pub(crate) fn has_rule_for(&self, section: Section, symbol: u8) -> bool {
         let set = match section {
             Section::Production => &self.rewritten,
@@ -299,6 +300,7 @@ impl Grammar {
     /// Whether some production may rewrite `symbol` (always true past the
     /// 128-bit set, which a parsed grammar never reaches).
     #[must_use]
+    #[inline]
     pub fn is_rewritten(&self, symbol: u8) -> bool {
         self.has_rule_for(Section::Production, symbol)
     }
