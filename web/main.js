@@ -168,15 +168,26 @@ function download(name, blob) {
   setTimeout(() => URL.revokeObjectURL(a.href), 1000);
 }
 
-// A dropped or chosen file: a scenario (TOML, its files inline), an
-// L-system grammar (.lsys), wrapped into a scenario, or a mask (.pbm, .png) for
-// the mosaic shown, set inline as `morphogen run --mask` does.
+// The file key `key` of the scenario shown set to `file`, inline (as
+// `morphogen run --mask` or `--set bones.grammar=FILE` does), then a run.
+async function setFile(key, file) {
+  const bytes = new Uint8Array(await file.arrayBuffer());
+  const { value } = await engine.request({ op: "file", key, name: file.name, bytes });
+  state.sets.set(key, value);
+  return run();
+}
+
+// A dropped or chosen file: a scenario (TOML, its files inline); an
+// L-system grammar (.lsys): the skeleton of the bone scenario shown, or else
+// wrapped into a scenario of its own; or a mask (.pbm, .png) for the mosaic
+// shown.
 async function openFile(file) {
   if (file.name.endsWith(".pbm") || file.name.endsWith(".png")) {
     if (!state.info || !state.info.model.endsWith("mosaic")) throw new Error("a mask is for a mosaic: pick one first");
-    const { value } = await engine.request({ op: "mask", bytes: new Uint8Array(await file.arrayBuffer()) });
-    state.sets.set("mosaic.mask", value);
-    return run();
+    return setFile("mosaic.mask", file);
+  }
+  if (file.name.endsWith(".lsys") && state.info && state.info.model === "bones") {
+    return setFile("bones.grammar", file);
   }
   const text = await file.text();
   if (file.name.endsWith(".lsys")) {

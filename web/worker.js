@@ -1,7 +1,7 @@
 // The page's worker: loads the WebAssembly module (web/wasm) and runs
 // scenarios off the main thread, posting progress, frames and the result.
 // Stopping a run is terminating this worker (main.js starts a new one).
-import init, { maskValue, presets, Scenario } from "./pkg/morphogen_web.js";
+import init, { fileValue, presets, Scenario } from "./pkg/morphogen_web.js";
 
 const ready = init();
 
@@ -48,8 +48,8 @@ self.onmessage = async (event) => {
       postMessage({ id, type: "done", presets: JSON.parse(presets()) });
       return;
     }
-    if (msg.op === "mask") {
-      postMessage({ id, type: "done", value: maskValue(msg.bytes) });
+    if (msg.op === "file") {
+      postMessage({ id, type: "done", value: fileValue(msg.key, msg.name, msg.bytes) });
       return;
     }
     const s = load(msg);

@@ -96,7 +96,7 @@ test("a parameter changed on the page re-runs and changes the digest", async ({ 
   expect(readFileSync(await stream.path()).length).toBeGreaterThan(0);
 });
 
-test("a scenario, a grammar and PBM and PNG masks opened as files run", async ({ page }) => {
+test("a scenario, a grammar, a skeleton and PBM and PNG masks opened as files run", async ({ page }) => {
   await open(page, "croton-mcu");
   const croton = summary("croton-mcu").digest;
   await expect(page.locator("#digest")).toHaveText(croton);
@@ -119,6 +119,16 @@ test("a scenario, a grammar and PBM and PNG masks opened as files run", async ({
   await page.setInputFiles("#file", `${root}grammars/abop-2d-plant.lsys`);
   await expect(page.locator("#digest")).not.toHaveText(summary("ram-horn").digest);
   await expect(page.locator("#digest")).toHaveText(/^[0-9a-f]{16}$/);
+  await expect(page.locator("#status")).not.toHaveClass(/error/);
+  // A grammar with a bone preset shown is its skeleton: the digest of
+  // `morphogen run long-bone --grammar examples/wishbone.lsys`, then, with
+  // long-bone's own grammar, its fixture.
+  await page.selectOption("#preset", "long-bone");
+  await expect(page.locator("#digest")).toHaveText(summary("long-bone").digest);
+  await page.setInputFiles("#file", `${root}examples/wishbone.lsys`);
+  await expect(page.locator("#digest")).toHaveText("4d01edef2d3d96f4");
+  await page.setInputFiles("#file", `${root}grammars/long-bone.lsys`);
+  await expect(page.locator("#digest")).toHaveText(summary("long-bone").digest);
   await expect(page.locator("#status")).not.toHaveClass(/error/);
 });
 

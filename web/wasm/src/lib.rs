@@ -154,14 +154,17 @@ pub fn controls(s: &Loaded) -> Vec<Control> {
         .collect()
 }
 
-/// The value of `mosaic.mask` (a `--set`) for the mask file `bytes`
-/// ([`morphogen_scenario::mask::set_value`]: a PBM or a PNG).
+/// The value of the file key `key` (a `--set`: `mosaic.mask`,
+/// `bones.grammar`, …) that holds the opened file `name`'s `bytes` inline
+/// ([`morphogen_scenario::inline_value`]: a mask as a PBM, other files as
+/// text, named `name` in messages).
 ///
 /// # Errors
-/// Neither a PBM nor a PNG, or one past the mask's limits.
-#[wasm_bindgen(js_name = maskValue)]
-pub fn mask_value(bytes: &[u8]) -> Result<String, JsError> {
-    morphogen_scenario::mask::set_value(bytes).map_err(js_error)
+/// A mask that is neither a PBM nor a PNG or is past the mask's limits, or
+/// text that is not UTF-8.
+#[wasm_bindgen(js_name = fileValue)]
+pub fn file_value(key: &str, name: &str, bytes: &[u8]) -> Result<String, JsError> {
+    morphogen_scenario::inline_value(key, name, bytes.to_vec()).map_err(js_error)
 }
 
 /// A finished run: its digest, frames and every byte of its stream.
@@ -793,7 +796,8 @@ mod tests {
     fn a_mask_file_changes_a_mosaic() {
         let croton = morphogen_scenario::builtin("croton-mcu").expect("preset");
         let pbm = b"P1\n4 2\n1 1 0 0\n1 1 0 0\n";
-        let value = morphogen_scenario::mask::set_value(pbm).expect("a PBM");
+        let value =
+            morphogen_scenario::inline_value("mosaic.mask", "m.pbm", pbm.to_vec()).expect("a PBM");
         assert!(value.starts_with("{ text = "), "{value}");
         let masked = croton
             .clone_with_sets(&[("mosaic.mask".into(), value)])
@@ -804,6 +808,24 @@ mod tests {
                 .digest
         };
         assert_ne!(digest(&masked), digest(&croton));
+    }
+
+    #[test]
+    fn a_grammar_file_replaces_a_skeleton() {
+        let long_bone = morphogen_scenario::builtin("long-bone").expect("preset");
+        let text = include_bytes!("../../../examples/wishbone.lsys");
+        let value =
+            morphogen_scenario::inline_value("bones.grammar", "wishbone.lsys", text.to_vec())
+                .expect("UTF-8");
+        let wishbone = long_bone
+            .clone_with_sets(&[("bones.grammar".into(), value)])
+            .expect("a skeleton grammar");
+        let digest = |s: &Loaded| {
+            run(s, 1, &mut || false, &mut |_| {}, &mut |_| {})
+                .expect("runs")
+                .digest
+        };
+        assert_ne!(digest(&wishbone), digest(&long_bone));
     }
 
     #[test]
