@@ -782,14 +782,14 @@ mod tests {
         let changed = horn
             .clone_with_sets(&[("horn.years".into(), "2".into())])
             .expect("a value in range");
-        assert_ne!(
-            run(&changed, 1, &mut || false, &mut |_| {}, &mut |_| {})
-                .expect("runs")
-                .digest,
-            run(&horn, 1, &mut || false, &mut |_| {}, &mut |_| {})
-                .expect("runs")
-                .digest
-        );
+        assert_ne!(digest(&changed), digest(&horn));
+    }
+
+    /// The digest of `s`'s run with seed 1.
+    fn digest(s: &Loaded) -> u64 {
+        run(s, 1, &mut || false, &mut |_| {}, &mut |_| {})
+            .expect("runs")
+            .digest
     }
 
     #[test]
@@ -802,11 +802,6 @@ mod tests {
         let masked = croton
             .clone_with_sets(&[("mosaic.mask".into(), value)])
             .expect("a mask in range");
-        let digest = |s: &Loaded| {
-            run(s, 1, &mut || false, &mut |_| {}, &mut |_| {})
-                .expect("runs")
-                .digest
-        };
         assert_ne!(digest(&masked), digest(&croton));
     }
 
@@ -820,11 +815,6 @@ mod tests {
         let wishbone = long_bone
             .clone_with_sets(&[("bones.grammar".into(), value)])
             .expect("a skeleton grammar");
-        let digest = |s: &Loaded| {
-            run(s, 1, &mut || false, &mut |_| {}, &mut |_| {})
-                .expect("runs")
-                .digest
-        };
         assert_ne!(digest(&wishbone), digest(&long_bone));
     }
 
