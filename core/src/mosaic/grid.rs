@@ -143,13 +143,23 @@ impl Grid {
     /// wrap, else 0), so that `x − (q + shift)` is the shortest displacement
     /// from any q within `radius` ([`Domain::delta`] without its branches).
     /// Returns how many runs are used. Needs `2·radius` below the domain
-    /// size and bins wider than `radius`.
+    /// size and bins wider than `radius`. `EXACT`: the caller knows
+    /// [`Grid::shifts_exact`] holds (one test fewer per cell on 64-bit
+    /// targets).
     #[inline]
     #[must_use]
-    pub fn span(&self, axis: usize, x: i32, radius: i32, size: i32) -> ([BinRun; 2], usize) {
+    pub fn span<const EXACT: bool>(
+        &self,
+        axis: usize,
+        x: i32,
+        radius: i32,
+        size: i32,
+    ) -> ([BinRun; 2], usize) {
         let n = if axis == 0 { self.cols } else { self.rows };
         let run = |first, end, shift| BinRun { first, end, shift };
-        if self.periodic[axis] && n < 3 {
+        // One copy for both on a 32-bit MCU, where flash is short.
+        let exact = EXACT && cfg!(target_pointer_width = "64");
+        if !exact && self.periodic[axis] && n < 3 {
             // Every bin, unshifted: see `Grid::shifts_exact`.
             return ([run(0, n, 0), run(0, 0, 0)], 1);
         }
@@ -179,33 +189,6 @@ impl Grid {
             ([run(lo, n, shift), run(0, hi + 1, shift + size)], 2)
         }
     }
-
-    /// The distinct columns (or rows) next to `c` along `axis`, `c`'s own
-    /// first; returns how many of the three slots are used.
-    #[inline]
-    #[must_use]
-    pub fn around(&self, axis: usize, c: u32) -> ([u32; 3], usize) {
-        let n = if axis == 0 { self.cols } else { self.rows };
-        let mut out = [c, 0, 0];
-        let mut len = 1;
-        let mut add = |x: u32| {
-            if !out[..len].contains(&x) {
-                out[len] = x;
-                len += 1;
-            }
-        };
-        if c > 0 {
-            add(c - 1);
-        } else if self.periodic[axis] {
-            add(n - 1);
-        }
-        if c + 1 < n {
-            add(c + 1);
-        } else if self.periodic[axis] {
-            add(0);
-        }
-        (out, len)
-    }
 }
 
 #[cfg(test)]
@@ -226,14 +209,22 @@ mod tests {
         assert_eq!(order, [0, 2, 3, 1]);
         assert_eq!(sorted, [pos[0], pos[2], pos[3], pos[1]]);
         assert_eq!(bins, [0, 2, 2, 2, 2, 3, 3, 3, 3, 4]);
-        // Wrapped neighbours of column 0 are 2 and 1; a walled axis has none.
-        assert_eq!(g.around(0, 0), ([0, 2, 1], 3));
+        // Within 3 of u = 1 on a periodic axis: column 2 reached across the
+        // wrap (its cells 10 further back), then columns 0 and 1.
+        let run = |first, end, shift| BinRun { first, end, shift };
+        let (one, three, ten) = (1 << 16, 3 << 16, 10 << 16);
+        assert_eq!(
+            g.span::<true>(0, one, three, ten),
+            ([run(2, 3, -ten), run(0, 2, 0)], 2)
+        );
         let w = Grid::plan(
             &Domain::walled(Fx::from_int(10), Fx::from_int(10)),
             3 << 16,
             4,
         );
         assert_eq!((w.cols, w.rows), (2, 2));
-        assert_eq!(w.around(0, 0), ([0, 1, 0], 2));
+        // A walled axis stops at the wall: column 0 alone.
+        assert_eq!(w.span::<true>(0, one, three, ten).1, 1);
+        assert_eq!(w.span::<true>(0, one, three, ten).0[0], run(0, 1, 0));
     }
 }

@@ -243,8 +243,8 @@ impl Snapshot<'_> {
             r2: i64::from(r) * i64::from(r),
             repel: &forces.repel[self.kind_of(cell)],
         };
-        let (cols, nc) = grid.span(0, p[0], r, size[0]);
-        let (rows, nr) = grid.span(1, p[1], r, size[1]);
+        let (cols, nc) = grid.span::<SHIFTED>(0, p[0], r, size[0]);
+        let (rows, nr) = grid.span::<SHIFTED>(1, p[1], r, size[1]);
         let stride = grid.cols as usize;
         for cols in &cols[..nc.min(2)] {
             // i32: p ∈ [0, size), size ≤ 2^30 and |shift| ≤ size.
