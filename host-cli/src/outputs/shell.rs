@@ -81,18 +81,18 @@ pub fn read<R: Records + ?Sized>(records: &R) -> Result<(Shell, Vec<Day>)> {
 }
 
 /// The nearest cell of any point, through a uniform grid of cubes.
-struct Nearest<'c> {
-    cells: &'c [(u32, u8, [f64; 3])],
+struct Nearest {
     lo: [f64; 3],
     side: f64,
     dims: [i64; 3],
-    /// Cell indices by cube, and each cube's start in it.
-    order: Vec<u32>,
+    /// `(index in the day's list, type, point)` of the cells, cube by cube
+    /// (x fastest), and each cube's start in it.
+    sorted: Vec<(u32, u8, [f64; 3])>,
     starts: Vec<u32>,
 }
 
-impl<'c> Nearest<'c> {
-    fn new(cells: &'c [(u32, u8, [f64; 3])], shell: &Shell) -> Nearest<'c> {
+impl Nearest {
+    fn new(cells: &[(u32, u8, [f64; 3])], shell: &Shell) -> Nearest {
         let mut lo = [f64::MAX; 3];
         let mut hi = [f64::MIN; 3];
         for p in shell.vertices.iter().chain(cells.iter().map(|c| &c.2)) {
@@ -102,10 +102,10 @@ impl<'c> Nearest<'c> {
             }
         }
         let extent: f64 = (0..3).map(|k| (hi[k] - lo[k]).max(1e-9)).product::<f64>();
-        // About 4 cells per occupied cube on a surface: cubes of the cells'
-        // spacing squared over the extent's cube root.
+        // About one cell per cube the surface crosses: cubes of the cells'
+        // spacing, the surface's area guessed from the extent.
         let area_guess = extent.powf(2.0 / 3.0) * 3.0;
-        let side = (area_guess / cells.len().max(1) as f64).sqrt().max(1e-6) * 2.0;
+        let side = (area_guess / cells.len().max(1) as f64).sqrt().max(1e-6);
         let dims =
             [0, 1, 2].map(|k| (((hi[k] - lo[k]) / side).floor() as i64 + 1).clamp(1, 1 << 10));
         let count = (dims[0] * dims[1] * dims[2]) as usize;
@@ -118,24 +118,24 @@ impl<'c> Nearest<'c> {
             starts[k] += starts[k - 1];
         }
         let mut fill = starts.clone();
-        let mut order = vec![0u32; cells.len()];
+        let mut sorted = vec![(0, 0, [0.0; 3]); cells.len()];
         for (i, c) in cells.iter().enumerate() {
             let k = cube(&c.2);
-            order[fill[k] as usize] = i as u32;
+            sorted[fill[k] as usize] = (i as u32, c.1, c.2);
             fill[k] += 1;
         }
         Nearest {
-            cells,
             lo,
             side,
             dims,
-            order,
+            sorted,
             starts,
         }
     }
 
     fn index(lo: [f64; 3], side: f64, dims: [i64; 3], p: &[f64; 3]) -> [i64; 3] {
-        [0, 1, 2].map(|k| (((p[k] - lo[k]) / side).floor() as i64).clamp(0, dims[k] - 1))
+        // `as` rounds towards 0: the floor, for all that is not clamped to 0.
+        [0, 1, 2].map(|k| (((p[k] - lo[k]) / side) as i64).clamp(0, dims[k] - 1))
     }
 
     fn cube_of(lo: [f64; 3], side: f64, dims: [i64; 3], p: &[f64; 3]) -> usize {
@@ -143,34 +143,105 @@ impl<'c> Nearest<'c> {
         ((z * dims[1] + y) * dims[0] + x) as usize
     }
 
-    /// The type of the cell nearest `p`.
+    /// The type of the cell nearest `p`, the lowest-numbered of equally
+    /// near ones (so the answer does not depend on the cubes): the cubes
+    /// next to `p`'s first, then one shell of cubes further out at a time,
+    /// until the nearest cell found is nearer than any cube not yet
+    /// searched.
     fn kind_at(&self, p: &[f64; 3]) -> Option<u8> {
+        self.kind_near(p).map(|(kind, _)| kind)
+    }
+
+    /// [`Nearest::kind_at`], and how far from `p` the same cell stays the
+    /// only nearest: half the difference between the nearest distance d₁
+    /// and a bound d₂ below every other cell's, since a point q with
+    /// 2·|q − p| < d₂ − d₁ is nearer to the cell (d₁ + |q − p|) than to
+    /// any other (d₂ − |q − p|). 0 when two cells are equally near.
+    fn kind_near(&self, p: &[f64; 3]) -> Option<(u8, f64)> {
         let at = Self::index(self.lo, self.side, self.dims, p);
-        let mut best: Option<(f64, u8)> = None;
+        let mut found = Found {
+            best: (f64::INFINITY, u32::MAX, 0),
+            next: f64::INFINITY,
+        };
+        let mut gap = f64::MAX;
         for reach in 1..=self.dims.iter().copied().max().unwrap_or(1) {
-            for z in (at[2] - reach).max(0)..=(at[2] + reach).min(self.dims[2] - 1) {
-                for y in (at[1] - reach).max(0)..=(at[1] + reach).min(self.dims[1] - 1) {
-                    for x in (at[0] - reach).max(0)..=(at[0] + reach).min(self.dims[0] - 1) {
-                        let k = ((z * self.dims[1] + y) * self.dims[0] + x) as usize;
-                        let run = self.starts[k] as usize..self.starts[k + 1] as usize;
-                        for &i in &self.order[run] {
-                            let c = &self.cells[i as usize];
-                            let d: f64 = (0..3).map(|j| (c.2[j] - p[j]).powi(2)).sum();
-                            if best.is_none_or(|(b, _)| d < b) {
-                                best = Some((d, c.1));
-                            }
+            let [x0, y0, z0] = [0, 1, 2].map(|k| (at[k] - reach).max(0));
+            let [x1, y1, z1] = [0, 1, 2].map(|k| (at[k] + reach).min(self.dims[k] - 1));
+            for z in z0..=z1 {
+                for y in y0..=y1 {
+                    if reach == 1 || (z - at[2]).abs() == reach || (y - at[1]).abs() == reach {
+                        // The whole first box, or a face of a shell.
+                        found.scan(self.run(x0, x1, y, z), p);
+                    } else {
+                        // Inside the shell's faces: its two ends, the cubes
+                        // between them searched before.
+                        if at[0] - reach >= 0 {
+                            found.scan(self.run(x0, x0, y, z), p);
+                        }
+                        if at[0] + reach < self.dims[0] {
+                            found.scan(self.run(x1, x1, y, z), p);
                         }
                     }
                 }
             }
-            // Every cell within reach − 1 cubes has been seen.
-            if let Some((d, kind)) = best
-                && d.sqrt() <= (reach - 1) as f64 * self.side
-            {
-                return Some(kind);
+            // Every cell not yet seen lies in a cube beyond the box searched,
+            // at least `gap` from p (less a margin for rounding): done when
+            // the nearest found is nearer.
+            gap = f64::MAX;
+            for k in 0..3 {
+                if at[k] - reach > 0 {
+                    gap = gap.min(p[k] - (self.lo[k] + (at[k] - reach) as f64 * self.side));
+                }
+                if at[k] + reach + 1 < self.dims[k] {
+                    gap = gap.min(self.lo[k] + (at[k] + reach + 1) as f64 * self.side - p[k]);
+                }
+            }
+            if gap == f64::MAX {
+                break; // every cube searched
+            }
+            gap = (gap - 1e-9 * self.side).max(0.0);
+            if found.best.0 < gap * gap {
+                break;
             }
         }
-        best.map(|(_, k)| k)
+        let (d, i, kind) = found.best;
+        (i != u32::MAX).then(|| {
+            let others = found.next.sqrt().min(gap);
+            (
+                kind,
+                ((others - d.sqrt()) / 2.0 - 1e-9 * self.side).max(0.0),
+            )
+        })
+    }
+
+    /// The cells of cubes `x0..=x1` of row (y, z): one run of `sorted`.
+    fn run(&self, x0: i64, x1: i64, y: i64, z: i64) -> &[(u32, u8, [f64; 3])] {
+        let row = (z * self.dims[1] + y) * self.dims[0];
+        let from = self.starts[(row + x0) as usize] as usize;
+        &self.sorted[from..self.starts[(row + x1) as usize + 1] as usize]
+    }
+}
+
+/// What a search of [`Nearest::kind_near`] has found so far.
+struct Found {
+    /// (squared distance, index, type) of the nearest cell; no index: none.
+    best: (f64, u32, u8),
+    /// The squared distance of the next nearest.
+    next: f64,
+}
+
+impl Found {
+    /// Takes in the cells `run` (from `sorted`) for the point `p`.
+    fn scan(&mut self, run: &[(u32, u8, [f64; 3])], p: &[f64; 3]) {
+        for &(i, kind, c) in run {
+            let d = (c[0] - p[0]).powi(2) + (c[1] - p[1]).powi(2) + (c[2] - p[2]).powi(2);
+            if d < self.best.0 || (d == self.best.0 && i < self.best.1) {
+                self.next = self.best.0;
+                self.best = (d, i, kind);
+            } else if d < self.next {
+                self.next = d;
+            }
+        }
     }
 }
 
@@ -202,7 +273,7 @@ impl Shell {
 
     /// The area of each type's cells' Voronoi regions on the mesh, by
     /// sampling every triangle at the same barycentric points.
-    fn areas(&self, near: &Nearest<'_>, types: usize) -> Vec<u64> {
+    fn areas(&self, near: &Nearest, types: usize) -> Vec<u64> {
         let s = AREA_SAMPLES;
         let per_face: Vec<Vec<f64>> = self
             .faces
@@ -238,7 +309,7 @@ impl Shell {
 
     /// The mesh split `levels` times (each triangle into four), each
     /// vertex coloured by its nearest cell.
-    fn coloured(&self, near: &Nearest<'_>, colours: &[[u8; 3]], levels: u32) -> Result<Mesh> {
+    fn coloured(&self, near: &Nearest, colours: &[[u8; 3]], levels: u32) -> Result<Mesh> {
         let mut vertices = self.vertices.clone();
         let mut faces = self.faces.clone();
         for _ in 0..levels {
@@ -284,7 +355,7 @@ impl Shell {
 
     /// The object shaded, seen from `elevation` radians above its equator
     /// (orthographic, z up), every point in its nearest cell's colour.
-    fn picture(&self, near: &Nearest<'_>, colours: &[[u8; 3]], elevation: f64) -> Result<Pixmap> {
+    fn picture(&self, near: &Nearest, colours: &[[u8; 3]], elevation: f64) -> Result<Pixmap> {
         let (sin_e, cos_e) = elevation.sin_cos();
         let towards = [0.0, -cos_e, sin_e]; // towards the viewer
         let right = [1.0, 0.0, 0.0];
@@ -347,6 +418,10 @@ impl Shell {
         let light = normalised(LIGHT);
         let mut rgb = vec![0u8; w * h * 3];
         rgb.par_chunks_mut(w * 3).enumerate().for_each(|(y, row)| {
+            // The last point searched, its cell's type and how far from it
+            // that cell stays the nearest ([`Nearest::kind_near`]): most
+            // pixels next to it need no search.
+            let mut known: Option<([f64; 3], u8, f64)> = None;
             for x in 0..w {
                 let k = y * w + x;
                 let px = &mut row[x * 3..x * 3 + 3];
@@ -363,8 +438,17 @@ impl Shell {
                     depth[k],
                 ];
                 let p = [0, 1, 2].map(|i| right[i] * s[0] + up[i] * s[1] + towards[i] * s[2]);
-                let colour = near
-                    .kind_at(&p)
+                let kind = match known {
+                    Some((q, kind, stays)) if dot(sub(p, q), sub(p, q)) < stays * stays => {
+                        Some(kind)
+                    }
+                    _ => {
+                        let found = near.kind_near(&p);
+                        known = found.map(|(kind, stays)| (p, kind, stays));
+                        found.map(|(kind, _)| kind)
+                    }
+                };
+                let colour = kind
                     .and_then(|t| colours.get(usize::from(t)))
                     .copied()
                     .unwrap_or([128; 3]);
@@ -404,6 +488,8 @@ pub fn write<R: Records + ?Sized>(
     let mut written = Vec::new();
     let mut counts = Vec::new();
     let mut areas = Vec::new();
+    // The last day's cells and picture, for `surface.png` and `mosaic.obj`.
+    let mut last = None;
     for d in &days {
         let mut by_type = vec![0usize; colours.len()];
         for c in &d.cells {
@@ -427,11 +513,15 @@ pub fn write<R: Records + ?Sized>(
         } else {
             areas.push(None);
         }
+        let mut drawn = None;
         if kinds.has(Kind::Png) {
             let path = dir.join(format!("surface_day{:02}.png", d.day));
-            picture::save(&shell.picture(&near, &colours, elevation)?, &path)?;
+            let pixmap = shell.picture(&near, &colours, elevation)?;
+            picture::save(&pixmap, &path)?;
             written.push(path);
+            drawn = Some(pixmap);
         }
+        last = Some((near, drawn));
     }
     if kinds.has(Kind::Csv) {
         let path = dir.join("types.csv");
@@ -442,11 +532,10 @@ pub fn write<R: Records + ?Sized>(
         let path = dir.join("surface.obj");
         written.extend(write_obj(&path, &shell.bare()?, ObjStyle::PLAIN)?);
     }
-    if let Some(last) = days.last() {
-        let near = Nearest::new(&last.cells, &shell);
-        if kinds.has(Kind::Png) {
+    if let Some((near, drawn)) = last {
+        if let Some(pixmap) = drawn {
             let path = dir.join("surface.png");
-            picture::save(&shell.picture(&near, &colours, elevation)?, &path)?;
+            picture::save(&pixmap, &path)?;
             written.push(path);
         }
         if kinds.has(Kind::Obj) {
@@ -464,4 +553,90 @@ pub fn write<R: Records + ?Sized>(
     }
     written.extend(write_counts_and_mask(params, names, &counts, dir, kinds)?);
     Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The nearest cell by looking at every one, the lowest-numbered of
+    /// equally near ones.
+    fn nearest_of_all(cells: &[(u32, u8, [f64; 3])], p: &[f64; 3]) -> Option<u8> {
+        let d = |c: &[f64; 3]| (0..3).map(|k| (c[k] - p[k]).powi(2)).sum::<f64>();
+        let mut best: Option<(f64, usize)> = None;
+        for (i, c) in cells.iter().enumerate() {
+            if best.is_none_or(|(b, _)| d(&c.2) < b) {
+                best = Some((d(&c.2), i));
+            }
+        }
+        best.map(|(_, i)| cells[i].1)
+    }
+
+    #[test]
+    fn the_grid_finds_the_nearest_cell_of_every_point() {
+        // Cells on a sphere of radius 10 (a Fibonacci lattice), each type
+        // its index mod 7, and pairs of cells at one place (ties); points
+        // on, inside and far outside it.
+        let n = 600;
+        let mut cells: Vec<(u32, u8, [f64; 3])> = (0..n)
+            .map(|i| {
+                let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / f64::from(n);
+                let r = (1.0 - z * z).sqrt();
+                let a = f64::from(i) * 2.399_963;
+                (
+                    i,
+                    (i % 7) as u8,
+                    [10.0 * r * a.cos(), 10.0 * r * a.sin(), 10.0 * z],
+                )
+            })
+            .collect();
+        for i in 0..50 {
+            let twin = cells[i * 11].2;
+            cells.push((n + i as u32, 6 - (i % 7) as u8, twin));
+        }
+        let shell = Shell::default();
+        let near = Nearest::new(&cells, &shell);
+        for i in 0..4_000u32 {
+            let t = f64::from(i);
+            let scale = [1.0, 0.3, 1.7, 6.0][i as usize % 4];
+            let p = [
+                10.0 * scale * (t * 0.731).sin(),
+                10.0 * scale * (t * 1.113).cos(),
+                10.0 * scale * (t * 0.377).sin(),
+            ];
+            assert_eq!(near.kind_at(&p), nearest_of_all(&cells, &p), "at {p:?}");
+        }
+        // Within the distance it reports, the nearest cell stays the same
+        // (points at 0.999 of it, in 6 directions, checked cell by cell).
+        let mut stayed = 0;
+        for i in 0..2_000u32 {
+            let t = f64::from(i);
+            let p = [
+                10.0 * (t * 0.731).sin(),
+                10.0 * (t * 1.113).cos(),
+                9.0 * (t * 0.377).sin(),
+            ];
+            let (kind, stays) = near.kind_near(&p).expect("cells");
+            for step in [
+                [1.0, 0.0, 0.0],
+                [0.0, -1.0, 0.0],
+                [0.0, 0.0, 1.0],
+                [0.6, 0.8, 0.0],
+            ] {
+                for sign in [-1.0, 1.0] {
+                    let q = [0, 1, 2].map(|k| p[k] + sign * 0.999 * stays * step[k]);
+                    assert_eq!(nearest_of_all(&cells, &q), Some(kind), "{q:?} near {p:?}");
+                }
+            }
+            stayed += usize::from(stays > 0.0);
+        }
+        // All but those nearest to a twin (equally near to both: 0).
+        assert!(stayed > 1_700, "{stayed}");
+        // Exactly on the twins: the lower-numbered one.
+        for i in 0..50 {
+            let at = cells[i * 11];
+            assert_eq!(near.kind_at(&at.2), Some(at.1));
+        }
+        assert_eq!(Nearest::new(&[], &shell).kind_at(&[0.0; 3]), None);
+    }
 }
