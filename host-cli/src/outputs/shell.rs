@@ -222,6 +222,33 @@ impl Nearest {
     }
 }
 
+/// [`Nearest::kind_at`] for points one after another, each near the one
+/// before: while a point is within the distance the last search's cell
+/// stays the nearest ([`Nearest::kind_near`]), that cell's type, without a
+/// search.
+struct Along<'n> {
+    near: &'n Nearest,
+    /// The last point searched, its cell's type and that distance.
+    known: Option<([f64; 3], u8, f64)>,
+}
+
+impl<'n> Along<'n> {
+    fn new(near: &'n Nearest) -> Along<'n> {
+        Along { near, known: None }
+    }
+
+    fn kind_at(&mut self, p: &[f64; 3]) -> Option<u8> {
+        if let Some((q, kind, stays)) = self.known
+            && dot(sub(*p, q), sub(*p, q)) < stays * stays
+        {
+            return Some(kind);
+        }
+        let found = self.near.kind_near(p);
+        self.known = found.map(|(kind, stays)| (*p, kind, stays));
+        found.map(|(kind, _)| kind)
+    }
+}
+
 /// What a search of [`Nearest::kind_near`] has found so far.
 struct Found {
     /// (squared distance, index, type) of the nearest cell; no index: none.
@@ -284,6 +311,7 @@ impl Shell {
                     dot(cross(sub(b, a), sub(c, a)), cross(sub(b, a), sub(c, a))).sqrt() / 2.0;
                 let mut share = vec![0.0; types.max(1)];
                 let mut n = 0.0;
+                let mut along = Along::new(near);
                 for i in 0..s {
                     for j in 0..s - i {
                         let (u, v) = (
@@ -291,7 +319,7 @@ impl Shell {
                             (j as f64 + 1.0 / 3.0) / s as f64,
                         );
                         let p = [0, 1, 2].map(|k| a[k] + u * (b[k] - a[k]) + v * (c[k] - a[k]));
-                        if let Some(kind) = near.kind_at(&p)
+                        if let Some(kind) = along.kind_at(&p)
                             && let Some(x) = share.get_mut(usize::from(kind))
                         {
                             *x += 1.0;
@@ -418,10 +446,8 @@ impl Shell {
         let light = normalised(LIGHT);
         let mut rgb = vec![0u8; w * h * 3];
         rgb.par_chunks_mut(w * 3).enumerate().for_each(|(y, row)| {
-            // The last point searched, its cell's type and how far from it
-            // that cell stays the nearest ([`Nearest::kind_near`]): most
-            // pixels next to it need no search.
-            let mut known: Option<([f64; 3], u8, f64)> = None;
+            // Most pixels need no search: the one before's cell is theirs.
+            let mut along = Along::new(near);
             for x in 0..w {
                 let k = y * w + x;
                 let px = &mut row[x * 3..x * 3 + 3];
@@ -438,17 +464,8 @@ impl Shell {
                     depth[k],
                 ];
                 let p = [0, 1, 2].map(|i| right[i] * s[0] + up[i] * s[1] + towards[i] * s[2]);
-                let kind = match known {
-                    Some((q, kind, stays)) if dot(sub(p, q), sub(p, q)) < stays * stays => {
-                        Some(kind)
-                    }
-                    _ => {
-                        let found = near.kind_near(&p);
-                        known = found.map(|(kind, stays)| (p, kind, stays));
-                        found.map(|(kind, _)| kind)
-                    }
-                };
-                let colour = kind
+                let colour = along
+                    .kind_at(&p)
                     .and_then(|t| colours.get(usize::from(t)))
                     .copied()
                     .unwrap_or([128; 3]);
@@ -632,6 +649,17 @@ mod tests {
         }
         // All but those nearest to a twin (equally near to both: 0).
         assert!(stayed > 1_700, "{stayed}");
+        // Along a path of small steps the answers are the searches'.
+        let mut along = Along::new(&near);
+        for i in 0..20_000u32 {
+            let t = f64::from(i) * 0.0005;
+            let p = [
+                10.5 * (t * 3.1).sin(),
+                10.5 * (t * 2.3).cos(),
+                10.0 * (t * 0.7).sin(),
+            ];
+            assert_eq!(along.kind_at(&p), nearest_of_all(&cells, &p), "at {p:?}");
+        }
         // Exactly on the twins: the lower-numbered one.
         for i in 0..50 {
             let at = cells[i * 11];
