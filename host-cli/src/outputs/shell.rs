@@ -444,6 +444,16 @@ impl Shell {
             }
         }
         let light = normalised(LIGHT);
+        // Each face's shade, by its normal's angle to the light.
+        let shades: Vec<f64> = self
+            .faces
+            .iter()
+            .map(|f| {
+                let [a, b, c] = self.corners(f);
+                let n = normalised(cross(sub(b, a), sub(c, a)));
+                0.35 + 0.65 * dot(n, light).abs()
+            })
+            .collect();
         let mut rgb = vec![0u8; w * h * 3];
         rgb.par_chunks_mut(w * 3).enumerate().for_each(|(y, row)| {
             // Most pixels need no search: the one before's cell is theirs.
@@ -451,13 +461,11 @@ impl Shell {
             for x in 0..w {
                 let k = y * w + x;
                 let px = &mut row[x * 3..x * 3 + 3];
-                let Some(f) = self.faces.get(face[k] as usize) else {
+                let Some(&shade) = shades.get(face[k] as usize) else {
                     px.copy_from_slice(&BACKGROUND);
                     continue;
                 };
                 // Back to the object: the point on the triangle's plane.
-                let [a, b, c] = self.corners(f);
-                let n = normalised(cross(sub(b, a), sub(c, a)));
                 let s = [
                     (x as f64 + 0.5) / scale + lo[0] - margin,
                     hi[1] + margin - (y as f64 + 0.5) / scale,
@@ -469,7 +477,6 @@ impl Shell {
                     .and_then(|t| colours.get(usize::from(t)))
                     .copied()
                     .unwrap_or([128; 3]);
-                let shade = 0.35 + 0.65 * dot(n, light).abs();
                 for (o, c) in px.iter_mut().zip(colour) {
                     *o = (f64::from(c) * shade).round().clamp(0.0, 255.0) as u8;
                 }
