@@ -27,6 +27,8 @@ use crate::records::{Place, Records};
 
 /// The picture's longer side in pixels (drawn at twice the size, halved).
 const PICTURE_SIDE: f64 = 700.0;
+/// The most cubes of the nearest-cell search per cell ([`Nearest`]).
+const CUBES_PER_CELL: i64 = 8;
 /// The light's direction (towards the light), normalised when used.
 const LIGHT: [f64; 3] = [-0.4, -0.6, 0.7];
 /// The picture's background.
@@ -103,11 +105,21 @@ impl Nearest {
         }
         let extent: f64 = (0..3).map(|k| (hi[k] - lo[k]).max(1e-9)).product::<f64>();
         // About one cell per cube the surface crosses: cubes of the cells'
-        // spacing, the surface's area guessed from the extent.
+        // spacing, the surface's area guessed from the extent; but no more
+        // than [`CUBES_PER_CELL`] cubes a cell (a surface crosses few of
+        // them, and many cells make many empty ones).
         let area_guess = extent.powf(2.0 / 3.0) * 3.0;
-        let side = (area_guess / cells.len().max(1) as f64).sqrt().max(1e-6);
-        let dims =
-            [0, 1, 2].map(|k| (((hi[k] - lo[k]) / side).floor() as i64 + 1).clamp(1, 1 << 10));
+        let mut side = (area_guess / cells.len().max(1) as f64).sqrt().max(1e-6);
+        let most = CUBES_PER_CELL * cells.len() as i64 + 4_096;
+        let dims = loop {
+            let dims =
+                [0, 1, 2].map(|k| (((hi[k] - lo[k]) / side).floor() as i64 + 1).clamp(1, 1 << 10));
+            let count = dims[0] * dims[1] * dims[2];
+            if count <= most {
+                break dims;
+            }
+            side *= (count as f64 / most as f64).cbrt().max(1.01);
+        };
         let count = (dims[0] * dims[1] * dims[2]) as usize;
         let mut starts = vec![0u32; count + 1];
         let cube = |p: &[f64; 3]| Self::cube_of(lo, side, dims, p);
@@ -673,5 +685,27 @@ mod tests {
             assert_eq!(near.kind_at(&at.2), Some(at.1));
         }
         assert_eq!(Nearest::new(&[], &shell).kind_at(&[0.0; 3]), None);
+    }
+
+    #[test]
+    fn the_cubes_are_bounded_by_the_cells() {
+        // 200,000 cells on a sphere: cubes of the cells' spacing would be
+        // 259³, 87 a cell.
+        let n = 200_000;
+        let cells: Vec<(u32, u8, [f64; 3])> = (0..n)
+            .map(|i| {
+                let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / f64::from(n);
+                let r = (1.0 - z * z).sqrt();
+                let a = f64::from(i) * 2.399_963;
+                (i, 0, [r * a.cos(), r * a.sin(), z])
+            })
+            .collect();
+        let near = Nearest::new(&cells, &Shell::default());
+        let cubes = near.starts.len() - 1;
+        assert!(
+            cubes as i64 <= CUBES_PER_CELL * i64::from(n) + 4_096,
+            "{cubes}"
+        );
+        assert_eq!(near.kind_at(&[0.0, 0.0, 1.5]), Some(0));
     }
 }
