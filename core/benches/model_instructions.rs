@@ -49,6 +49,8 @@ struct Relaxation {
     mosaic: Mosaic<'static, VecStore>,
     grid: Grid,
     forces: Forces<'static>,
+    /// The host's sums of pair pushes ([`relaxation::relax_pairs`]).
+    sums: Vec<[i64; 2]>,
 }
 
 fn croton_cells() -> Relaxation {
@@ -94,12 +96,27 @@ fn croton_cells() -> Relaxation {
             momentum: 0,
         },
         mosaic,
+        sums: vec![[0; 2]; CELLS as usize],
     }
 }
 
 #[library_benchmark]
 #[bench::croton_2000(setup = croton_cells)]
 fn relaxation_step(mut r: Relaxation) -> Relaxation {
+    let len = r.mosaic.len();
+    relaxation::relax_pairs(
+        &mut r.mosaic.store_mut().slices(),
+        black_box(len),
+        &r.grid,
+        &r.forces,
+        &mut r.sums,
+    );
+    r
+}
+
+#[library_benchmark]
+#[bench::croton_2000(setup = croton_cells)]
+fn relaxation_step_per_cell(mut r: Relaxation) -> Relaxation {
     let len = r.mosaic.len();
     relaxation::relax(
         &mut r.mosaic.store_mut().slices(),
@@ -210,6 +227,11 @@ fn shrub(text: String) -> u32 {
 
 library_benchmark_group!(
     name = models,
-    benchmarks = [relaxation_step, surface_relaxation_step, shrub]
+    benchmarks = [
+        relaxation_step,
+        relaxation_step_per_cell,
+        surface_relaxation_step,
+        shrub
+    ]
 );
 main!(library_benchmark_groups = models);

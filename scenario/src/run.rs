@@ -30,12 +30,16 @@ use rayon::prelude::*;
 use crate::body_files::USER_CYLINDERS;
 
 /// A cell store on the heap, its capacity chosen at run time, whose
-/// relaxation moves the cells side by side on all cores (rayon).
+/// relaxation finds each pair of neighbours once and moves the cells side
+/// by side on all cores (rayon).
 #[derive(Debug, Default)]
 pub struct VecStore {
     cells: Cells,
     /// The new positions and moves of a relaxation step, in grid order.
     moved: Vec<([i32; 2], [i32; 2])>,
+    /// The sums of pair pushes of a relaxation step, one buffer of a cell
+    /// each per thread, grown on first use.
+    sums: Vec<[i64; 2]>,
 }
 
 /// The arrays of a [`VecStore`].
@@ -68,6 +72,10 @@ impl Cells {
 /// step, large enough that handing out chunks costs little.
 const RELAX_CHUNK: usize = 512;
 
+/// At most this many threads find pairs side by side, each with a buffer
+/// of 16 B a cell ([`VecStore`]'s relaxation).
+const MAX_SUM_BUFFERS: usize = 8;
+
 impl VecStore {
     /// A store of `cells` cells (with their last moves, for momentum) and
     /// `cells / 2 + 1` grid bin offsets: one bin per two cells, twice the
@@ -87,6 +95,7 @@ impl VecStore {
                 velocity: vec![[0; 2]; cells],
             },
             moved: vec![([0; 2], [0; 2]); cells],
+            sums: Vec::new(),
         }
     }
 }
@@ -110,28 +119,48 @@ impl CellStore for VecStore {
 }
 
 impl Relax for VecStore {
+    /// Each pair of neighbours once ([`relaxation::relax_pairs`]): on one
+    /// thread in one pass; on several, each thread finds the pairs of one
+    /// share of the grid slots and sums their pushes in a buffer of its
+    /// own, and the buffers are added per cell (integer sums: the same
+    /// bits for any number of threads).
     fn relax(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>) {
+        let parts = rayon::current_num_threads().clamp(1, MAX_SUM_BUFFERS);
+        if self.sums.len() < parts * n {
+            self.sums.resize(parts * n, [0; 2]);
+        }
         let mut cells = self.cells.slices();
+        if parts == 1 || n < RELAX_CHUNK {
+            relaxation::relax_pairs(&mut cells, n, grid, forces, &mut self.sums);
+            return;
+        }
         let (snapshot, moves) = relaxation::snapshot(&mut cells, n, grid, forces);
+        let share = n.div_ceil(parts);
+        let sums = &mut self.sums[..parts * n];
+        sums.par_chunks_mut(n).enumerate().for_each(|(part, sums)| {
+            sums.fill([0; 2]);
+            snapshot.pair_sums(part * share..(part + 1) * share, sums);
+        });
+        let sums = &*sums;
         let velocity = &*moves.velocity;
         let moved = &mut self.moved[..n];
         moved
             .par_chunks_mut(RELAX_CHUNK)
             .enumerate()
             .for_each(|(chunk, out)| {
-                let first = chunk * RELAX_CHUNK;
-                let mut out = out.iter_mut();
-                snapshot.sweep(first..first + out.len(), |slot, p, d| {
-                    let Some(m) = out.next() else {
-                        return;
-                    };
+                for (slot, m) in (chunk * RELAX_CHUNK..).zip(out) {
+                    let sum = sums[slot..]
+                        .iter()
+                        .step_by(n)
+                        .fold([0; 2], |s, part| [s[0] + part[0], s[1] + part[1]]);
+                    let (p, d) = snapshot.displaced(slot, sum);
                     *m = if forces.momentum == 0 {
                         (snapshot.moved(p, d), [0; 2])
                     } else {
                         let last = velocity.get(snapshot.cell(slot)).copied();
                         snapshot.carried(p, d, last.unwrap_or([0; 2]))
                     };
-                });
+                }
             });
         for (slot, (p, v)) in moved.iter().enumerate() {
             let i = snapshot.cell(slot);

@@ -53,14 +53,52 @@ impl Forces<'_> {
     /// and Q16 displacement), for `d2 = dx² + dy²` below `r²`.
     #[inline(always)]
     fn push(&self, i: usize, j: usize, dx: i64, dy: i64, d2: i64, repel: i32) -> [i64; 2] {
-        let r = i64::from(self.radius);
         let repel = i64::from(repel);
         if d2 == 0 {
-            // Coincident cells (a child on its parent): push apart along u,
-            // the lower index towards −u.
-            let s = if i < j { -1 } else { 1 };
-            return [s * repel * r, 0];
+            return [coincident(i, j) * repel * i64::from(self.radius), 0];
         }
+        let k = self.ratio(d2);
+        // |k·dx| ≤ (r − d)·2^16·(1 + 1/d) < 2^47 since |dx| ≤ d.
+        let fx = (k * dx) >> 16;
+        let fy = (k * dy) >> 16;
+        [fx * repel, fy * repel]
+    }
+
+    /// The pushes of a pair on each other, exactly [`Forces::push`] from
+    /// both sides: on cell `i` by `j` displaced by `(dx, dy)` from it (with
+    /// the repulsion `repel[0]`), and on `j` by `i` (`repel[1]`), one root
+    /// and one division for both. The floor of `k·(−dx)/2^16` is taken
+    /// from `−k·dx` itself, not as the negated floor of `k·dx`, so the
+    /// bits are those of `j`'s own computation.
+    #[inline(always)]
+    fn pair_pushes(
+        &self,
+        i: usize,
+        j: usize,
+        dx: i64,
+        dy: i64,
+        d2: i64,
+        repel: [i32; 2],
+    ) -> [[i64; 2]; 2] {
+        let repel = repel.map(i64::from);
+        if d2 == 0 {
+            let s = coincident(i, j) * i64::from(self.radius);
+            return [[s * repel[0], 0], [-s * repel[1], 0]];
+        }
+        let k = self.ratio(d2);
+        // Range as in [`Forces::push`]: |k·dx| < 2^47, so −k·dx fits.
+        let (mx, my) = (k * dx, k * dy);
+        [
+            [(mx >> 16) * repel[0], (my >> 16) * repel[0]],
+            [((-mx) >> 16) * repel[1], ((-my) >> 16) * repel[1]],
+        ]
+    }
+
+    /// (r − d)/d as Q16 for a pair at squared distance `d2` (Q32), with
+    /// 0 < d2 < r².
+    #[inline(always)]
+    fn ratio(&self, d2: i64) -> i64 {
+        let r = i64::from(self.radius);
         // Q16, 1 ≤ d < r (the max only tells the compiler: no division by
         // zero below); the 32-bit root is much cheaper when it fits.
         let d = match u32::try_from(d2) {
@@ -74,7 +112,7 @@ impl Forces<'_> {
         // subtraction and shift per pair (r·2^16 is the same for every
         // pair); elsewhere (a library call on a Cortex-M) 32 bits when the
         // numerator fits, as it does for r below 1.0.
-        let k = if cfg!(target_pointer_width = "64") {
+        if cfg!(target_pointer_width = "64") {
             ((r << 16) / d) - ONE // d ≥ 1: no overflow
         } else {
             let n = (r - d) << 16;
@@ -82,11 +120,7 @@ impl Forces<'_> {
                 Ok(n) => i64::from(n / d as u32),
                 Err(_) => n / d,
             }
-        };
-        // |k·dx| ≤ (r − d)·2^16·(1 + 1/d) < 2^47 since |dx| ≤ d.
-        let fx = (k * dx) >> 16;
-        let fy = (k * dy) >> 16;
-        [fx * repel, fy * repel]
+        }
     }
 
     /// The push of q (index `j`) on p (index `i`), or `None` beyond the
@@ -129,6 +163,13 @@ impl Forces<'_> {
         }
         out
     }
+}
+
+/// The sign of the push between coincident cells `i` and `j` (a child on
+/// its parent): apart along u, the lower index towards −u.
+#[inline(always)]
+fn coincident(i: usize, j: usize) -> i64 {
+    if i < j { -1 } else { 1 }
 }
 
 /// What one relaxation step reads: the old positions in grid-bin order
@@ -218,31 +259,97 @@ impl Snapshot<'_> {
     ) {
         let end = slots.end.min(self.sorted.len());
         for slot in slots.start..end {
-            let p = self.sorted[slot];
-            let sum = self.pushes::<SHIFTED>(slot, p);
-            each(slot, p, self.forces.displacement(sum, p));
+            let (p, d) = self.displaced(slot, self.pushes::<SHIFTED>(slot));
+            each(slot, p, d);
+        }
+    }
+
+    /// The old position of the cell in grid slot `slot` (below
+    /// [`Snapshot::len`]) and its displacement by the pushes `sum` (Q32)
+    /// of its neighbours ([`Snapshot::pair_sums`]).
+    #[must_use]
+    pub fn displaced(&self, slot: usize, sum: [i64; 2]) -> ([i32; 2], [i32; 2]) {
+        let p = self.sorted[slot];
+        (p, self.forces.displacement(sum, p))
+    }
+
+    /// Adds to `sums` (by grid slot, Q32) the pushes of every pair of cells
+    /// within the radius whose lower slot is in `slots`, on both of its
+    /// cells ([`Forces::pair_pushes`]): each pair is found once, from its
+    /// lower slot, so a step costs half the roots and half the candidates
+    /// of [`Snapshot::sweep`]. Over all slots the sums are exactly those of
+    /// the sweep (integer sums do not depend on their order); over a part
+    /// of them they are that part's share, to be added to the others'.
+    pub fn pair_sums(&self, slots: Range<usize>, sums: &mut [[i64; 2]]) {
+        if self.shifted {
+            self.pair_sums_in::<true>(slots, sums);
+        } else {
+            self.pair_sums_in::<false>(slots, sums);
+        }
+    }
+
+    /// [`Snapshot::pair_sums`] with the displacements of `SHIFTED`
+    /// ([`Snapshot::pushes`]).
+    #[inline(always)]
+    fn pair_sums_in<const SHIFTED: bool>(&self, slots: Range<usize>, sums: &mut [[i64; 2]]) {
+        let end = slots.end.min(self.sorted.len()).min(sums.len());
+        for slot in slots.start..end {
+            let probe = self.probe(slot);
+            let mut own = [0i64; 2];
+            self.runs::<SHIFTED>(&probe, |edge, run| {
+                // The slots after this one: the pairs not yet found.
+                let later = run.start.max(slot + 1)..run.end;
+                own = self.run_pairs::<SHIFTED>(&probe, edge, later, own, sums);
+            });
+            sums[slot] = [sums[slot][0] + own[0], sums[slot][1] + own[1]];
+        }
+    }
+
+    /// The cell in grid slot `slot` (below [`Snapshot::len`]) as the
+    /// neighbour search sees it.
+    #[inline(always)]
+    fn probe(&self, slot: usize) -> Probe<'_> {
+        let r = self.forces.radius;
+        let cell = self.cell(slot);
+        let kind = self.kind_of(cell);
+        Probe {
+            cell,
+            kind,
+            p: self.sorted[slot],
+            reach: r - 1,
+            window: (r as u32).wrapping_mul(2).wrapping_sub(1),
+            r2: i64::from(r) * i64::from(r),
+            repel: &self.forces.repel[kind],
         }
     }
 
     /// The sum of the pushes on the cell in grid slot `slot`; `SHIFTED`:
     /// displacements from the bins' shifts ([`Grid::span`]), else from
-    /// [`Domain::delta`](super::domain::Domain::delta). A row's run of
-    /// bins is one slice of the sorted positions ([`Snapshot::run_pushes`]).
+    /// [`Domain::delta`](super::domain::Domain::delta).
     #[inline(always)]
-    fn pushes<const SHIFTED: bool>(&self, slot: usize, p: [i32; 2]) -> [i64; 2] {
+    fn pushes<const SHIFTED: bool>(&self, slot: usize) -> [i64; 2] {
+        let probe = self.probe(slot);
         let mut sum = [0i64; 2];
-        let (grid, bins, forces) = (self.grid, self.bins, self.forces);
-        let size = forces.domain.size.map(|s| s.to_bits());
-        let r = forces.radius;
-        let cell = self.cell(slot);
-        let probe = Probe {
-            cell,
-            p,
-            reach: r - 1,
-            window: (r as u32).wrapping_mul(2).wrapping_sub(1),
-            r2: i64::from(r) * i64::from(r),
-            repel: &forces.repel[self.kind_of(cell)],
-        };
+        self.runs::<SHIFTED>(&probe, |edge, run| {
+            sum = self.run_pushes::<SHIFTED>(&probe, edge, run, sum);
+        });
+        sum
+    }
+
+    /// Calls `visit(edge, run)` for each run of grid slots that holds the
+    /// cells of one row of the bins within the radius of the probed cell
+    /// (a row's run of bins is one slice of the sorted positions), with
+    /// `edge`, the cell's position less the run's shifts and r − 1
+    /// ([`Snapshot::offsets`]).
+    #[inline(always)]
+    fn runs<const SHIFTED: bool>(
+        &self,
+        probe: &Probe<'_>,
+        mut visit: impl FnMut([u32; 2], Range<usize>),
+    ) {
+        let (grid, bins) = (self.grid, self.bins);
+        let size = self.forces.domain.size.map(|s| s.to_bits());
+        let (p, r) = (probe.p, self.forces.radius);
         let (cols, nc) = grid.span::<SHIFTED>(0, p[0], r, size[0]);
         let (rows, nr) = grid.span::<SHIFTED>(1, p[1], r, size[1]);
         let stride = grid.cols as usize;
@@ -261,29 +368,26 @@ impl Snapshot<'_> {
                     else {
                         break;
                     };
-                    sum =
-                        self.run_pushes::<SHIFTED>(&probe, edge, start as usize..end as usize, sum);
+                    visit(edge, start as usize..end as usize);
                     first += stride;
                 }
             }
         }
-        sum
     }
 
-    /// `sum` plus the pushes on the probed cell of the cells in the slots
-    /// `run` within the radius. Most of them lie beyond it and cost a
-    /// comparison or two: |d| < r ⇔ r − 1 − d ∈ [0, 2r − 1), one unsigned
-    /// comparison, exact in wrapping u32 as r − 1 − d stays within ±2^31.
-    /// With shifts, r − 1 − d = q − `edge` where `edge` is the cell's
-    /// position less the run's shifts and r − 1: no subtraction first.
+    /// The displacement p − q of a cell at `q` from the probed cell, with
+    /// its square (Q32), if it lies within the radius. Most candidates lie
+    /// beyond it and cost a comparison or two: |d| < r ⇔ r − 1 − d ∈
+    /// [0, 2r − 1), one unsigned comparison, exact in wrapping u32 as
+    /// r − 1 − d stays within ±2^31. With shifts, r − 1 − d = q − `edge`
+    /// ([`Snapshot::runs`]): no subtraction first.
     #[inline(always)]
-    fn run_pushes<const SHIFTED: bool>(
+    fn offsets<const SHIFTED: bool>(
         &self,
         probe: &Probe<'_>,
         edge: [u32; 2],
-        run: core::ops::Range<usize>,
-        mut sum: [i64; 2],
-    ) -> [i64; 2] {
+        q: [i32; 2],
+    ) -> Option<(i64, i64, i64)> {
         let domain = self.forces.domain;
         // r − 1 − d.
         let offset = |axis: usize, q: i32| {
@@ -295,26 +399,39 @@ impl Snapshot<'_> {
                     .wrapping_sub(domain.delta(axis, probe.p[axis], q)) as u32
             }
         };
+        // |dx| ≥ r: beyond the radius whatever dy is.
+        let ox = offset(0, q[0]);
+        if ox >= probe.window {
+            return None;
+        }
+        let oy = offset(1, q[1]);
+        if oy >= probe.window {
+            return None;
+        }
+        // |d| < r: the offsets are below 2r − 1 < 2^31.
+        let dx = i64::from(probe.reach - ox as i32);
+        let dy = i64::from(probe.reach - oy as i32);
+        let d2 = dx * dx + dy * dy; // < 2·r² ≤ 2^61, Q32
+        (d2 < probe.r2).then_some((dx, dy, d2))
+    }
+
+    /// `sum` plus the pushes on the probed cell of the cells in the slots
+    /// `run` within the radius.
+    #[inline(always)]
+    fn run_pushes<const SHIFTED: bool>(
+        &self,
+        probe: &Probe<'_>,
+        edge: [u32; 2],
+        run: Range<usize>,
+        mut sum: [i64; 2],
+    ) -> [i64; 2] {
         let (Some(cells), Some(order)) = (self.sorted.get(run.clone()), self.order.get(run)) else {
             return sum;
         };
         for (q, &j) in cells.iter().zip(order) {
-            // |dx| ≥ r: beyond the radius whatever dy is.
-            let ox = offset(0, q[0]);
-            if ox >= probe.window {
+            let Some((dx, dy, d2)) = self.offsets::<SHIFTED>(probe, edge, *q) else {
                 continue;
-            }
-            let oy = offset(1, q[1]);
-            if oy >= probe.window {
-                continue;
-            }
-            // |d| < r: the offsets are below 2r − 1 < 2^31.
-            let dx = i64::from(probe.reach - ox as i32);
-            let dy = i64::from(probe.reach - oy as i32);
-            let d2 = dx * dx + dy * dy; // < 2·r² ≤ 2^61, Q32
-            if d2 >= probe.r2 {
-                continue;
-            }
+            };
             let j = j as usize;
             if d2 == 0 && j == probe.cell {
                 continue; // the cell itself
@@ -326,6 +443,39 @@ impl Snapshot<'_> {
         sum
     }
 
+    /// `own` plus the pushes on the probed cell of the cells in the slots
+    /// `run` (all after its own) within the radius, their pushes on it
+    /// added to their `sums`.
+    #[inline(always)]
+    fn run_pairs<const SHIFTED: bool>(
+        &self,
+        probe: &Probe<'_>,
+        edge: [u32; 2],
+        run: Range<usize>,
+        mut own: [i64; 2],
+        sums: &mut [[i64; 2]],
+    ) -> [i64; 2] {
+        let (Some(cells), Some(order), Some(sums)) = (
+            self.sorted.get(run.clone()),
+            self.order.get(run.clone()),
+            sums.get_mut(run),
+        ) else {
+            return own;
+        };
+        for ((q, &j), sum) in cells.iter().zip(order).zip(sums) {
+            let Some((dx, dy, d2)) = self.offsets::<SHIFTED>(probe, edge, *q) else {
+                continue;
+            };
+            let j = j as usize;
+            let kind = self.kind_of(j);
+            let repel = [probe.repel[kind], self.forces.repel[kind][probe.kind]];
+            let [on_p, on_q] = self.forces.pair_pushes(probe.cell, j, dx, dy, d2, repel);
+            own = [own[0] + on_p[0], own[1] + on_p[1]];
+            *sum = [sum[0] + on_q[0], sum[1] + on_q[1]];
+        }
+        own
+    }
+
     /// The type of cell `i`, as an index into the repulsion table.
     #[inline(always)]
     fn kind_of(&self, i: usize) -> usize {
@@ -333,12 +483,14 @@ impl Snapshot<'_> {
     }
 }
 
-/// The cell whose pushes [`Snapshot::run_pushes`] sums up, and what each
+/// The cell whose neighbours [`Snapshot::offsets`] finds, and what each
 /// candidate neighbour is compared with, computed once per cell.
 #[derive(Debug)]
 struct Probe<'f> {
     /// The cell's index.
     cell: usize,
+    /// Its type, as an index into the repulsion table.
+    kind: usize,
     /// Its position.
     p: [i32; 2],
     /// r − 1.
@@ -361,6 +513,25 @@ pub struct Moves<'s> {
     pub pos: &'s mut [[i32; 2]],
     /// Last moves by cell index.
     pub velocity: &'s mut [[i32; 2]],
+}
+
+impl Moves<'_> {
+    /// Moves the cell in grid slot `slot`, at `p`, by its displacement `d`
+    /// ([`Snapshot::moved`]), or with its momentum ([`Snapshot::carried`]).
+    #[inline]
+    fn settle(&mut self, snapshot: &Snapshot<'_>, slot: usize, p: [i32; 2], d: [i32; 2]) {
+        let i = snapshot.cell(slot);
+        if snapshot.forces.momentum == 0 {
+            self.pos[i] = snapshot.moved(p, d);
+            return;
+        }
+        let last = self.velocity.get(i).copied().unwrap_or([0; 2]);
+        let (to, step) = snapshot.carried(p, d, last);
+        self.pos[i] = to;
+        if let Some(v) = self.velocity.get_mut(i) {
+            *v = step;
+        }
+    }
 }
 
 /// Takes the snapshot of one relaxation step over the first `n` cells with
@@ -402,21 +573,36 @@ pub fn snapshot<'s>(
 
 /// One relaxation step over the first `n` cells, one cell after another.
 pub fn relax(cells: &mut CellSlices<'_>, n: usize, grid: &Grid, forces: &Forces<'_>) {
-    let (snapshot, moves) = snapshot(cells, n, grid, forces);
+    let (snapshot, mut moves) = snapshot(cells, n, grid, forces);
     // One closure for both cases: one copy of the sweep on an MCU.
     snapshot.sweep(0..snapshot.len(), |slot, p, d| {
-        let i = snapshot.cell(slot);
-        if forces.momentum == 0 {
-            moves.pos[i] = snapshot.moved(p, d);
-            return;
-        }
-        let last = moves.velocity.get(i).copied().unwrap_or([0; 2]);
-        let (to, step) = snapshot.carried(p, d, last);
-        moves.pos[i] = to;
-        if let Some(v) = moves.velocity.get_mut(i) {
-            *v = step;
-        }
+        moves.settle(&snapshot, slot, p, d);
     });
+}
+
+/// One relaxation step over the first `n` cells, each pair of neighbours
+/// found once ([`Snapshot::pair_sums`]) with the pushes summed in `sums`
+/// (one per cell: 16 B a cell, which a computer has and an MCU's store
+/// does not; fewer than `n`: as [`relax`]). The same positions as
+/// [`relax`], in about half the instructions.
+pub fn relax_pairs(
+    cells: &mut CellSlices<'_>,
+    n: usize,
+    grid: &Grid,
+    forces: &Forces<'_>,
+    sums: &mut [[i64; 2]],
+) {
+    let Some(sums) = sums.get_mut(..n) else {
+        relax(cells, n, grid, forces);
+        return;
+    };
+    let (snapshot, mut moves) = snapshot(cells, n, grid, forces);
+    sums.fill([0; 2]);
+    snapshot.pair_sums(0..n, sums);
+    for (slot, sum) in sums.iter().enumerate() {
+        let (p, d) = snapshot.displaced(slot, *sum);
+        moves.settle(&snapshot, slot, p, d);
+    }
 }
 
 /// How a cell store runs a relaxation step: one cell after another (the

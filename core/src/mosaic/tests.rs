@@ -286,3 +286,72 @@ fn like_pairs_repel_alike_and_unlike_ones_relative_to_them() {
     // B (α .8) and F (α .5) of the croton: 1/√(.2·.5) = 3.16.
     assert!((f64::from(r[0][1]) / 65_536.0 - 0.1f64.sqrt().recip()).abs() < 1e-3);
 }
+
+#[test]
+fn pairs_found_once_move_cells_as_the_per_cell_step_does() {
+    // relax_pairs computes each pair's pushes once, from its lower grid
+    // slot, with the floors of both sides taken from one product; relax
+    // sums every cell's pushes itself. On periodic and walled domains,
+    // coarse grids (displacements without shifts) and fine ones, radii
+    // whose squares need 64 bits, a repulsion that is not symmetric (so a
+    // swapped pair would show), coincident cells and momentum, the
+    // positions and last moves are the same bits.
+    let base = &croton_mcu_day_0(200);
+    let mut repel = [[40_000; MAX_TYPES]; MAX_TYPES];
+    repel[0][1] = 25_000;
+    repel[1][0] = 90_000;
+    let mut compared = 0;
+    for domain in [
+        base.domain,
+        Domain::walled(Fx::from_int(15), Fx::from_int(12)),
+    ] {
+        let params = &Params { domain, ..*base };
+        for (radius, max_bins) in [
+            (Fx::from_ratio(9, 2), 1),
+            (Fx::from_ratio(9, 2), 6),
+            (Fx::ONE, 128),
+            (Fx::from_ratio(3, 2), 40),
+        ] {
+            for momentum in [0, Fx::from_ratio(7, 10).to_bits()] {
+                let mut a = Mosaic::new(Moving::new());
+                a.start(params, 7).unwrap();
+                a.place(params).unwrap();
+                let n = a.len();
+                // A child on its parent.
+                a.store.cells[n - 1] = a.store.cells[0];
+                let mut b = Mosaic::new(Moving::new());
+                b.start(params, 7).unwrap();
+                b.place(params).unwrap();
+                b.store.cells[n - 1] = b.store.cells[0];
+                let f = Forces {
+                    domain: &params.domain,
+                    radius: radius.to_bits(),
+                    repel,
+                    push_weight: params.push_weight.to_bits(),
+                    anisotropy_weight: 0,
+                    field: None,
+                    momentum,
+                };
+                let grid = Grid::plan(&params.domain, f.radius, max_bins);
+                let mut sums = [[0i64; 2]; 512];
+                for step in 0..3 {
+                    let before = a.store.cells;
+                    relaxation::relax(&mut a.store.slices(), n, &grid, &f);
+                    relaxation::relax_pairs(&mut b.store.slices(), n, &grid, &f, &mut sums);
+                    assert_eq!(
+                        a.store.cells[..n],
+                        b.store.cells[..n],
+                        "{:?} r {radius} {}×{} β {momentum} step {step}",
+                        params.domain.periodic,
+                        grid.cols,
+                        grid.rows
+                    );
+                    assert_eq!(a.store.velocity[..n], b.store.velocity[..n]);
+                    assert_ne!(a.store.cells[..n], before[..n], "the cells move");
+                    compared += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(compared, 2 * 4 * 2 * 3);
+}
