@@ -6,12 +6,15 @@
 //! counted.
 //!
 //! - `relaxation_step`: one relaxation step of 2 000 croton cells (a
-//!   croton-like periodic square after its initial relaxations): divide by
+//!   croton-like periodic square after its initial relaxations) as the
+//!   host runs it on one thread, each pair of neighbours once: divide by
 //!   [`CELLS`] for instructions per cell-relaxation step;
+//!   `relaxation_step_per_cell` the same step as the MCU runs it, each
+//!   cell summing its own pushes;
 //! - `surface_relaxation_step`: the same on a mesh, 2 000 cells on
 //!   `watermelon-fruit`'s ellipsoid (3 072 triangles) at croton's w_r = 1
-//!   (as many neighbours), one after another as on an MCU: divide by
-//!   [`CELLS`] and compare with the plane's;
+//!   (as many neighbours), each pair once as on the host: divide by
+//!   [`CELLS`] and compare with the plane's; `…_per_cell` as on an MCU;
 //! - `shrub`: ABOP Fig. 1.25's shrub at n = 7, derived and drawn by the
 //!   turtle into a sink that drops the records.
 
@@ -131,6 +134,8 @@ fn relaxation_step_per_cell(mut r: Relaxation) -> Relaxation {
 struct SurfaceRelaxation {
     mosaic: SurfaceMosaic<'static, VecSurfaceStore, MeshVecs>,
     forces: SurfaceForces<'static>,
+    /// The host's sums of pair pushes ([`surface_relaxation::relax_pairs`]).
+    sums: Vec<[i64; 3]>,
 }
 
 fn fruit_cells() -> SurfaceRelaxation {
@@ -190,12 +195,26 @@ fn fruit_cells() -> SurfaceRelaxation {
             momentum: 0,
         },
         mosaic,
+        sums: vec![[0; 3]; CELLS as usize],
     }
 }
 
 #[library_benchmark]
 #[bench::fruit_2000(setup = fruit_cells)]
 fn surface_relaxation_step(mut r: SurfaceRelaxation) -> SurfaceRelaxation {
+    let len = r.mosaic.len();
+    surface_relaxation::relax_pairs(
+        &mut r.mosaic.store_mut().slices(),
+        black_box(len),
+        &r.forces,
+        &mut r.sums,
+    );
+    r
+}
+
+#[library_benchmark]
+#[bench::fruit_2000(setup = fruit_cells)]
+fn surface_relaxation_step_per_cell(mut r: SurfaceRelaxation) -> SurfaceRelaxation {
     let len = r.mosaic.len();
     surface_relaxation::relax(
         &mut r.mosaic.store_mut().slices(),
@@ -231,6 +250,7 @@ library_benchmark_group!(
         relaxation_step,
         relaxation_step_per_cell,
         surface_relaxation_step,
+        surface_relaxation_step_per_cell,
         shrub
     ]
 );

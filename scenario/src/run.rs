@@ -172,7 +172,8 @@ impl Relax for VecStore {
     }
 }
 
-/// A surface mosaic's cell store on the heap, relaxed on all cores.
+/// A surface mosaic's cell store on the heap, relaxed on all cores, each
+/// pair of neighbours once.
 #[derive(Debug, Default)]
 pub struct VecSurfaceStore {
     place: Vec<Place>,
@@ -183,6 +184,8 @@ pub struct VecSurfaceStore {
     buckets: Vec<u32>,
     velocity: Vec<[i32; 3]>,
     moved: Vec<(Place, [i32; 3])>,
+    /// The sums of pair pushes of a step, one buffer per thread.
+    sums: Vec<[i64; 3]>,
 }
 
 impl VecSurfaceStore {
@@ -200,6 +203,7 @@ impl VecSurfaceStore {
             buckets: vec![0; cells + 1],
             velocity: vec![[0; 3]; cells],
             moved: vec![(nowhere, [0; 3]); cells],
+            sums: Vec::new(),
         }
     }
 }
@@ -231,7 +235,13 @@ impl SurfaceStore for VecSurfaceStore {
 }
 
 impl SurfaceRelax for VecSurfaceStore {
+    /// Each pair of neighbours once, on one thread or side by side as on
+    /// the plane ([`VecStore`]'s relaxation).
     fn relax(&mut self, n: usize, forces: &SurfaceForces<'_>) {
+        let parts = rayon::current_num_threads().clamp(1, MAX_SUM_BUFFERS);
+        if self.sums.len() < parts * n {
+            self.sums.resize(parts * n, [0; 3]);
+        }
         let moved = &mut self.moved[..n];
         let mut cells = SurfaceSlices {
             place: &mut self.place,
@@ -242,16 +252,30 @@ impl SurfaceRelax for VecSurfaceStore {
             buckets: &mut self.buckets,
             velocity: &mut self.velocity,
         };
+        if parts == 1 || n < RELAX_CHUNK {
+            surface_relaxation::relax_pairs(&mut cells, n, forces, &mut self.sums);
+            return;
+        }
         let (snapshot, places, velocity) = surface_relaxation::snapshot(&mut cells, n, forces);
+        let share = n.div_ceil(parts);
+        let sums = &mut self.sums[..parts * n];
+        sums.par_chunks_mut(n).enumerate().for_each(|(part, sums)| {
+            sums.fill([0; 3]);
+            snapshot.pair_sums(part * share..(part + 1) * share, sums);
+        });
+        let sums = &*sums;
         let (from, last) = (&*places, &*velocity);
         moved
             .par_chunks_mut(RELAX_CHUNK)
             .enumerate()
             .for_each(|(chunk, out)| {
-                for (k, m) in out.iter_mut().enumerate() {
-                    let slot = chunk * RELAX_CHUNK + k;
+                for (slot, m) in (chunk * RELAX_CHUNK..).zip(out) {
+                    let sum = sums[slot..].iter().step_by(n).fold([0; 3], |s, part| {
+                        [s[0] + part[0], s[1] + part[1], s[2] + part[2]]
+                    });
                     let i = snapshot.cell(slot);
-                    *m = snapshot.moved(slot, from[i], last.get(i).copied().unwrap_or([0; 3]));
+                    let last = last.get(i).copied().unwrap_or([0; 3]);
+                    *m = snapshot.moved_by(sum, from[i], last);
                 }
             });
         for (slot, (to, step)) in moved.iter().enumerate() {

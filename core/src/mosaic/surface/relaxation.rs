@@ -13,6 +13,7 @@
 //! size. Cells of other cubes that share a bucket are rejected by distance.
 
 use core::num::NonZeroU32;
+use core::ops::Range;
 
 use crate::fx::root::{isqrt_u32, isqrt_u64};
 use crate::mosaic::mesh::{Mesh, Place, per_axis};
@@ -212,29 +213,44 @@ impl Snapshot<'_> {
         self.kind.get(i).map_or(0, |&k| k as usize % MAX_TYPES)
     }
 
-    /// The sum of the pushes (Q32) on the cell in slot `slot`: the cells
-    /// of each row of buckets its cube window covers, each row a run of
-    /// consecutive slots.
-    fn pushes(&self, slot: usize) -> [i64; 3] {
-        let mut sum = [0i64; 3];
-        let Some(&p) = self.sorted.get(slot) else {
-            return sum;
-        };
+    /// The cell in slot `slot` as the scans see it, or `None` past the
+    /// snapshot.
+    #[inline(always)]
+    fn probe(&self, slot: usize) -> Option<Probe<'_>> {
+        let p = *self.sorted.get(slot)?;
         let i = self.cell(slot);
         let r = self.forces.radius;
-        let g = &self.grid;
         let reach = r.wrapping_sub(1);
-        let probe = Probe {
+        let kind = self.kind_of(i);
+        Some(Probe {
             cell: i,
-            edge: p.map(|x| x.wrapping_sub(reach) as u32),
-            reach,
-            window: (r as u32).wrapping_mul(2).wrapping_sub(1),
-            r2: i64::from(r) * i64::from(r),
+            kind,
+            p,
+            window: Window {
+                edge: p.map(|x| x.wrapping_sub(reach) as u32),
+                reach,
+                width: (r as u32).wrapping_mul(2).wrapping_sub(1),
+                r2: i64::from(r) * i64::from(r),
+            },
             r: i64::from(r),
-            repel: &self.forces.repel[self.kind_of(i)],
-        };
+            repel: &self.forces.repel[kind],
+        })
+    }
+
+    /// Folds `visit` over each run of consecutive slots that holds the
+    /// cells of one row of the buckets the probe's cube window covers,
+    /// from `sum`.
+    #[inline(always)]
+    fn runs(
+        &self,
+        probe: &Probe<'_>,
+        mut sum: [i64; 3],
+        mut visit: impl FnMut([i64; 3], Range<usize>) -> [i64; 3],
+    ) -> [i64; 3] {
+        let g = &self.grid;
+        let (p, reach) = (probe.p, i64::from(probe.window.reach));
         let runs = |c: usize| {
-            let (x, reach) = (i64::from(p[c]), i64::from(reach));
+            let x = i64::from(p[c]);
             g.runs(c, g.cube(c, x - reach), g.cube(c, x + reach))
         };
         let ((xs, nx), (ys, ny), (zs, nz)) = (runs(0), runs(1), runs(2));
@@ -253,7 +269,7 @@ impl Snapshot<'_> {
                             ) else {
                                 continue;
                             };
-                            sum = self.run_pushes(&probe, start as usize, end as usize, sum);
+                            sum = visit(sum, start as usize..end as usize);
                         }
                     }
                 }
@@ -262,59 +278,135 @@ impl Snapshot<'_> {
         sum
     }
 
-    /// `sum` plus the pushes of the cells in slots `start..end` within r
-    /// of the probe.
+    /// The sum of the pushes (Q32) on the cell in slot `slot`: the cells
+    /// of each row of buckets its cube window covers, each row a run of
+    /// consecutive slots.
+    fn pushes(&self, slot: usize) -> [i64; 3] {
+        let Some(probe) = self.probe(slot) else {
+            return [0; 3];
+        };
+        self.runs(&probe, [0; 3], |sum, run| self.run_pushes(&probe, run, sum))
+    }
+
+    /// Adds to `sums` (by slot, Q32) the pushes of every pair of cells
+    /// within the radius whose lower slot is in `slots`, on both of its
+    /// cells: each pair once, as on the plane
+    /// ([`crate::mosaic::relaxation::Snapshot::pair_sums`]); the 3D pushes
+    /// of a pair are equal and opposite up to their floors, which
+    /// [`pair_pushes`] takes from one product for both.
+    pub fn pair_sums(&self, slots: Range<usize>, sums: &mut [[i64; 3]]) {
+        let end = slots.end.min(self.sorted.len()).min(sums.len());
+        for slot in slots.start..end {
+            let Some(probe) = self.probe(slot) else {
+                return;
+            };
+            let own = self.runs(&probe, [0; 3], |own, run| {
+                // The slots after this one: the pairs not yet found.
+                let later = run.start.max(slot + 1)..run.end;
+                self.run_pairs(&probe, later, own, sums)
+            });
+            sums[slot] = per_axis(|c| sums[slot][c] + own[c]);
+        }
+    }
+
+    /// The displacement d = p − q (Q16) of a point `q` from the probe (its
+    /// [`Window`]) and
+    /// its square (Q32), if q lies within the radius. |d| < r on every
+    /// axis: q − (p − (r − 1)) in [0, 2r − 1) as u32, checked axis by axis
+    /// (most fail on the first). Points lie on the mesh, within ±2^26
+    /// (Q16), so r − 1 − d in (−2^27, 2^31 + 2^27): wrapped to u32 it is
+    /// below 2r − 1 exactly when it is in range.
     #[inline(always)]
-    fn run_pushes(
-        &self,
-        probe: &Probe<'_>,
-        start: usize,
-        end: usize,
-        mut sum: [i64; 3],
-    ) -> [i64; 3] {
-        let (Some(points), Some(ids)) = (self.sorted.get(start..end), self.order.get(start..end))
-        else {
+    fn offsets(w: Window, q: [i32; 3]) -> Option<([i64; 3], i64)> {
+        let (edge, window, reach) = (w.edge, w.width, w.reach);
+        let ox = (q[0] as u32).wrapping_sub(edge[0]);
+        if ox >= window {
+            return None;
+        }
+        let oy = (q[1] as u32).wrapping_sub(edge[1]);
+        if oy >= window {
+            return None;
+        }
+        let oz = (q[2] as u32).wrapping_sub(edge[2]);
+        if oz >= window {
+            return None;
+        }
+        // d = r − 1 − o, in (−r, r).
+        let dx = i64::from(reach.wrapping_sub(ox as i32));
+        let dy = i64::from(reach.wrapping_sub(oy as i32));
+        let dz = i64::from(reach.wrapping_sub(oz as i32));
+        let d2 = dx * dx + dy * dy + dz * dz;
+        (d2 < w.r2).then_some(([dx, dy, dz], d2))
+    }
+
+    /// `sum` plus the pushes of the cells in the slots `run` within r of
+    /// the probe.
+    #[inline(always)]
+    fn run_pushes(&self, probe: &Probe<'_>, run: Range<usize>, mut sum: [i64; 3]) -> [i64; 3] {
+        let (Some(points), Some(ids)) = (self.sorted.get(run.clone()), self.order.get(run)) else {
             return sum;
         };
-        // |d| < r on every axis: q − (p − (r − 1)) in [0, 2r − 1) as u32,
-        // checked axis by axis (most fail on the first). Points lie on the
-        // mesh, within ±2^26 (Q16), so r − 1 − d in (−2^27, 2^31 + 2^27):
-        // wrapped to u32 it is below 2r − 1 exactly when it is in range.
-        let (edge, window, reach) = (probe.edge, probe.window, probe.reach);
+        let window = probe.window;
         for (q, &j) in points.iter().zip(ids) {
-            let ox = (q[0] as u32).wrapping_sub(edge[0]);
-            if ox >= window {
+            let Some((d, d2)) = Self::offsets(window, *q) else {
                 continue;
-            }
-            let oy = (q[1] as u32).wrapping_sub(edge[1]);
-            if oy >= window {
-                continue;
-            }
-            let oz = (q[2] as u32).wrapping_sub(edge[2]);
-            if oz >= window {
-                continue;
-            }
-            // d = r − 1 − o, in (−r, r).
-            let dx = i64::from(reach.wrapping_sub(ox as i32));
-            let dy = i64::from(reach.wrapping_sub(oy as i32));
-            let dz = i64::from(reach.wrapping_sub(oz as i32));
-            let d2 = dx * dx + dy * dy + dz * dz;
+            };
             let j = j as usize;
-            if d2 >= probe.r2 || j == probe.cell {
+            if j == probe.cell {
                 continue;
             }
             let repel = i64::from(probe.repel[self.kind_of(j)]);
-            let f = push(probe.cell, j, [dx, dy, dz], d2, probe.r, repel);
+            let f = push(probe.cell, j, d, d2, probe.r, repel);
             sum = [sum[0] + f[0], sum[1] + f[1], sum[2] + f[2]];
         }
         sum
+    }
+
+    /// `own` plus the pushes on the probe of the cells in the slots `run`
+    /// (all after its own) within r, their pushes from it added to their
+    /// `sums`.
+    #[inline(always)]
+    fn run_pairs(
+        &self,
+        probe: &Probe<'_>,
+        run: Range<usize>,
+        mut own: [i64; 3],
+        sums: &mut [[i64; 3]],
+    ) -> [i64; 3] {
+        let (Some(points), Some(ids), Some(sums)) = (
+            self.sorted.get(run.clone()),
+            self.order.get(run.clone()),
+            sums.get_mut(run),
+        ) else {
+            return own;
+        };
+        let window = probe.window;
+        for ((q, &j), sum) in points.iter().zip(ids).zip(sums) {
+            let Some((d, d2)) = Self::offsets(window, *q) else {
+                continue;
+            };
+            let j = j as usize;
+            let kind = self.kind_of(j);
+            let repel = [probe.repel[kind], self.forces.repel[kind][probe.kind]];
+            let [on_p, on_q] = pair_pushes(probe.cell, j, d, d2, probe.r, repel);
+            own = per_axis(|c| own[c] + on_p[c]);
+            *sum = per_axis(|c| sum[c] + on_q[c]);
+        }
+        own
     }
 
     /// The new place of the cell in slot `slot`, which was at `from` and
     /// last moved by `last` (zero without momentum), and the move it made.
     #[must_use]
     pub fn moved(&self, slot: usize, from: Place, last: [i32; 3]) -> (Place, [i32; 3]) {
-        let sum = self.pushes(slot);
+        self.moved_by(self.pushes(slot), from, last)
+    }
+
+    /// The new place of a cell at `from`, pushed by `sum` (Q32, as
+    /// [`Snapshot::pair_sums`] sums them) and last moved by `last`, and
+    /// the move it made.
+    #[must_use]
+    pub fn moved_by(&self, sum: [i64; 3], from: Place, last: [i32; 3]) -> (Place, [i32; 3]) {
         let forces = self.forces;
         let r = i64::from(forces.radius);
         let (wd, beta) = (i64::from(forces.push_weight), i64::from(forces.momentum));
@@ -353,15 +445,29 @@ impl Snapshot<'_> {
 #[derive(Debug)]
 struct Probe<'f> {
     cell: usize,
+    /// Its type, as an index into the repulsion table.
+    kind: usize,
+    /// Its point.
+    p: [i32; 3],
+    /// What a candidate is compared with.
+    window: Window,
+    r: i64,
+    repel: &'f [i32; MAX_TYPES],
+}
+
+/// The box and ball of radius r around a probe's point, as
+/// [`Snapshot::offsets`] tests a candidate against them (a copy in
+/// registers while a run is scanned).
+#[derive(Clone, Copy, Debug)]
+struct Window {
     /// p − (r − 1) on each axis, wrapped to u32.
     edge: [u32; 3],
     /// r − 1.
     reach: i32,
     /// 2r − 1.
-    window: u32,
-    r: i64,
+    width: u32,
+    /// r² (Q32).
     r2: i64,
-    repel: &'f [i32; MAX_TYPES],
 }
 
 /// The push on cell `i` of cell `j` displaced by `d` (Q16) from it, at
@@ -374,13 +480,40 @@ fn push(i: usize, j: usize, d: [i64; 3], d2: i64, r: i64, repel: i64) -> [i64; 3
         let s = if i < j { -1 } else { 1 };
         return [s * repel * r, 0, 0];
     }
+    let k = ratio(d2, r);
+    per_axis(|c| ((k * d[c]) >> 16) * repel)
+}
+
+/// The pushes of a pair on each other, exactly [`push`] from both sides:
+/// on cell `i` by `j` displaced by `d` from it (repulsion `repel[0]`) and
+/// on `j` by `i` (`repel[1]`), with one root and one division. The floor
+/// of `k·(−d)/2^16` is taken from `−k·d` itself, so the bits are those of
+/// `j`'s own [`push`].
+#[inline(never)]
+fn pair_pushes(i: usize, j: usize, d: [i64; 3], d2: i64, r: i64, repel: [i32; 2]) -> [[i64; 3]; 2] {
+    let repel = repel.map(i64::from);
+    if d2 == 0 {
+        let s = if i < j { -r } else { r };
+        return [[s * repel[0], 0, 0], [-s * repel[1], 0, 0]];
+    }
+    let k = ratio(d2, r);
+    // |k·d| < 2^47 as in [`push`]: −k·d fits.
+    let m = per_axis(|c| k * d[c]);
+    [
+        per_axis(|c| (m[c] >> 16) * repel[0]),
+        per_axis(|c| ((-m[c]) >> 16) * repel[1]),
+    ]
+}
+
+/// (r − d)/d as Q16 for a pair at squared distance 0 < `d2` < r² (Q32).
+#[inline(always)]
+fn ratio(d2: i64, r: i64) -> i64 {
     let dist = match u32::try_from(d2) {
         Ok(d2) => i64::from(isqrt_u32(d2)),
         Err(_) => isqrt_u64(d2 as u64) as i64,
     };
     let dist = dist.max(1);
-    let k = ((r - dist) << 16) / dist;
-    per_axis(|c| ((k * d[c]) >> 16) * repel)
+    ((r - dist) << 16) / dist
 }
 
 /// Takes the snapshot of one step over the first `n` cells: plans the
@@ -443,6 +576,34 @@ pub fn relax(cells: &mut SurfaceSlices<'_>, n: usize, forces: &SurfaceForces<'_>
     }
 }
 
+/// One relaxation step over the first `n` cells, each pair of neighbours
+/// found once ([`Snapshot::pair_sums`]) with the pushes summed in `sums`
+/// (one per cell, 24 B, which a computer has and an MCU's store does not;
+/// fewer than `n`: as [`relax`]). The same places as [`relax`].
+pub fn relax_pairs(
+    cells: &mut SurfaceSlices<'_>,
+    n: usize,
+    forces: &SurfaceForces<'_>,
+    sums: &mut [[i64; 3]],
+) {
+    let Some(sums) = sums.get_mut(..n) else {
+        relax(cells, n, forces);
+        return;
+    };
+    let (snapshot, places, velocity) = snapshot(cells, n, forces);
+    sums.fill([0; 3]);
+    snapshot.pair_sums(0..n, sums);
+    for (slot, sum) in sums.iter().enumerate() {
+        let i = snapshot.cell(slot);
+        let last = velocity.get(i).copied().unwrap_or([0; 3]);
+        let (to, step) = snapshot.moved_by(*sum, places[i], last);
+        places[i] = to;
+        if let Some(v) = velocity.get_mut(i) {
+            *v = step;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -451,8 +612,9 @@ mod tests {
     use crate::mosaic::shapes::{Shape, Tessellation};
     use crate::rng::KeyedRng;
 
-    #[test]
-    fn the_cube_grid_finds_every_neighbour() {
+    /// Calls `test` with a ribbed stem's mesh and a store of 600 cells
+    /// placed at random on it, of types 0 and 1 in turn.
+    fn on_a_stem(test: impl FnOnce(&Mesh<'_>, &mut ArraySurfaceStore<600, 97>)) {
         let t = Tessellation {
             shape: Shape::Stem {
                 radius: Fx::from_int(4),
@@ -477,11 +639,10 @@ mod tests {
         };
         let mesh = Mesh::new_checked(&v, &f, parts).unwrap();
         let mut store = ArraySurfaceStore::<600, 97>::EMPTY;
-        let n = 600;
         let mut rng = KeyedRng::new(5, 1);
         {
             let cells = store.slices();
-            for i in 0..n {
+            for i in 0..600 {
                 let face = rng.below(nf as u32);
                 let (a, b) = (i64::from(rng.below(1 << 15)), i64::from(rng.below(1 << 15)));
                 cells.place[i] = Place {
@@ -491,38 +652,92 @@ mod tests {
                 cells.kind[i] = (i % 2) as u8;
             }
         }
-        let forces = SurfaceForces {
-            mesh: &mesh,
-            radius: 3 << 16,
-            repel: [
-                [1 << 16, 3 << 16, 0, 0],
-                [3 << 16, 1 << 16, 0, 0],
-                [0; 4],
-                [0; 4],
-            ],
-            push_weight: 1 << 16,
-            anisotropy_weight: 0,
-            field: None,
-            momentum: 0,
-        };
-        let places: Vec<Place> = store.places()[..n].to_vec();
-        let mut cells = store.slices();
-        let (snapshot, _, _) = snapshot(&mut cells, n, &forces);
-        let r = i64::from(forces.radius);
-        for slot in 0..n {
-            let i = snapshot.cell(slot);
-            let mut naive = [0i64; 3];
-            for (j, q) in places.iter().enumerate() {
-                let d = [0, 1, 2].map(|c| i64::from(places[i].p[c]) - i64::from(q.p[c]));
-                let d2 = d.iter().map(|x| x * x).sum::<i64>();
-                if j == i || d2 >= r * r {
-                    continue;
+        test(&mesh, &mut store);
+    }
+
+    #[test]
+    fn pairs_found_once_move_cells_as_the_per_cell_step_does() {
+        // As on the plane: each pair's pushes from its lower slot, both
+        // floors from one product, give the per-cell step's places, with a
+        // repulsion that is not symmetric (a swapped pair would show), a
+        // child on its parent and radii of 3 (squares past 32 bits) and ½.
+        for radius in [3 << 16, 1 << 15] {
+            on_a_stem(|mesh, store| {
+                let n = 600;
+                store.slices().place[n - 1] = store.places()[0];
+                let mut other = ArraySurfaceStore::<600, 97>::EMPTY;
+                {
+                    let (copy, cells) = (other.slices(), store.slices());
+                    copy.place.copy_from_slice(cells.place);
+                    copy.kind.copy_from_slice(cells.kind);
                 }
-                let repel = i64::from(forces.repel[i % 2][j % 2]);
-                let f = push(i, j, d, d2, r, repel);
-                naive = [0, 1, 2].map(|c| naive[c] + f[c]);
-            }
-            assert_eq!(snapshot.pushes(slot), naive, "cell {i}");
+                let forces = SurfaceForces {
+                    mesh,
+                    radius,
+                    repel: [
+                        [1 << 16, 3 << 16, 0, 0],
+                        [1 << 15, 1 << 16, 0, 0],
+                        [0; 4],
+                        [0; 4],
+                    ],
+                    push_weight: 1 << 15,
+                    anisotropy_weight: 0,
+                    field: None,
+                    momentum: 0,
+                };
+                let mut sums = vec![[0i64; 3]; n];
+                for step in 0..3 {
+                    let before = store.places()[..n].to_vec();
+                    relax(&mut store.slices(), n, &forces);
+                    relax_pairs(&mut other.slices(), n, &forces, &mut sums);
+                    assert_eq!(
+                        store.places()[..n],
+                        other.places()[..n],
+                        "r {radius} step {step}"
+                    );
+                    assert_ne!(store.places()[..n], before[..], "the cells move");
+                }
+            });
         }
+    }
+
+    #[test]
+    fn the_cube_grid_finds_every_neighbour() {
+        on_a_stem(|mesh, store| {
+            let n = 600;
+            let forces = SurfaceForces {
+                mesh,
+                radius: 3 << 16,
+                repel: [
+                    [1 << 16, 3 << 16, 0, 0],
+                    [3 << 16, 1 << 16, 0, 0],
+                    [0; 4],
+                    [0; 4],
+                ],
+                push_weight: 1 << 16,
+                anisotropy_weight: 0,
+                field: None,
+                momentum: 0,
+            };
+            let places: Vec<Place> = store.places()[..n].to_vec();
+            let mut cells = store.slices();
+            let (snapshot, _, _) = snapshot(&mut cells, n, &forces);
+            let r = i64::from(forces.radius);
+            for slot in 0..n {
+                let i = snapshot.cell(slot);
+                let mut naive = [0i64; 3];
+                for (j, q) in places.iter().enumerate() {
+                    let d = [0, 1, 2].map(|c| i64::from(places[i].p[c]) - i64::from(q.p[c]));
+                    let d2 = d.iter().map(|x| x * x).sum::<i64>();
+                    if j == i || d2 >= r * r {
+                        continue;
+                    }
+                    let repel = i64::from(forces.repel[i % 2][j % 2]);
+                    let f = push(i, j, d, d2, r, repel);
+                    naive = [0, 1, 2].map(|c| naive[c] + f[c]);
+                }
+                assert_eq!(snapshot.pushes(slot), naive, "cell {i}");
+            }
+        });
     }
 }
