@@ -9,7 +9,7 @@ use morphogen::body::{
     Body, BodyError, BodyModel, BodyParams, Cylinder, Drive, Joint, Label, MAX_CYLINDERS,
     quadruped, solve,
 };
-use morphogen::fx::{Fx, Real};
+use morphogen::fx::{Angle, Fx, Real};
 use morphogen::preset::Model;
 use morphogen::sim::Simulation;
 use morphogen::stream::{Record, Sink, SinkError};
@@ -47,14 +47,106 @@ fn with_body<R>(name: &str, f: impl FnOnce(&BodyParams<'_>) -> R) -> R {
     })
 }
 
-/// The built-in body scenarios (the last two: the paper's transfers of Sec. 8).
-const ALL: [&str; 5] = [
+/// The built-in body scenarios (`cow-trot` and `horse-with-cow-growth`: the
+/// paper's transfers of Sec. 8; `cow-walk`: a gait measured on cows).
+const ALL: [&str; 6] = [
     "horse-growth",
     "cow-growth",
     "horse-trot",
     "cow-trot",
     "horse-with-cow-growth",
+    "cow-walk",
 ];
+
+/// `cow-walk`'s source numbers as `scripts/cow-walk-gait.py` prints them
+/// from Russello et al. (2026)'s keypoints of sound dairy cows: the mean
+/// cannon inclination to the back and the mean fetlock bend from the
+/// cannon's line at 12 equal phases from hoof contact, degrees (positive:
+/// the lower end forward), fore then hind.
+const COW_WALK_CANNON: [[f64; 12]; 2] = [
+    [
+        20.16, 15.58, 10.44, 0.97, -1.48, -10.99, -18.62, -25.29, -33.26, -35.88, -18.93, 13.34,
+    ],
+    [
+        32.40, 28.12, 22.09, 15.71, 8.12, 1.46, -9.25, -16.16, -17.90, -7.72, 15.52, 29.80,
+    ],
+];
+const COW_WALK_FETLOCK: [[f64; 12]; 2] = [
+    [
+        6.29, 15.03, 19.59, 25.17, 24.70, 31.80, 32.56, 29.58, 15.06, -23.82, -29.69, -17.99,
+    ],
+    [
+        2.54, 5.13, 10.19, 14.56, 18.52, 23.53, 26.67, 23.57, 12.39, -16.69, -23.93, -8.93,
+    ],
+];
+/// Mean phase of each hoof's contact in the left-fore stride (same script):
+/// a lateral-sequence walk.
+const COW_WALK_CONTACT: [(&str, f64); 4] = [
+    ("l-fore", 0.0),
+    ("r-hind", 0.251),
+    ("r-fore", 0.463),
+    ("l-hind", 0.744),
+];
+
+#[test]
+fn cow_walk_is_the_measured_walk_of_sound_dairy_cows() {
+    with_body("cow-walk", |params| {
+        let gait = params.gait.unwrap();
+        assert_eq!(params.frames_per_stride, 12);
+        let cylinder = |name: &str| {
+            let label = Label::new(name);
+            params
+                .model
+                .cylinders
+                .iter()
+                .find(|c| c.name == label)
+                .unwrap()
+        };
+        // Inclination of a cylinder's axis from straight down, positive
+        // forward (+x), in the model's rest pose.
+        let inclination = |c: &Cylinder| {
+            let (b, t) = (c.base.map(Fx::to_f64), c.tip.map(Fx::to_f64));
+            (t[0] - b[0]).atan2(b[1] - t[1]).to_degrees()
+        };
+        for (limb, contact) in COW_WALK_CONTACT {
+            let end = usize::from(limb.ends_with("hind"));
+            let shift = (12 - (contact * 12.0).round() as u8) % 12;
+            let cannon = cylinder(&format!("{limb}-cannon"));
+            let pastern = cylinder(&format!("{limb}-pastern"));
+            // The model's rest: cannons perpendicular to the level trunk,
+            // the pastern bent forward of its cannon.
+            assert!(inclination(cannon).abs() < 1e-6, "{limb}");
+            let rest = inclination(pastern) - inclination(cannon);
+            let expect = [
+                (cannon.name, COW_WALK_CANNON[end].map(|v| v.round() as i16)),
+                (
+                    pastern.name,
+                    COW_WALK_FETLOCK[end].map(|v| (v - rest).round() as i16),
+                ),
+            ];
+            for (name, degrees) in expect {
+                let channel = gait.channels.iter().find(|c| c.cylinder == name).unwrap();
+                assert_eq!(channel.degrees, degrees, "{name}");
+                assert_eq!(channel.shift, shift, "{name}");
+                // The hoof touches down at its measured phase: the joint
+                // there is the contact sample.
+                let phase = Fx::from_ratio((12 - i32::from(shift)) % 12, 12);
+                assert_eq!(
+                    gait.joint(name, phase),
+                    Joint::bend(Angle::from_degrees_fx(Fx::from_int(i32::from(degrees[0])))),
+                    "{name}"
+                );
+            }
+        }
+        // The data has no elbow or stifle: forearms and gaskins keep their
+        // rest pose.
+        assert_eq!(gait.channels.len(), 8);
+        assert!(gait.channels.iter().all(|c| {
+            let n = c.cylinder.as_str();
+            n.ends_with("-cannon") || n.ends_with("-pastern")
+        }));
+    });
+}
 
 #[test]
 fn at_every_table_age_the_deformed_features_have_the_tables_lengths() {

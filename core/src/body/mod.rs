@@ -16,7 +16,8 @@
 //!   the body standing;
 //! - [`skeleton`]: the posed hierarchy, generic over [`Real`](crate::fx::Real);
 //! - [`sim`]: the [`Body`] simulation and its [`BodyParams`] (the built-in
-//!   bodies are the scenarios `horse-growth`, `cow-growth`, `horse-trot`).
+//!   bodies are the scenarios `horse-growth`, `cow-growth`, `horse-trot`,
+//!   `cow-trot`, `horse-with-cow-growth`, `cow-walk`).
 //!
 //! ```
 //! use morphogen::body::Body;
