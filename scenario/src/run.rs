@@ -35,10 +35,10 @@ use crate::body_files::USER_CYLINDERS;
 #[derive(Debug, Default)]
 pub struct VecStore {
     cells: Cells,
-    /// The new positions and moves of a relaxation step, in grid order.
-    moved: Vec<([i32; 2], [i32; 2])>,
-    /// The sums of pair pushes of a relaxation step, one buffer of a cell
-    /// each per thread, grown on first use.
+    /// Each cell's grid slot in a relaxation step.
+    slots: Vec<u32>,
+    /// The sums of pair pushes of a relaxation step, one a cell, grown on
+    /// first use.
     sums: Vec<[i64; 2]>,
 }
 
@@ -72,9 +72,9 @@ impl Cells {
 /// step, large enough that handing out chunks costs little.
 const RELAX_CHUNK: usize = 512;
 
-/// At most this many threads find pairs side by side, each with a buffer
-/// of 16 B a cell ([`VecStore`]'s relaxation).
-const MAX_SUM_BUFFERS: usize = 8;
+/// Shares of the grid slots per thread when threads find pairs side by
+/// side: more than one, so that a thread done early takes another.
+const SHARES_PER_THREAD: usize = 4;
 
 impl VecStore {
     /// A store of `cells` cells (with their last moves, for momentum) and
@@ -94,7 +94,7 @@ impl VecStore {
                 bins: vec![0; cells / 2 + 1],
                 velocity: vec![[0; 2]; cells],
             },
-            moved: vec![([0; 2], [0; 2]); cells],
+            slots: vec![0; cells],
             sums: Vec::new(),
         }
     }
@@ -120,54 +120,86 @@ impl CellStore for VecStore {
 
 impl Relax for VecStore {
     /// Each pair of neighbours once ([`relaxation::relax_pairs`]): on one
-    /// thread in one pass; on several, each thread finds the pairs of one
-    /// share of the grid slots and sums their pushes in a buffer of its
-    /// own, and the buffers are added per cell (integer sums: the same
-    /// bits for any number of threads).
+    /// thread in one pass; on several, the grid's per-cell phases side by
+    /// side, then each thread finds the pairs of a share of the grid slots
+    /// into that share of the sums (the few pushes past its end kept aside
+    /// and added after), then the cells move side by side (integer sums:
+    /// the same bits for any number of threads).
     fn relax(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>) {
-        let parts = rayon::current_num_threads().clamp(1, MAX_SUM_BUFFERS);
-        if self.sums.len() < parts * n {
-            self.sums.resize(parts * n, [0; 2]);
+        let threads = rayon::current_num_threads();
+        if self.sums.len() < n {
+            self.sums.resize(n, [0; 2]);
         }
         let mut cells = self.cells.slices();
-        if parts == 1 || n < RELAX_CHUNK {
+        if threads == 1 || n < RELAX_CHUNK {
             relaxation::relax_pairs(&mut cells, n, grid, forces, &mut self.sums);
             return;
         }
-        let (snapshot, moves) = relaxation::snapshot(&mut cells, n, grid, forces);
-        let share = n.div_ceil(parts);
-        let sums = &mut self.sums[..parts * n];
-        sums.par_chunks_mut(n).enumerate().for_each(|(part, sums)| {
-            sums.fill([0; 2]);
-            snapshot.pair_sums(part * share..(part + 1) * share, sums);
-        });
-        let sums = &*sums;
-        let velocity = &*moves.velocity;
-        let moved = &mut self.moved[..n];
-        moved
+        let (pos, order, sorted) = (&cells.pos[..n], &mut cells.order[..n], &mut cells.push[..n]);
+        order
             .par_chunks_mut(RELAX_CHUNK)
+            .zip(pos.par_chunks(RELAX_CHUNK))
+            .for_each(|(bins, pos)| grid.bin_cells(pos, bins));
+        let slots = &mut self.slots[..n];
+        grid.place(order, cells.bins, sorted, slots);
+        order
+            .par_chunks_mut(RELAX_CHUNK)
+            .zip(sorted.par_chunks_mut(RELAX_CHUNK))
+            .for_each(|(order, sorted)| Grid::gather(pos, order, sorted));
+        let (snapshot, moves) = relaxation::sorted_snapshot(&mut cells, n, grid, forces);
+        let sums = &mut self.sums[..n];
+        let share = n.div_ceil(threads * SHARES_PER_THREAD);
+        let past: Vec<Vec<(usize, [i64; 2])>> = sums
+            .par_chunks_mut(share)
             .enumerate()
-            .for_each(|(chunk, out)| {
-                for (slot, m) in (chunk * RELAX_CHUNK..).zip(out) {
-                    let sum = sums[slot..]
-                        .iter()
-                        .step_by(n)
-                        .fold([0; 2], |s, part| [s[0] + part[0], s[1] + part[1]]);
-                    let (p, d) = snapshot.displaced(slot, sum);
-                    *m = if forces.momentum == 0 {
-                        (snapshot.moved(p, d), [0; 2])
-                    } else {
-                        let last = velocity.get(snapshot.cell(slot)).copied();
-                        snapshot.carried(p, d, last.unwrap_or([0; 2]))
-                    };
-                }
-            });
-        for (slot, (p, v)) in moved.iter().enumerate() {
-            let i = snapshot.cell(slot);
-            moves.pos[i] = *p;
-            if let Some(last) = moves.velocity.get_mut(i) {
-                *last = *v;
+            .map(|(part, sums)| {
+                sums.fill([0; 2]);
+                let mut past = Vec::new();
+                let first = part * share;
+                snapshot.pair_sums(first..first + sums.len(), sums, &mut |slot, push| {
+                    past.push((slot, push));
+                });
+                past
+            })
+            .collect();
+        for (slot, push) in past.into_iter().flatten() {
+            if let Some(sum) = sums.get_mut(slot) {
+                *sum = [sum[0] + push[0], sum[1] + push[1]];
             }
+        }
+        // The cells move in index order, each from its slot's sum.
+        let (sums, slots) = (&*sums, &*slots);
+        let move_cell = |slot: u32, p: &mut [i32; 2], last: Option<&mut [i32; 2]>| {
+            let slot = slot as usize;
+            let (from, d) = snapshot.displaced(slot, sums[slot]);
+            match last {
+                Some(last) if forces.momentum != 0 => {
+                    (*p, *last) = snapshot.carried(from, d, *last);
+                }
+                _ => *p = snapshot.moved(from, d),
+            }
+        };
+        if moves.velocity.len() < n {
+            moves
+                .pos
+                .par_chunks_mut(RELAX_CHUNK)
+                .zip(slots.par_chunks(RELAX_CHUNK))
+                .for_each(|(pos, slots)| {
+                    for (p, &slot) in pos.iter_mut().zip(slots) {
+                        move_cell(slot, p, None);
+                    }
+                });
+        } else {
+            moves
+                .pos
+                .par_chunks_mut(RELAX_CHUNK)
+                .zip(moves.velocity.par_chunks_mut(RELAX_CHUNK))
+                .zip(slots.par_chunks(RELAX_CHUNK))
+                .for_each(|((pos, velocity), slots)| {
+                    for ((p, v), &slot) in pos.iter_mut().zip(velocity).zip(slots) {
+                        move_cell(slot, p, Some(v));
+                    }
+                });
         }
     }
 }
@@ -184,7 +216,7 @@ pub struct VecSurfaceStore {
     buckets: Vec<u32>,
     velocity: Vec<[i32; 3]>,
     moved: Vec<(Place, [i32; 3])>,
-    /// The sums of pair pushes of a step, one buffer per thread.
+    /// The sums of pair pushes of a step, one a cell.
     sums: Vec<[i64; 3]>,
 }
 
@@ -235,12 +267,12 @@ impl SurfaceStore for VecSurfaceStore {
 }
 
 impl SurfaceRelax for VecSurfaceStore {
-    /// Each pair of neighbours once, on one thread or side by side as on
-    /// the plane ([`VecStore`]'s relaxation).
+    /// Each pair of neighbours once, on one thread or side by side, in
+    /// shares of the slots as on the plane ([`VecStore`]'s relaxation).
     fn relax(&mut self, n: usize, forces: &SurfaceForces<'_>) {
-        let parts = rayon::current_num_threads().clamp(1, MAX_SUM_BUFFERS);
-        if self.sums.len() < parts * n {
-            self.sums.resize(parts * n, [0; 3]);
+        let threads = rayon::current_num_threads();
+        if self.sums.len() < n {
+            self.sums.resize(n, [0; 3]);
         }
         let moved = &mut self.moved[..n];
         let mut cells = SurfaceSlices {
@@ -252,30 +284,41 @@ impl SurfaceRelax for VecSurfaceStore {
             buckets: &mut self.buckets,
             velocity: &mut self.velocity,
         };
-        if parts == 1 || n < RELAX_CHUNK {
+        if threads == 1 || n < RELAX_CHUNK {
             surface_relaxation::relax_pairs(&mut cells, n, forces, &mut self.sums);
             return;
         }
         let (snapshot, places, velocity) = surface_relaxation::snapshot(&mut cells, n, forces);
-        let share = n.div_ceil(parts);
-        let sums = &mut self.sums[..parts * n];
-        sums.par_chunks_mut(n).enumerate().for_each(|(part, sums)| {
-            sums.fill([0; 3]);
-            snapshot.pair_sums(part * share..(part + 1) * share, sums);
-        });
-        let sums = &*sums;
-        let (from, last) = (&*places, &*velocity);
+        let sums = &mut self.sums[..n];
+        let share = n.div_ceil(threads * SHARES_PER_THREAD);
+        let past: Vec<Vec<(usize, [i64; 3])>> = sums
+            .par_chunks_mut(share)
+            .enumerate()
+            .map(|(part, sums)| {
+                sums.fill([0; 3]);
+                let mut past = Vec::new();
+                let first = part * share;
+                snapshot.pair_sums(first..first + sums.len(), sums, &mut |slot, push| {
+                    past.push((slot, push));
+                });
+                past
+            })
+            .collect();
+        for (slot, push) in past.into_iter().flatten() {
+            if let Some(sum) = sums.get_mut(slot) {
+                *sum = [sum[0] + push[0], sum[1] + push[1], sum[2] + push[2]];
+            }
+        }
+        let (sums, from, last) = (&*sums, &*places, &*velocity);
         moved
             .par_chunks_mut(RELAX_CHUNK)
+            .zip(sums.par_chunks(RELAX_CHUNK))
             .enumerate()
-            .for_each(|(chunk, out)| {
-                for (slot, m) in (chunk * RELAX_CHUNK..).zip(out) {
-                    let sum = sums[slot..].iter().step_by(n).fold([0; 3], |s, part| {
-                        [s[0] + part[0], s[1] + part[1], s[2] + part[2]]
-                    });
+            .for_each(|(chunk, (out, sums))| {
+                for ((slot, m), sum) in (chunk * RELAX_CHUNK..).zip(out).zip(sums) {
                     let i = snapshot.cell(slot);
                     let last = last.get(i).copied().unwrap_or([0; 3]);
-                    *m = snapshot.moved_by(sum, from[i], last);
+                    *m = snapshot.moved_by(*sum, from[i], last);
                 }
             });
         for (slot, (to, step)) in moved.iter().enumerate() {

@@ -87,7 +87,9 @@ impl Grid {
     /// `order[bins[b]..bins[b + 1]]`, in increasing index order. `bins`
     /// needs `self.bins() + 1` entries, `order` and `sorted` `pos.len()`.
     /// Each cell's bin is computed once: `order` holds it until the cells
-    /// are placed, `sorted` holds the placed indices until the gather.
+    /// are placed, `sorted` holds the placed indices until the gather. The
+    /// three phases are public so that a computer can run the per-cell
+    /// ones, [`Grid::bin_cells`] and [`Grid::gather`], on several threads.
     pub fn build(
         &self,
         pos: &[[i32; 2]],
@@ -95,15 +97,39 @@ impl Grid {
         bins: &mut [u32],
         sorted: &mut [[i32; 2]],
     ) {
+        self.bin_cells(pos, order);
+        self.place(order, bins, sorted, &mut []);
+        Grid::gather(pos, order, sorted);
+    }
+
+    /// The first phase of [`Grid::build`]: the bin of each position of
+    /// `pos` into `bins_of` (as many), in any slices of them.
+    pub fn bin_cells(&self, pos: &[[i32; 2]], bins_of: &mut [u32]) {
+        for (b, p) in bins_of.iter_mut().zip(pos) {
+            // bin_of < bins() ≤ u32::MAX (cols, rows ≤ 2^15).
+            *b = self.bin_of(*p) as u32;
+        }
+    }
+
+    /// The second phase of [`Grid::build`]: from the bin of each cell in
+    /// `order` ([`Grid::bin_cells`]), each bin's first slot into `bins`,
+    /// each slot's cell index into `sorted[slot][0]` and, as far as
+    /// `slots` reaches, each cell's slot into `slots` (so that a computer
+    /// can move the cells side by side in index order).
+    pub fn place(
+        &self,
+        order: &[u32],
+        bins: &mut [u32],
+        sorted: &mut [[i32; 2]],
+        slots: &mut [u32],
+    ) {
         let nb = self.bins();
         let Some(bins) = bins.get_mut(..=nb) else {
             return;
         };
         bins.fill(0);
-        for (b, p) in order.iter_mut().zip(pos) {
-            // bin_of < nb ≤ u32::MAX (cols, rows ≤ 2^15).
-            *b = self.bin_of(*p) as u32;
-            if let Some(count) = bins.get_mut(*b as usize) {
+        for &b in order {
+            if let Some(count) = bins.get_mut(b as usize) {
                 *count += 1;
             }
         }
@@ -119,8 +145,17 @@ impl Grid {
                 if let Some(slot) = sorted.get_mut(*end as usize) {
                     slot[0] = i as i32; // i < pos.len() ≤ u32::MAX: lossless
                 }
+                if let Some(slot) = slots.get_mut(i) {
+                    *slot = *end;
+                }
             }
         }
+    }
+
+    /// The last phase of [`Grid::build`], in any slices of slots: each
+    /// slot's cell index from `sorted[slot][0]` ([`Grid::place`]) into
+    /// `order`, and that cell's position from `pos` into `sorted`.
+    pub fn gather(pos: &[[i32; 2]], order: &mut [u32], sorted: &mut [[i32; 2]]) {
         for (i, slot) in order.iter_mut().zip(sorted.iter_mut()) {
             *i = slot[0] as u32;
             *slot = pos.get(*i as usize).copied().unwrap_or_default();

@@ -273,36 +273,78 @@ impl Snapshot<'_> {
         (p, self.forces.displacement(sum, p))
     }
 
-    /// Adds to `sums` (by grid slot, Q32) the pushes of every pair of cells
-    /// within the radius whose lower slot is in `slots`, on both of its
-    /// cells ([`Forces::pair_pushes`]): each pair is found once, from its
-    /// lower slot, so a step costs half the roots and half the candidates
-    /// of [`Snapshot::sweep`]. Over all slots the sums are exactly those of
-    /// the sweep (integer sums do not depend on their order); over a part
-    /// of them they are that part's share, to be added to the others'.
-    pub fn pair_sums(&self, slots: Range<usize>, sums: &mut [[i64; 2]]) {
+    /// Adds to `sums` the pushes (Q32) of every pair of cells within the
+    /// radius whose lower slot is in `slots`, on both of its cells
+    /// (`Forces::pair_pushes`): each pair is found once, from its lower
+    /// slot, so a step costs half the roots and half the candidates of
+    /// [`Snapshot::sweep`]. `sums[k]` is slot `slots.start + k`'s; a push
+    /// on a later slot past the end of `sums` goes to `beyond(slot, push)`
+    /// instead, so that threads can each take a share of the slots with its
+    /// own part of the sums (only pairs across a share's end, a few rows of
+    /// cells, go beyond). Over all slots the sums are exactly those of the
+    /// sweep: integer sums do not depend on their order.
+    pub fn pair_sums(
+        &self,
+        slots: Range<usize>,
+        sums: &mut [[i64; 2]],
+        beyond: &mut impl FnMut(usize, [i64; 2]),
+    ) {
         if self.shifted {
-            self.pair_sums_in::<true>(slots, sums);
+            self.pair_sums_in::<true>(slots, sums, beyond);
         } else {
-            self.pair_sums_in::<false>(slots, sums);
+            self.pair_sums_in::<false>(slots, sums, beyond);
         }
     }
 
     /// [`Snapshot::pair_sums`] with the displacements of `SHIFTED`
     /// ([`Snapshot::pushes`]).
     #[inline(always)]
-    fn pair_sums_in<const SHIFTED: bool>(&self, slots: Range<usize>, sums: &mut [[i64; 2]]) {
-        let end = slots.end.min(self.sorted.len()).min(sums.len());
-        for slot in slots.start..end {
+    fn pair_sums_in<const SHIFTED: bool>(
+        &self,
+        slots: Range<usize>,
+        sums: &mut [[i64; 2]],
+        beyond: &mut impl FnMut(usize, [i64; 2]),
+    ) {
+        let base = slots.start;
+        // One past the last slot whose sum is in `sums`.
+        let held = base + sums.len();
+        for slot in base..slots.end.min(self.sorted.len()).min(held) {
             let probe = self.probe(slot);
             let mut own = [0i64; 2];
             self.runs::<SHIFTED>(&probe, |edge, run| {
                 // The slots after this one: the pairs not yet found.
                 let later = run.start.max(slot + 1)..run.end;
-                own = self.run_pairs::<SHIFTED>(&probe, edge, later, own, sums);
+                if later.is_empty() {
+                    return;
+                }
+                // base ≤ slot < later.start ≤ split ≤ later.end: no underflow.
+                let split = held.max(later.start).min(later.end);
+                if let Some(sums) = sums.get_mut(later.start - base..split - base) {
+                    own = self.run_pairs::<SHIFTED>(&probe, edge, later.start, own, sums);
+                }
+                for (k, (q, &j)) in self.candidates(split..later.end) {
+                    let Some([on_p, on_q]) = self.pair::<SHIFTED>(&probe, edge, *q, j) else {
+                        continue;
+                    };
+                    own = [own[0] + on_p[0], own[1] + on_p[1]];
+                    beyond(k, on_q);
+                }
             });
-            sums[slot] = [sums[slot][0] + own[0], sums[slot][1] + own[1]];
+            let sum = &mut sums[slot - base];
+            *sum = [sum[0] + own[0], sum[1] + own[1]];
         }
+    }
+
+    /// The slots `run` with their cells' positions and indices.
+    #[inline(always)]
+    fn candidates(
+        &self,
+        run: Range<usize>,
+    ) -> impl Iterator<Item = (usize, (&[i32; 2], &u32))> + '_ {
+        let start = run.start;
+        let cells = self.sorted.get(run.clone()).unwrap_or_default();
+        let order = self.order.get(run).unwrap_or_default();
+        (start..).zip(cells.iter().zip(order))
     }
 
     /// The cell in grid slot `slot` (below [`Snapshot::len`]) as the
@@ -444,36 +486,46 @@ impl Snapshot<'_> {
     }
 
     /// `own` plus the pushes on the probed cell of the cells in the slots
-    /// `run` (all after its own) within the radius, their pushes on it
-    /// added to their `sums`.
+    /// from `first` on (all after its own), as many as `sums`, within the
+    /// radius, their pushes on it added to their `sums`.
     #[inline(always)]
     fn run_pairs<const SHIFTED: bool>(
         &self,
         probe: &Probe<'_>,
         edge: [u32; 2],
-        run: Range<usize>,
+        first: usize,
         mut own: [i64; 2],
         sums: &mut [[i64; 2]],
     ) -> [i64; 2] {
-        let (Some(cells), Some(order), Some(sums)) = (
-            self.sorted.get(run.clone()),
-            self.order.get(run.clone()),
-            sums.get_mut(run),
-        ) else {
+        let run = first..first + sums.len();
+        let (Some(cells), Some(order)) = (self.sorted.get(run.clone()), self.order.get(run)) else {
             return own;
         };
         for ((q, &j), sum) in cells.iter().zip(order).zip(sums) {
-            let Some((dx, dy, d2)) = self.offsets::<SHIFTED>(probe, edge, *q) else {
+            let Some([on_p, on_q]) = self.pair::<SHIFTED>(probe, edge, *q, j) else {
                 continue;
             };
-            let j = j as usize;
-            let kind = self.kind_of(j);
-            let repel = [probe.repel[kind], self.forces.repel[kind][probe.kind]];
-            let [on_p, on_q] = self.forces.pair_pushes(probe.cell, j, dx, dy, d2, repel);
             own = [own[0] + on_p[0], own[1] + on_p[1]];
             *sum = [sum[0] + on_q[0], sum[1] + on_q[1]];
         }
         own
+    }
+
+    /// The pushes of the probed cell and of cell `j` at `q` on each other,
+    /// if `q` lies within the radius.
+    #[inline(always)]
+    fn pair<const SHIFTED: bool>(
+        &self,
+        probe: &Probe<'_>,
+        edge: [u32; 2],
+        q: [i32; 2],
+        j: u32,
+    ) -> Option<[[i64; 2]; 2]> {
+        let (dx, dy, d2) = self.offsets::<SHIFTED>(probe, edge, q)?;
+        let j = j as usize;
+        let kind = self.kind_of(j);
+        let repel = [probe.repel[kind], self.forces.repel[kind][probe.kind]];
+        Some(self.forces.pair_pushes(probe.cell, j, dx, dy, d2, repel))
     }
 
     /// The type of cell `i`, as an index into the repulsion table.
@@ -550,6 +602,18 @@ pub fn snapshot<'s>(
         cells.bins,
         &mut cells.push[..n],
     );
+    sorted_snapshot(cells, n, grid, forces)
+}
+
+/// [`snapshot`] of cells already sorted into the grid ([`Grid::build`]
+/// into `order`, `bins` and the push scratch), as a computer does it on
+/// several threads.
+pub fn sorted_snapshot<'s>(
+    cells: &'s mut CellSlices<'_>,
+    n: usize,
+    grid: &'s Grid,
+    forces: &'s Forces<'s>,
+) -> (Snapshot<'s>, Moves<'s>) {
     let order = &cells.order[..n];
     let snapshot = Snapshot {
         sorted: &cells.push[..n],
@@ -598,7 +662,8 @@ pub fn relax_pairs(
     };
     let (snapshot, mut moves) = snapshot(cells, n, grid, forces);
     sums.fill([0; 2]);
-    snapshot.pair_sums(0..n, sums);
+    // Every later slot's sum is in `sums`: nothing goes beyond.
+    snapshot.pair_sums(0..n, sums, &mut |_, _| {});
     for (slot, sum) in sums.iter().enumerate() {
         let (p, d) = snapshot.displaced(slot, *sum);
         moves.settle(&snapshot, slot, p, d);

@@ -355,3 +355,54 @@ fn pairs_found_once_move_cells_as_the_per_cell_step_does() {
     }
     assert_eq!(compared, 2 * 4 * 2 * 3);
 }
+
+#[test]
+fn shares_of_the_slots_and_their_spills_give_the_sums_of_one_pass() {
+    // A computer's threads each take a share of the grid slots with its
+    // part of the sums; pushes on slots past a share's end come back
+    // through `beyond`. Added up, any split gives the sums of one pass,
+    // on fine and coarse grids (where a share's rows reach across the
+    // wrap).
+    let params = &croton_mcu_day_0(300);
+    for max_bins in [4, 128] {
+        let mut m = Mosaic::new(ArrayStore::<512, 129>::EMPTY);
+        m.start(params, 9).unwrap();
+        m.place(params).unwrap();
+        m.update_radius(params);
+        let f = Forces {
+            domain: &params.domain,
+            radius: m.radius,
+            repel: [[40_000; MAX_TYPES]; MAX_TYPES],
+            push_weight: params.push_weight.to_bits(),
+            anisotropy_weight: 0,
+            field: None,
+            momentum: 0,
+        };
+        let n = m.len();
+        let grid = Grid::plan(&params.domain, m.radius, max_bins);
+        let mut cells = m.store.slices();
+        let (snapshot, _) = relaxation::snapshot(&mut cells, n, &grid, &f);
+        let mut whole = vec![[0i64; 2]; n];
+        snapshot.pair_sums(0..n, &mut whole, &mut |slot, _| {
+            panic!("slot {slot} is in the sums")
+        });
+        assert!(whole.iter().filter(|s| **s != [0, 0]).count() > n / 2);
+        for shares in [2, 3, 7, n] {
+            let share = n.div_ceil(shares);
+            let mut sums = vec![[0i64; 2]; n];
+            let mut spilt = Vec::new();
+            for (k, part) in sums.chunks_mut(share).enumerate() {
+                let first = k * share;
+                snapshot.pair_sums(first..first + part.len(), part, &mut |slot, push| {
+                    assert!(slot >= first + share, "slot {slot} spilt from share {k}");
+                    spilt.push((slot, push));
+                });
+            }
+            assert!(!spilt.is_empty(), "pairs across shares");
+            for (slot, push) in spilt {
+                sums[slot] = [sums[slot][0] + push[0], sums[slot][1] + push[1]];
+            }
+            assert_eq!(sums, whole, "{shares} shares, {max_bins} bins");
+        }
+    }
+}

@@ -288,24 +288,50 @@ impl Snapshot<'_> {
         self.runs(&probe, [0; 3], |sum, run| self.run_pushes(&probe, run, sum))
     }
 
-    /// Adds to `sums` (by slot, Q32) the pushes of every pair of cells
-    /// within the radius whose lower slot is in `slots`, on both of its
-    /// cells: each pair once, as on the plane
-    /// ([`crate::mosaic::relaxation::Snapshot::pair_sums`]); the 3D pushes
-    /// of a pair are equal and opposite up to their floors, which
-    /// [`pair_pushes`] takes from one product for both.
-    pub fn pair_sums(&self, slots: Range<usize>, sums: &mut [[i64; 3]]) {
-        let end = slots.end.min(self.sorted.len()).min(sums.len());
-        for slot in slots.start..end {
+    /// Adds to `sums` the pushes (Q32) of every pair of cells within the
+    /// radius whose lower slot is in `slots`, on both of its cells: each
+    /// pair once, as on the plane
+    /// ([`crate::mosaic::relaxation::Snapshot::pair_sums`], which also says
+    /// what goes `beyond`); the 3D pushes of a pair are equal and opposite
+    /// up to their floors, which `pair_pushes` takes from one product for
+    /// both.
+    pub fn pair_sums(
+        &self,
+        slots: Range<usize>,
+        sums: &mut [[i64; 3]],
+        beyond: &mut impl FnMut(usize, [i64; 3]),
+    ) {
+        let base = slots.start;
+        // One past the last slot whose sum is in `sums`.
+        let held = base + sums.len();
+        for slot in base..slots.end.min(self.sorted.len()).min(held) {
             let Some(probe) = self.probe(slot) else {
                 return;
             };
-            let own = self.runs(&probe, [0; 3], |own, run| {
+            let own = self.runs(&probe, [0; 3], |mut own, run| {
                 // The slots after this one: the pairs not yet found.
                 let later = run.start.max(slot + 1)..run.end;
-                self.run_pairs(&probe, later, own, sums)
+                if later.is_empty() {
+                    return own;
+                }
+                // base ≤ slot < later.start ≤ split ≤ later.end: no underflow.
+                let split = held.max(later.start).min(later.end);
+                if let Some(sums) = sums.get_mut(later.start - base..split - base) {
+                    own = self.run_pairs(&probe, later.start, own, sums);
+                }
+                let points = self.sorted.get(split..later.end).unwrap_or_default();
+                let ids = self.order.get(split..later.end).unwrap_or_default();
+                for (k, (q, &j)) in (split..).zip(points.iter().zip(ids)) {
+                    let Some([on_p, on_q]) = self.pair(&probe, *q, j) else {
+                        continue;
+                    };
+                    own = per_axis(|c| own[c] + on_p[c]);
+                    beyond(k, on_q);
+                }
+                own
             });
-            sums[slot] = per_axis(|c| sums[slot][c] + own[c]);
+            let sum = &mut sums[slot - base];
+            *sum = per_axis(|c| sum[c] + own[c]);
         }
     }
 
@@ -362,37 +388,40 @@ impl Snapshot<'_> {
         sum
     }
 
-    /// `own` plus the pushes on the probe of the cells in the slots `run`
-    /// (all after its own) within r, their pushes from it added to their
-    /// `sums`.
+    /// `own` plus the pushes on the probe of the cells in the slots from
+    /// `first` on (all after its own), as many as `sums`, within r, their
+    /// pushes from it added to their `sums`.
     #[inline(always)]
     fn run_pairs(
         &self,
         probe: &Probe<'_>,
-        run: Range<usize>,
+        first: usize,
         mut own: [i64; 3],
         sums: &mut [[i64; 3]],
     ) -> [i64; 3] {
-        let (Some(points), Some(ids), Some(sums)) = (
-            self.sorted.get(run.clone()),
-            self.order.get(run.clone()),
-            sums.get_mut(run),
-        ) else {
+        let run = first..first + sums.len();
+        let (Some(points), Some(ids)) = (self.sorted.get(run.clone()), self.order.get(run)) else {
             return own;
         };
-        let window = probe.window;
         for ((q, &j), sum) in points.iter().zip(ids).zip(sums) {
-            let Some((d, d2)) = Self::offsets(window, *q) else {
+            let Some([on_p, on_q]) = self.pair(probe, *q, j) else {
                 continue;
             };
-            let j = j as usize;
-            let kind = self.kind_of(j);
-            let repel = [probe.repel[kind], self.forces.repel[kind][probe.kind]];
-            let [on_p, on_q] = pair_pushes(probe.cell, j, d, d2, probe.r, repel);
             own = per_axis(|c| own[c] + on_p[c]);
             *sum = per_axis(|c| sum[c] + on_q[c]);
         }
         own
+    }
+
+    /// The pushes of the probe and of cell `j` at `q` on each other, if
+    /// `q` lies within r.
+    #[inline(always)]
+    fn pair(&self, probe: &Probe<'_>, q: [i32; 3], j: u32) -> Option<[[i64; 3]; 2]> {
+        let (d, d2) = Self::offsets(probe.window, q)?;
+        let j = j as usize;
+        let kind = self.kind_of(j);
+        let repel = [probe.repel[kind], self.forces.repel[kind][probe.kind]];
+        Some(pair_pushes(probe.cell, j, d, d2, probe.r, repel))
     }
 
     /// The new place of the cell in slot `slot`, which was at `from` and
@@ -592,7 +621,8 @@ pub fn relax_pairs(
     };
     let (snapshot, places, velocity) = snapshot(cells, n, forces);
     sums.fill([0; 3]);
-    snapshot.pair_sums(0..n, sums);
+    // Every later slot's sum is in `sums`: nothing goes beyond.
+    snapshot.pair_sums(0..n, sums, &mut |_, _| {});
     for (slot, sum) in sums.iter().enumerate() {
         let i = snapshot.cell(slot);
         let last = velocity.get(i).copied().unwrap_or([0; 3]);
@@ -699,6 +729,45 @@ mod tests {
                 }
             });
         }
+    }
+
+    #[test]
+    fn shares_of_the_slots_and_their_spills_give_the_sums_of_one_pass() {
+        // As on the plane: any split of the slots into shares, with the
+        // pushes past each share's end added after, gives one pass's sums.
+        on_a_stem(|mesh, store| {
+            let n = 600;
+            let forces = SurfaceForces {
+                mesh,
+                radius: 1 << 16,
+                repel: [[1 << 16; 4]; 4],
+                push_weight: 1 << 15,
+                anisotropy_weight: 0,
+                field: None,
+                momentum: 0,
+            };
+            let mut cells = store.slices();
+            let (snapshot, _, _) = snapshot(&mut cells, n, &forces);
+            let mut whole = vec![[0i64; 3]; n];
+            snapshot.pair_sums(0..n, &mut whole, &mut |slot, _| panic!("slot {slot}"));
+            assert!(whole.iter().filter(|s| **s != [0; 3]).count() > n / 2);
+            for shares in [2, 5, n] {
+                let share = n.div_ceil(shares);
+                let mut sums = vec![[0i64; 3]; n];
+                let mut spilt = Vec::new();
+                for (k, part) in sums.chunks_mut(share).enumerate() {
+                    let first = k * share;
+                    snapshot.pair_sums(first..first + part.len(), part, &mut |slot, push| {
+                        spilt.push((slot, push));
+                    });
+                }
+                assert!(!spilt.is_empty(), "pairs across shares");
+                for (slot, push) in spilt {
+                    sums[slot] = per_axis(|c| sums[slot][c] + push[c]);
+                }
+                assert_eq!(sums, whole, "{shares} shares");
+            }
+        });
     }
 
     #[test]
