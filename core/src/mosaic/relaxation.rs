@@ -289,17 +289,20 @@ impl Snapshot<'_> {
         sums: &mut [[i64; 2]],
         beyond: &mut impl FnMut(usize, [i64; 2]),
     ) {
-        if self.shifted {
-            self.pair_sums_in::<true>(slots, sums, beyond);
-        } else {
-            self.pair_sums_in::<false>(slots, sums, beyond);
+        // All of them from the first (one thread): no share to leave.
+        let whole = slots.start == 0 && sums.len() >= self.sorted.len();
+        match (self.shifted, whole) {
+            (true, true) => self.pair_sums_in::<true, true>(slots, sums, beyond),
+            (true, false) => self.pair_sums_in::<true, false>(slots, sums, beyond),
+            (false, true) => self.pair_sums_in::<false, true>(slots, sums, beyond),
+            (false, false) => self.pair_sums_in::<false, false>(slots, sums, beyond),
         }
     }
 
     /// [`Snapshot::pair_sums`] with the displacements of `SHIFTED`
-    /// ([`Snapshot::pushes`]).
+    /// ([`Snapshot::pushes`]); `WHOLE`: `sums` holds every slot's sum.
     #[inline(always)]
-    fn pair_sums_in<const SHIFTED: bool>(
+    fn pair_sums_in<const SHIFTED: bool, const WHOLE: bool>(
         &self,
         slots: Range<usize>,
         sums: &mut [[i64; 2]],
@@ -314,6 +317,13 @@ impl Snapshot<'_> {
             self.runs::<SHIFTED>(&probe, |edge, run| {
                 // The slots after this one: the pairs not yet found.
                 let later = run.start.max(slot + 1)..run.end;
+                if WHOLE {
+                    // base = 0: slots index the sums (none if later is empty).
+                    if let Some(sums) = sums.get_mut(later.clone()) {
+                        own = self.run_pairs::<SHIFTED>(&probe, edge, later.start, own, sums);
+                    }
+                    return;
+                }
                 if later.is_empty() {
                     return;
                 }
@@ -322,12 +332,8 @@ impl Snapshot<'_> {
                 if let Some(sums) = sums.get_mut(later.start - base..split - base) {
                     own = self.run_pairs::<SHIFTED>(&probe, edge, later.start, own, sums);
                 }
-                for (k, (q, &j)) in self.candidates(split..later.end) {
-                    let Some([on_p, on_q]) = self.pair::<SHIFTED>(&probe, edge, *q, j) else {
-                        continue;
-                    };
-                    own = [own[0] + on_p[0], own[1] + on_p[1]];
-                    beyond(k, on_q);
+                if split < later.end {
+                    own = self.run_spills::<SHIFTED>(&probe, edge, split..later.end, own, beyond);
                 }
             });
             let sum = &mut sums[slot - base];
@@ -335,16 +341,28 @@ impl Snapshot<'_> {
         }
     }
 
-    /// The slots `run` with their cells' positions and indices.
-    #[inline(always)]
-    fn candidates(
+    /// [`Snapshot::run_pairs`] for the slots `run` past the sums' end:
+    /// their pushes go `beyond` (rare: out of line).
+    #[cold]
+    #[inline(never)]
+    fn run_spills<const SHIFTED: bool>(
         &self,
+        probe: &Probe<'_>,
+        edge: [u32; 2],
         run: Range<usize>,
-    ) -> impl Iterator<Item = (usize, (&[i32; 2], &u32))> + '_ {
-        let start = run.start;
+        mut own: [i64; 2],
+        beyond: &mut impl FnMut(usize, [i64; 2]),
+    ) -> [i64; 2] {
         let cells = self.sorted.get(run.clone()).unwrap_or_default();
-        let order = self.order.get(run).unwrap_or_default();
-        (start..).zip(cells.iter().zip(order))
+        let order = self.order.get(run.clone()).unwrap_or_default();
+        for (k, (q, &j)) in run.zip(cells.iter().zip(order)) {
+            let Some([on_p, on_q]) = self.pair::<SHIFTED>(probe, edge, *q, j) else {
+                continue;
+            };
+            own = [own[0] + on_p[0], own[1] + on_p[1]];
+            beyond(k, on_q);
+        }
+        own
     }
 
     /// The cell in grid slot `slot` (below [`Snapshot::len`]) as the

@@ -301,6 +301,22 @@ impl Snapshot<'_> {
         sums: &mut [[i64; 3]],
         beyond: &mut impl FnMut(usize, [i64; 3]),
     ) {
+        // All of them from the first (one thread): no share to leave.
+        if slots.start == 0 && sums.len() >= self.sorted.len() {
+            self.pair_sums_in::<true>(slots, sums, beyond);
+        } else {
+            self.pair_sums_in::<false>(slots, sums, beyond);
+        }
+    }
+
+    /// [`Snapshot::pair_sums`]; `WHOLE`: `sums` holds every slot's sum.
+    #[inline(always)]
+    fn pair_sums_in<const WHOLE: bool>(
+        &self,
+        slots: Range<usize>,
+        sums: &mut [[i64; 3]],
+        beyond: &mut impl FnMut(usize, [i64; 3]),
+    ) {
         let base = slots.start;
         // One past the last slot whose sum is in `sums`.
         let held = base + sums.len();
@@ -311,6 +327,13 @@ impl Snapshot<'_> {
             let own = self.runs(&probe, [0; 3], |mut own, run| {
                 // The slots after this one: the pairs not yet found.
                 let later = run.start.max(slot + 1)..run.end;
+                if WHOLE {
+                    // base = 0: slots index the sums (none if later is empty).
+                    return match sums.get_mut(later.clone()) {
+                        Some(sums) => self.run_pairs(&probe, later.start, own, sums),
+                        None => own,
+                    };
+                }
                 if later.is_empty() {
                     return own;
                 }
@@ -319,20 +342,37 @@ impl Snapshot<'_> {
                 if let Some(sums) = sums.get_mut(later.start - base..split - base) {
                     own = self.run_pairs(&probe, later.start, own, sums);
                 }
-                let points = self.sorted.get(split..later.end).unwrap_or_default();
-                let ids = self.order.get(split..later.end).unwrap_or_default();
-                for (k, (q, &j)) in (split..).zip(points.iter().zip(ids)) {
-                    let Some([on_p, on_q]) = self.pair(&probe, *q, j) else {
-                        continue;
-                    };
-                    own = per_axis(|c| own[c] + on_p[c]);
-                    beyond(k, on_q);
+                if split < later.end {
+                    own = self.run_spills(&probe, split..later.end, own, beyond);
                 }
                 own
             });
             let sum = &mut sums[slot - base];
             *sum = per_axis(|c| sum[c] + own[c]);
         }
+    }
+
+    /// [`Snapshot::run_pairs`] for the slots `run` past the sums' end:
+    /// their pushes go `beyond` (rare: out of line).
+    #[cold]
+    #[inline(never)]
+    fn run_spills(
+        &self,
+        probe: &Probe<'_>,
+        run: Range<usize>,
+        mut own: [i64; 3],
+        beyond: &mut impl FnMut(usize, [i64; 3]),
+    ) -> [i64; 3] {
+        let points = self.sorted.get(run.clone()).unwrap_or_default();
+        let ids = self.order.get(run.clone()).unwrap_or_default();
+        for (k, (q, &j)) in run.zip(points.iter().zip(ids)) {
+            let Some([on_p, on_q]) = self.pair(probe, *q, j) else {
+                continue;
+            };
+            own = per_axis(|c| own[c] + on_p[c]);
+            beyond(k, on_q);
+        }
+        own
     }
 
     /// The displacement d = p − q (Q16) of a point `q` from the probe (its
