@@ -25,6 +25,8 @@ use morphogen::mosaic::{Mosaic, Params as MosaicParams, host_capacity};
 use morphogen::preset::{self, Model, Preset, Runner};
 use morphogen::sim::Progress;
 use morphogen::stream::Sink;
+use std::ops::Range;
+
 use rayon::prelude::*;
 
 use crate::body_files::USER_CYLINDERS;
@@ -75,6 +77,36 @@ const RELAX_CHUNK: usize = 512;
 /// Shares of the grid slots per thread when threads find pairs side by
 /// side: more than one, so that a thread done early takes another.
 const SHARES_PER_THREAD: usize = 4;
+
+/// The pushes (`D` axes) of every pair of neighbours summed into `sums`,
+/// one a grid slot, on all threads: each takes shares of the slots with
+/// their part of the sums (`pair_sums(slots, part, past)`, the pushes on
+/// slots past a share's end put in `past`), which are added after.
+fn sum_in_shares<const D: usize>(
+    sums: &mut [[i64; D]],
+    pair_sums: impl Fn(Range<usize>, &mut [[i64; D]], &mut Vec<(usize, [i64; D])>) + Sync,
+) {
+    let threads = rayon::current_num_threads();
+    let share = sums.len().div_ceil(threads * SHARES_PER_THREAD).max(1);
+    let past: Vec<Vec<(usize, [i64; D])>> = sums
+        .par_chunks_mut(share)
+        .enumerate()
+        .map(|(part, sums)| {
+            sums.fill([0; D]);
+            let mut past = Vec::new();
+            let first = part * share;
+            pair_sums(first..first + sums.len(), sums, &mut past);
+            past
+        })
+        .collect();
+    for (slot, push) in past.into_iter().flatten() {
+        if let Some(sum) = sums.get_mut(slot) {
+            for (s, p) in sum.iter_mut().zip(push) {
+                *s += p;
+            }
+        }
+    }
+}
 
 impl VecStore {
     /// A store of `cells` cells (with their last moves, for momentum) and
@@ -148,25 +180,9 @@ impl Relax for VecStore {
             .for_each(|(order, sorted)| Grid::gather(pos, order, sorted));
         let (snapshot, moves) = relaxation::sorted_snapshot(&mut cells, n, grid, forces);
         let sums = &mut self.sums[..n];
-        let share = n.div_ceil(threads * SHARES_PER_THREAD);
-        let past: Vec<Vec<(usize, [i64; 2])>> = sums
-            .par_chunks_mut(share)
-            .enumerate()
-            .map(|(part, sums)| {
-                sums.fill([0; 2]);
-                let mut past = Vec::new();
-                let first = part * share;
-                snapshot.pair_sums(first..first + sums.len(), sums, &mut |slot, push| {
-                    past.push((slot, push));
-                });
-                past
-            })
-            .collect();
-        for (slot, push) in past.into_iter().flatten() {
-            if let Some(sum) = sums.get_mut(slot) {
-                *sum = [sum[0] + push[0], sum[1] + push[1]];
-            }
-        }
+        sum_in_shares(sums, |slots, sums, past| {
+            snapshot.pair_sums(slots, sums, &mut |slot, push| past.push((slot, push)));
+        });
         // The cells move in index order, each from its slot's sum.
         let (sums, slots) = (&*sums, &*slots);
         let move_cell = |slot: u32, p: &mut [i32; 2], last: Option<&mut [i32; 2]>| {
@@ -290,25 +306,9 @@ impl SurfaceRelax for VecSurfaceStore {
         }
         let (snapshot, places, velocity) = surface_relaxation::snapshot(&mut cells, n, forces);
         let sums = &mut self.sums[..n];
-        let share = n.div_ceil(threads * SHARES_PER_THREAD);
-        let past: Vec<Vec<(usize, [i64; 3])>> = sums
-            .par_chunks_mut(share)
-            .enumerate()
-            .map(|(part, sums)| {
-                sums.fill([0; 3]);
-                let mut past = Vec::new();
-                let first = part * share;
-                snapshot.pair_sums(first..first + sums.len(), sums, &mut |slot, push| {
-                    past.push((slot, push));
-                });
-                past
-            })
-            .collect();
-        for (slot, push) in past.into_iter().flatten() {
-            if let Some(sum) = sums.get_mut(slot) {
-                *sum = [sum[0] + push[0], sum[1] + push[1], sum[2] + push[2]];
-            }
-        }
+        sum_in_shares(sums, |slots, sums, past| {
+            snapshot.pair_sums(slots, sums, &mut |slot, push| past.push((slot, push)));
+        });
         let (sums, from, last) = (&*sums, &*places, &*velocity);
         moved
             .par_chunks_mut(RELAX_CHUNK)
