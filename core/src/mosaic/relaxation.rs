@@ -300,8 +300,9 @@ impl Snapshot<'_> {
     }
 
     /// [`Snapshot::pair_sums`] with the displacements of `SHIFTED`
-    /// ([`Snapshot::pushes`]); `WHOLE`: `sums` holds every slot's sum.
-    #[inline(always)]
+    /// ([`Snapshot::pushes`]); `WHOLE`: `sums` holds every slot's sum. Out
+    /// of line, each of the four: its scan of the runs stays inlined.
+    #[inline(never)]
     fn pair_sums_in<const SHIFTED: bool, const WHOLE: bool>(
         &self,
         slots: Range<usize>,
@@ -324,16 +325,15 @@ impl Snapshot<'_> {
                     }
                     return;
                 }
-                if later.is_empty() {
+                if later.end > held {
+                    own = self.run_across::<SHIFTED>(&probe, edge, later, own, sums, base, beyond);
                     return;
                 }
-                // base ≤ slot < later.start ≤ split ≤ later.end: no underflow.
-                let split = held.max(later.start).min(later.end);
-                if let Some(sums) = sums.get_mut(later.start - base..split - base) {
+                // later.start > slot ≥ base; an empty run may end below
+                // base, then the wrapped range is empty or out of bounds.
+                let local = later.start - base..later.end.wrapping_sub(base);
+                if let Some(sums) = sums.get_mut(local) {
                     own = self.run_pairs::<SHIFTED>(&probe, edge, later.start, own, sums);
-                }
-                if split < later.end {
-                    own = self.run_spills::<SHIFTED>(&probe, edge, split..later.end, own, beyond);
                 }
             });
             let sum = &mut sums[slot - base];
@@ -341,18 +341,28 @@ impl Snapshot<'_> {
         }
     }
 
-    /// [`Snapshot::run_pairs`] for the slots `run` past the sums' end:
-    /// their pushes go `beyond` (rare: out of line).
+    /// [`Snapshot::run_pairs`] for the slots `later` (base ≤ the probe's
+    /// slot < `later.start`) that reach past the slots whose sums are in
+    /// `sums`: those past go `beyond` (rare: out of line).
     #[cold]
     #[inline(never)]
-    fn run_spills<const SHIFTED: bool>(
+    #[allow(clippy::too_many_arguments)] // one of run_pairs', rarely called
+    fn run_across<const SHIFTED: bool>(
         &self,
         probe: &Probe<'_>,
         edge: [u32; 2],
-        run: Range<usize>,
+        later: Range<usize>,
         mut own: [i64; 2],
+        sums: &mut [[i64; 2]],
+        base: usize,
         beyond: &mut impl FnMut(usize, [i64; 2]),
     ) -> [i64; 2] {
+        // base < later.start ≤ split < later.end: no underflow.
+        let split = (base + sums.len()).max(later.start);
+        if let Some(sums) = sums.get_mut(later.start - base..split - base) {
+            own = self.run_pairs::<SHIFTED>(probe, edge, later.start, own, sums);
+        }
+        let run = split..later.end;
         let cells = self.sorted.get(run.clone()).unwrap_or_default();
         let order = self.order.get(run.clone()).unwrap_or_default();
         for (k, (q, &j)) in run.zip(cells.iter().zip(order)) {
