@@ -32,15 +32,14 @@ use rayon::prelude::*;
 use crate::body_files::USER_CYLINDERS;
 
 /// A cell store on the heap, its capacity chosen at run time, whose
-/// relaxation finds each pair of neighbours once and moves the cells side
-/// by side on all cores (rayon).
+/// relaxation finds each pair of neighbours once, on all cores (rayon),
+/// and keeps the cells in grid order between the steps of a day.
 #[derive(Debug, Default)]
 pub struct VecStore {
     cells: Cells,
-    /// Each cell's grid slot in a relaxation step.
-    slots: Vec<u32>,
-    /// The sums of pair pushes of a relaxation step, one a cell, grown on
-    /// first use.
+    carried: Carried,
+    /// The sums of pair pushes of a relaxation step, one a grid slot,
+    /// grown on first use.
     sums: Vec<[i64; 2]>,
 }
 
@@ -70,7 +69,26 @@ impl Cells {
     }
 }
 
-/// Cells a thread moves at a time: small enough to share out a 2 000-cell
+/// The cells between the relaxation steps of a day, in the grid order of
+/// the last step: each step's counting sort then starts from cells that
+/// are almost in place, and the cells move in slot order, so that every
+/// pass reads and writes its arrays in sequence (in index order, a step
+/// reads or writes each cell through the grid's permutation, which on
+/// two cores cost as much as the rest of the move). They go back to
+/// index order after the day's last step.
+#[derive(Debug, Default)]
+struct Carried {
+    /// Each cell's index.
+    id: Vec<u32>,
+    /// Each cell's position.
+    pos: Vec<[i32; 2]>,
+    /// Each cell's last move (with momentum).
+    velocity: Vec<[i32; 2]>,
+    /// The last moves gathered into the grid slots of a step.
+    sorted_velocity: Vec<[i32; 2]>,
+}
+
+/// Cells a thread takes at a time: small enough to share out a 2 000-cell
 /// step, large enough that handing out chunks costs little.
 const RELAX_CHUNK: usize = 512;
 
@@ -126,9 +144,83 @@ impl VecStore {
                 bins: vec![0; cells / 2 + 1],
                 velocity: vec![[0; 2]; cells],
             },
-            slots: vec![0; cells],
+            carried: Carried::default(),
             sums: Vec::new(),
         }
+    }
+
+    /// One step over the `n` carried cells (`momentum`: with their last
+    /// moves): the grid built from their order, each pair of neighbours
+    /// once into the slots' sums (in shares on several threads), the
+    /// cells moved and carried on in the new slot order.
+    fn relax_carried(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>, momentum: bool) {
+        let carried = &mut self.carried;
+        let mut cells = self.cells.slices();
+        // The bin of each carried cell into `order`, its slot's cell
+        // (index into the carried arrays) into the push scratch...
+        let (order, sorted) = (&mut cells.order[..n], &mut cells.push[..n]);
+        order
+            .par_chunks_mut(RELAX_CHUNK)
+            .zip(carried.pos[..n].par_chunks(RELAX_CHUNK))
+            .for_each(|(bins, pos)| grid.bin_cells(pos, bins));
+        grid.place(order, cells.bins, sorted, &mut []);
+        // ...then each slot's cell index, position and last move.
+        let (id, pos, velocity) = (&carried.id, &carried.pos, &carried.velocity);
+        order
+            .par_chunks_mut(RELAX_CHUNK)
+            .zip(sorted.par_chunks_mut(RELAX_CHUNK))
+            .zip(carried.sorted_velocity[..n].par_chunks_mut(RELAX_CHUNK))
+            .for_each(|((order, sorted), last)| {
+                for ((i, p), v) in order.iter_mut().zip(sorted).zip(last) {
+                    let from = p[0] as usize; // a carried cell, < n
+                    *i = id[from];
+                    *p = pos[from];
+                    if momentum {
+                        *v = velocity[from];
+                    }
+                }
+            });
+        let (snapshot, _) = relaxation::sorted_snapshot(&mut cells, n, grid, forces);
+        let sums = &mut self.sums[..n];
+        if rayon::current_num_threads() == 1 {
+            sums.fill([0; 2]);
+            snapshot.pair_sums(0..n, sums, &mut |_, _| {});
+        } else {
+            sum_in_shares(sums, |slots, sums, past| {
+                snapshot.pair_sums(slots, sums, &mut |slot, push| past.push((slot, push)));
+            });
+        }
+        // The cells move in slot order and stay in it.
+        let (pos, velocity) = (&mut carried.pos[..n], &mut carried.velocity[..]);
+        let last = &carried.sorted_velocity[..n];
+        if momentum {
+            pos.par_chunks_mut(RELAX_CHUNK)
+                .zip(velocity[..n].par_chunks_mut(RELAX_CHUNK))
+                .zip(sums.par_chunks(RELAX_CHUNK))
+                .zip(last.par_chunks(RELAX_CHUNK))
+                .enumerate()
+                .for_each(|(chunk, (((pos, velocity), sums), last))| {
+                    let slots = chunk * RELAX_CHUNK..;
+                    for ((((slot, p), v), sum), last) in
+                        slots.zip(pos).zip(velocity).zip(sums).zip(last)
+                    {
+                        let (from, d) = snapshot.displaced(slot, *sum);
+                        (*p, *v) = snapshot.carried(from, d, *last);
+                    }
+                });
+        } else {
+            pos.par_chunks_mut(RELAX_CHUNK)
+                .zip(sums.par_chunks(RELAX_CHUNK))
+                .enumerate()
+                .for_each(|(chunk, (pos, sums))| {
+                    for ((slot, p), sum) in (chunk * RELAX_CHUNK..).zip(pos).zip(sums) {
+                        let (from, d) = snapshot.displaced(slot, *sum);
+                        *p = snapshot.moved(from, d);
+                    }
+                });
+        }
+        // The slots' cell indices are the carried order of the next step.
+        std::mem::swap(&mut carried.id, &mut self.cells.order);
     }
 }
 
@@ -151,71 +243,59 @@ impl CellStore for VecStore {
 }
 
 impl Relax for VecStore {
-    /// Each pair of neighbours once ([`relaxation::relax_pairs`]): on one
-    /// thread in one pass; on several, the grid's per-cell phases side by
-    /// side, then each thread finds the pairs of a share of the grid slots
-    /// into that share of the sums (the few pushes past its end kept aside
-    /// and added after), then the cells move side by side (integer sums:
-    /// the same bits for any number of threads).
-    fn relax(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>) {
-        let threads = rayon::current_num_threads();
+    /// Each pair of neighbours once ([`relaxation::relax_pairs`]), the
+    /// cells kept in the grid order of the last step from one step to the
+    /// next ([`Carried`]) and put back in index order after the last; on
+    /// several threads the grid's per-cell phases, the pairs (each thread
+    /// a share of the grid slots into that share of the sums, the few
+    /// pushes past its end kept aside and added after) and the moves run
+    /// side by side. Integer sums: the same bits in any order of the cells
+    /// and on any number of threads.
+    fn relax(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>, times: u16) {
         if self.sums.len() < n {
             self.sums.resize(n, [0; 2]);
         }
-        let mut cells = self.cells.slices();
-        if threads == 1 || n < RELAX_CHUNK {
-            relaxation::relax_pairs(&mut cells, n, grid, forces, &mut self.sums);
+        if n < RELAX_CHUNK {
+            for _ in 0..times {
+                let mut cells = self.cells.slices();
+                relaxation::relax_pairs(&mut cells, n, grid, forces, &mut self.sums);
+            }
             return;
         }
-        let (pos, order, sorted) = (&cells.pos[..n], &mut cells.order[..n], &mut cells.push[..n]);
-        order
-            .par_chunks_mut(RELAX_CHUNK)
-            .zip(pos.par_chunks(RELAX_CHUNK))
-            .for_each(|(bins, pos)| grid.bin_cells(pos, bins));
-        let slots = &mut self.slots[..n];
-        grid.place(order, cells.bins, sorted, slots);
-        order
-            .par_chunks_mut(RELAX_CHUNK)
-            .zip(sorted.par_chunks_mut(RELAX_CHUNK))
-            .for_each(|(order, sorted)| Grid::gather(pos, order, sorted));
-        let (snapshot, moves) = relaxation::sorted_snapshot(&mut cells, n, grid, forces);
-        let sums = &mut self.sums[..n];
-        sum_in_shares(sums, |slots, sums, past| {
-            snapshot.pair_sums(slots, sums, &mut |slot, push| past.push((slot, push)));
-        });
-        // The cells move in index order, each from its slot's sum.
-        let (sums, slots) = (&*sums, &*slots);
-        let move_cell = |slot: u32, p: &mut [i32; 2], last: Option<&mut [i32; 2]>| {
-            let slot = slot as usize;
-            let (from, d) = snapshot.displaced(slot, sums[slot]);
-            match last {
-                Some(last) if forces.momentum != 0 => {
-                    (*p, *last) = snapshot.carried(from, d, *last);
-                }
-                _ => *p = snapshot.moved(from, d),
+        let momentum = forces.momentum != 0 && self.cells.velocity.len() >= n;
+        let carried = &mut self.carried;
+        for v in [
+            &mut carried.pos,
+            &mut carried.velocity,
+            &mut carried.sorted_velocity,
+        ] {
+            if v.len() < n {
+                v.resize(n, [0; 2]);
             }
-        };
-        if moves.velocity.len() < n {
-            moves
-                .pos
-                .par_chunks_mut(RELAX_CHUNK)
-                .zip(slots.par_chunks(RELAX_CHUNK))
-                .for_each(|(pos, slots)| {
-                    for (p, &slot) in pos.iter_mut().zip(slots) {
-                        move_cell(slot, p, None);
-                    }
-                });
-        } else {
-            moves
-                .pos
-                .par_chunks_mut(RELAX_CHUNK)
-                .zip(moves.velocity.par_chunks_mut(RELAX_CHUNK))
-                .zip(slots.par_chunks(RELAX_CHUNK))
-                .for_each(|((pos, velocity), slots)| {
-                    for ((p, v), &slot) in pos.iter_mut().zip(velocity).zip(slots) {
-                        move_cell(slot, p, Some(v));
-                    }
-                });
+        }
+        // As long as the store's own `order`, which it swaps with.
+        carried.id.resize(self.cells.order.len(), 0);
+        carried.pos[..n].copy_from_slice(&self.cells.pos[..n]);
+        if momentum {
+            carried.velocity[..n].copy_from_slice(&self.cells.velocity[..n]);
+        }
+        for (k, id) in (0u32..).zip(&mut carried.id[..n]) {
+            *id = k;
+        }
+        for _ in 0..times {
+            self.relax_carried(n, grid, forces, momentum);
+        }
+        let (carried, cells) = (&self.carried, &mut self.cells);
+        for ((&i, p), v) in carried.id[..n]
+            .iter()
+            .zip(&carried.pos)
+            .zip(&carried.velocity)
+        {
+            let i = i as usize;
+            cells.pos[i] = *p;
+            if momentum {
+                cells.velocity[i] = *v;
+            }
         }
     }
 }

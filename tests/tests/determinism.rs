@@ -47,9 +47,10 @@ fn release_build_writes_the_same_bytes_as_debug() {
 
 #[test]
 fn a_mosaic_relaxes_to_the_same_bytes_on_any_number_of_threads() {
-    // The host's relaxation shares the grid slots out among the threads,
-    // each summing the pushes of its pairs in its share of the sums (those
-    // past its end kept aside): 2 000 croton cells over 6 days, and a
+    // The host's relaxation keeps the cells in grid order through a day's
+    // steps and shares the grid slots out among the threads, each summing
+    // the pushes of its pairs in its share of the sums (those past its end
+    // kept aside): 2 000 croton cells over 6 days, and a
     // watermelon's cells on its ellipsoid over 2, each day's cells
     // streamed, on 1, 2 and 3 threads give one stream each.
     for (name, days) in [("croton", "6"), ("watermelon-fruit", "2")] {

@@ -447,9 +447,7 @@ impl<'a, S: Relax> Mosaic<'a, S> {
         let n = self.cells as usize;
         let max_bins = self.store.slices().bins.len().saturating_sub(1);
         let grid = Grid::plan(&params.domain, self.radius, max_bins);
-        for _ in 0..times {
-            self.store.relax(n, &grid, &forces);
-        }
+        self.store.relax(n, &grid, &forces, times);
     }
 
     fn emit(&mut self, params: &Params, sink: &mut dyn Sink) -> Result<(), Error> {

@@ -210,6 +210,7 @@ impl Snapshot<'_> {
 
     /// The new position of a cell at `p` displaced by `d` by its
     /// neighbours' pushes ([`Snapshot::sweep`]).
+    #[inline]
     #[must_use]
     pub fn moved(&self, p: [i32; 2], d: [i32; 2]) -> [i32; 2] {
         let domain = self.forces.domain;
@@ -222,6 +223,7 @@ impl Snapshot<'_> {
     /// With momentum ([`Forces::momentum`]), the new position of a cell at
     /// `p` displaced by `d` ([`Snapshot::sweep`]) and the move it made: `d`
     /// and β times its `last` move, within ±r.
+    #[inline]
     #[must_use]
     pub fn carried(&self, p: [i32; 2], d: [i32; 2], last: [i32; 2]) -> ([i32; 2], [i32; 2]) {
         let (domain, beta) = (self.forces.domain, i64::from(self.forces.momentum));
@@ -267,6 +269,7 @@ impl Snapshot<'_> {
     /// The old position of the cell in grid slot `slot` (below
     /// [`Snapshot::len`]) and its displacement by the pushes `sum` (Q32)
     /// of its neighbours ([`Snapshot::pair_sums`]).
+    #[inline]
     #[must_use]
     pub fn displaced(&self, slot: usize, sum: [i64; 2]) -> ([i32; 2], [i32; 2]) {
         let p = self.sorted[slot];
@@ -699,14 +702,19 @@ pub fn relax_pairs(
     }
 }
 
-/// How a cell store runs a relaxation step: one cell after another (the
+/// How a cell store runs relaxation steps: one cell after another (the
 /// default, [`relax`]), or, on a computer, side by side on several threads
 /// through the [`Snapshot`], with the same result.
 pub trait Relax: CellStore {
-    /// One relaxation step over the first `n` cells with the grid `grid`
-    /// (already planned for `forces.radius`).
-    fn relax(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>) {
-        relax(&mut self.slices(), n, grid, forces);
+    /// `times` relaxation steps in a row over the first `n` cells with the
+    /// grid `grid` (already planned for `forces.radius`): a day's ρ_s
+    /// ([`Params::daily_relaxations`](super::Params)) or the initial ones.
+    /// A store may keep the cells in an order of its own between them, as
+    /// long as each cell ends where the steps one after another put it.
+    fn relax(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>, times: u16) {
+        for _ in 0..times {
+            relax(&mut self.slices(), n, grid, forces);
+        }
     }
 }
 

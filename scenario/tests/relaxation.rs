@@ -1,0 +1,113 @@
+//! The host's cell store ([`VecStore`]) relaxes a day's steps with the
+//! cells kept in grid order between them, each pair of neighbours once and
+//! in shares of the grid on several threads; the core's per-cell step (the
+//! MCU's) is the reference, bit for bit.
+
+use morphogen::fx::Fx;
+use morphogen::mosaic::grid::Grid;
+use morphogen::mosaic::relaxation::{self, Forces, Relax};
+use morphogen::mosaic::store::{CellSlices, CellStore};
+use morphogen::mosaic::{Domain, MAX_TYPES};
+use morphogen_scenario::run::VecStore;
+
+/// Cells: enough for the store's grid-order path and several chunks.
+const CELLS: usize = 3_000;
+
+/// Steps in a row, as a day's ρ_s.
+const STEPS: u16 = 5;
+
+/// The cells' positions, types and last moves, spread by a fixed LCG over
+/// `domain`, with a child on its parent (coincident cells).
+fn cells(domain: &Domain) -> (Vec<[i32; 2]>, Vec<u8>, Vec<[i32; 2]>) {
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = |below: u32| {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        ((state >> 33) % u64::from(below)) as u32
+    };
+    let size = domain.size.map(|s| s.to_bits() as u32);
+    let mut pos: Vec<[i32; 2]> = (0..CELLS)
+        .map(|_| [next(size[0]) as i32, next(size[1]) as i32])
+        .collect();
+    pos[CELLS - 1] = pos[7];
+    let kind = (0..CELLS).map(|_| next(2) as u8).collect();
+    let velocity = (0..CELLS)
+        .map(|_| [next(8_000) as i32 - 4_000, next(8_000) as i32 - 4_000])
+        .collect();
+    (pos, kind, velocity)
+}
+
+#[test]
+fn a_days_steps_in_grid_order_move_cells_as_the_per_cell_step_does() {
+    let mut repel = [[40_000; MAX_TYPES]; MAX_TYPES];
+    repel[0][1] = 25_000;
+    repel[1][0] = 90_000;
+    let mut compared = 0;
+    for domain in [
+        Domain {
+            size: [Fx::from_int(40), Fx::from_int(30)],
+            periodic: [true, true],
+        },
+        Domain::walled(Fx::from_int(40), Fx::from_int(30)),
+    ] {
+        // A fine grid (the shifted scan) and a coarse one (3 × 3 bins on
+        // the torus: displacements wrap per pair).
+        for max_bins in [CELLS / 2, 9] {
+            for momentum in [0, Fx::from_ratio(7, 10).to_bits()] {
+                let forces = Forces {
+                    domain: &domain,
+                    radius: Fx::ONE.to_bits(),
+                    repel,
+                    push_weight: Fx::ONE.to_bits(),
+                    anisotropy_weight: 0,
+                    field: None,
+                    momentum,
+                };
+                let grid = Grid::plan(&domain, forces.radius, max_bins);
+                let (pos, kind, velocity) = cells(&domain);
+
+                // The reference: the per-cell step, STEPS times.
+                let (mut want, mut want_kind, mut want_velocity) =
+                    (pos.clone(), kind.clone(), velocity.clone());
+                let (mut order, mut push) = (vec![0; CELLS], vec![[0; 2]; CELLS]);
+                let (mut next_division, mut bins) = (vec![0; CELLS], vec![0; max_bins + 1]);
+                for _ in 0..STEPS {
+                    let mut slices = CellSlices {
+                        pos: &mut want,
+                        kind: &mut want_kind,
+                        next_division: &mut next_division,
+                        order: &mut order,
+                        push: &mut push,
+                        bins: &mut bins,
+                        velocity: &mut want_velocity,
+                    };
+                    relaxation::relax(&mut slices, CELLS, &grid, &forces);
+                }
+                assert_ne!(want, pos, "the cells move");
+
+                for threads in [1, 2, 3] {
+                    let mut store = VecStore::new(CELLS + 100);
+                    let slices = store.slices();
+                    slices.pos[..CELLS].copy_from_slice(&pos);
+                    slices.kind[..CELLS].copy_from_slice(&kind);
+                    slices.velocity[..CELLS].copy_from_slice(&velocity);
+                    rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads)
+                        .build()
+                        .unwrap()
+                        .install(|| store.relax(CELLS, &grid, &forces, STEPS));
+                    let case = format!(
+                        "{:?}, {}×{} bins, β {momentum}, {threads} threads",
+                        domain.periodic, grid.cols, grid.rows
+                    );
+                    assert!(store.positions()[..CELLS] == want[..], "positions: {case}");
+                    let moved = &store.slices().velocity[..CELLS];
+                    assert!(moved == &want_velocity[..], "last moves: {case}");
+                    compared += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(compared, 2 * 2 * 2 * 3);
+}
