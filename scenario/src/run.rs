@@ -126,6 +126,98 @@ fn sum_in_shares<const D: usize>(
     }
 }
 
+/// [`Grid::place`] of cells nearly in bin order (carried from the last
+/// step) in `parts` parts side by side: each part takes a range of the
+/// `nb` bins, split where the cells' order splits evenly, and the range of
+/// slots they fill. Each part reads every cell's bin (`bin_of`) twice, to
+/// count and to place those in its bins (in the cells' order, as
+/// `Grid::place`: the same slots), and writes only its own bins and slots.
+fn place_in_parts(
+    parts: usize,
+    nb: usize,
+    bin_of: &[u32],
+    bins: &mut [u32],
+    sorted: &mut [[i32; 2]],
+) {
+    let n = bin_of.len();
+    let Some(bins) = bins.get_mut(..=nb) else {
+        return;
+    };
+    bins[nb] = n as u32;
+    // Where the bin ranges split: the bins of evenly spaced cells.
+    let mut splits: Vec<usize> = (1..parts)
+        .map(|k| (bin_of[k * n / parts] as usize).min(nb))
+        .collect();
+    splits.insert(0, 0);
+    splits.push(nb);
+    for k in 1..splits.len() {
+        splits[k] = splits[k].max(splits[k - 1]);
+    }
+    let mut ranges: Vec<(usize, &mut [u32])> = Vec::with_capacity(parts);
+    let mut rest = &mut bins[..nb];
+    for w in splits.windows(2) {
+        let (part, tail) = rest.split_at_mut(w[1] - w[0]);
+        ranges.push((w[0], part));
+        rest = tail;
+    }
+    // Each range's cells, counted into its bins.
+    let counts: Vec<u32> = ranges
+        .par_iter_mut()
+        .map(|(first, bins)| {
+            bins.fill(0);
+            let mut count = 0;
+            for &b in bin_of {
+                if let Some(c) = (b as usize)
+                    .checked_sub(*first)
+                    .and_then(|k| bins.get_mut(k))
+                {
+                    *c += 1;
+                    count += 1;
+                }
+            }
+            count
+        })
+        .collect();
+    // Each range's slots, then its cells placed into them.
+    let mut parts_of_sorted = Vec::with_capacity(parts);
+    let mut rest = sorted;
+    for &count in &counts {
+        let (part, tail) = rest.split_at_mut(count as usize);
+        parts_of_sorted.push(part);
+        rest = tail;
+    }
+    let mut start = 0u32;
+    let starts: Vec<u32> = counts
+        .iter()
+        .map(|c| {
+            start += c;
+            start - c
+        })
+        .collect();
+    ranges
+        .into_par_iter()
+        .zip(parts_of_sorted)
+        .zip(starts)
+        .for_each(|(((first, bins), sorted), start)| {
+            let mut end = start;
+            for b in bins.iter_mut() {
+                end += *b;
+                *b = end; // end of the bin
+            }
+            for (i, &b) in bin_of.iter().enumerate().rev() {
+                if let Some(end) = (b as usize)
+                    .checked_sub(first)
+                    .and_then(|k| bins.get_mut(k))
+                {
+                    *end -= 1; // ends as the start of the bin
+                    if let Some(slot) = sorted.get_mut((*end - start) as usize) {
+                        slot[0] = i as i32; // i < n ≤ u32::MAX
+                    }
+                }
+            }
+        });
+}
+
 impl VecStore {
     /// A store of `cells` cells (with their last moves, for momentum) and
     /// `cells / 2 + 1` grid bin offsets: one bin per two cells, twice the
@@ -163,7 +255,12 @@ impl VecStore {
             .par_chunks_mut(RELAX_CHUNK)
             .zip(carried.pos[..n].par_chunks(RELAX_CHUNK))
             .for_each(|(bins, pos)| grid.bin_cells(pos, bins));
-        grid.place(order, cells.bins, sorted, &mut []);
+        let threads = rayon::current_num_threads();
+        if threads == 1 {
+            grid.place(order, cells.bins, sorted, &mut []);
+        } else {
+            place_in_parts(threads, grid.bins(), order, cells.bins, sorted);
+        }
         // ...then each slot's cell index, position and last move.
         let (id, pos, velocity) = (&carried.id, &carried.pos, &carried.velocity);
         order
@@ -182,7 +279,7 @@ impl VecStore {
             });
         let (snapshot, _) = relaxation::sorted_snapshot(&mut cells, n, grid, forces);
         let sums = &mut self.sums[..n];
-        if rayon::current_num_threads() == 1 {
+        if threads == 1 {
             sums.fill([0; 2]);
             snapshot.pair_sums(0..n, sums, &mut |_, _| {});
         } else {
