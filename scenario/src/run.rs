@@ -288,34 +288,21 @@ impl VecStore {
             });
         }
         // The cells move in slot order and stay in it.
-        let (pos, velocity) = (&mut carried.pos[..n], &mut carried.velocity[..]);
-        let last = &carried.sorted_velocity[..n];
-        if momentum {
-            pos.par_chunks_mut(RELAX_CHUNK)
-                .zip(velocity[..n].par_chunks_mut(RELAX_CHUNK))
-                .zip(sums.par_chunks(RELAX_CHUNK))
-                .zip(last.par_chunks(RELAX_CHUNK))
-                .enumerate()
-                .for_each(|(chunk, (((pos, velocity), sums), last))| {
-                    let slots = chunk * RELAX_CHUNK..;
-                    for ((((slot, p), v), sum), last) in
-                        slots.zip(pos).zip(velocity).zip(sums).zip(last)
-                    {
-                        let (from, d) = snapshot.displaced(slot, *sum);
-                        (*p, *v) = snapshot.carried(from, d, *last);
-                    }
-                });
+        let (to, made) = (&mut carried.pos[..n], &mut carried.velocity[..n]);
+        let last: &[[i32; 2]] = if momentum {
+            &carried.sorted_velocity[..n]
         } else {
-            pos.par_chunks_mut(RELAX_CHUNK)
-                .zip(sums.par_chunks(RELAX_CHUNK))
-                .enumerate()
-                .for_each(|(chunk, (pos, sums))| {
-                    for ((slot, p), sum) in (chunk * RELAX_CHUNK..).zip(pos).zip(sums) {
-                        let (from, d) = snapshot.displaced(slot, *sum);
-                        *p = snapshot.moved(from, d);
-                    }
-                });
-        }
+            &[]
+        };
+        to.par_chunks_mut(RELAX_CHUNK)
+            .zip(made.par_chunks_mut(RELAX_CHUNK))
+            .zip(sums.par_chunks(RELAX_CHUNK))
+            .enumerate()
+            .for_each(|(chunk, ((to, made), sums))| {
+                let first = chunk * RELAX_CHUNK;
+                let last = last.get(first..first + sums.len()).unwrap_or(&[]);
+                snapshot.move_slots(first, sums, last, to, made);
+            });
         // The slots' cell indices are the carried order of the next step.
         std::mem::swap(&mut carried.id, &mut self.cells.order);
     }
