@@ -290,10 +290,10 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
     }
 
     /// A point uniformly at random on the surface: a face by its area
-    /// (rejection against the largest), a point by its barycentric weights.
-    fn random_place(&self, rng: &mut KeyedRng) -> Place {
+    /// (rejection against the `largest` double area, found once for all
+    /// cells), a point by its barycentric weights.
+    fn random_place(&self, rng: &mut KeyedRng, largest: u64) -> Place {
         let faces = self.mesh().faces().len() as u32;
-        let largest = self.largest_double_area();
         for _ in 0..64 {
             let f = rng.below(faces);
             let accept = u64::from(rng.next_u32());
@@ -342,9 +342,10 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
 
     /// Spreads the initial cells (day 0).
     fn place(&mut self, params: &Params) -> Result<(), Error> {
+        let largest = self.largest_double_area();
         for id in 0..params.initial_cells {
             let mut rng = KeyedRng::new(self.seed, stream_id(Purpose::Place, 0, id));
-            let at = self.random_place(&mut rng);
+            let at = self.random_place(&mut rng, largest);
             let mut kind = division::initial_type(&mut rng, params.types);
             let uv = self.control_uv(params, at.p);
             if kind != 0 && params.mask.is_some_and(|m| !m.allows(&params.domain, uv)) {
