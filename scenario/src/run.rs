@@ -17,7 +17,7 @@ use morphogen::mosaic::relaxation::{self, Forces, Relax};
 use morphogen::mosaic::store::{CellSlices, CellStore};
 use morphogen::mosaic::surface::meshes::MeshStore;
 use morphogen::mosaic::surface::relaxation::{
-    self as surface_relaxation, SurfaceForces, SurfaceRelax,
+    self as surface_relaxation, CubeGrid, SurfaceForces, SurfaceRelax,
 };
 use morphogen::mosaic::surface::store::{SurfaceSlices, SurfaceStore};
 use morphogen::mosaic::surface::{MeshBuffers, SurfaceMosaic};
@@ -126,18 +126,22 @@ fn sum_in_shares<const D: usize>(
     }
 }
 
-/// [`Grid::place`] of cells nearly in bin order (carried from the last
-/// step) in `parts` parts side by side: each part takes a range of the
-/// `nb` bins, split where the cells' order splits evenly, and the range of
-/// slots they fill. Each part reads every cell's bin (`bin_of`) twice, to
-/// count and to place those in its bins (in the cells' order, as
-/// `Grid::place`: the same slots), and writes only its own bins and slots.
-fn place_in_parts(
+/// The counting sort of [`Grid::place`] (each bin's first slot into
+/// `bins`, the cells' number after the last; each slot's cell, by
+/// `put(slot, cell)`, into `slots`) of cells nearly in bin order (carried
+/// from the last step) in `parts` parts side by side: each part takes a
+/// range of the `nb` bins, split where the cells' order splits evenly, and
+/// the range of slots they fill. Each part reads every cell's bin
+/// (`bin_of`) twice, to count and to place those in its bins (in the
+/// cells' order, as `Grid::place`: the same slots), and writes only its
+/// own bins and slots.
+fn place_in_parts<T: Send>(
     parts: usize,
     nb: usize,
     bin_of: &[u32],
     bins: &mut [u32],
-    sorted: &mut [[i32; 2]],
+    slots: &mut [T],
+    put: impl Fn(&mut T, u32) + Sync,
 ) {
     let n = bin_of.len();
     let Some(bins) = bins.get_mut(..=nb) else {
@@ -180,7 +184,7 @@ fn place_in_parts(
         .collect();
     // Each range's slots, then its cells placed into them.
     let mut parts_of_sorted = Vec::with_capacity(parts);
-    let mut rest = sorted;
+    let mut rest = slots;
     for &count in &counts {
         let (part, tail) = rest.split_at_mut(count as usize);
         parts_of_sorted.push(part);
@@ -211,7 +215,7 @@ fn place_in_parts(
                 {
                     *end -= 1; // ends as the start of the bin
                     if let Some(slot) = sorted.get_mut((*end - start) as usize) {
-                        slot[0] = i as i32; // i < n ≤ u32::MAX
+                        put(slot, i as u32); // i < n ≤ u32::MAX
                     }
                 }
             }
@@ -259,7 +263,9 @@ impl VecStore {
         if threads == 1 {
             grid.place(order, cells.bins, sorted, &mut []);
         } else {
-            place_in_parts(threads, grid.bins(), order, cells.bins, sorted);
+            // i < n ≤ i32::MAX, as `Grid::place`.
+            let put = |slot: &mut [i32; 2], i: u32| slot[0] = i as i32;
+            place_in_parts(threads, grid.bins(), order, cells.bins, sorted, put);
         }
         // ...then each slot's cell index, position and last move.
         let (id, pos, velocity) = (&carried.id, &carried.pos, &carried.velocity);
@@ -385,7 +391,8 @@ impl Relax for VecStore {
 }
 
 /// A surface mosaic's cell store on the heap, relaxed on all cores, each
-/// pair of neighbours once.
+/// pair of neighbours once, the cells kept in bucket order through a
+/// day's steps (as [`VecStore`]'s).
 #[derive(Debug, Default)]
 pub struct VecSurfaceStore {
     place: Vec<Place>,
@@ -395,9 +402,25 @@ pub struct VecSurfaceStore {
     sorted: Vec<[i32; 3]>,
     buckets: Vec<u32>,
     velocity: Vec<[i32; 3]>,
-    moved: Vec<(Place, [i32; 3])>,
-    /// The sums of pair pushes of a step, one a cell.
+    carried: CarriedPlaces,
+    /// The sums of pair pushes of a step, one a bucket slot.
     sums: Vec<[i64; 3]>,
+}
+
+/// The cells between the relaxation steps of a day, in the bucket order
+/// of the last step ([`Carried`] on a surface).
+#[derive(Debug, Default)]
+struct CarriedPlaces {
+    /// Each cell's index.
+    id: Vec<u32>,
+    /// Each cell's place.
+    place: Vec<Place>,
+    /// Each cell's last move.
+    velocity: Vec<[i32; 3]>,
+    /// Each cell's bucket.
+    bucket: Vec<u32>,
+    /// The places and last moves gathered into the slots of a step.
+    sorted: Vec<(Place, [i32; 3])>,
 }
 
 impl VecSurfaceStore {
@@ -414,9 +437,83 @@ impl VecSurfaceStore {
             sorted: vec![[0; 3]; cells],
             buckets: vec![0; cells + 1],
             velocity: vec![[0; 3]; cells],
-            moved: vec![(nowhere, [0; 3]); cells],
+            carried: CarriedPlaces::default(),
             sums: Vec::new(),
         }
+    }
+
+    /// One step over the `n` carried cells: the buckets built from their
+    /// order, each pair of neighbours once into the slots' sums (in
+    /// shares on several threads), the cells moved and carried on in the
+    /// new slot order.
+    fn relax_carried(&mut self, n: usize, forces: &SurfaceForces<'_>) {
+        let threads = rayon::current_num_threads();
+        let carried = &mut self.carried;
+        let grid = CubeGrid::plan(forces.mesh, forces.radius, self.buckets.len() - 1);
+        carried.bucket[..n]
+            .par_chunks_mut(RELAX_CHUNK)
+            .zip(carried.place[..n].par_chunks(RELAX_CHUNK))
+            .for_each(|(buckets, places)| {
+                for (b, at) in buckets.iter_mut().zip(places) {
+                    *b = grid.bucket_of(at.p) as u32; // < 2^30 buckets
+                }
+            });
+        let (order, sorted) = (&mut self.order[..n], &mut self.sorted[..n]);
+        let put = |slot: &mut u32, i: u32| *slot = i;
+        place_in_parts(
+            threads,
+            grid.buckets(),
+            &carried.bucket[..n],
+            &mut self.buckets,
+            order,
+            put,
+        );
+        // Each slot's cell index, point, place and last move.
+        let (id, place, velocity) = (&carried.id, &carried.place, &carried.velocity);
+        order
+            .par_chunks_mut(RELAX_CHUNK)
+            .zip(sorted.par_chunks_mut(RELAX_CHUNK))
+            .zip(carried.sorted[..n].par_chunks_mut(RELAX_CHUNK))
+            .for_each(|((order, sorted), from)| {
+                for ((i, p), from) in order.iter_mut().zip(sorted).zip(from) {
+                    let e = *i as usize; // a carried cell, < n
+                    *i = id[e];
+                    *p = place[e].p;
+                    *from = (place[e], velocity[e]);
+                }
+            });
+        let snapshot = surface_relaxation::sorted_snapshot(
+            grid,
+            &self.order[..n],
+            &self.sorted[..n],
+            &self.buckets,
+            &self.kind[..n],
+            forces,
+        );
+        let sums = &mut self.sums[..n];
+        if threads == 1 {
+            sums.fill([0; 3]);
+            snapshot.pair_sums(0..n, sums, &mut |_, _| {});
+        } else {
+            sum_in_shares(sums, |slots, sums, past| {
+                snapshot.pair_sums(slots, sums, &mut |slot, push| past.push((slot, push)));
+            });
+        }
+        // The cells move in slot order and stay in it.
+        carried.place[..n]
+            .par_chunks_mut(RELAX_CHUNK)
+            .zip(carried.velocity[..n].par_chunks_mut(RELAX_CHUNK))
+            .zip(sums.par_chunks(RELAX_CHUNK))
+            .zip(carried.sorted[..n].par_chunks(RELAX_CHUNK))
+            .for_each(|(((places, velocity), sums), from)| {
+                for (((to, step), sum), &(at, last)) in
+                    places.iter_mut().zip(velocity).zip(sums).zip(from)
+                {
+                    (*to, *step) = snapshot.moved_by(*sum, at, last);
+                }
+            });
+        // The slots' cell indices are the carried order of the next step.
+        std::mem::swap(&mut carried.id, &mut self.order);
     }
 }
 
@@ -447,50 +544,48 @@ impl SurfaceStore for VecSurfaceStore {
 }
 
 impl SurfaceRelax for VecSurfaceStore {
-    /// Each pair of neighbours once, on one thread or side by side, in
-    /// shares of the slots as on the plane ([`VecStore`]'s relaxation).
-    fn relax(&mut self, n: usize, forces: &SurfaceForces<'_>) {
-        let threads = rayon::current_num_threads();
+    /// Each pair of neighbours once, the cells kept in the bucket order
+    /// of the last step from one step to the next and put back in index
+    /// order after the last, on one thread or side by side, as on the
+    /// plane ([`VecStore`]'s relaxation).
+    fn relax(&mut self, n: usize, forces: &SurfaceForces<'_>, times: u16) {
         if self.sums.len() < n {
             self.sums.resize(n, [0; 3]);
         }
-        let moved = &mut self.moved[..n];
-        let mut cells = SurfaceSlices {
-            place: &mut self.place,
-            kind: &mut self.kind,
-            next_division: &mut self.next_division,
-            order: &mut self.order,
-            sorted: &mut self.sorted,
-            buckets: &mut self.buckets,
-            velocity: &mut self.velocity,
-        };
-        if threads == 1 || n < RELAX_CHUNK {
-            surface_relaxation::relax_pairs(&mut cells, n, forces, &mut self.sums);
+        if n < RELAX_CHUNK {
+            let mut sums = std::mem::take(&mut self.sums);
+            for _ in 0..times {
+                surface_relaxation::relax_pairs(&mut self.slices(), n, forces, &mut sums);
+            }
+            self.sums = sums;
             return;
         }
-        let (snapshot, places, velocity) = surface_relaxation::snapshot(&mut cells, n, forces);
-        let sums = &mut self.sums[..n];
-        sum_in_shares(sums, |slots, sums, past| {
-            snapshot.pair_sums(slots, sums, &mut |slot, push| past.push((slot, push)));
-        });
-        let (sums, from, last) = (&*sums, &*places, &*velocity);
-        moved
-            .par_chunks_mut(RELAX_CHUNK)
-            .zip(sums.par_chunks(RELAX_CHUNK))
-            .enumerate()
-            .for_each(|(chunk, (out, sums))| {
-                for ((slot, m), sum) in (chunk * RELAX_CHUNK..).zip(out).zip(sums) {
-                    let i = snapshot.cell(slot);
-                    let last = last.get(i).copied().unwrap_or([0; 3]);
-                    *m = snapshot.moved_by(*sum, from[i], last);
-                }
-            });
-        for (slot, (to, step)) in moved.iter().enumerate() {
-            let i = snapshot.cell(slot);
-            places[i] = *to;
-            if let Some(v) = velocity.get_mut(i) {
-                *v = *step;
-            }
+        let carried = &mut self.carried;
+        let nowhere = Place { face: 0, p: [0; 3] };
+        // As long as the store's own `order`, which it swaps with.
+        carried.id.resize(self.order.len(), 0);
+        if carried.place.len() < n {
+            carried.place.resize(n, nowhere);
+            carried.velocity.resize(n, [0; 3]);
+            carried.bucket.resize(n, 0);
+            carried.sorted.resize(n, (nowhere, [0; 3]));
+        }
+        carried.place[..n].copy_from_slice(&self.place[..n]);
+        carried.velocity[..n].copy_from_slice(&self.velocity[..n]);
+        for (k, id) in (0u32..).zip(&mut carried.id[..n]) {
+            *id = k;
+        }
+        for _ in 0..times {
+            self.relax_carried(n, forces);
+        }
+        let carried = &self.carried;
+        for ((&i, at), v) in carried.id[..n]
+            .iter()
+            .zip(&carried.place)
+            .zip(&carried.velocity)
+        {
+            self.place[i as usize] = *at;
+            self.velocity[i as usize] = *v;
         }
     }
 }

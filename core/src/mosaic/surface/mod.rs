@@ -421,9 +421,7 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
             momentum: params.momentum.to_bits(),
         };
         let n = self.cells as usize;
-        for _ in 0..times {
-            self.store.relax(n, &forces);
-        }
+        self.store.relax(n, &forces, times);
     }
 
     fn emit(&mut self, params: &Params, sink: &mut dyn Sink) -> Result<(), Error> {

@@ -110,8 +110,10 @@ impl CubeGrid {
         ((off * self.scale) >> 32) as u32
     }
 
+    /// The bucket of the point `p`.
     #[inline]
-    fn bucket_of(&self, p: [i32; 3]) -> usize {
+    #[must_use]
+    pub fn bucket_of(&self, p: [i32; 3]) -> usize {
         let [x, y, z] = per_axis(|c| self.cube(c, i64::from(p[c])) % self.modulus[c]);
         ((z * self.modulus[1].get() + y) * self.modulus[0].get() + x) as usize
     }
@@ -619,13 +621,43 @@ pub fn snapshot<'s>(
     (snapshot, &mut cells.place[..n], velocity)
 }
 
-/// How a surface cell store runs a relaxation step: one cell after
+/// [`snapshot`] of cells the caller has sorted into `grid`'s buckets
+/// (planned for `forces`, at most `offsets.len() − 1` buckets): each
+/// slot's cell index in `order`, its point in `sorted`, each bucket's
+/// first slot in `offsets` (and the cells' number after the last), as a
+/// computer that keeps its cells in bucket order between steps does.
+#[must_use]
+pub fn sorted_snapshot<'s>(
+    grid: CubeGrid,
+    order: &'s [u32],
+    sorted: &'s [[i32; 3]],
+    offsets: &'s [u32],
+    kind: &'s [u8],
+    forces: &'s SurfaceForces<'s>,
+) -> Snapshot<'s> {
+    let buckets = grid.buckets().min(offsets.len().saturating_sub(1));
+    Snapshot {
+        sorted,
+        order,
+        offsets: &offsets[..=buckets],
+        kind,
+        grid,
+        forces,
+    }
+}
+
+/// How a surface cell store runs relaxation steps: one cell after
 /// another (the default, [`relax`]), or side by side on several threads
 /// through the [`Snapshot`], with the same result.
 pub trait SurfaceRelax: SurfaceStore {
-    /// One relaxation step over the first `n` cells.
-    fn relax(&mut self, n: usize, forces: &SurfaceForces<'_>) {
-        relax(&mut self.slices(), n, forces);
+    /// `times` relaxation steps in a row over the first `n` cells (a
+    /// day's ρ_s or the initial ones); a store may keep the cells in an
+    /// order of its own between them, as long as each cell ends where the
+    /// steps one after another put it.
+    fn relax(&mut self, n: usize, forces: &SurfaceForces<'_>, times: u16) {
+        for _ in 0..times {
+            relax(&mut self.slices(), n, forces);
+        }
     }
 }
 
