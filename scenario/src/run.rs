@@ -335,7 +335,8 @@ impl CellStore for VecStore {
 impl Relax for VecStore {
     /// Each pair of neighbours once ([`relaxation::relax_pairs`]), the
     /// cells kept in the grid order of the last step from one step to the
-    /// next ([`Carried`]) and put back in index order after the last; on
+    /// next (so that every pass reads and writes in sequence) and put back
+    /// in index order after the last; on
     /// several threads the grid's per-cell phases, the pairs (each thread
     /// a share of the grid slots into that share of the sums, the few
     /// pushes past its end kept aside and added after) and the moves run
