@@ -1,7 +1,8 @@
-//! The host's cell store ([`VecStore`]) relaxes a day's steps with the
-//! cells kept in grid order between them, each pair of neighbours once and
-//! in shares of the grid on several threads; the core's per-cell step (the
-//! MCU's) is the reference, bit for bit.
+//! The host's cell stores ([`VecStore`] on the plane, `VecSurfaceStore` on
+//! a mesh) relax a day's steps with the cells kept in grid order between
+//! them, each pair of neighbours once and in shares of the grid on several
+//! threads; the core's per-cell step (the MCU's) is the reference, bit for
+//! bit.
 
 use morphogen::fx::Fx;
 use morphogen::mosaic::grid::Grid;
@@ -110,4 +111,116 @@ fn a_days_steps_in_grid_order_move_cells_as_the_per_cell_step_does() {
         }
     }
     assert_eq!(compared, 2 * 2 * 2 * 3);
+}
+
+#[test]
+fn a_days_steps_in_bucket_order_move_cells_on_a_mesh_as_the_per_cell_step_does() {
+    use morphogen::mosaic::mesh::MeshParts;
+    use morphogen::mosaic::surface::relaxation::{self as surface, SurfaceForces, SurfaceRelax};
+    use morphogen::mosaic::surface::store::SurfaceStore;
+    use morphogen::mosaic::surface::{MeshBuffers, SurfaceMosaic, build_mesh};
+    use morphogen::mosaic::{Frames, Params};
+    use morphogen::preset::Model;
+    use morphogen::sim::Simulation;
+    use morphogen::stream::{Record, Sink, SinkError};
+    use morphogen_scenario::run::{MeshVecs, VecSurfaceStore};
+
+    struct Null;
+    impl Sink for Null {
+        fn record(&mut self, _: &Record) -> Result<(), SinkError> {
+            Ok(())
+        }
+    }
+
+    // 2 000 cells spread and relaxed on watermelon-fruit's ellipsoid.
+    let scenario = morphogen_scenario::builtin("watermelon-fruit").unwrap();
+    scenario.with_preset(|p| {
+        let Model::Mosaic(fruit) = p.model else {
+            unreachable!("a mosaic")
+        };
+        let params = Params {
+            mask: None,
+            anisotropy: None,
+            frames: Frames::EveryDay,
+            initial_cells: 2_000,
+            days: 0,
+            initial_relaxations: 3,
+            ..*fruit
+        };
+        let mut spread = SurfaceMosaic::new(VecSurfaceStore::new(2_000), MeshVecs::default());
+        spread.start(&params, 1).unwrap();
+        while !spread.step(&mut Null).unwrap().finished() {}
+        let n = spread.len();
+        let (places, kinds) = {
+            let store = spread.store_mut();
+            (store.places()[..n].to_vec(), store.kinds()[..n].to_vec())
+        };
+        // A child on its parent, and last moves to carry.
+        let mut places = places;
+        places[n - 1] = places[3];
+        let velocity: Vec<[i32; 3]> = (0..n as i32)
+            .map(|i| [(i * 37) % 900 - 450, (i * 53) % 900 - 450, 0])
+            .collect();
+
+        let surface_spec = params.surface.as_ref().unwrap();
+        let (nv, nf) = surface_spec.counts();
+        let (mut vertices, mut faces) = (vec![[0; 3]; nv], vec![[0; 3]; nf]);
+        let (mut neighbours, mut normals) = (vec![[0; 3]; nf], vec![[0; 3]; nf]);
+        let (mut inward, mut edges) = (vec![[[0; 3]; 3]; nf], vec![0; 3 * nf]);
+        let buffers = MeshBuffers {
+            vertices: &mut vertices,
+            faces: &mut faces,
+            parts: MeshParts {
+                neighbours: &mut neighbours,
+                normals: &mut normals,
+                inward: &mut inward,
+                edges: &mut edges,
+            },
+        };
+        let mesh = build_mesh(surface_spec, buffers).unwrap();
+        let mut repel = [[40_000; MAX_TYPES]; MAX_TYPES];
+        repel[0][1] = 25_000;
+        repel[1][0] = 90_000;
+        let mut compared = 0;
+        for momentum in [0, Fx::from_ratio(7, 10).to_bits()] {
+            let forces = SurfaceForces {
+                mesh: &mesh,
+                radius: spread.radius().to_bits(),
+                repel,
+                push_weight: params.push_weight.to_bits(),
+                anisotropy_weight: 0,
+                field: None,
+                momentum,
+            };
+            let fill = |store: &mut VecSurfaceStore| {
+                let cells = store.slices();
+                cells.place[..n].copy_from_slice(&places);
+                cells.kind[..n].copy_from_slice(&kinds);
+                cells.velocity[..n].copy_from_slice(&velocity);
+            };
+            let mut want = VecSurfaceStore::new(n);
+            fill(&mut want);
+            for _ in 0..STEPS {
+                surface::relax(&mut want.slices(), n, &forces);
+            }
+            assert_ne!(want.places()[..n], places[..], "the cells move");
+            for threads in [1, 2, 3] {
+                let mut store = VecSurfaceStore::new(n);
+                fill(&mut store);
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap()
+                    .install(|| store.relax(n, &forces, STEPS));
+                let case = format!("β {momentum}, {threads} threads");
+                assert!(store.places()[..n] == want.places()[..n], "places: {case}");
+                assert!(
+                    store.slices().velocity[..n] == want.slices().velocity[..n],
+                    "last moves: {case}"
+                );
+                compared += 1;
+            }
+        }
+        assert_eq!(compared, 2 * 3);
+    });
 }
