@@ -261,7 +261,7 @@ impl VecStore {
             .for_each(|(bins, pos)| grid.bin_cells(pos, bins));
         let threads = rayon::current_num_threads();
         if threads == 1 {
-            grid.place(order, cells.bins, sorted, &mut []);
+            grid.place(order, cells.bins, sorted);
         } else {
             // i < n ≤ i32::MAX, as `Grid::place`.
             let put = |slot: &mut [i32; 2], i: u32| slot[0] = i as i32;

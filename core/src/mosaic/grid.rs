@@ -87,9 +87,9 @@ impl Grid {
     /// `order[bins[b]..bins[b + 1]]`, in increasing index order. `bins`
     /// needs `self.bins() + 1` entries, `order` and `sorted` `pos.len()`.
     /// Each cell's bin is computed once: `order` holds it until the cells
-    /// are placed, `sorted` holds the placed indices until the gather. The
-    /// three phases are public so that a computer can run the per-cell
-    /// ones, [`Grid::bin_cells`] and [`Grid::gather`], on several threads.
+    /// are placed, `sorted` holds the placed indices until the gather. A
+    /// computer that keeps its cells in grid order between steps runs the
+    /// first two phases, [`Grid::bin_cells`] and [`Grid::place`], itself.
     pub fn build(
         &self,
         pos: &[[i32; 2]],
@@ -98,7 +98,7 @@ impl Grid {
         sorted: &mut [[i32; 2]],
     ) {
         self.bin_cells(pos, order);
-        self.place(order, bins, sorted, &mut []);
+        self.place(order, bins, sorted);
         Grid::gather(pos, order, sorted);
     }
 
@@ -112,17 +112,10 @@ impl Grid {
     }
 
     /// The second phase of [`Grid::build`]: from the bin of each cell in
-    /// `order` ([`Grid::bin_cells`]), each bin's first slot into `bins`,
-    /// each slot's cell index into `sorted[slot][0]` and, as far as
-    /// `slots` reaches, each cell's slot into `slots` (so that a computer
-    /// can move the cells side by side in index order).
-    pub fn place(
-        &self,
-        order: &[u32],
-        bins: &mut [u32],
-        sorted: &mut [[i32; 2]],
-        slots: &mut [u32],
-    ) {
+    /// `order` ([`Grid::bin_cells`]), each bin's first slot into `bins`
+    /// (the cells' number after the last) and each slot's cell index into
+    /// `sorted[slot][0]`, the cells of a bin in index order.
+    pub fn place(&self, order: &[u32], bins: &mut [u32], sorted: &mut [[i32; 2]]) {
         let nb = self.bins();
         let Some(bins) = bins.get_mut(..=nb) else {
             return;
@@ -145,17 +138,14 @@ impl Grid {
                 if let Some(slot) = sorted.get_mut(*end as usize) {
                     slot[0] = i as i32; // i < pos.len() ≤ u32::MAX: lossless
                 }
-                if let Some(slot) = slots.get_mut(i) {
-                    *slot = *end;
-                }
             }
         }
     }
 
-    /// The last phase of [`Grid::build`], in any slices of slots: each
-    /// slot's cell index from `sorted[slot][0]` ([`Grid::place`]) into
-    /// `order`, and that cell's position from `pos` into `sorted`.
-    pub fn gather(pos: &[[i32; 2]], order: &mut [u32], sorted: &mut [[i32; 2]]) {
+    /// The last phase of [`Grid::build`]: each slot's cell index from
+    /// `sorted[slot][0]` ([`Grid::place`]) into `order`, and that cell's
+    /// position from `pos` into `sorted`.
+    fn gather(pos: &[[i32; 2]], order: &mut [u32], sorted: &mut [[i32; 2]]) {
         for (i, slot) in order.iter_mut().zip(sorted.iter_mut()) {
             *i = slot[0] as u32;
             *slot = pos.get(*i as usize).copied().unwrap_or_default();
