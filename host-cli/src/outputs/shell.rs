@@ -437,11 +437,18 @@ impl Shell {
             let x1 = (a[0].max(b[0]).max(c[0]).ceil() as usize).min(w);
             let y0 = a[1].min(b[1]).min(c[1]).floor().max(0.0) as usize;
             let y1 = (a[1].max(b[1]).max(c[1]).ceil() as usize).min(h);
+            // The weights of a and b, linear in the pixel's centre (px, py):
+            // k[0] + k[1]·px + k[2]·py; c's is what they leave of 1.
+            let inv = 1.0 / area;
+            let ka = [b[0] * c[1] - b[1] * c[0], b[1] - c[1], c[0] - b[0]].map(|k| k * inv);
+            let kb = [c[0] * a[1] - c[1] * a[0], c[1] - a[1], a[0] - c[0]].map(|k| k * inv);
             for y in y0..y1 {
+                let py = y as f64 + 0.5;
+                let (ra, rb) = (ka[0] + ka[2] * py, kb[0] + kb[2] * py);
                 for x in x0..x1 {
-                    let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
-                    let wa = ((b[0] - px) * (c[1] - py) - (b[1] - py) * (c[0] - px)) / area;
-                    let wb = ((c[0] - px) * (a[1] - py) - (c[1] - py) * (a[0] - px)) / area;
+                    let px = x as f64 + 0.5;
+                    let wa = ra + ka[1] * px;
+                    let wb = rb + kb[1] * px;
                     let wc = 1.0 - wa - wb;
                     if wa < 0.0 || wb < 0.0 || wc < 0.0 {
                         continue;
@@ -490,7 +497,8 @@ impl Shell {
                     .copied()
                     .unwrap_or([128; 3]);
                 for (o, c) in px.iter_mut().zip(colour) {
-                    *o = (f64::from(c) * shade).round().clamp(0.0, 255.0) as u8;
+                    // shade ≤ 1: rounded, in 0..=255.
+                    *o = (f64::from(c) * shade + 0.5) as u8;
                 }
             }
         });
