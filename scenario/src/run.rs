@@ -104,8 +104,12 @@ fn sum_in_shares<const D: usize>(
     sums: &mut [[i64; D]],
     pair_sums: impl Fn(Range<usize>, &mut [[i64; D]], &mut Vec<(usize, [i64; D])>) + Sync,
 ) {
-    let threads = rayon::current_num_threads();
-    let share = sums.len().div_ceil(threads * SHARES_PER_THREAD).max(1);
+    // One thread: one share, all the slots in one pass (nothing beyond).
+    let shares = match rayon::current_num_threads() {
+        1 => 1,
+        threads => threads * SHARES_PER_THREAD,
+    };
+    let share = sums.len().div_ceil(shares).max(1);
     let past: Vec<Vec<(usize, [i64; D])>> = sums
         .par_chunks_mut(share)
         .enumerate()
@@ -285,14 +289,9 @@ impl VecStore {
             });
         let (snapshot, _) = relaxation::sorted_snapshot(&mut cells, n, grid, forces);
         let sums = &mut self.sums[..n];
-        if threads == 1 {
-            sums.fill([0; 2]);
-            snapshot.pair_sums(0..n, sums, &mut |_, _| {});
-        } else {
-            sum_in_shares(sums, |slots, sums, past| {
-                snapshot.pair_sums(slots, sums, &mut |slot, push| past.push((slot, push)));
-            });
-        }
+        sum_in_shares(sums, |slots, sums, past| {
+            snapshot.pair_sums(slots, sums, &mut |slot, push| past.push((slot, push)));
+        });
         // The cells move in slot order and stay in it.
         let (to, made) = (&mut carried.pos[..n], &mut carried.velocity[..n]);
         let last: &[[i32; 2]] = if momentum {
@@ -492,14 +491,9 @@ impl VecSurfaceStore {
             forces,
         );
         let sums = &mut self.sums[..n];
-        if threads == 1 {
-            sums.fill([0; 3]);
-            snapshot.pair_sums(0..n, sums, &mut |_, _| {});
-        } else {
-            sum_in_shares(sums, |slots, sums, past| {
-                snapshot.pair_sums(slots, sums, &mut |slot, push| past.push((slot, push)));
-            });
-        }
+        sum_in_shares(sums, |slots, sums, past| {
+            snapshot.pair_sums(slots, sums, &mut |slot, push| past.push((slot, push)));
+        });
         // The cells move in slot order and stay in it.
         carried.place[..n]
             .par_chunks_mut(RELAX_CHUNK)
