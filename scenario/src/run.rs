@@ -72,9 +72,9 @@ impl Cells {
 /// The cells between the relaxation steps of a day, in the grid order of
 /// the last step: each step's counting sort then starts from cells that
 /// are almost in place, and the cells move in slot order, so that every
-/// pass reads and writes its arrays in sequence (in index order, a step
-/// reads or writes each cell through the grid's permutation, which on
-/// two cores cost as much as the rest of the move). They go back to
+/// pass reads and writes its arrays in sequence. (Moving them in index
+/// order read each one's sum through the grid's permutation: on two
+/// cores that took as long as the whole move on one.) They go back to
 /// index order after the day's last step.
 #[derive(Debug, Default)]
 struct Carried {
@@ -89,7 +89,8 @@ struct Carried {
 }
 
 /// Cells a thread takes at a time: small enough to share out a 2 000-cell
-/// step, large enough that handing out chunks costs little.
+/// step, large enough that handing out chunks costs little. Fewer cells
+/// than this relax in index order, a step at a time.
 const RELAX_CHUNK: usize = 512;
 
 /// Shares of the grid slots per thread when threads find pairs side by
