@@ -207,7 +207,7 @@ pub fn write_stream(bytes: &[u8], w: &mut impl Write) -> io::Result<()> {
 /// bytes as [`write_stream`] of its stream (a run's own frames always
 /// decode), without reading the stream back.
 pub struct Lines<'a, W: Write> {
-    next: &'a mut dyn Sink,
+    next: &'a mut (dyn Sink + Send),
     out: W,
     line: Vec<u8>,
     failure: Option<io::Error>,
@@ -223,7 +223,7 @@ impl<W: Write> fmt::Debug for Lines<'_, W> {
 
 impl<'a, W: Write> Lines<'a, W> {
     /// Lines to `out` of the records passed on to `next`.
-    pub fn new(next: &'a mut dyn Sink, out: W) -> Self {
+    pub fn new(next: &'a mut (dyn Sink + Send), out: W) -> Self {
         Lines {
             next,
             out,

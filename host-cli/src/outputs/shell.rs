@@ -164,16 +164,18 @@ impl Nearest {
         self.kind_near(p).map(|(kind, _)| kind)
     }
 
-    /// [`Nearest::kind_at`], and how far from `p` the same cell stays the
-    /// only nearest: half the difference between the nearest distance d₁
-    /// and a bound d₂ below every other cell's, since a point q with
-    /// 2·|q − p| < d₂ − d₁ is nearer to the cell (d₁ + |q − p|) than to
-    /// any other (d₂ − |q − p|). 0 when two cells are equally near.
+    /// [`Nearest::kind_at`], and how far from `p` the nearest cell stays
+    /// of that type: half the difference between the nearest distance d₁
+    /// and a bound d₂ below the distance of every cell of another type,
+    /// since a point q with 2·|q − p| < d₂ − d₁ is nearer to this cell
+    /// (d₁ + |q − p|) than to any of those (d₂ − |q − p|). Across a patch
+    /// of one type that is far more than the distance the cell itself
+    /// stays the nearest. 0 when cells of two types are equally near.
     fn kind_near(&self, p: &[f64; 3]) -> Option<(u8, f64)> {
         let at = Self::index(self.lo, self.side, self.dims, p);
         let mut found = Found {
             best: (f64::INFINITY, u32::MAX, 0),
-            next: f64::INFINITY,
+            other: f64::INFINITY,
         };
         let mut gap = f64::MAX;
         for reach in 1..=self.dims.iter().copied().max().unwrap_or(1) {
@@ -218,7 +220,7 @@ impl Nearest {
         }
         let (d, i, kind) = found.best;
         (i != u32::MAX).then(|| {
-            let others = found.next.sqrt().min(gap);
+            let others = found.other.sqrt().min(gap);
             (
                 kind,
                 ((others - d.sqrt()) / 2.0 - 1e-9 * self.side).max(0.0),
@@ -235,8 +237,8 @@ impl Nearest {
 }
 
 /// [`Nearest::kind_at`] for points one after another, each near the one
-/// before: while a point is within the distance the last search's cell
-/// stays the nearest ([`Nearest::kind_near`]), that cell's type, without a
+/// before: while a point is within the distance the last search's type
+/// stays the nearest's ([`Nearest::kind_near`]), that type, without a
 /// search.
 struct Along<'n> {
     near: &'n Nearest,
@@ -265,8 +267,9 @@ impl<'n> Along<'n> {
 struct Found {
     /// (squared distance, index, type) of the nearest cell; no index: none.
     best: (f64, u32, u8),
-    /// The squared distance of the next nearest.
-    next: f64,
+    /// The squared distance of the nearest cell of another type than
+    /// `best`'s.
+    other: f64,
 }
 
 impl Found {
@@ -275,10 +278,13 @@ impl Found {
         for &(i, kind, c) in run {
             let d = (c[0] - p[0]).powi(2) + (c[1] - p[1]).powi(2) + (c[2] - p[2]).powi(2);
             if d < self.best.0 || (d == self.best.0 && i < self.best.1) {
-                self.next = self.best.0;
+                // The old nearest was nearer than every other cell seen.
+                if kind != self.best.2 {
+                    self.other = self.best.0;
+                }
                 self.best = (d, i, kind);
-            } else if d < self.next {
-                self.next = d;
+            } else if d < self.other && kind != self.best.2 {
+                self.other = d;
             }
         }
     }
@@ -650,8 +656,9 @@ mod tests {
             ];
             assert_eq!(near.kind_at(&p), nearest_of_all(&cells, &p), "at {p:?}");
         }
-        // Within the distance it reports, the nearest cell stays the same
-        // (points at 0.999 of it, in 6 directions, checked cell by cell).
+        // Within the distance it reports, the nearest cell's type stays
+        // the same (points at 0.999 of it, in 8 directions, checked cell
+        // by cell).
         let mut stayed = 0;
         for i in 0..2_000u32 {
             let t = f64::from(i);
@@ -693,6 +700,52 @@ mod tests {
             assert_eq!(near.kind_at(&at.2), Some(at.1));
         }
         assert_eq!(Nearest::new(&[], &shell).kind_at(&[0.0; 3]), None);
+    }
+
+    #[test]
+    fn across_a_patch_of_one_type_the_type_stays_further_than_the_cell() {
+        // 2,000 cells on a sphere in three patches of one type each (by
+        // longitude), with cells of a fourth type sprinkled in.
+        let n = 2_000;
+        let cells: Vec<(u32, u8, [f64; 3])> = (0..n)
+            .map(|i| {
+                let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / f64::from(n);
+                let r = (1.0 - z * z).sqrt();
+                let a = f64::from(i) * 2.399_963;
+                let p = [5.0 * r * a.cos(), 5.0 * r * a.sin(), 5.0 * z];
+                let patch = ((p[1].atan2(p[0]) + 3.2) / 2.2) as u8;
+                (i, if i % 37 == 0 { 3 } else { patch }, p)
+            })
+            .collect();
+        let near = Nearest::new(&cells, &Shell::default());
+        let (mut beyond, mut searched) = (0, 0);
+        for i in 0..1_500u32 {
+            let t = f64::from(i);
+            let p = [
+                5.0 * (t * 0.731).sin(),
+                5.0 * (t * 1.113).cos(),
+                4.5 * (t * 0.377).sin(),
+            ];
+            let (kind, stays) = near.kind_near(&p).expect("cells");
+            assert_eq!(Some(kind), nearest_of_all(&cells, &p), "at {p:?}");
+            // The gap between the nearest cell and the next of any type.
+            let mut d: Vec<f64> = cells
+                .iter()
+                .map(|c| (0..3).map(|k| (c.2[k] - p[k]).powi(2)).sum::<f64>().sqrt())
+                .collect();
+            d.sort_by(f64::total_cmp);
+            searched += 1;
+            beyond += usize::from(stays > (d[1] - d[0]) / 2.0 + 1e-6);
+            for j in 0..16 {
+                let a = f64::from(j) * 0.3927;
+                let step = [a.cos(), a.sin() * 0.6, a.sin() * 0.8];
+                let q = [0, 1, 2].map(|k| p[k] + 0.999 * stays * step[k]);
+                assert_eq!(nearest_of_all(&cells, &q), Some(kind), "{q:?} near {p:?}");
+            }
+        }
+        // Inside the patches, most points' type stays further than the
+        // point's nearest cell does.
+        assert!(beyond * 2 > searched, "{beyond} of {searched}");
     }
 
     #[test]
