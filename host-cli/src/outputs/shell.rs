@@ -737,7 +737,7 @@ mod tests {
             searched += 1;
             beyond += usize::from(stays > (d[1] - d[0]) / 2.0 + 1e-6);
             for j in 0..16 {
-                let a = f64::from(j) * 0.3927;
+                let a = f64::from(j) * std::f64::consts::FRAC_PI_8;
                 let step = [a.cos(), a.sin() * 0.6, a.sin() * 0.8];
                 let q = [0, 1, 2].map(|k| p[k] + 0.999 * stays * step[k]);
                 assert_eq!(nearest_of_all(&cells, &q), Some(kind), "{q:?} near {p:?}");
