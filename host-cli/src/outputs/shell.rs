@@ -27,6 +27,8 @@ use crate::records::{Place, Records};
 
 /// The picture's longer side in pixels (drawn at twice the size, halved).
 const PICTURE_SIDE: f64 = 700.0;
+/// The most cubes [`Nearest::kind_of_triangle`] looks into.
+const TRIANGLE_CUBES: i64 = 4_096;
 /// The most cubes of the nearest-cell search per cell ([`Nearest`]).
 const CUBES_PER_CELL: i64 = 8;
 /// The light's direction (towards the light), normalised when used.
@@ -161,7 +163,7 @@ impl Nearest {
     /// until the nearest cell found is nearer than any cube not yet
     /// searched.
     fn kind_at(&self, p: &[f64; 3]) -> Option<u8> {
-        self.kind_near(p).map(|(kind, _)| kind)
+        self.kind_near(p).map(|n| n.kind)
     }
 
     /// [`Nearest::kind_at`], and how far from `p` the nearest cell stays
@@ -171,7 +173,7 @@ impl Nearest {
     /// (d₁ + |q − p|) than to any of those (d₂ − |q − p|). Across a patch
     /// of one type that is far more than the distance the cell itself
     /// stays the nearest. 0 when cells of two types are equally near.
-    fn kind_near(&self, p: &[f64; 3]) -> Option<(u8, f64)> {
+    fn kind_near(&self, p: &[f64; 3]) -> Option<Nearby> {
         let at = Self::index(self.lo, self.side, self.dims, p);
         let mut found = Found {
             best: (f64::INFINITY, u32::MAX, 0),
@@ -221,11 +223,53 @@ impl Nearest {
         let (d, i, kind) = found.best;
         (i != u32::MAX).then(|| {
             let others = found.other.sqrt().min(gap);
-            (
+            Nearby {
                 kind,
-                ((others - d.sqrt()) / 2.0 - 1e-9 * self.side).max(0.0),
-            )
+                stays: ((others - d.sqrt()) / 2.0 - 1e-9 * self.side).max(0.0),
+                distance: d.sqrt(),
+            }
         })
+    }
+
+    /// The type of the nearest cell of every point of the triangle
+    /// `corners`, when it is one type for all; `None` when it may not be.
+    /// Every point q of the triangle is within r = d + max|corner − g| of
+    /// the cell nearest its centroid g (at d), so q's nearest cell is within
+    /// r of the triangle: one type among the cells of the cubes the box
+    /// around the triangle, widened by r, touches is the type of all. A box
+    /// of more than [`TRIANGLE_CUBES`] cubes is not searched.
+    fn kind_of_triangle(&self, corners: &[[f64; 3]; 3]) -> Option<u8> {
+        let g = [0, 1, 2].map(|k| (corners[0][k] + corners[1][k] + corners[2][k]) / 3.0);
+        let near = self.kind_near(&g)?;
+        let spread = corners
+            .iter()
+            .map(|c| dot(sub(*c, g), sub(*c, g)).sqrt())
+            .fold(0.0, f64::max);
+        // Widened so that a point a pixel's rounding puts just off the
+        // triangle is still in.
+        let margin = 1e-6 * self.side;
+        if near.stays > spread * (1.0 + 1e-9) + margin {
+            return Some(near.kind); // the whole triangle is within `stays`
+        }
+        let reach = (near.distance + spread) * (1.0 + 1e-9) + margin;
+        let widened = |k: usize, f: fn(f64, f64) -> f64, by: f64| {
+            f(f(corners[0][k], corners[1][k]), corners[2][k]) + by
+        };
+        let lo = [0, 1, 2].map(|k| widened(k, f64::min, -reach));
+        let hi = [0, 1, 2].map(|k| widened(k, f64::max, reach));
+        let [x0, y0, z0] = Self::index(self.lo, self.side, self.dims, &lo);
+        let [x1, y1, z1] = Self::index(self.lo, self.side, self.dims, &hi);
+        if (x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1) > TRIANGLE_CUBES {
+            return None;
+        }
+        for z in z0..=z1 {
+            for y in y0..=y1 {
+                if self.run(x0, x1, y, z).iter().any(|c| c.1 != near.kind) {
+                    return None;
+                }
+            }
+        }
+        Some(near.kind)
     }
 
     /// The cells of cubes `x0..=x1` of row (y, z): one run of `sorted`.
@@ -257,10 +301,21 @@ impl<'n> Along<'n> {
         {
             return Some(kind);
         }
-        let found = self.near.kind_near(p);
-        self.known = found.map(|(kind, stays)| (*p, kind, stays));
-        found.map(|(kind, _)| kind)
+        let found = self.near.kind_near(p)?;
+        self.known = Some((*p, found.kind, found.stays));
+        Some(found.kind)
     }
+}
+
+/// What [`Nearest::kind_near`] found for a point.
+#[derive(Debug, Clone, Copy)]
+struct Nearby {
+    /// The nearest cell's type.
+    kind: u8,
+    /// How far from the point the nearest cell stays of that type.
+    stays: f64,
+    /// The nearest cell's distance.
+    distance: f64,
 }
 
 /// What a search of [`Nearest::kind_near`] has found so far.
@@ -399,9 +454,11 @@ impl Shell {
         Ok(Mesh::from_triangles(self.vertices.clone(), &self.faces)?)
     }
 
-    /// The object shaded, seen from `elevation` radians above its equator
-    /// (orthographic, z up), every point in its nearest cell's colour.
-    fn picture(&self, near: &Nearest, colours: &[[u8; 3]], elevation: f64) -> Result<Pixmap> {
+    /// The object seen from `elevation` radians above its equator
+    /// (orthographic, z up) at twice the picture's size: per pixel the
+    /// nearest face and its depth, found once for all the days (the mesh
+    /// does not move), and each face's shade.
+    fn view(&self, elevation: f64) -> View {
         let (sin_e, cos_e) = elevation.sin_cos();
         let towards = [0.0, -cos_e, sin_e]; // towards the viewer
         let right = [1.0, 0.0, 0.0];
@@ -451,7 +508,8 @@ impl Shell {
             for y in y0..y1 {
                 let py = y as f64 + 0.5;
                 let (ra, rb) = (ka[0] + ka[2] * py, kb[0] + kb[2] * py);
-                for x in x0..x1 {
+                let weights = [(ra, ka[1]), (rb, kb[1]), (1.0 - ra - rb, -ka[1] - kb[1])];
+                for x in row_span(weights, x0, x1) {
                     let px = x as f64 + 0.5;
                     let wa = ra + ka[1] * px;
                     let wb = rb + kb[1] * px;
@@ -479,26 +537,118 @@ impl Shell {
                 0.35 + 0.65 * dot(n, light).abs()
             })
             .collect();
+        let mut shown = vec![false; self.faces.len()];
+        for &f in &face {
+            if let Some(s) = shown.get_mut(f as usize) {
+                *s = true;
+            }
+        }
+        let corners = self
+            .faces
+            .iter()
+            .zip(shown)
+            .map(|(f, shown)| shown.then(|| self.corners(f)))
+            .collect();
+        View {
+            w,
+            h,
+            scale,
+            lo,
+            hi,
+            margin,
+            axes: [right, up, towards],
+            depth,
+            face,
+            shades,
+            corners,
+        }
+    }
+}
+
+/// The pixels `x0..x1` of a row that a triangle may cover: where each of
+/// its three weights, `r + k·px` at the pixel's centre px, may be ≥ 0 —
+/// a pixel wider on each side than the weights say, so rounding cannot
+/// leave out a pixel the exact test would take. A weight nearly constant
+/// along the row (|k| ≤ 10⁻⁶ a pixel) bounds nothing unless it stays
+/// below 0 all along.
+fn row_span(weights: [(f64, f64); 3], x0: usize, x1: usize) -> std::ops::Range<usize> {
+    let (mut from, mut to) = (x0 as f64, x1 as f64);
+    for (r, k) in weights {
+        // The centre where the weight is 0, as a pixel index.
+        let zero = -r / k - 0.5;
+        if k > 1e-6 {
+            from = from.max(zero.floor() - 1.0);
+        } else if k < -1e-6 {
+            to = to.min(zero.ceil() + 2.0);
+        } else if r + k.abs() * (to + 1.0) < -1e-9 {
+            return x0..x0;
+        }
+    }
+    // `as` saturates: a bound below 0 is 0.
+    (from as usize).max(x0)..(to as usize).min(x1)
+}
+
+/// A surface mosaic's object as [`Shell::view`] sees it.
+struct View {
+    /// Width and height, pixels (twice the picture's).
+    w: usize,
+    h: usize,
+    /// Pixels a unit.
+    scale: f64,
+    /// The screen's least and greatest (right, up) of the mesh, and the
+    /// margin around it, units.
+    lo: [f64; 2],
+    hi: [f64; 2],
+    margin: f64,
+    /// Right, up and towards the viewer.
+    axes: [[f64; 3]; 3],
+    /// Per pixel: the depth towards the viewer of the nearest face, and
+    /// that face (none: `u32::MAX`).
+    depth: Vec<f64>,
+    face: Vec<u32>,
+    /// Each face's shade, by its normal's angle to the light.
+    shades: Vec<f64>,
+    /// Each face's corners, of those a pixel shows.
+    corners: Vec<Option<[[f64; 3]; 3]>>,
+}
+
+impl View {
+    /// The object shaded, every point in its nearest cell's colour.
+    fn paint(&self, near: &Nearest, colours: &[[u8; 3]]) -> Result<Pixmap> {
+        let (w, h) = (self.w, self.h);
+        let [right, up, towards] = self.axes;
+        let (lo, hi, margin, scale) = (self.lo, self.hi, self.margin, self.scale);
+        // The faces all of whose points have one type: no pixel of theirs
+        // needs a search.
+        let one_kind: Vec<Option<u8>> = self
+            .corners
+            .par_iter()
+            .map(|c| c.as_ref().and_then(|c| near.kind_of_triangle(c)))
+            .collect();
         let mut rgb = vec![0u8; w * h * 3];
         rgb.par_chunks_mut(w * 3).enumerate().for_each(|(y, row)| {
-            // Most pixels need no search: the one before's cell is theirs.
+            // Most other pixels need no search either: the type of the one
+            // before is theirs.
             let mut along = Along::new(near);
             for x in 0..w {
                 let k = y * w + x;
                 let px = &mut row[x * 3..x * 3 + 3];
-                let Some(&shade) = shades.get(face[k] as usize) else {
+                let f = self.face[k] as usize;
+                let Some(&shade) = self.shades.get(f) else {
                     px.copy_from_slice(&BACKGROUND);
                     continue;
                 };
-                // Back to the object: the point on the triangle's plane.
-                let s = [
-                    (x as f64 + 0.5) / scale + lo[0] - margin,
-                    hi[1] + margin - (y as f64 + 0.5) / scale,
-                    depth[k],
-                ];
-                let p = [0, 1, 2].map(|i| right[i] * s[0] + up[i] * s[1] + towards[i] * s[2]);
-                let colour = along
-                    .kind_at(&p)
+                let kind = one_kind[f].or_else(|| {
+                    // Back to the object: the point on the triangle's plane.
+                    let s = [
+                        (x as f64 + 0.5) / scale + lo[0] - margin,
+                        hi[1] + margin - (y as f64 + 0.5) / scale,
+                        self.depth[k],
+                    ];
+                    let p = [0, 1, 2].map(|i| right[i] * s[0] + up[i] * s[1] + towards[i] * s[2]);
+                    along.kind_at(&p)
+                });
+                let colour = kind
                     .and_then(|t| colours.get(usize::from(t)))
                     .copied()
                     .unwrap_or([128; 3]);
@@ -535,6 +685,7 @@ pub fn write<R: Records + ?Sized>(
         Some(ControlMap::Plane) => 1.0,
         _ => 0.35,
     };
+    let view = kinds.has(Kind::Png).then(|| shell.view(elevation));
     let mut written = Vec::new();
     let mut counts = Vec::new();
     let mut areas = Vec::new();
@@ -564,9 +715,9 @@ pub fn write<R: Records + ?Sized>(
             areas.push(None);
         }
         let mut drawn = None;
-        if kinds.has(Kind::Png) {
+        if let Some(view) = &view {
             let path = dir.join(format!("surface_day{:02}.png", d.day));
-            let pixmap = shell.picture(&near, &colours, elevation)?;
+            let pixmap = view.paint(&near, &colours)?;
             picture::save(&pixmap, &path)?;
             written.push(path);
             drawn = Some(pixmap);
@@ -667,7 +818,7 @@ mod tests {
                 10.0 * (t * 1.113).cos(),
                 9.0 * (t * 0.377).sin(),
             ];
-            let (kind, stays) = near.kind_near(&p).expect("cells");
+            let Nearby { kind, stays, .. } = near.kind_near(&p).expect("cells");
             for step in [
                 [1.0, 0.0, 0.0],
                 [0.0, -1.0, 0.0],
@@ -726,7 +877,7 @@ mod tests {
                 5.0 * (t * 1.113).cos(),
                 4.5 * (t * 0.377).sin(),
             ];
-            let (kind, stays) = near.kind_near(&p).expect("cells");
+            let Nearby { kind, stays, .. } = near.kind_near(&p).expect("cells");
             assert_eq!(Some(kind), nearest_of_all(&cells, &p), "at {p:?}");
             // The gap between the nearest cell and the next of any type.
             let mut d: Vec<f64> = cells
@@ -746,6 +897,123 @@ mod tests {
         // Inside the patches, most points' type stays further than the
         // point's nearest cell does.
         assert!(beyond * 2 > searched, "{beyond} of {searched}");
+    }
+
+    #[test]
+    fn a_triangle_of_one_type_is_one_type_at_every_point() {
+        // Three patches on a sphere as above; triangles of three sizes
+        // between points near it.
+        let n = 3_000;
+        let cells: Vec<(u32, u8, [f64; 3])> = (0..n)
+            .map(|i| {
+                let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / f64::from(n);
+                let r = (1.0 - z * z).sqrt();
+                let a = f64::from(i) * 2.399_963;
+                let p = [5.0 * r * a.cos(), 5.0 * r * a.sin(), 5.0 * z];
+                (i, ((p[1].atan2(p[0]) + 3.2) / 2.2) as u8, p)
+            })
+            .collect();
+        let near = Nearest::new(&cells, &Shell::default());
+        let mut one = 0;
+        for i in 0..600u32 {
+            let t = f64::from(i);
+            let size = [0.05, 0.2, 0.6][i as usize % 3];
+            let g = [
+                5.0 * (t * 0.731).sin(),
+                5.0 * (t * 1.113).cos(),
+                4.5 * (t * 0.377).sin(),
+            ];
+            let corners = [0.0, 2.1, 4.2].map(|a: f64| {
+                let a = a + t;
+                [
+                    g[0] + size * a.cos(),
+                    g[1] + size * a.sin(),
+                    g[2] + size * 0.5,
+                ]
+            });
+            let Some(kind) = near.kind_of_triangle(&corners) else {
+                continue;
+            };
+            one += 1;
+            // Every point of a grid on the triangle, corners included.
+            for u in 0..=12 {
+                for v in 0..=12 - u {
+                    let (u, v) = (f64::from(u) / 12.0, f64::from(v) / 12.0);
+                    let q = [0, 1, 2].map(|k| {
+                        corners[0][k]
+                            + u * (corners[1][k] - corners[0][k])
+                            + v * (corners[2][k] - corners[0][k])
+                    });
+                    assert_eq!(
+                        nearest_of_all(&cells, &q),
+                        Some(kind),
+                        "{q:?} in {corners:?}"
+                    );
+                }
+            }
+        }
+        // Most triangles lie inside a patch.
+        assert!(one > 300, "{one} of 600");
+    }
+
+    #[test]
+    fn a_row_span_keeps_every_pixel_the_triangle_covers() {
+        // Triangles of every shape and size, some slivers, some nearly
+        // flat along a row; the pixels each row's span leaves out are
+        // ones the weights' test refuses.
+        let (mut kept, mut spanned, mut rows) = (0, 0, 0);
+        for i in 0..2_000u32 {
+            let t = f64::from(i);
+            let at = |k: f64| {
+                let r = [3.0, 40.0, 400.0][i as usize % 3] * (1.0 + (t * k).sin());
+                [
+                    200.0 + r * (t * k * 1.7).cos(),
+                    200.0 + r * (t * k * 2.3).sin(),
+                ]
+            };
+            let (a, b) = (at(0.37), at(0.91));
+            // Every fifth: c on a's row, so an edge is along the rows.
+            let c = if i % 5 == 0 {
+                [at(1.31)[0], a[1]]
+            } else {
+                at(1.31)
+            };
+            let area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+            if area.abs() < 1e-12 {
+                continue;
+            }
+            let inv = 1.0 / area;
+            let ka = [b[0] * c[1] - b[1] * c[0], b[1] - c[1], c[0] - b[0]].map(|k| k * inv);
+            let kb = [c[0] * a[1] - c[1] * a[0], c[1] - a[1], a[0] - c[0]].map(|k| k * inv);
+            let (x0, x1) = (0, 900);
+            for y in 0..900 {
+                let py = f64::from(y) + 0.5;
+                let (ra, rb) = (ka[0] + ka[2] * py, kb[0] + kb[2] * py);
+                let span = row_span(
+                    [(ra, ka[1]), (rb, kb[1]), (1.0 - ra - rb, -ka[1] - kb[1])],
+                    x0,
+                    x1,
+                );
+                for x in x0..x1 {
+                    let px = x as f64 + 0.5;
+                    let wa = ra + ka[1] * px;
+                    let wb = rb + kb[1] * px;
+                    let wc = 1.0 - wa - wb;
+                    if wa >= 0.0 && wb >= 0.0 && wc >= 0.0 {
+                        assert!(span.contains(&x), "{x} out of {span:?}, row {y}");
+                        kept += 1;
+                    }
+                }
+                spanned += span.len();
+                rows += usize::from(!span.is_empty());
+            }
+        }
+        assert!(kept > 1_000_000, "{kept}");
+        // Spans are a pixel or two wider on each side than the triangle.
+        assert!(
+            spanned <= kept + 5 * rows,
+            "{spanned} for {kept} in {rows} rows"
+        );
     }
 
     #[test]
