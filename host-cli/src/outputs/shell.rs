@@ -27,8 +27,11 @@ use crate::records::{Place, Records};
 
 /// The picture's longer side in pixels (drawn at twice the size, halved).
 const PICTURE_SIDE: f64 = 700.0;
-/// The most cubes [`Nearest::kind_of_triangle`] looks into.
-const TRIANGLE_CUBES: i64 = 4_096;
+/// The most cubes [`Nearest::kind_in_box`] looks into.
+const BOX_CUBES: i64 = 4_096;
+/// The side of the squares of pixels [`View::paint`] colours at once
+/// (at twice the picture's size).
+const TILE: usize = 16;
 /// The most cubes of the nearest-cell search per cell ([`Nearest`]).
 const CUBES_PER_CELL: i64 = 8;
 /// The light's direction (towards the light), normalised when used.
@@ -231,35 +234,36 @@ impl Nearest {
         })
     }
 
-    /// The type of the nearest cell of every point of the triangle
-    /// `corners`, when it is one type for all; `None` when it may not be.
-    /// Every point q of the triangle is within r = d + max|corner − g| of
-    /// the cell nearest its centroid g (at d), so q's nearest cell is within
-    /// r of the triangle: one type among the cells of the cubes the box
-    /// around the triangle, widened by r, touches is the type of all. A box
-    /// of more than [`TRIANGLE_CUBES`] cubes is not searched.
-    fn kind_of_triangle(&self, corners: &[[f64; 3]; 3]) -> Option<u8> {
-        let g = [0, 1, 2].map(|k| (corners[0][k] + corners[1][k] + corners[2][k]) / 3.0);
+    /// The type of the nearest cell of every point in the box `lo`–`hi`,
+    /// when it is one type for all; `None` when it may not be. Every point
+    /// q of the box is within r = d + h of the cell nearest its centre g
+    /// (at d; h half the box's diagonal), so q's nearest cell is within r
+    /// of the box: one type among the cells of the cubes the box widened
+    /// by r touches is the type of all. A widened box of more than
+    /// [`BOX_CUBES`] cubes is not searched.
+    fn kind_in_box(&self, lo: [f64; 3], hi: [f64; 3]) -> Option<u8> {
+        let g = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
         let near = self.kind_near(&g)?;
-        let spread = corners
-            .iter()
-            .map(|c| dot(sub(*c, g), sub(*c, g)).sqrt())
-            .fold(0.0, f64::max);
-        // Widened so that a point a pixel's rounding puts just off the
-        // triangle is still in.
+        let half = dot(sub(hi, lo), sub(hi, lo)).sqrt() / 2.0;
+        // A margin for rounding.
         let margin = 1e-6 * self.side;
-        if near.stays > spread * (1.0 + 1e-9) + margin {
-            return Some(near.kind); // the whole triangle is within `stays`
+        if near.stays > half * (1.0 + 1e-9) + margin {
+            return Some(near.kind); // the whole box is within `stays`
         }
-        let reach = (near.distance + spread) * (1.0 + 1e-9) + margin;
-        let widened = |k: usize, f: fn(f64, f64) -> f64, by: f64| {
-            f(f(corners[0][k], corners[1][k]), corners[2][k]) + by
-        };
-        let lo = [0, 1, 2].map(|k| widened(k, f64::min, -reach));
-        let hi = [0, 1, 2].map(|k| widened(k, f64::max, reach));
-        let [x0, y0, z0] = Self::index(self.lo, self.side, self.dims, &lo);
-        let [x1, y1, z1] = Self::index(self.lo, self.side, self.dims, &hi);
-        if (x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1) > TRIANGLE_CUBES {
+        let reach = (near.distance + half) * (1.0 + 1e-9) + margin;
+        let [x0, y0, z0] = Self::index(
+            self.lo,
+            self.side,
+            self.dims,
+            &[0, 1, 2].map(|k| lo[k] - reach),
+        );
+        let [x1, y1, z1] = Self::index(
+            self.lo,
+            self.side,
+            self.dims,
+            &[0, 1, 2].map(|k| hi[k] + reach),
+        );
+        if (x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1) > BOX_CUBES {
             return None;
         }
         for z in z0..=z1 {
@@ -537,19 +541,7 @@ impl Shell {
                 0.35 + 0.65 * dot(n, light).abs()
             })
             .collect();
-        let mut shown = vec![false; self.faces.len()];
-        for &f in &face {
-            if let Some(s) = shown.get_mut(f as usize) {
-                *s = true;
-            }
-        }
-        let corners = self
-            .faces
-            .iter()
-            .zip(shown)
-            .map(|(f, shown)| shown.then(|| self.corners(f)))
-            .collect();
-        View {
+        let mut view = View {
             w,
             h,
             scale,
@@ -560,8 +552,10 @@ impl Shell {
             depth,
             face,
             shades,
-            corners,
-        }
+            boxes: Vec::new(),
+        };
+        view.boxes = view.boxes();
+        view
     }
 }
 
@@ -608,64 +602,197 @@ struct View {
     face: Vec<u32>,
     /// Each face's shade, by its normal's angle to the light.
     shades: Vec<f64>,
-    /// Each face's corners, of those a pixel shows.
-    corners: Vec<Option<[[f64; 3]; 3]>>,
+    /// Per [`TILE`]-square of pixels (row by row), the least and greatest
+    /// corner of the box around the points it shows, then the same of its
+    /// quarters and of theirs ([`SQUARES`] in all: [`View::square`]); an
+    /// empty box where no pixel shows the object.
+    boxes: Vec<[[f64; 3]; 2]>,
 }
 
+/// The squares of a [`TILE`]-square [`View::boxes`] keeps, down to
+/// squares of side `TILE / 4`: 1 + 4 + 16.
+const SQUARES: usize = 21;
+
+/// A box around no point: the least corner past the greatest.
+const NO_BOX: [[f64; 3]; 2] = [[f64::MAX; 3], [f64::MIN; 3]];
+
 impl View {
-    /// The object shaded, every point in its nearest cell's colour.
+    /// The point of the object pixel `(x, y)` shows (that of the plane of
+    /// its face).
+    fn point(&self, x: usize, y: usize) -> [f64; 3] {
+        let [right, up, towards] = self.axes;
+        let s = [
+            (x as f64 + 0.5) / self.scale + self.lo[0] - self.margin,
+            self.hi[1] + self.margin - (y as f64 + 0.5) / self.scale,
+            self.depth[y * self.w + x],
+        ];
+        [0, 1, 2].map(|i| right[i] * s[0] + up[i] * s[1] + towards[i] * s[2])
+    }
+
+    /// [`TILE`]-squares across the picture.
+    fn tiles_across(&self) -> usize {
+        self.w.div_ceil(TILE)
+    }
+
+    /// The place in a tile's [`View::boxes`] of its square at `level`
+    /// (0: the tile; 1: a quarter; 2: a quarter's quarter) at column and
+    /// row `at` of that level's squares.
+    fn square(level: usize, at: [usize; 2]) -> usize {
+        [0, 1, 5][level] + at[1] * (1 << level) + at[0]
+    }
+
+    /// The boxes around the points of every square of every tile (the
+    /// mesh does not move: found once).
+    fn boxes(&self) -> Vec<[[f64; 3]; 2]> {
+        let across = self.tiles_across();
+        let mut boxes = vec![NO_BOX; across * self.h.div_ceil(TILE) * SQUARES];
+        boxes
+            .par_chunks_mut(across * SQUARES)
+            .enumerate()
+            .for_each(|(band, boxes)| {
+                for y in band * TILE..((band + 1) * TILE).min(self.h) {
+                    for x in 0..self.w {
+                        if self.face[y * self.w + x] == u32::MAX {
+                            continue;
+                        }
+                        let p = self.point(x, y);
+                        let tile = &mut boxes[(x / TILE) * SQUARES..(x / TILE + 1) * SQUARES];
+                        let (tx, ty) = (x % TILE, y % TILE);
+                        for level in 0..3 {
+                            let side = TILE >> level;
+                            let [lo, hi] = &mut tile[Self::square(level, [tx / side, ty / side])];
+                            for k in 0..3 {
+                                lo[k] = lo[k].min(p[k]);
+                                hi[k] = hi[k].max(p[k]);
+                            }
+                        }
+                    }
+                }
+            });
+        boxes
+    }
+
+    /// The object shaded, every point in its nearest cell's colour, a
+    /// [`TILE`]-square of pixels at a time ([`View::colour_square`]).
     fn paint(&self, near: &Nearest, colours: &[[u8; 3]]) -> Result<Pixmap> {
         let (w, h) = (self.w, self.h);
-        let [right, up, towards] = self.axes;
-        let (lo, hi, margin, scale) = (self.lo, self.hi, self.margin, self.scale);
-        // The faces all of whose points have one type: no pixel of theirs
-        // needs a search.
-        let one_kind: Vec<Option<u8>> = self
-            .corners
-            .par_iter()
-            .map(|c| c.as_ref().and_then(|c| near.kind_of_triangle(c)))
-            .collect();
-        let mut rgb = vec![0u8; w * h * 3];
-        rgb.par_chunks_mut(w * 3).enumerate().for_each(|(y, row)| {
-            // Most other pixels need no search either: the type of the one
-            // before is theirs.
-            let mut along = Along::new(near);
-            for x in 0..w {
-                let k = y * w + x;
-                let px = &mut row[x * 3..x * 3 + 3];
-                let f = self.face[k] as usize;
-                let Some(&shade) = self.shades.get(f) else {
-                    px.copy_from_slice(&BACKGROUND);
-                    continue;
-                };
-                let kind = one_kind[f].or_else(|| {
-                    // Back to the object: the point on the triangle's plane.
-                    let s = [
-                        (x as f64 + 0.5) / scale + lo[0] - margin,
-                        hi[1] + margin - (y as f64 + 0.5) / scale,
-                        self.depth[k],
-                    ];
-                    let p = [0, 1, 2].map(|i| right[i] * s[0] + up[i] * s[1] + towards[i] * s[2]);
-                    along.kind_at(&p)
-                });
-                let colour = kind
-                    .and_then(|t| colours.get(usize::from(t)))
-                    .copied()
-                    .unwrap_or([128; 3]);
-                for (o, c) in px.iter_mut().zip(colour) {
-                    // shade ≤ 1: rounded, in 0..=255.
-                    *o = (f64::from(c) * shade + 0.5) as u8;
-                }
-            }
-        });
+        let across = self.tiles_across();
+        // Each face's colour for each type, and last for a type the
+        // parameters do not name (grey).
+        let shaded = Shaded {
+            types: colours.len() + 1,
+            colours: self
+                .shades
+                .iter()
+                .flat_map(|&shade| {
+                    colours.iter().chain([&[128; 3]]).map(move |c| {
+                        // shade ≤ 1: rounded, in 0..=255.
+                        let [r, g, b] = c.map(|c| (f64::from(c) * shade + 0.5) as u8);
+                        PremultipliedColorU8::from_rgba(r, g, b, 255)
+                            .unwrap_or(PremultipliedColorU8::TRANSPARENT)
+                    })
+                })
+                .collect(),
+        };
         let mut pixmap = Pixmap::new(w as u32, h as u32)
             .ok_or_else(|| anyhow::anyhow!("a {w}×{h} picture is too large"))?;
-        for (px, c) in pixmap.pixels_mut().iter_mut().zip(rgb.chunks_exact(3)) {
-            *px = PremultipliedColorU8::from_rgba(c[0], c[1], c[2], 255)
-                .unwrap_or(PremultipliedColorU8::TRANSPARENT);
-        }
+        pixmap
+            .pixels_mut()
+            .par_chunks_mut(w * TILE)
+            .enumerate()
+            .for_each(|(band, rows)| {
+                for tile in 0..across {
+                    let square = Square {
+                        tile: band * across + tile,
+                        level: 0,
+                        at: [0, 0],
+                        corner: [tile * TILE, band * TILE],
+                    };
+                    self.colour_square(near, &shaded, square, rows);
+                }
+            });
         picture::half(&pixmap)
     }
+
+    /// Colours the pixels of `square` into `rows` (the band of [`TILE`]
+    /// rows it is in): when every point in the box around theirs has one
+    /// type ([`Nearest::kind_in_box`]), that type's colour; else quarter
+    /// by quarter down to the smallest squares [`View::boxes`] keeps,
+    /// then each pixel by its own type (searched, but for those near
+    /// enough the last one searched: [`Along`]).
+    fn colour_square(
+        &self,
+        near: &Nearest,
+        shaded: &Shaded,
+        square: Square,
+        rows: &mut [PremultipliedColorU8],
+    ) {
+        let [lo, hi] = self.boxes[square.tile * SQUARES + Self::square(square.level, square.at)];
+        let one = if lo[0] <= hi[0] {
+            near.kind_in_box(lo, hi)
+        } else {
+            None // nothing shown: all background
+        };
+        if one.is_none() && lo[0] <= hi[0] && square.level < 2 {
+            for [qx, qy] in [[0, 0], [1, 0], [0, 1], [1, 1]] {
+                let side = TILE >> (square.level + 1);
+                let quarter = Square {
+                    level: square.level + 1,
+                    at: [square.at[0] * 2 + qx, square.at[1] * 2 + qy],
+                    corner: [square.corner[0] + qx * side, square.corner[1] + qy * side],
+                    ..square
+                };
+                self.colour_square(near, shaded, quarter, rows);
+            }
+            return;
+        }
+        let side = TILE >> square.level;
+        let [x0, y0] = square.corner;
+        let background =
+            PremultipliedColorU8::from_rgba(BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 255)
+                .unwrap_or(PremultipliedColorU8::TRANSPARENT);
+        let mut along = Along::new(near);
+        for y in y0..(y0 + side).min(self.h) {
+            let row = &mut rows[(y % TILE) * self.w..][..self.w];
+            for x in x0..(x0 + side).min(self.w) {
+                let face = self.face[y * self.w + x];
+                row[x] = if face == u32::MAX {
+                    background
+                } else {
+                    let kind = one.or_else(|| along.kind_at(&self.point(x, y)));
+                    shaded.of(face, kind)
+                };
+            }
+        }
+    }
+}
+
+/// Each face's colour of each type, shaded ([`View::paint`]).
+struct Shaded {
+    /// Types a face, the last for a type the parameters do not name.
+    types: usize,
+    /// Face by face, type by type.
+    colours: Vec<PremultipliedColorU8>,
+}
+
+impl Shaded {
+    fn of(&self, face: u32, kind: Option<u8>) -> PremultipliedColorU8 {
+        let t = kind.map_or(self.types - 1, |k| usize::from(k).min(self.types - 1));
+        self.colours[face as usize * self.types + t]
+    }
+}
+
+/// A square of pixels [`View::colour_square`] colours.
+#[derive(Debug, Clone, Copy)]
+struct Square {
+    /// Its tile, row by row.
+    tile: usize,
+    /// 0: the tile; 1: a quarter; 2: a quarter's quarter.
+    level: usize,
+    /// Its column and row among its level's squares of the tile.
+    at: [usize; 2],
+    /// Its first pixel's column and row in the picture.
+    corner: [usize; 2],
 }
 
 /// Writes (those of `kinds`) the outputs of a surface mosaic's run.
@@ -900,9 +1027,9 @@ mod tests {
     }
 
     #[test]
-    fn a_triangle_of_one_type_is_one_type_at_every_point() {
-        // Three patches on a sphere as above; triangles of three sizes
-        // between points near it.
+    fn a_box_of_one_type_is_one_type_at_every_point() {
+        // Three patches on a sphere as above; boxes of three sizes around
+        // points near it, some flat.
         let n = 3_000;
         let cells: Vec<(u32, u8, [f64; 3])> = (0..n)
             .map(|i| {
@@ -923,36 +1050,29 @@ mod tests {
                 5.0 * (t * 1.113).cos(),
                 4.5 * (t * 0.377).sin(),
             ];
-            let corners = [0.0, 2.1, 4.2].map(|a: f64| {
-                let a = a + t;
-                [
-                    g[0] + size * a.cos(),
-                    g[1] + size * a.sin(),
-                    g[2] + size * 0.5,
-                ]
-            });
-            let Some(kind) = near.kind_of_triangle(&corners) else {
+            let half = [size, size * 0.7, if i % 2 == 0 { 0.0 } else { size * 0.4 }];
+            let lo = [0, 1, 2].map(|k| g[k] - half[k]);
+            let hi = [0, 1, 2].map(|k| g[k] + half[k]);
+            let Some(kind) = near.kind_in_box(lo, hi) else {
                 continue;
             };
             one += 1;
-            // Every point of a grid on the triangle, corners included.
-            for u in 0..=12 {
-                for v in 0..=12 - u {
-                    let (u, v) = (f64::from(u) / 12.0, f64::from(v) / 12.0);
-                    let q = [0, 1, 2].map(|k| {
-                        corners[0][k]
-                            + u * (corners[1][k] - corners[0][k])
-                            + v * (corners[2][k] - corners[0][k])
-                    });
-                    assert_eq!(
-                        nearest_of_all(&cells, &q),
-                        Some(kind),
-                        "{q:?} in {corners:?}"
-                    );
+            // Every point of a grid in the box, corners included.
+            for u in 0..=6 {
+                for v in 0..=6 {
+                    for s in 0..=6 {
+                        let f = [u, v, s].map(|x| f64::from(x) / 6.0);
+                        let q = [0, 1, 2].map(|k| lo[k] + f[k] * (hi[k] - lo[k]));
+                        assert_eq!(
+                            nearest_of_all(&cells, &q),
+                            Some(kind),
+                            "{q:?} in {lo:?}-{hi:?}"
+                        );
+                    }
                 }
             }
         }
-        // Most triangles lie inside a patch.
+        // Most boxes lie inside a patch.
         assert!(one > 300, "{one} of 600");
     }
 
