@@ -752,11 +752,12 @@ impl View {
             PremultipliedColorU8::from_rgba(BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 255)
                 .unwrap_or(PremultipliedColorU8::TRANSPARENT);
         let mut along = Along::new(near);
+        let x1 = (x0 + side).min(self.w);
         for y in y0..(y0 + side).min(self.h) {
-            let row = &mut rows[(y % TILE) * self.w..][..self.w];
-            for x in x0..(x0 + side).min(self.w) {
+            let row = &mut rows[(y % TILE) * self.w..][x0..x1];
+            for (x, px) in (x0..x1).zip(row) {
                 let face = self.face[y * self.w + x];
-                row[x] = if face == u32::MAX {
+                *px = if face == u32::MAX {
                     background
                 } else {
                     let kind = one.or_else(|| along.kind_at(&self.point(x, y)));
