@@ -25,11 +25,12 @@ use anyhow::{Result, anyhow};
 use morphogen::fx::Fx;
 use morphogen::mosaic::{Domain, Params};
 use morphogen::stream::Record;
+use tiny_skia::Pixmap;
 
 use super::chart::{Axis, Chart, Series};
 use super::mesh::{ObjStyle, write_obj};
 use super::picture::{self, save_indexed};
-use super::surface::Surface;
+use super::surface::{Surface, pattern_pixel};
 use super::text;
 use super::{Kind, Kinds, OrderedAnimation, animation_frames, pipeline, write_chart};
 use crate::atomic::{OutputFile, write_atomic};
@@ -151,6 +152,13 @@ pub fn write<R: Records + ?Sized>(
     let colours: Vec<[u8; 3]> = params.types.iter().map(|t| t.colour).collect();
     let domain = &params.domain;
     let surface = Surface::of(domain);
+    let (w, h) = picture_size(domain);
+    // The object the surface pictures show, found once.
+    let view = if kinds.has(Kind::Png) {
+        surface.view([w, h])?
+    } else {
+        None
+    };
     let picked = if kinds.has(Kind::Anim) {
         animation_frames(count_days(records)?)
     } else {
@@ -158,7 +166,6 @@ pub fn write<R: Records + ?Sized>(
     };
     let anim_path = dir.join("animation.png");
     let apng = if picked.len() > 1 {
-        let (w, h) = picture_size(domain);
         Some(OrderedAnimation::new(
             &anim_path,
             u32::try_from(w)?,
@@ -169,9 +176,10 @@ pub fn write<R: Records + ?Sized>(
         None
     };
     let mut last: Option<Arc<Day>> = None;
-    // The picture of the latest day drawn so far (by position), kept for
-    // mosaic.png and mosaic.obj, which show the last day.
-    let latest: Mutex<Option<(usize, Indexed)>> = Mutex::new(None);
+    // The picture of the latest day drawn so far (by position), and of
+    // the object, kept for mosaic.png, surface.png and mosaic.obj, which
+    // show the last day.
+    let latest: Mutex<Option<(usize, Indexed, Option<Pixmap>)>> = Mutex::new(None);
     // Per day: its number and the cells of each type.
     let mut counts: Vec<(i32, Vec<usize>)> = Vec::new();
     let per_day: Vec<(Vec<PathBuf>, Option<Vec<u64>>)> = pipeline(
@@ -224,6 +232,7 @@ pub fn write<R: Records + ?Sized>(
             }
             let animated = apng.as_ref().zip(slot);
             let mut areas = None;
+            let mut object = None;
             if kinds.has(Kind::Png) || kinds.has(Kind::Csv) || animated.is_some() {
                 let picture = voronoi(domain, &colours, &d.cells);
                 areas = kinds.has(Kind::Csv).then(|| picture.areas(colours.len()));
@@ -231,10 +240,12 @@ pub fn write<R: Records + ?Sized>(
                     let png = dir.join(format!("day_{:02}.png", d.day));
                     picture.save(&png)?;
                     paths.push(png);
-                    if let Some(object) = surface.picture(&|u, v| picture.at(u, v))? {
+                    if let Some(view) = &view {
                         let png = dir.join(format!("surface_day{:02}.png", d.day));
-                        picture::save(&object, &png)?;
+                        let drawn = view.paint(&|i| picture.colour(i))?;
+                        picture::save(&drawn, &png)?;
                         paths.push(png);
+                        object = Some(drawn);
                     }
                 }
                 if let Some((apng, slot)) = animated {
@@ -243,8 +254,8 @@ pub fn write<R: Records + ?Sized>(
                 let mut latest = latest
                     .lock()
                     .map_err(|_| anyhow!("a mosaic picture writer stopped"))?;
-                if latest.as_ref().is_none_or(|(at, _)| *at < position) {
-                    *latest = Some((position, picture));
+                if latest.as_ref().is_none_or(|(at, ..)| *at < position) {
+                    *latest = Some((position, picture, object));
                 }
             }
             Ok((paths, areas))
@@ -269,15 +280,20 @@ pub fn write<R: Records + ?Sized>(
         let drawn = latest
             .into_inner()
             .map_err(|_| anyhow!("a mosaic picture writer stopped"))?;
-        let picture = match drawn {
-            Some((at, picture)) if at + 1 == counts.len() => picture,
-            _ => voronoi(domain, &colours, &last.cells),
+        let (picture, object) = match drawn {
+            Some((at, picture, object)) if at + 1 == counts.len() => (picture, object),
+            _ => (voronoi(domain, &colours, &last.cells), None),
         };
         if kinds.has(Kind::Png) {
             let path = dir.join("mosaic.png");
             picture.save(&path)?;
             written.push(path);
-            if let Some(object) = surface.picture(&|u, v| picture.at(u, v))? {
+            let object = match (object, &view) {
+                (Some(drawn), _) => Some(drawn),
+                (None, Some(view)) => Some(view.paint(&|i| picture.colour(i))?),
+                (None, None) => None,
+            };
+            if let Some(object) = object {
                 let path = dir.join("surface.png");
                 picture::save(&object, &path)?;
                 written.push(path);
@@ -549,9 +565,17 @@ impl Indexed {
     /// (clamped into the picture).
     #[must_use]
     pub fn at(&self, u: f64, v: f64) -> [u8; 3] {
-        let pixel = |f: f64, n: usize| ((f * n as f64) as usize).min(n.saturating_sub(1));
-        let i = self.pixels[pixel(v, self.height) * self.width + pixel(u, self.width)];
-        self.palette.get(usize::from(i)).copied().unwrap_or([0; 3])
+        self.colour(pattern_pixel([self.width, self.height], u, v))
+    }
+
+    /// The colour of pixel `i` (row by row).
+    #[must_use]
+    pub fn colour(&self, i: usize) -> [u8; 3] {
+        let index = self.pixels.get(i).copied().unwrap_or(EMPTY);
+        self.palette
+            .get(usize::from(index))
+            .copied()
+            .unwrap_or([0; 3])
     }
 
     /// Its pixels as RGB bytes.

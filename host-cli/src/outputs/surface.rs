@@ -130,13 +130,15 @@ impl Surface {
     }
 
     /// The cylinder seen from a little above its equator, shaded, its side
-    /// coloured by the `picture` (v = 0 at the top, as in the flat pictures);
-    /// the inside of the far wall shows through the open top. `None` for a
-    /// flat surface, whose picture is the mosaic itself.
+    /// to be coloured by a picture of the domain `pattern` pixels wide and
+    /// high (v = 0 at the top, as in the flat pictures); the inside of the
+    /// far wall shows through the open top. `None` for a flat surface,
+    /// whose picture is the mosaic itself. The same for every day: found
+    /// once, painted a day at a time ([`SurfaceView::paint`]).
     ///
     /// # Errors
     /// When the picture cannot be allocated.
-    pub fn picture(&self, picture: Pattern<'_>) -> Result<Option<Pixmap>> {
+    pub fn view(&self, pattern: [usize; 2]) -> Result<Option<SurfaceView>> {
         let Some(a) = self.wrap else {
             return Ok(None);
         };
@@ -148,53 +150,111 @@ impl Surface {
         let (w_lo, w_hi) = (-radius * sin_e, height * cos_e + radius * sin_e);
         let scale = 2.0 * PICTURE_HEIGHT / ((w_hi - w_lo) * 1.1);
         let margin = 0.05 * (w_hi - w_lo);
-        let width = ((2.0 * radius + 2.0 * margin) * scale).ceil() as u32;
-        let rows = ((w_hi - w_lo + 2.0 * margin) * scale).ceil() as u32;
-        let mut pixmap = Pixmap::new(width.max(1), rows.max(1))
-            .ok_or_else(|| anyhow::anyhow!("a {width}×{rows} picture is too large"))?;
+        let width = (((2.0 * radius + 2.0 * margin) * scale).ceil() as u32).max(1);
+        let rows = (((w_hi - w_lo + 2.0 * margin) * scale).ceil() as u32).max(1);
+        if Pixmap::new(width, rows).is_none() {
+            anyhow::bail!("a {width}×{rows} picture is too large");
+        }
         let light = normalised(LIGHT);
+        let w = width as usize;
+        let pixels = (0..w * rows as usize)
+            .map(|k| {
+                let s = ((k % w) as f64 + 0.5) / scale - radius - margin;
+                let screen = ((k / w) as f64 + 0.5) / scale + w_lo - margin;
+                if s.abs() >= radius {
+                    return SHOWS_NOTHING;
+                }
+                let depth = (radius * radius - s * s).sqrt();
+                // The near side (z = +depth), then the far wall's inside.
+                for z in [depth, -depth] {
+                    // Screen rows go down the axis: w = h·cos e + z·sin e.
+                    let h = (screen - z * sin_e) / cos_e;
+                    if !(0.0..height).contains(&h) {
+                        continue;
+                    }
+                    let angle = s.atan2(z).rem_euclid(TAU);
+                    let (fu, fv) = (angle / TAU, h / height);
+                    let at = if a == 0 {
+                        pattern_pixel(pattern, fu, fv)
+                    } else {
+                        pattern_pixel(pattern, fv, fu)
+                    };
+                    // Outward normal (s, 0, z)/r in view space; the inside
+                    // faces the other way and gets less light.
+                    let n = [s / radius, 0.0, z / radius];
+                    let lit = (n[0] * light[0] + n[2] * light[2]).abs();
+                    let shade = if z > 0.0 {
+                        0.35 + 0.65 * lit
+                    } else {
+                        0.25 + 0.35 * lit
+                    };
+                    return (at as u32, shade);
+                }
+                SHOWS_NOTHING
+            })
+            .collect();
+        Ok(Some(SurfaceView {
+            width,
+            rows,
+            pixels,
+        }))
+    }
+}
+
+/// The pixel of a picture `size` pixels wide and high at the fractions
+/// (`u`, `v`) of its width and height (clamped into it), row by row.
+#[must_use]
+pub fn pattern_pixel(size: [usize; 2], u: f64, v: f64) -> usize {
+    let pixel = |f: f64, n: usize| ((f * n as f64) as usize).min(n.saturating_sub(1));
+    pixel(v, size[1]) * size[0] + pixel(u, size[0])
+}
+
+/// A pixel of a [`SurfaceView`] that shows no surface.
+const SHOWS_NOTHING: (u32, f64) = (u32::MAX, 0.0);
+
+/// A cylinder as [`Surface::view`] sees it.
+#[derive(Debug, Clone)]
+pub struct SurfaceView {
+    /// Width and height in pixels (twice the picture's).
+    width: u32,
+    rows: u32,
+    /// Per pixel, row by row: the pattern's pixel it shows and its shade
+    /// ([`SHOWS_NOTHING`]: the background).
+    pixels: Vec<(u32, f64)>,
+}
+
+impl SurfaceView {
+    /// The picture, each pixel in the colour `colour` gives the pattern's
+    /// pixel it shows, shaded.
+    ///
+    /// # Errors
+    /// When the picture cannot be allocated.
+    pub fn paint(&self, colour: &dyn Fn(usize) -> Rgb) -> Result<Pixmap> {
+        let mut pixmap = Pixmap::new(self.width, self.rows).ok_or_else(|| {
+            anyhow::anyhow!("a {}×{} picture is too large", self.width, self.rows)
+        })?;
         let bg = PremultipliedColorU8::from_rgba(BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 255)
             .unwrap_or(PremultipliedColorU8::TRANSPARENT);
-        let w = pixmap.width() as usize;
-        for (k, px) in pixmap.pixels_mut().iter_mut().enumerate() {
-            let s = ((k % w) as f64 + 0.5) / scale - radius - margin;
-            let screen = ((k / w) as f64 + 0.5) / scale + w_lo - margin;
-            *px = bg;
-            if s.abs() >= radius {
+        for (px, &(at, shade)) in pixmap.pixels_mut().iter_mut().zip(&self.pixels) {
+            if at == u32::MAX {
+                *px = bg;
                 continue;
             }
-            let depth = (radius * radius - s * s).sqrt();
-            // The near side (z = +depth), then the far wall's inside.
-            for z in [depth, -depth] {
-                // Screen rows go down the axis: w = h·cos e + z·sin e.
-                let h = (screen - z * sin_e) / cos_e;
-                if !(0.0..height).contains(&h) {
-                    continue;
-                }
-                let angle = s.atan2(z).rem_euclid(TAU);
-                let (fu, fv) = (angle / TAU, h / height);
-                let rgb = if a == 0 {
-                    picture(fu, fv)
-                } else {
-                    picture(fv, fu)
-                };
-                // Outward normal (s, 0, z)/r in view space; the inside faces
-                // the other way and gets less light.
-                let n = [s / radius, 0.0, z / radius];
-                let lit = (n[0] * light[0] + n[2] * light[2]).abs();
-                let shade = if z > 0.0 {
-                    0.35 + 0.65 * lit
-                } else {
-                    0.25 + 0.35 * lit
-                };
-                let c = rgb.map(|x| (f64::from(x) * shade).round().clamp(0.0, 255.0) as u8);
-                *px = PremultipliedColorU8::from_rgba(c[0], c[1], c[2], 255)
-                    .unwrap_or(PremultipliedColorU8::TRANSPARENT);
-                break;
-            }
+            let c = colour(at as usize).map(|x| rounded(f64::from(x) * shade));
+            *px = PremultipliedColorU8::from_rgba(c[0], c[1], c[2], 255)
+                .unwrap_or(PremultipliedColorU8::TRANSPARENT);
         }
-        Ok(Some(picture::half(&pixmap)?))
+        picture::half(&pixmap)
     }
+}
+
+/// `v` (≥ 0) rounded half away from zero, as `f64::round` but without a
+/// call to libm, at most 255: `v`'s integer part is exact, and so is what
+/// it leaves of `v`.
+fn rounded(v: f64) -> u8 {
+    let whole = v as u64;
+    let up = v - whole as f64 >= 0.5;
+    (whole + u64::from(up)).min(255) as u8
 }
 
 fn normalised(v: [f64; 3]) -> [f64; 3] {
@@ -206,6 +266,20 @@ fn normalised(v: [f64; 3]) -> [f64; 3] {
 mod tests {
     use super::*;
     use morphogen::fx::Fx;
+
+    #[test]
+    fn rounding_without_libm_is_f64_round() {
+        let mut v: Vec<f64> = (0..=256 * 64).map(|i| f64::from(i) / 64.0).collect();
+        // Halves, and the floats either side of them and of 0.5.
+        for i in 0..=256 {
+            let half = f64::from(i) + 0.5;
+            v.extend([half, half.next_down(), half.next_up()]);
+        }
+        v.extend([0.5f64.next_down(), 0.0, 254.5, 255.49, 300.0, 1e12]);
+        for x in v {
+            assert_eq!(rounded(x), x.round().clamp(0.0, 255.0) as u8, "{x:e}");
+        }
+    }
 
     #[test]
     fn a_stem_rolls_up_into_a_cylinder_of_its_circumference() {
