@@ -1,6 +1,11 @@
 //! Writing a file whole or not at all: a buffered temporary file beside
-//! it, synced, then renamed over it — streamed ([`OutputFile`]) or from
-//! bytes at hand ([`write_atomic`]).
+//! it, renamed over it — streamed ([`OutputFile`]) or from bytes at hand
+//! ([`write_atomic`]). A stopped run leaves no half-written file either
+//! way; the bytes at hand (fixtures, sweep tables) are also synced to
+//! the disk before the rename, so they outlast a power cut. A run's
+//! outputs are not: a run writes dozens of them, re-made by running it
+//! again, and a sync each made a small preset's run take 1.7× the time
+//! (croton-mcu, 81 files: 0.14 s against 0.08 s).
 
 use std::fs;
 use std::io::{self, BufWriter, Write};
@@ -15,6 +20,8 @@ use tempfile::NamedTempFile;
 pub struct OutputFile {
     path: PathBuf,
     writer: BufWriter<NamedTempFile>,
+    /// Whether [`OutputFile::finish`] syncs it to the disk.
+    durable: bool,
 }
 
 impl OutputFile {
@@ -34,6 +41,7 @@ impl OutputFile {
         Ok(OutputFile {
             path: path.to_path_buf(),
             writer: BufWriter::with_capacity(1 << 16, tmp),
+            durable: false,
         })
     }
 
@@ -50,7 +58,7 @@ impl OutputFile {
         file.finish()
     }
 
-    /// Flushes, syncs and renames the file into place.
+    /// Flushes, syncs when durable, and renames the file into place.
     ///
     /// # Errors
     /// When a write, the sync or the rename fails.
@@ -61,9 +69,11 @@ impl OutputFile {
             .into_inner()
             .map_err(io::IntoInnerError::into_error)
             .with_context(|| format!("cannot write {}", path.display()))?;
-        tmp.as_file()
-            .sync_all()
-            .with_context(|| format!("cannot write {}", path.display()))?;
+        if self.durable {
+            tmp.as_file()
+                .sync_all()
+                .with_context(|| format!("cannot write {}", path.display()))?;
+        }
         // tempfile creates files 0600; outputs and fixtures are ordinary files.
         #[cfg(unix)]
         {
@@ -92,10 +102,14 @@ impl Write for OutputFile {
     }
 }
 
-/// Writes `bytes` to `path` whole or not at all.
+/// Writes `bytes` to `path` whole or not at all, synced to the disk.
 ///
 /// # Errors
 /// When the folder is not writable or the rename fails.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    OutputFile::write_with(path, |f| f.write_all(bytes))
+    let mut file = OutputFile::create(path)?;
+    file.durable = true;
+    file.write_all(bytes)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    file.finish()
 }
