@@ -27,7 +27,7 @@ use crate::records::{Place, Records};
 
 /// The picture's longer side in pixels (drawn at twice the size, halved).
 const PICTURE_SIDE: f64 = 700.0;
-/// The most cubes [`Nearest::kind_in_box`] looks into.
+/// The most cubes [`Nearest::near_box`] gathers cells from.
 const BOX_CUBES: i64 = 4_096;
 /// The side of the squares of pixels [`View::paint`] colours at once
 /// (at twice the picture's size).
@@ -234,23 +234,24 @@ impl Nearest {
         })
     }
 
-    /// The type of the nearest cell of every point in the box `lo`–`hi`,
-    /// when it is one type for all; `None` when it may not be. Every point
-    /// q of the box is within r = d + h of the cell nearest its centre g
-    /// (at d; h half the box's diagonal), so q's nearest cell is within r
-    /// of the box: one type among the cells of the cubes the box widened
-    /// by r touches is the type of all. A widened box of more than
-    /// [`BOX_CUBES`] cubes is not searched.
-    fn kind_in_box(&self, lo: [f64; 3], hi: [f64; 3]) -> Option<u8> {
+    /// Which cells may be the nearest of the points in the box `lo`–`hi`
+    /// (into `out`, by index), or the one type they all have. Every
+    /// point q of the box is within r = d + h of the cell nearest its
+    /// centre g (at d; h half the box's diagonal), so q's nearest cell is
+    /// within r of the box: those cells, gathered from the cubes the box
+    /// widened by r touches. A widened box of more than [`BOX_CUBES`]
+    /// cubes is not searched.
+    fn near_box(&self, lo: [f64; 3], hi: [f64; 3], out: &mut Vec<Cell>) -> Reach {
+        out.clear();
         let g = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
-        let near = self.kind_near(&g)?;
+        let Some(near) = self.kind_near(&g) else {
+            return Reach::One(None);
+        };
         let half = dot(sub(hi, lo), sub(hi, lo)).sqrt() / 2.0;
-        // A margin for rounding.
-        let margin = 1e-6 * self.side;
-        if near.stays > half * (1.0 + 1e-9) + margin {
-            return Some(near.kind); // the whole box is within `stays`
+        if near.stays > half * (1.0 + 1e-9) + self.margin() {
+            return Reach::One(Some(near.kind)); // the whole box is within `stays`
         }
-        let reach = (near.distance + half) * (1.0 + 1e-9) + margin;
+        let reach = (near.distance + half) * (1.0 + 1e-9) + self.margin();
         let [x0, y0, z0] = Self::index(
             self.lo,
             self.side,
@@ -264,16 +265,39 @@ impl Nearest {
             &[0, 1, 2].map(|k| hi[k] + reach),
         );
         if (x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1) > BOX_CUBES {
-            return None;
+            return Reach::Far;
         }
         for z in z0..=z1 {
             for y in y0..=y1 {
-                if self.run(x0, x1, y, z).iter().any(|c| c.1 != near.kind) {
-                    return None;
-                }
+                out.extend(
+                    self.run(x0, x1, y, z)
+                        .iter()
+                        .filter(|c| within(&c.2, lo, hi, reach)),
+                );
             }
         }
-        Some(near.kind)
+        Reach::among(out)
+    }
+
+    /// [`Nearest::near_box`] for a box inside one whose cells `wider`
+    /// may be the nearest of its points: those of them that may be the
+    /// nearest of this box's points, the nearest of its centre found
+    /// among them.
+    fn narrow(&self, wider: &[Cell], lo: [f64; 3], hi: [f64; 3], out: &mut Vec<Cell>) -> Reach {
+        out.clear();
+        let g = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
+        let Some(d2) = nearest_among(wider, &g).map(|(d2, _)| d2) else {
+            return Reach::One(None);
+        };
+        let half = dot(sub(hi, lo), sub(hi, lo)).sqrt() / 2.0;
+        let reach = (d2.sqrt() + half) * (1.0 + 1e-9) + self.margin();
+        out.extend(wider.iter().filter(|c| within(&c.2, lo, hi, reach)));
+        Reach::among(out)
+    }
+
+    /// A margin for rounding in distances.
+    fn margin(&self) -> f64 {
+        1e-6 * self.side
     }
 
     /// The cells of cubes `x0..=x1` of row (y, z): one run of `sorted`.
@@ -282,6 +306,51 @@ impl Nearest {
         let from = self.starts[(row + x0) as usize] as usize;
         &self.sorted[from..self.starts[(row + x1) as usize + 1] as usize]
     }
+}
+
+/// A cell of a day: its index in the day's list, type and point.
+type Cell = (u32, u8, [f64; 3]);
+
+/// What [`Nearest::near_box`] found for a box.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Reach {
+    /// Every point of the box has this nearest type (`None`: there are no
+    /// cells).
+    One(Option<u8>),
+    /// The nearest cell of every point is among those gathered.
+    Among,
+    /// Too many cubes to gather the cells from.
+    Far,
+}
+
+impl Reach {
+    /// `Among` the cells `near`, or the `One` type they all have.
+    fn among(near: &[Cell]) -> Reach {
+        match near.split_first() {
+            Some((first, rest)) if rest.iter().any(|c| c.1 != first.1) => Reach::Among,
+            Some((first, _)) => Reach::One(Some(first.1)),
+            None => Reach::Among, // never: the centre's nearest is within reach
+        }
+    }
+}
+
+/// Whether `p` is within `reach` of the box `lo`–`hi`.
+fn within(p: &[f64; 3], lo: [f64; 3], hi: [f64; 3], reach: f64) -> bool {
+    let d = [0, 1, 2].map(|k| (lo[k] - p[k]).max(p[k] - hi[k]).max(0.0));
+    dot(d, d) <= reach * reach
+}
+
+/// The squared distance and type of the cell of `cells` nearest `p`, the
+/// lowest-numbered of equally near ones.
+fn nearest_among(cells: &[Cell], p: &[f64; 3]) -> Option<(f64, u8)> {
+    let mut best: Option<(f64, u32, u8)> = None;
+    for &(i, kind, c) in cells {
+        let d = (c[0] - p[0]).powi(2) + (c[1] - p[1]).powi(2) + (c[2] - p[2]).powi(2);
+        if best.is_none_or(|(b, j, _)| d < b || (d == b && i < j)) {
+            best = Some((d, i, kind));
+        }
+    }
+    best.map(|(d, _, kind)| (d, kind))
 }
 
 /// [`Nearest::kind_at`] for points one after another, each near the one
@@ -701,6 +770,8 @@ impl View {
             .par_chunks_mut(w * TILE)
             .enumerate()
             .for_each(|(band, rows)| {
+                // The cells of a tile, of a quarter and of a quarter's quarter.
+                let mut scratch = vec![Vec::new(); 3];
                 for tile in 0..across {
                     let square = Square {
                         tile: band * across + tile,
@@ -708,32 +779,41 @@ impl View {
                         at: [0, 0],
                         corner: [tile * TILE, band * TILE],
                     };
-                    self.colour_square(near, &shaded, square, rows);
+                    self.colour_square(near, &shaded, square, None, &mut scratch, rows);
                 }
             });
         picture::half(&pixmap)
     }
 
     /// Colours the pixels of `square` into `rows` (the band of [`TILE`]
-    /// rows it is in): when every point in the box around theirs has one
-    /// type ([`Nearest::kind_in_box`]), that type's colour; else quarter
-    /// by quarter down to the smallest squares [`View::boxes`] keeps,
-    /// then each pixel by its own type (searched, but for those near
-    /// enough the last one searched: [`Along`]).
+    /// rows it is in), the cells `wider` holding the nearest of every
+    /// point it shows (none: the tile, whose cells are gathered from the
+    /// grid; [`Nearest::near_box`]): when the box around its points has
+    /// one type, that type's colour; else quarter by quarter, each with
+    /// the cells (in `scratch[0]`) that may be nearest to its points, down
+    /// to the smallest squares [`View::boxes`] keeps, then each pixel by
+    /// the nearest of those.
     fn colour_square(
         &self,
         near: &Nearest,
         shaded: &Shaded,
         square: Square,
+        wider: Option<&[Cell]>,
+        scratch: &mut [Vec<Cell>],
         rows: &mut [PremultipliedColorU8],
     ) {
         let [lo, hi] = self.boxes[square.tile * SQUARES + Self::square(square.level, square.at)];
-        let one = if lo[0] <= hi[0] {
-            near.kind_in_box(lo, hi)
-        } else {
-            None // nothing shown: all background
+        let Some((cells, deeper)) = scratch.split_first_mut() else {
+            return;
         };
-        if one.is_none() && lo[0] <= hi[0] && square.level < 2 {
+        let reach = if lo[0] > hi[0] {
+            Reach::One(None) // nothing shown: all background
+        } else if let Some(wider) = wider {
+            near.narrow(wider, lo, hi, cells)
+        } else {
+            near.near_box(lo, hi, cells)
+        };
+        if reach == Reach::Among && square.level < 2 {
             for [qx, qy] in [[0, 0], [1, 0], [0, 1], [1, 1]] {
                 let side = TILE >> (square.level + 1);
                 let quarter = Square {
@@ -742,7 +822,7 @@ impl View {
                     corner: [square.corner[0] + qx * side, square.corner[1] + qy * side],
                     ..square
                 };
-                self.colour_square(near, shaded, quarter, rows);
+                self.colour_square(near, shaded, quarter, Some(cells), deeper, rows);
             }
             return;
         }
@@ -751,6 +831,8 @@ impl View {
         let background =
             PremultipliedColorU8::from_rgba(BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 255)
                 .unwrap_or(PremultipliedColorU8::TRANSPARENT);
+        // Only when the cells were too far to gather: searched, but for
+        // the pixels near enough the last one searched.
         let mut along = Along::new(near);
         let x1 = (x0 + side).min(self.w);
         for y in y0..(y0 + side).min(self.h) {
@@ -760,7 +842,11 @@ impl View {
                 *px = if face == u32::MAX {
                     background
                 } else {
-                    let kind = one.or_else(|| along.kind_at(&self.point(x, y)));
+                    let kind = match reach {
+                        Reach::One(kind) => kind,
+                        Reach::Among => nearest_among(cells, &self.point(x, y)).map(|(_, k)| k),
+                        Reach::Far => along.kind_at(&self.point(x, y)),
+                    };
                     shaded.of(face, kind)
                 };
             }
@@ -1028,11 +1114,11 @@ mod tests {
     }
 
     #[test]
-    fn a_box_of_one_type_is_one_type_at_every_point() {
+    fn the_cells_gathered_for_a_box_hold_the_nearest_of_its_every_point() {
         // Three patches on a sphere as above; boxes of three sizes around
-        // points near it, some flat.
+        // points near it, some flat, and each box's quarters.
         let n = 3_000;
-        let cells: Vec<(u32, u8, [f64; 3])> = (0..n)
+        let cells: Vec<Cell> = (0..n)
             .map(|i| {
                 let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / f64::from(n);
                 let r = (1.0 - z * z).sqrt();
@@ -1042,7 +1128,25 @@ mod tests {
             })
             .collect();
         let near = Nearest::new(&cells, &Shell::default());
-        let mut one = 0;
+        // Every point of a grid in the box, corners included.
+        let grid = |lo: [f64; 3], hi: [f64; 3]| {
+            (0..7 * 7 * 7).map(move |i| {
+                let f = [i % 7, i / 7 % 7, i / 49].map(|x| f64::from(x) / 6.0);
+                [0, 1, 2].map(|k| lo[k] + f[k] * (hi[k] - lo[k]))
+            })
+        };
+        let check = |reach: Reach, among: &[Cell], lo, hi| {
+            for q in grid(lo, hi) {
+                let kind = match reach {
+                    Reach::One(kind) => kind,
+                    Reach::Among => nearest_among(among, &q).map(|(_, k)| k),
+                    Reach::Far => return,
+                };
+                assert_eq!(nearest_of_all(&cells, &q), kind, "{q:?} in {lo:?}-{hi:?}");
+            }
+        };
+        let (mut one, mut among, mut narrowed) = (0, 0, 0);
+        let (mut gathered, mut quarter) = (Vec::new(), Vec::new());
         for i in 0..600u32 {
             let t = f64::from(i);
             let size = [0.05, 0.2, 0.6][i as usize % 3];
@@ -1054,27 +1158,26 @@ mod tests {
             let half = [size, size * 0.7, if i % 2 == 0 { 0.0 } else { size * 0.4 }];
             let lo = [0, 1, 2].map(|k| g[k] - half[k]);
             let hi = [0, 1, 2].map(|k| g[k] + half[k]);
-            let Some(kind) = near.kind_in_box(lo, hi) else {
-                continue;
-            };
-            one += 1;
-            // Every point of a grid in the box, corners included.
-            for u in 0..=6 {
-                for v in 0..=6 {
-                    for s in 0..=6 {
-                        let f = [u, v, s].map(|x| f64::from(x) / 6.0);
-                        let q = [0, 1, 2].map(|k| lo[k] + f[k] * (hi[k] - lo[k]));
-                        assert_eq!(
-                            nearest_of_all(&cells, &q),
-                            Some(kind),
-                            "{q:?} in {lo:?}-{hi:?}"
-                        );
-                    }
-                }
+            let reach = near.near_box(lo, hi, &mut gathered);
+            check(reach, &gathered, lo, hi);
+            match reach {
+                Reach::One(_) => one += 1,
+                Reach::Among => among += 1,
+                Reach::Far => {}
             }
+            if reach != Reach::Among {
+                continue;
+            }
+            // A quarter of the box (its lower x and y half).
+            let qhi = [g[0], g[1], hi[2]];
+            let narrow = near.narrow(&gathered, lo, qhi, &mut quarter);
+            check(narrow, &quarter, lo, qhi);
+            narrowed += usize::from(narrow == Reach::Among && quarter.len() < gathered.len());
         }
-        // Most boxes lie inside a patch.
+        // Most boxes lie inside a patch; the others' quarters need fewer
+        // cells.
         assert!(one > 300, "{one} of 600");
+        assert!(among > 50 && narrowed * 2 > among, "{among}, {narrowed}");
     }
 
     #[test]
