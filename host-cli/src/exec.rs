@@ -14,7 +14,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use morphogen::embedded_io::{ErrorKind, ErrorType, Write};
 use morphogen::preset::{Model, Preset};
 use morphogen::sim::Progress;
-use morphogen::stream::{Encoder, Sink, SinkError};
+use morphogen::stream::{Encoder, Record, Sink, SinkError};
 use morphogen_scenario::Scenario;
 
 use crate::atomic::OutputFile;
@@ -239,6 +239,9 @@ pub struct RunFile {
     pub digest: u64,
     /// Frames (= records) written.
     pub frames: u32,
+    /// Of those, the `FrameStart` records (a mosaic's days, a horn's
+    /// frames), so that the outputs need not read the stream to count them.
+    pub frame_starts: usize,
     /// Its records as JSON Lines, when they were written.
     pub jsonl: Option<PathBuf>,
 }
@@ -345,18 +348,24 @@ fn preset_to_file(
     let path = paths.stream;
     let mut encoder = Encoder::new(FileSink::create(path, max_mb)?);
     let mut jsonl = None;
-    let ran = match paths.jsonl {
+    let (ran, frame_starts) = match paths.jsonl {
         Some(jsonl_path) => {
             let mut lines = Lines::new(&mut encoder, OutputFile::create(jsonl_path)?);
-            let ran = run_preset(preset, seed, bar, &mut lines);
+            let mut tally = FrameStarts::new(&mut lines);
+            let ran = run_preset(preset, seed, bar, &mut tally);
+            let frame_starts = tally.count;
             jsonl = Some(
                 lines
                     .into_inner()
                     .with_context(|| format!("cannot write {}", jsonl_path.display())),
             );
-            ran
+            (ran, frame_starts)
         }
-        None => run_preset(preset, seed, bar, &mut encoder),
+        None => {
+            let mut tally = FrameStarts::new(&mut encoder);
+            let ran = run_preset(preset, seed, bar, &mut tally);
+            (ran, tally.count)
+        }
     };
     if let Some(e) = encoder.writer().failure.take() {
         return Err(anyhow!(e).context(format!("cannot write {}", path.display())));
@@ -368,6 +377,7 @@ fn preset_to_file(
         bytes: encoder.bytes(),
         digest: encoder.digest(),
         frames: encoder.frames(),
+        frame_starts,
         jsonl: paths.jsonl.map(Path::to_path_buf),
     };
     encoder.into_writer().finish()?;
@@ -375,6 +385,25 @@ fn preset_to_file(
         file.finish()?;
     }
     Ok(run)
+}
+
+/// A sink that counts the `FrameStart` records it hands on to `next`.
+struct FrameStarts<'a> {
+    next: &'a mut (dyn Sink + Send),
+    count: usize,
+}
+
+impl<'a> FrameStarts<'a> {
+    fn new(next: &'a mut (dyn Sink + Send)) -> FrameStarts<'a> {
+        FrameStarts { next, count: 0 }
+    }
+}
+
+impl Sink for FrameStarts<'_> {
+    fn record(&mut self, record: &Record) -> Result<(), SinkError> {
+        self.count += usize::from(matches!(record, Record::FrameStart { .. }));
+        self.next.record(record)
+    }
 }
 
 /// Runs `preset` into `sink`, on a worker of rayon's pool: a mosaic's
@@ -509,7 +538,7 @@ pub fn write_outputs(
     model: impl FnOnce(&StreamFile, &Path) -> Result<Vec<PathBuf>>,
 ) -> Result<Vec<PathBuf>> {
     let _spinner = progress.then(|| Spinner::after_a_second(&format!("writing {}", dir.display())));
-    let stream = StreamFile::new(&run.path);
+    let stream = StreamFile::new(&run.path).with_frame_starts(run.frame_starts);
     let mut written = vec![run.path.clone()];
     written.extend(run.jsonl.clone());
     written.extend(model(&stream, dir)?);
@@ -628,6 +657,27 @@ mod tests {
                 std::fs::read(dir.path().join(name)).unwrap(),
                 "{name}"
             );
+        }
+    }
+
+    #[test]
+    fn a_run_counts_the_frame_starts_its_stream_holds() {
+        use crate::records::Records;
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("stream.bin");
+        let jsonl = dir.path().join(JSONL_FILE);
+        for (preset, lines) in [("croton-mcu", true), ("ram-horn", false)] {
+            let paths = RunPaths {
+                stream: &path,
+                jsonl: lines.then_some(jsonl.as_path()),
+            };
+            let scenario = find(preset, &[]).unwrap();
+            let run = run_to_file(&scenario, scenario.seed(), false, 64, paths).unwrap();
+            let read = StreamFile::new(&path).frame_starts().unwrap();
+            assert!(read > 1, "{preset}: {read}");
+            assert_eq!(run.frame_starts, read, "{preset}");
+            let known = StreamFile::new(&path).with_frame_starts(run.frame_starts);
+            assert_eq!(known.frame_starts().unwrap(), read, "{preset}");
         }
     }
 

@@ -44,6 +44,24 @@ pub trait Records {
     {
         self.visit_while(from, |place, r| each(place, r).map(|()| true))
     }
+
+    /// The number of `FrameStart` records (a mosaic's days).
+    ///
+    /// # Errors
+    /// When the source cannot be read.
+    fn frame_starts(&self) -> Result<usize> {
+        count_frame_starts(self)
+    }
+}
+
+/// The `FrameStart` records of `records`, counted by reading them all.
+fn count_frame_starts<R: Records + ?Sized>(records: &R) -> Result<usize> {
+    let mut count = 0;
+    records.visit(Place::START, |_, r| {
+        count += usize::from(matches!(r, Record::FrameStart { .. }));
+        Ok(())
+    })?;
+    Ok(count)
 }
 
 impl Records for [Record] {
@@ -83,6 +101,8 @@ impl<const N: usize> Records for [Record; N] {
 #[derive(Debug, Clone)]
 pub struct StreamFile {
     path: PathBuf,
+    /// Its `FrameStart` records, when the run that wrote it counted them.
+    frame_starts: Option<usize>,
 }
 
 impl StreamFile {
@@ -91,6 +111,18 @@ impl StreamFile {
     pub fn new(path: &Path) -> StreamFile {
         StreamFile {
             path: path.to_path_buf(),
+            frame_starts: None,
+        }
+    }
+
+    /// The stream file, holding `count` `FrameStart` records (counted by
+    /// the run that wrote it, so [`Records::frame_starts`] need not read
+    /// it).
+    #[must_use]
+    pub fn with_frame_starts(self, count: usize) -> StreamFile {
+        StreamFile {
+            frame_starts: Some(count),
+            ..self
         }
     }
 
@@ -119,6 +151,13 @@ impl StreamFile {
 }
 
 impl Records for StreamFile {
+    fn frame_starts(&self) -> Result<usize> {
+        match self.frame_starts {
+            Some(count) => Ok(count),
+            None => count_frame_starts(self),
+        }
+    }
+
     fn visit_while<F>(&self, from: Place, mut each: F) -> Result<()>
     where
         F: FnMut(Place, &Record) -> Result<bool>,

@@ -69,18 +69,6 @@ pub fn days(records: &[Record]) -> Vec<Day> {
     out
 }
 
-/// The number of days a mosaic stream holds.
-fn count_days<R: Records + ?Sized>(records: &R) -> Result<usize> {
-    let mut days = 0usize;
-    records.visit(Place::START, |_, r| {
-        if matches!(r, Record::FrameStart { .. }) {
-            days += 1;
-        }
-        Ok(())
-    })?;
-    Ok(days)
-}
-
 /// The chart of the number of cells of each type per day.
 fn cells_chart(colours: &[[u8; 3]], names: &[&str], counts: &[(i32, Vec<usize>)]) -> Chart {
     let mut chart = Chart::new(
@@ -160,7 +148,7 @@ pub fn write<R: Records + ?Sized>(
         None
     };
     let picked = if kinds.has(Kind::Anim) {
-        animation_frames(count_days(records)?)
+        animation_frames(records.frame_starts()?)
     } else {
         Vec::new()
     };
