@@ -974,6 +974,25 @@ pub fn write<R: Records + ?Sized>(
 mod tests {
     use super::*;
 
+    /// `n` cells on a sphere of `radius` (a Fibonacci lattice), cell i of
+    /// type `kind(i, point)`.
+    fn sphere(n: u32, radius: f64, kind: impl Fn(u32, [f64; 3]) -> u8) -> Vec<Cell> {
+        (0..n)
+            .map(|i| {
+                let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / f64::from(n);
+                let r = (1.0 - z * z).sqrt();
+                let a = f64::from(i) * 2.399_963;
+                let p = [r * a.cos(), r * a.sin(), z].map(|x| radius * x);
+                (i, kind(i, p), p)
+            })
+            .collect()
+    }
+
+    /// Three patches of one type each, by longitude.
+    fn patch(p: [f64; 3]) -> u8 {
+        ((p[1].atan2(p[0]) + 3.2) / 2.2) as u8
+    }
+
     /// The nearest cell by looking at every one, the lowest-numbered of
     /// equally near ones.
     fn nearest_of_all(cells: &[(u32, u8, [f64; 3])], p: &[f64; 3]) -> Option<u8> {
@@ -993,18 +1012,7 @@ mod tests {
         // its index mod 7, and pairs of cells at one place (ties); points
         // on, inside and far outside it.
         let n = 600;
-        let mut cells: Vec<(u32, u8, [f64; 3])> = (0..n)
-            .map(|i| {
-                let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / f64::from(n);
-                let r = (1.0 - z * z).sqrt();
-                let a = f64::from(i) * 2.399_963;
-                (
-                    i,
-                    (i % 7) as u8,
-                    [10.0 * r * a.cos(), 10.0 * r * a.sin(), 10.0 * z],
-                )
-            })
-            .collect();
+        let mut cells = sphere(n, 10.0, |i, _| (i % 7) as u8);
         for i in 0..50 {
             let twin = cells[i * 11].2;
             cells.push((n + i as u32, 6 - (i % 7) as u8, twin));
@@ -1072,16 +1080,7 @@ mod tests {
         // 2,000 cells on a sphere in three patches of one type each (by
         // longitude), with cells of a fourth type sprinkled in.
         let n = 2_000;
-        let cells: Vec<(u32, u8, [f64; 3])> = (0..n)
-            .map(|i| {
-                let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / f64::from(n);
-                let r = (1.0 - z * z).sqrt();
-                let a = f64::from(i) * 2.399_963;
-                let p = [5.0 * r * a.cos(), 5.0 * r * a.sin(), 5.0 * z];
-                let patch = ((p[1].atan2(p[0]) + 3.2) / 2.2) as u8;
-                (i, if i % 37 == 0 { 3 } else { patch }, p)
-            })
-            .collect();
+        let cells = sphere(n, 5.0, |i, p| if i % 37 == 0 { 3 } else { patch(p) });
         let near = Nearest::new(&cells, &Shell::default());
         let (mut beyond, mut searched) = (0, 0);
         for i in 0..1_500u32 {
@@ -1118,15 +1117,7 @@ mod tests {
         // Three patches on a sphere as above; boxes of three sizes around
         // points near it, some flat, and each box's quarters.
         let n = 3_000;
-        let cells: Vec<Cell> = (0..n)
-            .map(|i| {
-                let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / f64::from(n);
-                let r = (1.0 - z * z).sqrt();
-                let a = f64::from(i) * 2.399_963;
-                let p = [5.0 * r * a.cos(), 5.0 * r * a.sin(), 5.0 * z];
-                (i, ((p[1].atan2(p[0]) + 3.2) / 2.2) as u8, p)
-            })
-            .collect();
+        let cells = sphere(n, 5.0, |_, p| patch(p));
         let near = Nearest::new(&cells, &Shell::default());
         // Every point of a grid in the box, corners included.
         let grid = |lo: [f64; 3], hi: [f64; 3]| {
@@ -1245,14 +1236,7 @@ mod tests {
         // 200,000 cells on a sphere: cubes of the cells' spacing would be
         // 259³, 87 a cell.
         let n = 200_000;
-        let cells: Vec<(u32, u8, [f64; 3])> = (0..n)
-            .map(|i| {
-                let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / f64::from(n);
-                let r = (1.0 - z * z).sqrt();
-                let a = f64::from(i) * 2.399_963;
-                (i, 0, [r * a.cos(), r * a.sin(), z])
-            })
-            .collect();
+        let cells = sphere(n, 1.0, |_, _| 0);
         let near = Nearest::new(&cells, &Shell::default());
         let cubes = near.starts.len() - 1;
         assert!(
