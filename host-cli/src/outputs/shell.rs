@@ -329,7 +329,9 @@ impl Reach {
         match near.split_first() {
             Some((first, rest)) if rest.iter().any(|c| c.1 != first.1) => Reach::Among,
             Some((first, _)) => Reach::One(Some(first.1)),
-            None => Reach::Among, // never: the centre's nearest is within reach
+            // Never (the centre's nearest is within reach); if rounding
+            // ever left it out, a search per pixel.
+            None => Reach::Far,
         }
     }
 }

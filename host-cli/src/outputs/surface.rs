@@ -152,6 +152,7 @@ impl Surface {
         let margin = 0.05 * (w_hi - w_lo);
         let width = (((2.0 * radius + 2.0 * margin) * scale).ceil() as u32).max(1);
         let rows = (((w_hi - w_lo + 2.0 * margin) * scale).ceil() as u32).max(1);
+        // Refused here, as painting it would be, before a pixel is found.
         if Pixmap::new(width, rows).is_none() {
             anyhow::bail!("a {width}×{rows} picture is too large");
         }
