@@ -990,6 +990,16 @@ mod tests {
             .collect()
     }
 
+    /// The `t`-th of a set of points spread through the box of ±`radius`
+    /// in x and y and ±`height` in z around the origin.
+    fn probe(t: f64, radius: f64, height: f64) -> [f64; 3] {
+        [
+            radius * (t * 0.731).sin(),
+            radius * (t * 1.113).cos(),
+            height * (t * 0.377).sin(),
+        ]
+    }
+
     /// Three patches of one type each, by longitude.
     fn patch(p: [f64; 3]) -> u8 {
         ((p[1].atan2(p[0]) + 3.2) / 2.2) as u8
@@ -1024,11 +1034,7 @@ mod tests {
         for i in 0..4_000u32 {
             let t = f64::from(i);
             let scale = [1.0, 0.3, 1.7, 6.0][i as usize % 4];
-            let p = [
-                10.0 * scale * (t * 0.731).sin(),
-                10.0 * scale * (t * 1.113).cos(),
-                10.0 * scale * (t * 0.377).sin(),
-            ];
+            let p = probe(t, 10.0 * scale, 10.0 * scale);
             assert_eq!(near.kind_at(&p), nearest_of_all(&cells, &p), "at {p:?}");
         }
         // Within the distance it reports, the nearest cell's type stays
@@ -1037,11 +1043,7 @@ mod tests {
         let mut stayed = 0;
         for i in 0..2_000u32 {
             let t = f64::from(i);
-            let p = [
-                10.0 * (t * 0.731).sin(),
-                10.0 * (t * 1.113).cos(),
-                9.0 * (t * 0.377).sin(),
-            ];
+            let p = probe(t, 10.0, 9.0);
             let Nearby { kind, stays, .. } = near.kind_near(&p).expect("cells");
             for step in [
                 [1.0, 0.0, 0.0],
@@ -1087,11 +1089,7 @@ mod tests {
         let (mut beyond, mut searched) = (0, 0);
         for i in 0..1_500u32 {
             let t = f64::from(i);
-            let p = [
-                5.0 * (t * 0.731).sin(),
-                5.0 * (t * 1.113).cos(),
-                4.5 * (t * 0.377).sin(),
-            ];
+            let p = probe(t, 5.0, 4.5);
             let Nearby { kind, stays, .. } = near.kind_near(&p).expect("cells");
             assert_eq!(Some(kind), nearest_of_all(&cells, &p), "at {p:?}");
             // The gap between the nearest cell and the next of any type.
@@ -1143,11 +1141,7 @@ mod tests {
         for i in 0..600u32 {
             let t = f64::from(i);
             let size = [0.05, 0.2, 0.6][i as usize % 3];
-            let g = [
-                5.0 * (t * 0.731).sin(),
-                5.0 * (t * 1.113).cos(),
-                4.5 * (t * 0.377).sin(),
-            ];
+            let g = probe(t, 5.0, 4.5);
             let half = [size, size * 0.7, if i % 2 == 0 { 0.0 } else { size * 0.4 }];
             let lo = [0, 1, 2].map(|k| g[k] - half[k]);
             let hi = [0, 1, 2].map(|k| g[k] + half[k]);
