@@ -374,14 +374,14 @@ struct Site {
 /// The cells of a day in a uniform grid of bins (about one cell a bin),
 /// periodic where the domain wraps.
 struct Bins {
+    /// The sites bin by bin, each bin's in their order.
     sites: Vec<Site>,
     size: [f64; 2],
     periodic: [bool; 2],
     n: [i64; 2],
     side: [f64; 2],
-    /// Per bin, the range of `order` in `sorted`.
+    /// Per bin, the start of its sites in `sites`; one more at the end.
     starts: Vec<usize>,
-    sorted: Vec<u32>,
 }
 
 impl Bins {
@@ -404,20 +404,19 @@ impl Bins {
             starts[b] += starts[b - 1];
         }
         let mut fill = starts.clone();
-        let mut sorted = vec![0u32; sites.len()];
-        for (i, s) in sites.iter().enumerate() {
-            let b = bin_of(s);
-            sorted[fill[b]] = i as u32;
+        let mut binned = sites.clone();
+        for s in sites {
+            let b = bin_of(&s);
+            binned[fill[b]] = s;
             fill[b] += 1;
         }
         Bins {
-            sites,
+            sites: binned,
             size,
             periodic: domain.periodic,
             n,
             side,
             starts,
-            sorted,
         }
     }
 
@@ -436,8 +435,7 @@ impl Bins {
             }
         }
         let b = (at[1] * self.n[0] + at[0]) as usize;
-        for &i in &self.sorted[self.starts[b]..self.starts[b + 1]] {
-            let s = self.sites[i as usize];
+        for &s in &self.sites[self.starts[b]..self.starts[b + 1]] {
             each(Site {
                 x: s.x + shift[0],
                 y: s.y + shift[1],
@@ -478,26 +476,79 @@ impl Bins {
         best.map(|(_, s)| s)
     }
 
+    /// Every site image that can be nearest to a point of the box
+    /// `lo`–`hi`, by order, into `out`, and the first of them: those
+    /// within reach of the box, the reach being the distance from the
+    /// site nearest the box's middle to the box's corner farthest from it
+    /// (distance is convex, so no point of the box is farther from its
+    /// own nearest site).
+    fn near_tile<'a>(
+        &self,
+        lo: [f64; 2],
+        hi: [f64; 2],
+        out: &'a mut Vec<Site>,
+    ) -> Option<&'a Site> {
+        let s = self.nearest((lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0)?;
+        self.near_box(lo, hi, farthest_corner(&s, lo, hi), out);
+        out.first()
+    }
+
     /// Every site image within `reach` of the box `lo`–`hi`, by order.
     fn near_box(&self, lo: [f64; 2], hi: [f64; 2], reach: f64, out: &mut Vec<Site>) {
         out.clear();
         let (bx0, bx1) = (self.bin(lo[0] - reach, 0), self.bin(hi[0] + reach, 0));
         let (by0, by1) = (self.bin(lo[1] - reach, 1), self.bin(hi[1] + reach, 1));
-        // Slightly wider than `reach`, so rounding cannot drop a tie.
-        let limit = (reach * (1.0 + 1e-9) + 1e-9).powi(2);
+        let limit = wider(reach).powi(2);
         for by in by0..=by1 {
             for bx in bx0..=bx1 {
-                self.visit(bx, by, |s| {
-                    let dx = (lo[0] - s.x).max(s.x - hi[0]).max(0.0);
-                    let dy = (lo[1] - s.y).max(s.y - hi[1]).max(0.0);
-                    if dx * dx + dy * dy <= limit {
-                        out.push(s);
-                    }
-                });
+                self.visit(bx, by, |s| out.push(s));
             }
         }
+        keep_within(lo, hi, limit, out);
         out.sort_unstable_by_key(|s| s.order);
     }
+}
+
+/// The site of `sites` nearest to `p`, the first of equals.
+fn nearest_to(sites: &[Site], p: [f64; 2]) -> Option<&Site> {
+    let mut nearest = 0;
+    let mut best = f64::INFINITY;
+    for (i, s) in sites.iter().enumerate() {
+        let d2 = (s.x - p[0]) * (s.x - p[0]) + (s.y - p[1]) * (s.y - p[1]);
+        let closer = d2 < best;
+        best = if closer { d2 } else { best };
+        nearest = if closer { i } else { nearest };
+    }
+    sites.get(nearest)
+}
+
+/// The distance from `s` to the corner of the box `lo`–`hi` farthest
+/// from it: the farther side along each axis.
+fn farthest_corner(s: &Site, lo: [f64; 2], hi: [f64; 2]) -> f64 {
+    let far_x = (s.x - lo[0]).abs().max((s.x - hi[0]).abs());
+    let far_y = (s.y - lo[1]).abs().max((s.y - hi[1]).abs());
+    (far_x * far_x + far_y * far_y).sqrt()
+}
+
+/// `reach` made slightly wider, so that rounding cannot drop a tie.
+fn wider(reach: f64) -> f64 {
+    reach * (1.0 + 1e-9) + 1e-9
+}
+
+/// Keeps the sites of `sites` whose squared distance from the box
+/// `lo`–`hi` is at most `limit`, in their order. Every site is written,
+/// the next one over it unless it is kept: no branch on which are (one,
+/// mispredicted for many sites, cost more than the test itself).
+fn keep_within(lo: [f64; 2], hi: [f64; 2], limit: f64, sites: &mut Vec<Site>) {
+    let mut kept = 0;
+    for i in 0..sites.len() {
+        let s = sites[i];
+        let dx = (lo[0] - s.x).max(s.x - hi[0]).max(0.0);
+        let dy = (lo[1] - s.y).max(s.y - hi[1]).max(0.0);
+        sites[kept] = s;
+        kept += usize::from(dx * dx + dy * dy <= limit);
+    }
+    sites.truncate(kept);
 }
 
 /// Palette index of pixels no cell reaches (an empty day): white.
@@ -590,25 +641,21 @@ impl Indexed {
     }
 }
 
-/// The pixels of a Voronoi picture being coloured, `scale` pixels a
-/// domain unit.
+/// The pixels of a Voronoi picture being coloured.
 struct Canvas<'a> {
     pixels: &'a mut [u8],
     /// The pixels coloured with each palette index so far.
     counts: &'a mut [u64; 256],
     width: usize,
-    scale: f64,
+    /// The domain coordinate of the centre of pixel `p` along either
+    /// axis, `(p + 0.5) / scale` with `scale` pixels a domain unit.
+    centres: &'a [f64],
 }
 
 /// A box of at most this many pixels is coloured pixel by pixel.
 const LEAF_PIXELS: usize = 64;
 
 impl Canvas<'_> {
-    /// The domain coordinate of the centre of pixel `p` (along either axis).
-    fn centre(&self, p: usize) -> f64 {
-        (p as f64 + 0.5) / self.scale
-    }
-
     /// Colours the pixels `x0..=x1` × `y0..=y1`, whose nearest cells are
     /// all in `near` (by order), quadrant by quadrant: a quadrant whose
     /// candidates within reach are of one type is filled, the others are
@@ -660,49 +707,55 @@ impl Canvas<'_> {
     fn quadrant(&self, [x0, y0, x1, y1]: [usize; 4], near: &[Site], out: &mut Vec<Site>) {
         out.clear();
         let (lo, hi) = (
-            [self.centre(x0), self.centre(y0)],
-            [self.centre(x1), self.centre(y1)],
+            [self.centres[x0], self.centres[y0]],
+            [self.centres[x1], self.centres[y1]],
         );
         let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
-        let Some(s) = near.iter().min_by(|a, b| {
-            let d = |s: &Site| (s.x - mid[0]).powi(2) + (s.y - mid[1]).powi(2);
-            d(a).total_cmp(&d(b))
-        }) else {
+        // The candidate nearest the middle: any one would bound the reach,
+        // the nearest bounds it tightest.
+        let Some(s) = nearest_to(near, mid) else {
             return;
         };
-        // The farthest corner is the farther one along each axis.
-        let far_x = (s.x - lo[0]).abs().max((s.x - hi[0]).abs());
-        let far_y = (s.y - lo[1]).abs().max((s.y - hi[1]).abs());
-        let reach = (far_x * far_x + far_y * far_y).sqrt();
-        // Slightly wider than `reach`, so rounding cannot drop a tie.
-        let limit = (reach * (1.0 + 1e-9) + 1e-9).powi(2);
-        out.extend(near.iter().copied().filter(|s| {
-            let dx = (lo[0] - s.x).max(s.x - hi[0]).max(0.0);
-            let dy = (lo[1] - s.y).max(s.y - hi[1]).max(0.0);
-            dx * dx + dy * dy <= limit
-        }));
+        out.extend_from_slice(near);
+        keep_within(lo, hi, wider(farthest_corner(s, lo, hi)).powi(2), out);
     }
 
     /// Colours each pixel of the box by its nearest site of `near`, the
-    /// first of equals winning.
+    /// first of equals winning: [`ROW`] pixels of a row at a time, each
+    /// site compared with all of them (independent lanes, no branch).
     fn each_pixel(&mut self, [x0, y0, x1, y1]: [usize; 4], near: &[Site]) {
         for py in y0..=y1 {
-            let y = self.centre(py);
-            for px in x0..=x1 {
-                let x = self.centre(px);
-                let mut best = (f64::INFINITY, EMPTY);
+            let y = self.centres[py];
+            let row = py * self.width;
+            let xs = self.centres[x0..=x1].chunks(ROW);
+            let pixels = self.pixels[row + x0..=row + x1].chunks_mut(ROW);
+            for (xs, pixels) in xs.zip(pixels) {
+                // Past the box's edge, pixels infinitely far: never nearer.
+                let mut x = [f64::INFINITY; ROW];
+                x[..xs.len()].copy_from_slice(xs);
+                let mut best = [f64::INFINITY; ROW];
+                let mut colour = [EMPTY; ROW];
                 for s in near {
-                    let d2 = (x - s.x) * (x - s.x) + (y - s.y) * (y - s.y);
-                    if d2 < best.0 {
-                        best = (d2, s.colour);
+                    let dy2 = (y - s.y) * (y - s.y);
+                    for ((x, best), colour) in x.iter().zip(&mut best).zip(&mut colour) {
+                        let d2 = (x - s.x) * (x - s.x) + dy2;
+                        // All ones where nearer (the first of equals stays).
+                        let nearer = u8::from(d2 < *best).wrapping_neg();
+                        *colour = (*colour & !nearer) | (s.colour & nearer);
+                        *best = best.min(d2);
                     }
                 }
-                self.pixels[py * self.width + px] = best.1;
-                self.counts[usize::from(best.1)] += 1;
+                for (pixel, &c) in pixels.iter_mut().zip(&colour) {
+                    *pixel = c;
+                    self.counts[usize::from(c)] += 1;
+                }
             }
         }
     }
 }
+
+/// The pixels of a row that [`Canvas::each_pixel`] colours side by side.
+const ROW: usize = 4;
 
 /// The Voronoi picture of `cells` on `domain`, type `k` in `colours[k]`.
 #[must_use]
@@ -730,24 +783,17 @@ pub fn voronoi(domain: &Domain, colours: &[[u8; 3]], cells: &[(u32, u8, Fx, Fx)]
     let tile = ((spacing.sqrt() * TILE.0) as usize).clamp(TILE.1, TILE.2);
     let mut pixels = vec![EMPTY; w * h];
     let mut counts = Box::new([0; 256]);
-    let centre = |p: usize| (p as f64 + 0.5) / scale;
+    let centres: Vec<f64> = (0..w.max(h)).map(|p| (p as f64 + 0.5) / scale).collect();
+    let centre = |p: usize| centres[p];
     let mut near = Vec::new();
     let mut scratch = Vec::new();
     for ty in (0..h).step_by(tile) {
         for tx in (0..w).step_by(tile) {
             let (px1, py1) = ((tx + tile).min(w) - 1, (ty + tile).min(h) - 1);
             let (lo, hi) = ([centre(tx), centre(ty)], [centre(px1), centre(py1)]);
-            let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
-            let Some(s) = bins.nearest(mid[0], mid[1]) else {
+            let Some(&s) = bins.near_tile(lo, hi, &mut near) else {
                 continue;
             };
-            // Every pixel of the tile is at most this far from its nearest
-            // cell: the farthest corner from `s` (distance is convex).
-            let reach = [lo[0], hi[0]]
-                .iter()
-                .flat_map(|&x| [lo[1], hi[1]].map(|y| (s.x - x).hypot(s.y - y)))
-                .fold(0.0, f64::max);
-            bins.near_box(lo, hi, reach, &mut near);
             if near.iter().all(|n| n.colour == s.colour) {
                 // One type within reach: the whole tile has its colour.
                 counts[usize::from(s.colour)] += ((px1 + 1 - tx) * (py1 + 1 - ty)) as u64;
@@ -760,7 +806,7 @@ pub fn voronoi(domain: &Domain, colours: &[[u8; 3]], cells: &[(u32, u8, Fx, Fx)]
                 pixels: &mut pixels,
                 counts: &mut counts,
                 width: w,
-                scale,
+                centres: &centres,
             };
             canvas.split([tx, ty, px1, py1], &near, 0, &mut scratch);
         }
@@ -797,6 +843,31 @@ mod tests {
             }
         }
         best.1
+    }
+
+    #[test]
+    fn of_cells_in_one_place_the_first_colours_its_pixels() {
+        // A child can be placed on its parent: the picture must not depend
+        // on which of two equally near cells a pixel's search meets last.
+        let types = [[200, 0, 0], [0, 200, 0]];
+        let domain = Domain {
+            size: [Fx::from_int(90), Fx::from_int(30)],
+            periodic: [true, false],
+        };
+        let at = |x: i32, y: i32| (Fx::from_int(x), Fx::from_int(y));
+        for first in [0u8, 1] {
+            let mut cells = vec![(0, 1 - first, at(10, 5).0, at(10, 5).1)];
+            for (i, kind) in [first, 1 - first].into_iter().enumerate() {
+                let (x, y) = at(45, 15);
+                cells.push((i as u32 + 1, kind, x, y));
+            }
+            cells.push((3, 1 - first, at(80, 25).0, at(80, 25).1));
+            let drawn = voronoi(&domain, &types, &cells);
+            // Pixels around (45, 15), 10 pixels a unit: all the first's.
+            for (px, py) in [(450, 150), (449, 149), (430, 160), (470, 140)] {
+                assert_eq!(drawn.colour(py * 900 + px), types[usize::from(first)]);
+            }
+        }
     }
 
     #[test]
