@@ -230,7 +230,7 @@ pub fn write<R: Records + ?Sized>(
                     paths.push(png);
                     if let Some(view) = &view {
                         let png = dir.join(format!("surface_day{:02}.png", d.day));
-                        let drawn = view.paint(&|i| picture.colour(i))?;
+                        let drawn = view.paint(picture.palette(), &|i| picture.index(i))?;
                         picture::save(&drawn, &png)?;
                         paths.push(png);
                         object = Some(drawn);
@@ -278,7 +278,7 @@ pub fn write<R: Records + ?Sized>(
             written.push(path);
             let object = match (object, &view) {
                 (Some(drawn), _) => Some(drawn),
-                (None, Some(view)) => Some(view.paint(&|i| picture.colour(i))?),
+                (None, Some(view)) => Some(view.paint(picture.palette(), &|i| picture.index(i))?),
                 (None, None) => None,
             };
             if let Some(object) = object {
@@ -607,14 +607,27 @@ impl Indexed {
         self.colour(pattern_pixel([self.width, self.height], u, v))
     }
 
-    /// The colour of pixel `i` (row by row).
+    /// The colour of pixel `i` (row by row): its [`palette`](Self::palette)
+    /// entry, black past the palette.
     #[must_use]
     pub fn colour(&self, i: usize) -> [u8; 3] {
-        let index = self.pixels.get(i).copied().unwrap_or(EMPTY);
         self.palette
-            .get(usize::from(index))
+            .get(usize::from(self.index(i)))
             .copied()
             .unwrap_or([0; 3])
+    }
+
+    /// The palette index of pixel `i` (row by row); past the picture, that
+    /// of an empty day.
+    #[must_use]
+    pub fn index(&self, i: usize) -> u8 {
+        self.pixels.get(i).copied().unwrap_or(EMPTY)
+    }
+
+    /// The colours its pixels index.
+    #[must_use]
+    pub fn palette(&self) -> &[[u8; 3]] {
+        &self.palette
     }
 
     /// Its pixels as RGB bytes.

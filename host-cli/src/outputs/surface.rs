@@ -157,29 +157,18 @@ impl Surface {
             anyhow::bail!("a {width}×{rows} picture is too large");
         }
         let light = normalised(LIGHT);
-        let w = width as usize;
-        let pixels = (0..w * rows as usize)
-            .map(|k| {
-                let s = ((k % w) as f64 + 0.5) / scale - radius - margin;
-                let screen = ((k / w) as f64 + 0.5) / scale + w_lo - margin;
+        // What a column sees depends on its screen coordinate s alone: the
+        // side's depth there, and on the near side (z = +depth) and the far
+        // wall's inside (z = −depth) the angle round the axis and the shade.
+        let columns: Vec<Option<Column>> = (0..width)
+            .map(|i| {
+                let s = (f64::from(i) + 0.5) / scale - radius - margin;
                 if s.abs() >= radius {
-                    return SHOWS_NOTHING;
+                    return None;
                 }
                 let depth = (radius * radius - s * s).sqrt();
-                // The near side (z = +depth), then the far wall's inside.
-                for z in [depth, -depth] {
-                    // Screen rows go down the axis: w = h·cos e + z·sin e.
-                    let h = (screen - z * sin_e) / cos_e;
-                    if !(0.0..height).contains(&h) {
-                        continue;
-                    }
+                let side = |z: f64| {
                     let angle = s.atan2(z).rem_euclid(TAU);
-                    let (fu, fv) = (angle / TAU, h / height);
-                    let at = if a == 0 {
-                        pattern_pixel(pattern, fu, fv)
-                    } else {
-                        pattern_pixel(pattern, fv, fu)
-                    };
                     // Outward normal (s, 0, z)/r in view space; the inside
                     // faces the other way and gets less light.
                     let n = [s / radius, 0.0, z / radius];
@@ -189,17 +178,70 @@ impl Surface {
                     } else {
                         0.25 + 0.35 * lit
                     };
-                    return (at as u32, shade);
-                }
-                SHOWS_NOTHING
+                    Side {
+                        z,
+                        around: angle / TAU,
+                        shade,
+                    }
+                };
+                Some(Column {
+                    sides: [side(depth), side(-depth)],
+                })
             })
             .collect();
+        let shades = columns
+            .iter()
+            .flat_map(|c| c.as_ref().map_or([0.0; 2], |c| c.sides.map(|s| s.shade)))
+            .collect();
+        let mut pixels = Vec::with_capacity(columns.len() * rows as usize);
+        for row in 0..rows {
+            let screen = (f64::from(row) + 0.5) / scale + w_lo - margin;
+            pixels.extend(columns.iter().enumerate().map(|(i, column)| {
+                let Some(column) = column else {
+                    return SHOWS_NOTHING;
+                };
+                // The near side, then the far wall's inside.
+                for (k, side) in column.sides.iter().enumerate() {
+                    // Screen rows go down the axis: w = h·cos e + z·sin e.
+                    let h = (screen - side.z * sin_e) / cos_e;
+                    if !(0.0..height).contains(&h) {
+                        continue;
+                    }
+                    let (fu, fv) = (side.around, h / height);
+                    let at = if a == 0 {
+                        pattern_pixel(pattern, fu, fv)
+                    } else {
+                        pattern_pixel(pattern, fv, fu)
+                    };
+                    return (at as u32, (2 * i + k) as u32);
+                }
+                SHOWS_NOTHING
+            }));
+        }
         Ok(Some(SurfaceView {
             width,
             rows,
             pixels,
+            shades,
         }))
     }
+}
+
+/// What a column of a [`SurfaceView`] sees of one side of the cylinder.
+#[derive(Debug, Clone, Copy)]
+struct Side {
+    /// The side's depth towards the viewer.
+    z: f64,
+    /// The fraction of the way round the axis.
+    around: f64,
+    shade: f64,
+}
+
+/// A column of a [`SurfaceView`] that meets the cylinder: its near side
+/// and its far wall.
+#[derive(Debug, Clone, Copy)]
+struct Column {
+    sides: [Side; 2],
 }
 
 /// The pixel of a picture `size` pixels wide and high at the fractions
@@ -211,7 +253,7 @@ pub fn pattern_pixel(size: [usize; 2], u: f64, v: f64) -> usize {
 }
 
 /// A pixel of a [`SurfaceView`] that shows no surface.
-const SHOWS_NOTHING: (u32, f64) = (u32::MAX, 0.0);
+const SHOWS_NOTHING: (u32, u32) = (u32::MAX, u32::MAX);
 
 /// A cylinder as [`Surface::view`] sees it.
 #[derive(Debug, Clone)]
@@ -219,31 +261,46 @@ pub struct SurfaceView {
     /// Width and height in pixels (twice the picture's).
     width: u32,
     rows: u32,
-    /// Per pixel, row by row: the pattern's pixel it shows and its shade
-    /// ([`SHOWS_NOTHING`]: the background).
-    pixels: Vec<(u32, f64)>,
+    /// Per pixel, row by row: the pattern's pixel it shows and its shade's
+    /// index in `shades` ([`SHOWS_NOTHING`]: the background).
+    pixels: Vec<(u32, u32)>,
+    /// Per column, the shade of its near side and of its far wall.
+    shades: Vec<f64>,
 }
 
 impl SurfaceView {
-    /// The picture, each pixel in the colour `colour` gives the pattern's
-    /// pixel it shows, shaded.
+    /// The picture, each pixel in the colour of `palette` that `index`
+    /// gives the pattern's pixel it shows (black past the palette),
+    /// shaded. Each shade of each colour is worked out once.
     ///
     /// # Errors
     /// When the picture cannot be allocated.
-    pub fn paint(&self, colour: &dyn Fn(usize) -> Rgb) -> Result<Pixmap> {
+    pub fn paint(&self, palette: &[Rgb], index: &dyn Fn(usize) -> u8) -> Result<Pixmap> {
         let mut pixmap = Pixmap::new(self.width, self.rows).ok_or_else(|| {
             anyhow::anyhow!("a {}×{} picture is too large", self.width, self.rows)
         })?;
         let bg = PremultipliedColorU8::from_rgba(BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 255)
             .unwrap_or(PremultipliedColorU8::TRANSPARENT);
+        // Per shade, the palette's colours and black after them.
+        let colours = palette.len() + 1;
+        let shaded: Vec<PremultipliedColorU8> = self
+            .shades
+            .iter()
+            .flat_map(|&shade| {
+                palette.iter().chain([&[0; 3]]).map(move |rgb| {
+                    let c = rgb.map(|x| rounded(f64::from(x) * shade));
+                    PremultipliedColorU8::from_rgba(c[0], c[1], c[2], 255)
+                        .unwrap_or(PremultipliedColorU8::TRANSPARENT)
+                })
+            })
+            .collect();
         for (px, &(at, shade)) in pixmap.pixels_mut().iter_mut().zip(&self.pixels) {
-            if at == u32::MAX {
-                *px = bg;
-                continue;
-            }
-            let c = colour(at as usize).map(|x| rounded(f64::from(x) * shade));
-            *px = PremultipliedColorU8::from_rgba(c[0], c[1], c[2], 255)
-                .unwrap_or(PremultipliedColorU8::TRANSPARENT);
+            *px = if at == u32::MAX {
+                bg
+            } else {
+                let k = usize::from(index(at as usize)).min(palette.len());
+                shaded[shade as usize * colours + k]
+            };
         }
         picture::half(&pixmap)
     }
@@ -280,6 +337,43 @@ mod tests {
         for x in v {
             assert_eq!(rounded(x), x.round().clamp(0.0, 255.0) as u8, "{x:e}");
         }
+    }
+
+    #[test]
+    fn a_cylinder_is_painted_in_shades_of_its_palette_and_black_past_it() {
+        let stem = Surface::of(&Domain {
+            size: [Fx::from_int(50), Fx::from_int(100)],
+            periodic: [true, false],
+        });
+        let view = stem.view([90, 180]).unwrap().unwrap();
+        let bg = BACKGROUND.map(u32::from);
+        let painted = |index: u8| {
+            let pixmap = view.paint(&[[200, 0, 0]], &|_| index).unwrap();
+            pixmap
+                .pixels()
+                .iter()
+                .map(|p| [p.red(), p.green(), p.blue()])
+                .filter(|p| p.map(u32::from) != bg)
+                .collect::<Vec<_>>()
+        };
+        let red = painted(0);
+        assert!(red.len() > 10_000, "{} pixels show the stem", red.len());
+        // Halving averages neighbours, the background's among them at
+        // the outline; inside, shades of red only.
+        let shades: std::collections::BTreeSet<u8> = red
+            .iter()
+            .filter(|p| p[1] == 0 && p[2] == 0)
+            .map(|p| p[0])
+            .collect();
+        assert!(shades.len() > 20 && shades.iter().all(|&r| (50..=200).contains(&r)));
+        // An index past the palette: black where red was.
+        let inside = |p: &&[u8; 3]| p[1] == 0 && p[2] == 0;
+        let black = painted(1);
+        assert!(black.iter().filter(inside).all(|p| p[0] == 0));
+        assert_eq!(
+            black.iter().filter(inside).count(),
+            red.iter().filter(inside).count()
+        );
     }
 
     #[test]
