@@ -96,6 +96,10 @@ fn every_documented_parameter_changes_the_digest() {
 fn built_in_scenario_files_are_named_after_their_presets() {
     for s in morphogen_scenario::builtins() {
         assert_eq!(s.origin(), format!("built-in {}", s.name()));
+        // `builtin` reads that one file alone, and finds the same preset.
+        let alone = morphogen_scenario::builtin(s.name()).expect("found by name");
+        let digest = |s: &Scenario| s.with_preset(|p| p.model.params_digest());
+        assert_eq!((alone.origin(), digest(&alone)), (s.origin(), digest(&s)));
         assert!(
             fixtures().join(s.name()).join("stream.bin").is_file(),
             "{}",

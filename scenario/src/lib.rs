@@ -627,24 +627,30 @@ pub fn builtins() -> Vec<Scenario> {
         let mut all: Vec<Scenario> = embedded::FILES
             .iter()
             .filter(|(p, _)| p.starts_with("scenarios/") && p.ends_with(".toml"))
-            .map(|(path, bytes)| {
-                let text = String::from_utf8_lossy(bytes);
-                let name = path
-                    .trim_start_matches("scenarios/")
-                    .trim_end_matches(".toml");
-                Scenario::parse(
-                    &format!("built-in {name}"),
-                    &text,
-                    Base::Embedded(path),
-                    &[],
-                )
-                .unwrap_or_else(|e| panic!("built-in scenario {path}: {e}"))
-            })
+            .map(|&(path, bytes)| parse_builtin(path, bytes))
             .collect();
         all.sort_by_key(|s| (model_order(s.checked()), s.origin.clone()));
         all
     })
     .clone()
+}
+
+/// The built-in file `path` (`scenarios/NAME.toml`), read and checked.
+///
+/// # Panics
+/// When it is invalid (a test checks that none is).
+fn parse_builtin(path: &'static str, bytes: &[u8]) -> Scenario {
+    let text = String::from_utf8_lossy(bytes);
+    let name = path
+        .trim_start_matches("scenarios/")
+        .trim_end_matches(".toml");
+    Scenario::parse(
+        &format!("built-in {name}"),
+        &text,
+        Base::Embedded(path),
+        &[],
+    )
+    .unwrap_or_else(|e| panic!("built-in scenario {path}: {e}"))
 }
 
 fn model_order(c: &Checked) -> u8 {
@@ -658,10 +664,17 @@ fn model_order(c: &Checked) -> u8 {
     }
 }
 
-/// The built-in scenario called `name`.
+/// The built-in scenario called `name`. A built-in's file is named after
+/// it (a test checks that every one is), so only that file is read:
+/// reading all of them takes ~15 ms, most of a small preset's `verify`.
 #[must_use]
 pub fn builtin(name: &str) -> Option<Scenario> {
-    builtins().into_iter().find(|s| s.name() == name)
+    let path = format!("scenarios/{name}.toml");
+    embedded::FILES
+        .iter()
+        .find(|(p, _)| *p == path)
+        .map(|&(path, bytes)| parse_builtin(path, bytes))
+        .filter(|s| s.name() == name)
 }
 
 /// The built-in whose name is closest to `name`, for a did-you-mean.
