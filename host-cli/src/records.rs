@@ -179,8 +179,8 @@ impl Records for StreamFile {
 
 /// Reads frames one by one from a byte reader, exactly as a
 /// [`Decoder`](morphogen::stream::Decoder) reads them from a slice (same
-/// offsets, lengths and errors): the core [`Reader`] fed one byte at a
-/// time, holding at most one frame.
+/// offsets, lengths and errors): the core [`Reader`] fed the bytes up to
+/// each delimiter as one run, holding at most one frame.
 #[derive(Debug)]
 pub struct FrameReader<R> {
     input: R,
@@ -221,14 +221,14 @@ impl<R: BufRead> FrameReader<R> {
                     result: Err(FrameError::Truncated),
                 }));
             }
-            let ended = buf
-                .iter()
-                .enumerate()
-                .find_map(|(i, &byte)| Some((i + 1, self.reader.push(byte)?)));
-            let taken = ended.as_ref().map_or(buf.len(), |(taken, _)| *taken);
+            // The bytes up to the next delimiter, as one run.
+            let delimiter = memchr::memchr(0, buf);
+            self.reader.take_run(&buf[..delimiter.unwrap_or(buf.len())]);
+            let ended = delimiter.and_then(|_| self.reader.push(0));
+            let taken = delimiter.map_or(buf.len(), |at| at + 1);
             self.input.consume(taken);
             self.offset += taken as u64;
-            if let Some((_, result)) = ended {
+            if let Some(result) = ended {
                 return Ok(Some(Decoded {
                     offset: offset(start)?,
                     len: offset(self.offset - start)?,
@@ -302,6 +302,41 @@ mod tests {
         for bytes in [clean, damaged, truncated, Vec::new(), vec![0, 0, 5]] {
             let want: Vec<Decoded> = Decoder::new(&bytes).collect();
             assert_eq!(read(&bytes), want);
+        }
+    }
+
+    #[test]
+    fn reads_any_bytes_as_the_decoder_does_through_any_buffer() {
+        // Bytes overwritten and runs inserted at random; each stream read
+        // through buffers that end inside frames, at delimiters, or hold
+        // the whole stream.
+        let clean = stream();
+        let mut seed = 5u64;
+        let mut random = |n: usize| {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            ((seed >> 33) as usize) % n
+        };
+        for round in 0..300 {
+            let mut bytes = clean.clone();
+            for _ in 0..random(6) {
+                let i = random(bytes.len());
+                bytes[i] = if round % 2 == 0 { 0 } else { random(256) as u8 };
+            }
+            if round % 4 == 0 {
+                let (at, byte) = (random(bytes.len()), random(255) as u8 + 1);
+                bytes.splice(at..at, std::iter::repeat_n(byte, random(400)));
+            }
+            bytes.truncate(bytes.len() - random(4));
+            let want: Vec<Decoded> = Decoder::new(&bytes).collect();
+            for capacity in [1, 7, 64, 1 << 16] {
+                let got: Vec<Decoded> =
+                    FrameReader::new(BufReader::with_capacity(capacity, &bytes[..]), 0)
+                        .map(Result::unwrap)
+                        .collect();
+                assert_eq!(got, want, "round {round}, buffer {capacity}");
+            }
         }
     }
 

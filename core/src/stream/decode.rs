@@ -49,15 +49,21 @@ impl Iterator for Decoder<'_> {
         }
         let offset = self.pos;
         let mut reader = Reader::new();
-        for (i, &byte) in rest.iter().enumerate() {
-            if let Some(result) = reader.push(byte) {
-                self.pos += i + 1;
-                return Some(Decoded {
-                    offset,
-                    len: i + 1,
-                    result,
-                });
-            }
+        // The bytes up to the next delimiter, as one run, then the
+        // delimiter.
+        let (run, delimiter) = match rest.iter().position(|&b| b == 0) {
+            Some(at) => rest.split_at(at),
+            None => (rest, &[][..]),
+        };
+        reader.take_run(run);
+        if let Some(result) = delimiter.first().and_then(|&zero| reader.push(zero)) {
+            let len = run.len() + 1;
+            self.pos += len;
+            return Some(Decoded {
+                offset,
+                len,
+                result,
+            });
         }
         self.pos = self.input.len();
         Some(Decoded {

@@ -133,18 +133,76 @@ impl<B: AsRef<[u8]> + AsMut<[u8]>> Deframer<B> {
         })
     }
 
+    /// Takes a run of bytes none of which is zero: the same as pushing
+    /// them one at a time (none ends a frame), but the data of a COBS
+    /// block is copied at once rather than fed through the decoder.
+    ///
+    /// Both faults such a run can cause are [`FrameError::TooLong`] (no
+    /// non-zero byte is invalid COBS), so it does not matter which of its
+    /// bytes would have been first to cause one.
+    pub fn take_run(&mut self, run: &[u8]) {
+        self.wire = self.wire.saturating_add(run.len());
+        if self.refused() {
+            return;
+        }
+        let mut rest = run;
+        while let Some((&byte, tail)) = rest.split_first() {
+            let (left, chain) = match self.cobs {
+                DecoderState::Grab(left) => (left, false),
+                DecoderState::GrabChain(left) => (left, true),
+                DecoderState::Idle => (0, false),
+            };
+            if left == 0 {
+                // A block's code byte: through the decoder.
+                self.decode(byte);
+                if self.fault.is_some() {
+                    return;
+                }
+                rest = tail;
+                continue;
+            }
+            // Inside a block: its next `left` bytes are data as they are.
+            let (data, tail) = rest.split_at(rest.len().min(usize::from(left)));
+            let Some(slots) = self
+                .decoded
+                .as_mut()
+                .get_mut(self.len..self.len + data.len())
+            else {
+                self.fault = Some(FrameError::TooLong);
+                return;
+            };
+            slots.copy_from_slice(data);
+            self.len += data.len();
+            let left = left - u8::try_from(data.len()).unwrap_or(left);
+            self.cobs = if chain {
+                DecoderState::GrabChain(left)
+            } else {
+                DecoderState::Grab(left)
+            };
+            rest = tail;
+        }
+    }
+
     fn take(&mut self, byte: u8) {
         self.wire = self.wire.saturating_add(1);
-        if self.fault.is_some() {
-            return;
+        if !self.refused() {
+            self.decode(byte);
         }
-        // Longer than any frame the buffer holds: refused before decoding
-        // (COBS adds a byte per 254, the delimiter is not counted).
+    }
+
+    /// Whether the frame has a fault: one found before, or now that it is
+    /// longer than any frame the buffer holds, refused before decoding
+    /// (COBS adds a byte per 254, the delimiter is not counted).
+    fn refused(&mut self) -> bool {
         let capacity = self.decoded.as_ref().len();
-        if self.wire > capacity + capacity.div_ceil(254) {
+        if self.fault.is_none() && self.wire > capacity + capacity.div_ceil(254) {
             self.fault = Some(FrameError::TooLong);
-            return;
         }
+        self.fault.is_some()
+    }
+
+    /// Feeds a byte of the frame to the COBS decoder.
+    fn decode(&mut self, byte: u8) {
         match self.cobs.feed(byte) {
             Ok(DecodeResult::DataContinue(b)) => match self.decoded.as_mut().get_mut(self.len) {
                 Some(slot) => {
@@ -209,6 +267,12 @@ impl Reader {
     /// of docs/stream-format.md); the reader then starts a new frame.
     pub fn push(&mut self, byte: u8) -> Option<Result<Record, FrameError>> {
         self.frames.push(byte).map(|frame| frame.and_then(record))
+    }
+
+    /// Takes a run of bytes none of which is zero, as pushing them one
+    /// at a time would ([`Deframer::take_run`]).
+    pub fn take_run(&mut self, run: &[u8]) {
+        self.frames.take_run(run);
     }
 
     /// Bytes of the frame in progress (0 between frames): what a stream
@@ -293,6 +357,95 @@ mod tests {
     fn read(bytes: &[u8]) -> Vec<Result<Record, FrameError>> {
         let mut reader = Reader::new();
         bytes.iter().filter_map(|&b| reader.push(b)).collect()
+    }
+
+    /// The frames `bytes` gives a deframer with a buffer of `N` bytes, fed
+    /// one byte at a time or each run of non-zero bytes at once, and the
+    /// bytes pending at the end.
+    fn deframed<const N: usize>(
+        bytes: &[u8],
+        runs: bool,
+    ) -> (Vec<Result<Vec<u8>, FrameError>>, usize) {
+        let mut deframer = Deframer::new([0u8; N]);
+        let mut frames = Vec::new();
+        let mut push = |d: &mut Deframer<[u8; N]>, byte| {
+            if let Some(frame) = d.push(byte) {
+                frames.push(frame.map(<[u8]>::to_vec));
+            }
+        };
+        if runs {
+            let mut pieces = bytes.split(|&b| b == 0).peekable();
+            while let Some(run) = pieces.next() {
+                deframer.take_run(run);
+                if pieces.peek().is_some() {
+                    push(&mut deframer, 0);
+                }
+            }
+        } else {
+            for &byte in bytes {
+                push(&mut deframer, byte);
+            }
+        }
+        (frames, deframer.pending())
+    }
+
+    #[test]
+    fn a_run_taken_at_once_reads_as_its_bytes_one_by_one() {
+        // Clean frames, bytes overwritten, runs of one byte inserted (as
+        // long as several frames), with buffers small enough for frames
+        // to be too long before or after decoding.
+        let (clean, _) = wire(&records());
+        let mut seed = 11u64;
+        let mut random = |n: usize| {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            ((seed >> 33) as usize) % n
+        };
+        for round in 0..600 {
+            let mut bytes = clean.clone();
+            for _ in 0..random(4) {
+                let i = random(bytes.len());
+                bytes[i] = random(256) as u8;
+            }
+            if round % 3 == 0 {
+                let (at, byte, n) = (random(bytes.len()), random(255) as u8 + 1, random(700));
+                bytes.splice(at..at, core::iter::repeat_n(byte, n));
+            }
+            bytes.truncate(bytes.len() - random(3));
+            // Frames of long blocks (up to 1,000 bytes, zeros rare) for
+            // a deframer whose buffer holds them.
+            let mut long = Vec::new();
+            for _ in 0..3 {
+                let payload: Vec<u8> = (0..random(1000))
+                    .map(|_| {
+                        if random(300) == 0 {
+                            0
+                        } else {
+                            random(255) as u8 + 1
+                        }
+                    })
+                    .collect();
+                let mut frame = std::vec![0; cobs::max_encoding_length(payload.len())];
+                let n = cobs::encode(&payload, &mut frame);
+                long.extend(&frame[..n]);
+                long.push(0);
+            }
+            if round % 2 == 0 {
+                let i = random(long.len());
+                long[i] = random(256) as u8;
+            }
+            assert_eq!(
+                deframed::<1024>(&long, true),
+                deframed::<1024>(&long, false)
+            );
+            assert_eq!(deframed::<8>(&bytes, true), deframed::<8>(&bytes, false));
+            assert_eq!(deframed::<40>(&bytes, true), deframed::<40>(&bytes, false));
+            assert_eq!(
+                deframed::<MAX_DECODED>(&bytes, true),
+                deframed::<MAX_DECODED>(&bytes, false)
+            );
+        }
     }
 
     #[test]
