@@ -8,9 +8,9 @@
 #
 #   scripts/bench-outputs.sh [--runs N] [--instructions] [--bin PATH] [PRESET …]
 #
-# CPU is user + system seconds of the whole process (all threads), the
-# median of N runs (default 5), verify and run interleaved so that load on
-# a busy machine hits both alike. --instructions counts instructions with
+# CPU is user + system seconds of the whole process (all threads, to
+# 0.1 ms), the median of N runs (default 5), verify and run interleaved
+# so that load on a busy machine hits both alike. --instructions counts instructions with
 # valgrind (callgrind) instead: one run each, stable, ~50x slower.
 # The binary is built with `cargo build --release -p morphogen-cli` unless
 # --bin is given (CARGO_TARGET_DIR is honoured).
@@ -51,8 +51,16 @@ cost() {
         valgrind --tool=callgrind --callgrind-out-file=/dev/null "$@" \
             2>&1 >/dev/null | awk '/Collected :/ {print $4}'
     else
-        /usr/bin/time -f '%U %S' -o "$scratch/time" "$@" >/dev/null 2>&1
-        awk '{printf "%.2f\n", $1 + $2}' "$scratch/time"
+        # getrusage of the child: microseconds, where time(1) prints
+        # hundredths (a small preset's verify would read 0.00). Less what
+        # the interpreter's children had used before (a python3 that is
+        # a wrapper script execs with its own children counted).
+        python3 -c '
+import resource, subprocess, sys
+cpu = lambda u: u.ru_utime + u.ru_stime
+before = cpu(resource.getrusage(resource.RUSAGE_CHILDREN))
+subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+print(f"{cpu(resource.getrusage(resource.RUSAGE_CHILDREN)) - before:.4f}")' "$@"
     fi
 }
 
