@@ -311,13 +311,8 @@ mod tests {
         // through buffers that end inside frames, at delimiters, or hold
         // the whole stream.
         let clean = stream();
-        let mut seed = 5u64;
-        let mut random = |n: usize| {
-            seed = seed
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            ((seed >> 33) as usize) % n
-        };
+        let mut rng = morphogen::rng::KeyedRng::new(5, 0);
+        let mut random = |n: usize| rng.below(n as u32) as usize;
         for round in 0..300 {
             let mut bytes = clean.clone();
             for _ in 0..random(6) {

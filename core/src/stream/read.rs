@@ -395,13 +395,8 @@ mod tests {
         // long as several frames), with buffers small enough for frames
         // to be too long before or after decoding.
         let (clean, _) = wire(&records());
-        let mut seed = 11u64;
-        let mut random = |n: usize| {
-            seed = seed
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            ((seed >> 33) as usize) % n
-        };
+        let mut rng = crate::rng::KeyedRng::new(11, 0);
+        let mut random = |n: usize| rng.below(n as u32) as usize;
         for round in 0..600 {
             let mut bytes = clean.clone();
             for _ in 0..random(4) {
