@@ -160,7 +160,7 @@ impl Surface {
         // What a column sees depends on its screen coordinate s alone: the
         // side's depth there, and on the near side (z = +depth) and the far
         // wall's inside (z = −depth) the angle round the axis and the shade.
-        let columns: Vec<Option<Column>> = (0..width)
+        let columns: Vec<Option<[Side; 2]>> = (0..width)
             .map(|i| {
                 let s = (f64::from(i) + 0.5) / scale - radius - margin;
                 if s.abs() >= radius {
@@ -184,24 +184,19 @@ impl Surface {
                         shade,
                     }
                 };
-                Some(Column {
-                    sides: [side(depth), side(-depth)],
-                })
+                Some([side(depth), side(-depth)])
             })
             .collect();
         let shades = columns
             .iter()
-            .flat_map(|c| c.as_ref().map_or([0.0; 2], |c| c.sides.map(|s| s.shade)))
+            .flat_map(|sides| sides.map_or([0.0; 2], |sides| sides.map(|s| s.shade)))
             .collect();
         let mut pixels = Vec::with_capacity(columns.len() * rows as usize);
         for row in 0..rows {
             let screen = (f64::from(row) + 0.5) / scale + w_lo - margin;
             pixels.extend(columns.iter().enumerate().map(|(i, column)| {
-                let Some(column) = column else {
-                    return SHOWS_NOTHING;
-                };
                 // The near side, then the far wall's inside.
-                for (k, side) in column.sides.iter().enumerate() {
+                for (k, side) in column.iter().flatten().enumerate() {
                     // Screen rows go down the axis: w = h·cos e + z·sin e.
                     let h = (screen - side.z * sin_e) / cos_e;
                     if !(0.0..height).contains(&h) {
@@ -235,13 +230,6 @@ struct Side {
     /// The fraction of the way round the axis.
     around: f64,
     shade: f64,
-}
-
-/// A column of a [`SurfaceView`] that meets the cylinder: its near side
-/// and its far wall.
-#[derive(Debug, Clone, Copy)]
-struct Column {
-    sides: [Side; 2],
 }
 
 /// The pixel of a picture `size` pixels wide and high at the fractions
