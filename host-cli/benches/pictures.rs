@@ -5,8 +5,9 @@
 //! (`fixtures/<preset>/stream.bin`) as `run` does for `day_NN.png`, the
 //! animation and the areas of `types.csv`, without encoding or writing:
 //! croton (2,000 to 19,369 cells on 900 × 720 pixels), croton-ageing
-//! (12,022 to 196,739 cells on 900 × 900) and watermelon-narrow (10,000
-//! and 51,765 cells on 900 × 576, the pattern its cylinder shows).
+//! (12,022 to 196,739 cells on 900 × 900), watermelon-narrow (10,000
+//! and 51,765 cells on 900 × 576, the pattern its cylinder shows) and
+//! croton-mcu (36 days of at most 2,048 cells: big tiles, few cells).
 
 use std::hint::black_box;
 use std::path::Path;
@@ -49,7 +50,7 @@ fn with_params<R>(name: &str, f: impl FnOnce(&Params<'_>) -> R) -> R {
 fn voronoi(c: &mut Criterion) {
     let mut group = c.benchmark_group("voronoi");
     group.sample_size(20);
-    for name in ["croton", "croton-ageing", "watermelon-narrow"] {
+    for name in ["croton", "croton-ageing", "watermelon-narrow", "croton-mcu"] {
         let (colours, days) = days(name);
         with_params(name, |params| {
             group.bench_function(format!("{name}, every day"), |b| {
