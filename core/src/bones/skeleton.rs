@@ -11,7 +11,7 @@ use nalgebra::Vector3;
 
 use crate::Error;
 use crate::fx::Fx;
-use crate::lsys::{Derivation, Grammar, LsysError, Streaming, turtle_params};
+use crate::lsys::{Derivation, Grammar, LsysError, Next, Streaming, turtle_params};
 use crate::shrinkwrap::{Element, polygon_edges};
 use crate::turtle::{Drawn, Turtle};
 
@@ -20,7 +20,8 @@ pub const MAX_ELEMENTS: usize = 64;
 /// Every bone skeleton fits the shrinkwrap's prepared field (issue 15).
 const _: () = assert!(MAX_ELEMENTS <= crate::shrinkwrap::PREPARED_ELEMENTS);
 /// Modules of one derived skeleton string (so that a grammar that grows
-/// without drawing still ends).
+/// without drawing still ends), each [`Next::Pending`] counted as one (so
+/// that one that erases what it grows ends too).
 pub const MAX_SKELETON_MODULES: u32 = 8192;
 
 /// The elements of one bone.
@@ -95,7 +96,12 @@ impl<D: Derivation> Grower<D> {
             capacity: MAX_ELEMENTS as u32,
         };
         let mut modules = 0u32;
-        while let Some(m) = self.derivation.next_module(&self.grammar)? {
+        loop {
+            let next = match self.derivation.next_module(&self.grammar)? {
+                Next::Module(m) => Some(m),
+                Next::Pending => None,
+                Next::End => break,
+            };
             modules += 1;
             if modules > MAX_SKELETON_MODULES {
                 return Err(Error::Capacity {
@@ -103,6 +109,7 @@ impl<D: Derivation> Grower<D> {
                     capacity: MAX_SKELETON_MODULES,
                 });
             }
+            let Some(m) = next else { continue };
             if m.symbol == b'O' {
                 let s = self.turtle.state();
                 let weight = m.args().first().copied().unwrap_or(s.width);

@@ -31,6 +31,28 @@ pub const fn stream_id(step: u8, position: u64) -> u64 {
     ((step as u64) << 56) | (position & ((1 << 56) - 1))
 }
 
+/// Modules a derivation visits in one [`Derivation::next_module`] call
+/// before it gives up with [`Next::Pending`]: frames pushed and popped,
+/// and modules that a cut removes or a production erases (ABOP p. 28;
+/// `A -> ` with an empty successor). A descent through many levels takes
+/// a few calls; a run of erased modules takes one per 8 of them, so a
+/// simulation step (at most [`super::MODULES_PER_STEP`] calls) visits as
+/// few modules as one that draws. Asked again, the derivation goes on
+/// where it stopped.
+pub const VISITS_PER_CALL: u32 = 8;
+
+/// What a derivation gives when asked for its next module.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Next {
+    /// The next module of the derived string.
+    Module(Module),
+    /// Not yet: [`VISITS_PER_CALL`] frames or modules were visited
+    /// without reaching the next module; ask again.
+    Pending,
+    /// The derived string has ended.
+    End,
+}
+
 /// A source of the derived string, module by module.
 pub trait Derivation {
     /// Starts deriving `steps` steps of `grammar` with `seed`.
@@ -40,11 +62,12 @@ pub trait Derivation {
     /// grammar given to [`Streaming`].
     fn restart(&mut self, grammar: &Grammar, steps: u8, seed: u64) -> Result<(), LsysError>;
 
-    /// The next module of the derived string, `None` at its end.
+    /// The next module of the derived string, after a bounded amount of
+    /// work: [`Next::Pending`] when it is not reached yet.
     ///
     /// # Errors
     /// A capacity.
-    fn next_module(&mut self, grammar: &Grammar) -> Result<Option<Module>, LsysError>;
+    fn next_module(&mut self, grammar: &Grammar) -> Result<Next, LsysError>;
 }
 
 /// The index of the nearest context candidate before `j` (ABOP p. 32:
@@ -237,12 +260,23 @@ fn choose_in(
 /// One level of the depth-first expansion: which successor is being
 /// expanded (the axiom's or a production's, looked up once when the frame
 /// is pushed), how far, and the bound parameters of the module it
-/// replaced.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub(crate) struct Frame {
+/// replaced: `F` of them, the predecessor's ([`MAX_PARAMS`]) or, for
+/// [`Buffered`], its contexts' too ([`MAX_FORMALS`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Frame<const F: usize = MAX_PARAMS> {
     successor: Span,
     next: u16,
-    formals: [Fx; MAX_PARAMS],
+    formals: [Fx; F],
+}
+
+impl<const F: usize> Default for Frame<F> {
+    fn default() -> Self {
+        Frame {
+            successor: Span::default(),
+            next: 0,
+            formals: [Fx::ZERO; F],
+        }
+    }
 }
 
 impl Frame {
@@ -259,7 +293,9 @@ impl Frame {
             formals: f,
         })
     }
+}
 
+impl<const F: usize> Frame<F> {
     /// The next module of the successor, `None` at its end.
     pub(crate) fn next_module(&mut self, g: &Grammar) -> Option<Module> {
         if self.next >= self.successor.len {
@@ -272,44 +308,6 @@ impl Frame {
         self.next += 1;
         Some(m)
     }
-}
-
-/// Writes `m` at `back[*out]`, or, when decomposition rules apply to it,
-/// the modules they decompose it into, advancing `*out`: depth first, at
-/// most `maximum depth` nested rules, the modules of the deepest rule kept
-/// as they are (L-Py's `Lsystem::__recursiveSteps`).
-fn put_decomposed(
-    g: &Grammar,
-    m: Module,
-    back: &mut [Module],
-    out: &mut usize,
-    full: LsysError,
-) -> Result<(), LsysError> {
-    let mut put = |x: Module, out: &mut usize| -> Result<(), LsysError> {
-        *back.get_mut(*out).ok_or(full)? = x;
-        *out += 1;
-        Ok(())
-    };
-    let Some(first) = Frame::for_rule(g, Section::Decomposition, &m) else {
-        return put(m, out);
-    };
-    let depth = g.decomposition_depth as usize;
-    let mut stack = Vec::<Frame, MAX_DECOMPOSITION_DEPTH>::new();
-    let _ = stack.push(first);
-    while let Some(top) = stack.last_mut() {
-        let Some(x) = top.next_module(g) else {
-            stack.pop();
-            continue;
-        };
-        // `depth` <= MAX_DECOMPOSITION_DEPTH (parse), so the push fits.
-        match Frame::for_rule(g, Section::Decomposition, &x) {
-            Some(frame) if stack.len() < depth => {
-                let _ = stack.push(frame);
-            }
-            _ => put(x, out)?,
-        }
-    }
-    Ok(())
 }
 
 /// Depth-first derivation of a context-free grammar: the string of step
@@ -434,15 +432,15 @@ impl Streaming {
     /// [`Derivation::next_module`] past its fast path: pops finished
     /// frames, pushes a frame for each production chosen on the way down,
     /// and carries a module with no applicable production to the last
-    /// level.
-    fn descend(&mut self, grammar: &Grammar) -> Result<Option<Module>, LsysError> {
-        loop {
+    /// level; pending after [`VISITS_PER_CALL`] of these.
+    fn descend(&mut self, grammar: &Grammar) -> Result<Next, LsysError> {
+        for _ in 0..VISITS_PER_CALL {
             let Some(level) = self.frames.len().checked_sub(1) else {
                 self.settle_carried();
-                return Ok(None);
+                return Ok(Next::End);
             };
             let Some(frame) = self.frames.last_mut() else {
-                return Ok(None);
+                return Ok(Next::End);
             };
             let span = frame.successor;
             if frame.next >= span.len {
@@ -455,12 +453,12 @@ impl Streaming {
                 continue;
             }
             let Some(counter) = self.positions.get_mut(level) else {
-                return Ok(None);
+                return Ok(Next::End);
             };
             let own = *counter;
             *counter += 1;
             if level >= self.steps as usize {
-                return Ok(Some(m));
+                return Ok(Next::Module(m));
             }
             // Most modules have no production: skip the call to `choose`.
             let chosen = if grammar.is_rewritten(m.symbol) {
@@ -492,10 +490,11 @@ impl Streaming {
                     if let Some(carried) = self.carried.get_mut(level) {
                         *carried += 1;
                     }
-                    return Ok(Some(m));
+                    return Ok(Next::Module(m));
                 }
             }
         }
+        Ok(Next::Pending)
     }
 }
 
@@ -527,7 +526,7 @@ impl Derivation for Streaming {
     }
 
     #[inline]
-    fn next_module(&mut self, grammar: &Grammar) -> Result<Option<Module>, LsysError> {
+    fn next_module(&mut self, grammar: &Grammar) -> Result<Next, LsysError> {
         // Fast path: the top frame's next module needs no choice (the
         // frame is at the last level, or no production rewrites the
         // module), so it is counted and returned as it is.
@@ -549,7 +548,7 @@ impl Derivation for Streaming {
                     if carried && let Some(count) = self.carried.get_mut(level) {
                         *count += 1;
                     }
-                    return Ok(Some(m));
+                    return Ok(Next::Module(m));
                 }
             }
         }
@@ -601,14 +600,35 @@ fn cut(s: &mut [Module], len: usize) -> usize {
 /// double buffer): step `k` reads one and writes the other. Handles
 /// context-sensitive grammars; the capacity is the shorter buffer's length
 /// (`BUFFER_MODULES` in errors).
+///
+/// [`Derivation::restart`] writes the axiom; the steps are derived by
+/// [`Derivation::next_module`], [`VISITS_PER_CALL`] visits a call (a
+/// module rewritten, a module or decomposition frame written, a step
+/// closed), pending until the string is derived, then read module by
+/// module.
 #[derive(Debug)]
 pub struct Buffered<'b> {
     a: &'b mut [Module],
     b: &'b mut [Module],
     front_is_a: bool,
+    /// Modules of the front string.
     len: usize,
     read: usize,
     peak: usize,
+    /// Steps asked for, and the step under way (from 1; past `steps` once
+    /// the string is derived).
+    steps: u8,
+    step: u8,
+    seed: u64,
+    /// The front module rewritten next.
+    position: usize,
+    /// Modules the step under way has written to the back buffer.
+    out: usize,
+    /// The successor being written for the last module rewritten.
+    expanding: Option<Frame<MAX_FORMALS>>,
+    /// The decomposition rules being applied to a module written, depth
+    /// first (L-Py's `Lsystem::__recursiveSteps`).
+    decomposing: Vec<Frame, MAX_DECOMPOSITION_DEPTH>,
 }
 
 impl<'b> Buffered<'b> {
@@ -622,10 +642,19 @@ impl<'b> Buffered<'b> {
             len: 0,
             read: 0,
             peak: 0,
+            steps: 0,
+            step: 1,
+            seed: 0,
+            position: 0,
+            out: 0,
+            expanding: None,
+            decomposing: Vec::new(),
         }
     }
 
-    /// The derived string (valid after [`Derivation::restart`]).
+    /// The front string: the axiom after [`Derivation::restart`], the
+    /// string of the step under way, the derived string once
+    /// [`Derivation::next_module`] has given a module or the end.
     #[must_use]
     pub fn string(&self) -> &[Module] {
         let front: &[Module] = if self.front_is_a { self.a } else { self.b };
@@ -644,6 +673,97 @@ impl<'b> Buffered<'b> {
             capacity: self.a.len().min(self.b.len()) as u32,
         }
     }
+
+    /// Writes `m` at the end of the back string.
+    fn put(&mut self, m: Module) -> Result<(), LsysError> {
+        let error = self.capacity_error();
+        let back: &mut [Module] = if self.front_is_a { self.b } else { self.a };
+        *back.get_mut(self.out).ok_or(error)? = m;
+        self.out += 1;
+        Ok(())
+    }
+
+    /// Writes `m`, or starts decomposing it when a decomposition rule
+    /// applies (L-Py decomposes the whole string after a step, copied
+    /// modules too).
+    fn write(&mut self, g: &Grammar, m: Module) -> Result<(), LsysError> {
+        if !g.has_decomposition() {
+            return self.put(m);
+        }
+        match Frame::for_rule(g, Section::Decomposition, &m) {
+            // Only pushed with the stack empty: it fits.
+            Some(frame) => {
+                let _ = self.decomposing.push(frame);
+                Ok(())
+            }
+            None => self.put(m),
+        }
+    }
+
+    /// One visit of the derivation under way (see the type's docs).
+    fn visit(&mut self, g: &Grammar) -> Result<(), LsysError> {
+        if let Some(top) = self.decomposing.last_mut() {
+            let Some(x) = top.next_module(g) else {
+                self.decomposing.pop();
+                return Ok(());
+            };
+            // At most `maximum depth` (<= MAX_DECOMPOSITION_DEPTH, parse)
+            // nested rules; the modules of the deepest are kept as they are.
+            return match Frame::for_rule(g, Section::Decomposition, &x) {
+                Some(frame) if self.decomposing.len() < g.decomposition_depth as usize => {
+                    let _ = self.decomposing.push(frame);
+                    Ok(())
+                }
+                _ => self.put(x),
+            };
+        }
+        if let Some(expansion) = &mut self.expanding {
+            return match expansion.next_module(g) {
+                Some(m) => self.write(g, m),
+                None => {
+                    self.expanding = None;
+                    Ok(())
+                }
+            };
+        }
+        let front: &[Module] = if self.front_is_a { self.a } else { self.b };
+        let front = front.get(..self.len).unwrap_or(&[]);
+        if let Some(&m) = front.get(self.position) {
+            let chosen = choose(
+                g,
+                &m,
+                Some((front, self.position)),
+                self.step,
+                self.position as u64,
+                self.seed,
+            );
+            self.position += 1;
+            return match chosen {
+                Some((production, formals)) => {
+                    self.expanding = Some(Frame {
+                        successor: g.successor(production),
+                        next: 0,
+                        formals,
+                    });
+                    Ok(())
+                }
+                None => self.write(g, m),
+            };
+        }
+        // The step is written: the back string becomes the front.
+        self.peak = self.peak.max(self.len + self.out);
+        let back: &mut [Module] = if self.front_is_a { self.b } else { self.a };
+        self.len = if g.has_cut() {
+            cut(back, self.out)
+        } else {
+            self.out
+        };
+        self.front_is_a = !self.front_is_a;
+        self.position = 0;
+        self.out = 0;
+        self.step = self.step.saturating_add(1);
+        Ok(())
+    }
 }
 
 impl Derivation for Buffered<'_> {
@@ -651,70 +771,38 @@ impl Derivation for Buffered<'_> {
         self.front_is_a = true;
         self.read = 0;
         self.len = 0;
+        self.steps = steps;
+        self.step = 1;
+        self.seed = seed;
+        self.position = 0;
+        self.out = 0;
+        self.expanding = None;
+        self.decomposing.clear();
         let axiom = grammar.axiom.range();
         if axiom.len() > self.a.len().min(self.b.len()) {
             return Err(self.capacity_error());
         }
         // As in L-Py, decomposition follows each step, not the axiom.
-        let decomposes = grammar.has_decomposition();
         self.len = axiom.len();
         for (slot, t) in self.a.iter_mut().zip(axiom) {
             *slot = grammar.instantiate(t, &[]);
         }
         self.peak = self.peak.max(self.len);
-        let cuts = grammar.has_cut();
-        if cuts {
+        if grammar.has_cut() {
             self.len = cut(self.a, self.len);
-        }
-        for step in 1..=steps {
-            let error = self.capacity_error();
-            let (front, back): (&[Module], &mut [Module]) = if self.front_is_a {
-                (self.a, self.b)
-            } else {
-                (self.b, self.a)
-            };
-            let front = front.get(..self.len).unwrap_or(&[]);
-            let mut out = 0usize;
-            for (position, m) in front.iter().enumerate() {
-                let chosen = choose(
-                    grammar,
-                    m,
-                    Some((front, position)),
-                    step,
-                    position as u64,
-                    seed,
-                );
-                match chosen {
-                    Some((production, formals)) => {
-                        for t in grammar.successor(production).range() {
-                            let m = grammar.instantiate(t, &formals);
-                            if decomposes {
-                                put_decomposed(grammar, m, back, &mut out, error)?;
-                            } else {
-                                *back.get_mut(out).ok_or(error)? = m;
-                                out += 1;
-                            }
-                        }
-                    }
-                    // L-Py decomposes the whole string after a step,
-                    // copied modules too.
-                    None if decomposes => put_decomposed(grammar, *m, back, &mut out, error)?,
-                    None => {
-                        *back.get_mut(out).ok_or(error)? = *m;
-                        out += 1;
-                    }
-                }
-            }
-            self.peak = self.peak.max(self.len + out);
-            self.len = if cuts { cut(back, out) } else { out };
-            self.front_is_a = !self.front_is_a;
         }
         Ok(())
     }
 
-    fn next_module(&mut self, _grammar: &Grammar) -> Result<Option<Module>, LsysError> {
-        let m = self.string().get(self.read).copied();
-        self.read += 1;
-        Ok(m)
+    fn next_module(&mut self, grammar: &Grammar) -> Result<Next, LsysError> {
+        for _ in 0..VISITS_PER_CALL {
+            if self.step > self.steps {
+                let m = self.string().get(self.read).copied();
+                self.read += 1;
+                return Ok(m.map_or(Next::End, Next::Module));
+            }
+            self.visit(grammar)?;
+        }
+        Ok(Next::Pending)
     }
 }

@@ -17,14 +17,18 @@
 //!   3D [`crate::turtle`], which emits segments and polygons.
 //!
 //! ```
-//! use morphogen::lsys::{Derivation, Grammar, Streaming};
+//! use morphogen::lsys::{Derivation, Grammar, Next, Streaming};
 //! let mut g = Grammar::new();
 //! g.parse("n = 2\naxiom: F\nF -> F[+F]F").unwrap();
 //! let mut d = Streaming::new();
 //! d.restart(&g, 2, 0).unwrap();
 //! let mut text = heapless::String::<64>::new();
-//! while let Some(m) = d.next_module(&g).unwrap() {
-//!     text.push(m.symbol as char).unwrap();
+//! loop {
+//!     match d.next_module(&g).unwrap() {
+//!         Next::Module(m) => text.push(m.symbol as char).unwrap(),
+//!         Next::Pending => {} // cuts or empty successors: ask again
+//!         Next::End => break,
+//!     }
 //! }
 //! assert_eq!(text, "F[+F]F[+F[+F]F]F[+F]F");
 //! ```
@@ -41,7 +45,7 @@ mod fuzz_tests;
 #[cfg(test)]
 mod tests;
 
-pub use derive::{Buffered, Derivation, Streaming, stream_id};
+pub use derive::{Buffered, Derivation, Next, Streaming, VISITS_PER_CALL, stream_id};
 pub use grammar::{Grammar, Settings};
 pub use module::{MAX_PARAMS, Module};
 pub(crate) use sim::turtle_params;

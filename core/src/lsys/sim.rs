@@ -6,7 +6,9 @@
 //! `k` for `k = 0..=n`, so a display can show the plant growing. Inside a
 //! frame plant `i` (of `plants`) is derived with seed `seed + i` and drawn
 //! from `(i·spacing, 0, 0)`. Each [`Simulation::step`] interprets at most
-//! [`MODULES_PER_STEP`] modules; progress counts finished plants.
+//! [`MODULES_PER_STEP`] modules (a [`Next::Pending`] counts as one, so a
+//! step's work is bounded even where cuts or empty successors erase
+//! billions of modules); progress counts finished plants.
 
 use nalgebra::Vector3;
 
@@ -20,7 +22,10 @@ use heapless::Vec;
 
 use super::derive::Frame;
 use super::grammar::Section;
-use super::{Derivation, Grammar, LsysError, MAX_INTERPRETATION_DEPTH, Module, Streaming};
+use super::{
+    Derivation, Grammar, LsysError, MAX_INTERPRETATION_DEPTH, Module, Next, Streaming,
+    VISITS_PER_CALL,
+};
 
 /// Modules interpreted per [`Simulation::step`] at most.
 pub const MODULES_PER_STEP: usize = 512;
@@ -172,9 +177,11 @@ impl<D: Derivation> LSystem<D> {
     /// shrub bench, issue 15: 19.6 M instructions out of line, 21.2 M
     /// inlined). 32-bit targets always call it, inlined: one copy of the
     /// derivation's fast path in flash.
+    /// Like the derivation, it is pending after [`VISITS_PER_CALL`]
+    /// modules or frames (rules with empty successors erase modules).
     #[cfg_attr(target_pointer_width = "64", inline(never))]
-    fn next_drawn(&mut self) -> Result<Option<Module>, LsysError> {
-        loop {
+    fn next_drawn(&mut self) -> Result<Next, LsysError> {
+        for _ in 0..VISITS_PER_CALL {
             let m = match self.interpreting.last_mut() {
                 Some(top) => match top.next_module(&self.grammar) {
                     Some(m) => m,
@@ -184,23 +191,24 @@ impl<D: Derivation> LSystem<D> {
                     }
                 },
                 None => match self.derivation.next_module(&self.grammar)? {
-                    Some(m) => m,
-                    None => return Ok(None),
+                    Next::Module(m) => m,
+                    other => return Ok(other),
                 },
             };
             if !self.grammar.has_rule_for(Section::Interpretation, m.symbol) {
-                return Ok(Some(m));
+                return Ok(Next::Module(m));
             }
             // At `maximum depth` (<= MAX_INTERPRETATION_DEPTH, so the push
             // fits) the module is drawn as it is.
             if self.interpreting.len() >= self.grammar.interpretation_depth as usize {
-                return Ok(Some(m));
+                return Ok(Next::Module(m));
             }
             let Some(frame) = Frame::for_rule(&self.grammar, Section::Interpretation, &m) else {
-                return Ok(Some(m));
+                return Ok(Next::Module(m));
             };
             let _ = self.interpreting.push(frame);
         }
+        Ok(Next::Pending)
     }
 
     fn advance(&mut self, sink: &mut dyn Sink) -> Result<(), Error> {
@@ -232,17 +240,21 @@ impl<D: Derivation> LSystem<D> {
             } else {
                 self.next_drawn()?
             };
-            let Some(m) = next else {
-                self.turtle.finish().map_err(LsysError::from)?;
-                self.drawing = false;
-                self.done += 1;
-                self.plant += 1;
-                if self.plant >= self.grammar.settings().plants {
-                    sink.record(&Record::FrameEnd { frame: self.frame })?;
-                    self.plant = 0;
-                    self.frame += 1;
+            let m = match next {
+                Next::Module(m) => m,
+                Next::Pending => continue,
+                Next::End => {
+                    self.turtle.finish().map_err(LsysError::from)?;
+                    self.drawing = false;
+                    self.done += 1;
+                    self.plant += 1;
+                    if self.plant >= self.grammar.settings().plants {
+                        sink.record(&Record::FrameEnd { frame: self.frame })?;
+                        self.plant = 0;
+                        self.frame += 1;
+                    }
+                    break;
                 }
-                break;
             };
             self.draw(&m, sink)?;
         }

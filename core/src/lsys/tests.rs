@@ -44,13 +44,23 @@ fn grammar(text: &str) -> Grammar {
     g
 }
 
+/// Feeds every module `d` derives to `f`, asking again while it is
+/// pending.
+fn each_module<D: Derivation>(d: &mut D, g: &Grammar, mut f: impl FnMut(Module)) {
+    loop {
+        match d.next_module(g).unwrap() {
+            Next::Module(m) => f(m),
+            Next::Pending => {}
+            Next::End => break,
+        }
+    }
+}
+
 fn streamed(g: &Grammar, steps: u8, seed: u64) -> Vec<Module> {
     let mut d = Streaming::new();
     d.restart(g, steps, seed).unwrap();
     let mut out = Vec::new();
-    while let Some(m) = d.next_module(g).unwrap() {
-        out.push(m);
-    }
+    each_module(&mut d, g, |m| out.push(m));
     out
 }
 
@@ -59,7 +69,10 @@ fn buffered(g: &Grammar, steps: u8, seed: u64) -> Vec<Module> {
     let mut b = vec![Module::default(); 200_000];
     let mut d = Buffered::new(&mut a, &mut b);
     d.restart(g, steps, seed).unwrap();
-    d.string().to_vec()
+    let mut out = Vec::new();
+    each_module(&mut d, g, |m| out.push(m));
+    assert_eq!(d.string(), out);
+    out
 }
 
 fn text(modules: &[Module]) -> String {
@@ -81,9 +94,7 @@ fn shrub_symbol_counts_match_the_hand_computed_reference() {
     let mut d = Streaming::new();
     d.restart(&g, 7, 0).unwrap();
     let mut count = 0u64;
-    while d.next_module(&g).unwrap().is_some() {
-        count += 1;
-    }
+    each_module(&mut d, &g, |_| count += 1);
     assert_eq!(count, SHRUB_LENGTHS[7]);
     assert_eq!(d.positions(), SHRUB_LENGTHS);
     for k in 0..=7u8 {
@@ -250,8 +261,17 @@ fn buffer_capacity_is_an_error_naming_the_limit() {
     let mut a = vec![Module::default(); 1000];
     let mut b = vec![Module::default(); 1000];
     let mut d = Buffered::new(&mut a, &mut b);
+    d.restart(&g, 4, 0).unwrap();
+    // Step 4 writes 2,642 modules: the error comes while deriving, before
+    // any module is given.
+    let error = loop {
+        match d.next_module(&g) {
+            Ok(Next::Pending) => {}
+            other => break other,
+        }
+    };
     assert_eq!(
-        d.restart(&g, 4, 0),
+        error,
         Err(LsysError::Capacity {
             limit: "BUFFER_MODULES",
             capacity: 1000
@@ -339,7 +359,7 @@ fn fixed_point_shrub_tracks_the_f64_reference() {
     let mut d = Streaming::new();
     d.restart(&g, 7, 0).unwrap();
     let (mut worst, mut extent, mut n) = (0.0f64, 0.0f64, 0);
-    while let Some(m) = d.next_module(&g).unwrap() {
+    each_module(&mut d, &g, |m| {
         let (a, b) = (fx.apply(&m).unwrap(), reference.apply(&m).unwrap());
         if let (Drawn::Segment { b: p, .. }, Drawn::Segment { b: q, .. }) = (a, b) {
             for i in 0..3 {
@@ -348,7 +368,7 @@ fn fixed_point_shrub_tracks_the_f64_reference() {
             }
             n += 1;
         }
-    }
+    });
     assert!(n > 3000, "{n} segments");
     // End to end, within 1/1000 of the shrub's size. The error is the
     // quantised sin/cos of δ (≤ 1·10⁻⁵ rad per turn, systematic), compounded
@@ -370,6 +390,7 @@ fn simulation_state_fits_the_mcu_budget() {
     let mut b = vec![Module::default(); 80_000];
     let mut d = Buffered::new(&mut a, &mut b);
     d.restart(&g, 7, 0).unwrap();
+    each_module(&mut d, &g, |_| {});
     let peak = d.peak_modules();
     assert_eq!(peak as u64, SHRUB_LENGTHS[6] + SHRUB_LENGTHS[7]);
     std::println!(
@@ -573,6 +594,101 @@ fn cuts_stream_as_they_buffer_with_stochastic_positions() {
                 assert!(!text(&s).contains('%'));
             }
         }
+    }
+}
+
+/// A doubling to 2^(n−1) modules that the last step erases, by a cut
+/// (`%`, to the end of the branch or the string) or by an empty
+/// successor; step 3 puts each of its subtrees in a branch followed by an
+/// `F` that stays, between `F` and `G` in the axiom.
+fn erasing(n: u8, erase: &str) -> Grammar {
+    let last = n - 1;
+    grammar(&format!(
+        "n = {n}\naxiom: F A(0) G\n\
+         A(x) : x == 3 -> [A(x + 1) A(x + 1)] F\n\
+         A(x) : x < {last} -> A(x + 1) A(x + 1)\n\
+         A(x) : x >= {last} -> {erase}"
+    ))
+}
+
+#[test]
+fn erasing_billions_of_modules_is_pending_not_a_hang() {
+    // The fuzz smoke's 20 s timeout: the first call after `F` visited the
+    // 2^24 modules erased before the next one. It visits VISITS_PER_CALL.
+    for erase in ["%", ""] {
+        let g = erasing(28, erase);
+        let mut d = Streaming::new();
+        d.restart(&g, 28, 0).unwrap();
+        let first = [b'F', b'['].map(|s| Next::Module(Module::bare(s)));
+        for expected in first {
+            assert_eq!(d.next_module(&g).unwrap(), expected);
+        }
+        for _ in 0..1000 {
+            assert_eq!(d.next_module(&g).unwrap(), Next::Pending, "`{erase}`");
+        }
+        // A simulation step counts each pending call as a module.
+        let mut sim = LSystem::new();
+        let text = format!(
+            "n = 28\naxiom: F A(0)\nA(x) : x < 27 -> A(x + 1) A(x + 1)\nA(x) : x >= 27 -> {erase}"
+        );
+        sim.load(&text, 0).unwrap();
+        let mut sink = Records::default();
+        for _ in 0..3 {
+            assert!(!sim.step(&mut sink).unwrap().finished());
+        }
+        // The frame's start and F's segment.
+        assert_eq!(sink.0.len(), 2, "{:?}", sink.0);
+    }
+}
+
+#[test]
+fn interpretation_rules_erasing_millions_are_pending_too() {
+    // 8^7 J's, each interpreted as nothing, between two F's: each step
+    // interprets MODULES_PER_STEP pending calls at most, then the plant
+    // ends with both segments.
+    let mut rules = String::new();
+    for (a, b) in "ABCDEHI".chars().zip("BCDEHIJ".chars()) {
+        rules += &format!("{a} -> {}\n", format!("{b} ").repeat(8));
+    }
+    let text = format!("n = 0\naxiom: F A F\ninterpretation:\nmaximum depth: 8\n{rules}J ->");
+    let mut sim = LSystem::new();
+    sim.load(&text, 0).unwrap();
+    let mut sink = Records::default();
+    let mut steps = 0;
+    while !sim.step(&mut sink).unwrap().finished() {
+        steps += 1;
+        assert!(sink.0.len() <= 2, "step {steps}: {:?}", sink.0);
+    }
+    // 2 · 8^7 visits, VISITS_PER_CALL per call, MODULES_PER_STEP calls.
+    let visits = 2 * 8u64.pow(7);
+    let calls = (VISITS_PER_CALL as u64) * (MODULES_PER_STEP as u64);
+    assert!(steps as u64 >= visits / calls, "{steps} steps");
+    let segments = sink
+        .0
+        .iter()
+        .filter(|r| matches!(r, Record::Segment { .. }))
+        .count();
+    assert_eq!(segments, 2);
+}
+
+#[test]
+fn a_pending_derivation_goes_on_where_it_stopped() {
+    // Runs of 2^9 erased modules: streaming, asked again after each
+    // pending call, derives what buffering does.
+    for erase in ["", "%", "% G", "F %"] {
+        let g = erasing(13, erase);
+        let mut d = Streaming::new();
+        d.restart(&g, 13, 0).unwrap();
+        let (mut modules, mut pending) = (Vec::new(), 0);
+        loop {
+            match d.next_module(&g).unwrap() {
+                Next::Module(m) => modules.push(m),
+                Next::Pending => pending += 1,
+                Next::End => break,
+            }
+        }
+        assert_eq!(modules, buffered(&g, 13, 0), "`{erase}`");
+        assert!(pending > 0, "`{erase}`: never pending");
     }
 }
 
