@@ -8,7 +8,9 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use morphogen::lsys::{Buffered, Derivation, Grammar, LSystem, Module, Next, Streaming};
+use morphogen::lsys::{
+    Buffered, Derivation, Grammar, LSystem, Module, Neighbours, Next, Streaming,
+};
 use morphogen::preset::Model;
 use morphogen::sim::Simulation;
 use morphogen::stream::{Record, Sink, SinkError};
@@ -61,8 +63,9 @@ fn derive(c: &mut Criterion) {
     });
     let mut a = vec![Module::default(); 80_000];
     let mut bb = vec![Module::default(); 80_000];
+    let mut links = vec![Neighbours::default(); 80_000];
     group.bench_function("buffered_modules", |b| {
-        let mut d = Buffered::new(&mut a, &mut bb);
+        let mut d = Buffered::new(&mut a, &mut bb, &mut links);
         b.iter(|| {
             d.restart(&g, 7, 0).expect("restart");
             let mut n = 0u32;

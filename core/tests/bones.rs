@@ -9,7 +9,7 @@ use std::sync::OnceLock;
 use morphogen::Error;
 use morphogen::bones::{BonesParams, Frames, Grower, MCU_TRIANGLES, MCU_VERTICES, Skeleton};
 use morphogen::fx::{Fx, Real};
-use morphogen::lsys::{Buffered, LsysError, Module};
+use morphogen::lsys::{Buffered, LsysError, Module, Neighbours};
 use morphogen::preset::{self, Model, Runner};
 use morphogen::shrinkwrap::{Element, Shrinkwrap, ShrinkwrapError, WrapParams, worst_level_error};
 use morphogen::stream::{Record, Sink, SinkError};
@@ -314,7 +314,8 @@ fn the_plate_is_a_polygon_element_in_the_stream() {
 /// The skeleton of `text` after 0 … `n` steps, derived buffered.
 fn buffered_skeletons(text: &str) -> Vec<Skeleton> {
     let (mut a, mut b) = (vec![Module::default(); 4096], vec![Module::default(); 4096]);
-    let mut g = Grower::with_derivation(Buffered::new(&mut a, &mut b));
+    let mut links = vec![Neighbours::default(); 4096];
+    let mut g = Grower::with_derivation(Buffered::new(&mut a, &mut b, &mut links));
     g.load(text).unwrap();
     (0..=g.grammar().settings().steps)
         .map(|steps| {

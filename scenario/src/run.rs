@@ -10,7 +10,7 @@
 
 use morphogen::body::Body;
 use morphogen::bones::{Bones, HOST_FIELD_CACHE, MCU_TRIANGLES, MCU_VERTICES};
-use morphogen::lsys::{Buffered, Grammar, LSystem, LsysError, Module};
+use morphogen::lsys::{Buffered, Grammar, LSystem, LsysError, Module, Neighbours};
 use morphogen::mosaic::grid::Grid;
 use morphogen::mosaic::mesh::{MeshArrays, MeshParts, Place};
 use morphogen::mosaic::relaxation::{self, Forces, Relax};
@@ -700,7 +700,10 @@ pub fn run(
             if grammar.needs_buffer() {
                 let mut a = vec![Module::default(); HOST_BUFFER_MODULES];
                 let mut b = vec![Module::default(); HOST_BUFFER_MODULES];
-                let mut sim = Box::new(LSystem::with_derivation(Buffered::new(&mut a, &mut b)));
+                let mut links = vec![Neighbours::default(); HOST_BUFFER_MODULES];
+                let mut sim = Box::new(LSystem::with_derivation(Buffered::new(
+                    &mut a, &mut b, &mut links,
+                )));
                 sim.load(text, seed)?;
                 preset::drive(sim.as_mut(), &header, sink, progress)
             } else {
@@ -718,6 +721,7 @@ pub fn run(
                 // A context-sensitive skeleton grammar (the paper's, Sec. 3).
                 let mut a = vec![Module::default(); BONE_BUFFER_MODULES];
                 let mut b = vec![Module::default(); BONE_BUFFER_MODULES];
+                let mut links = vec![Neighbours::default(); BONE_BUFFER_MODULES];
                 let mut bones = Box::new(Bones::<
                     '_,
                     MCU_VERTICES,
@@ -725,7 +729,7 @@ pub fn run(
                     HOST_FIELD_CACHE,
                     Buffered<'_>,
                 >::with_derivation(Buffered::new(
-                    &mut a, &mut b,
+                    &mut a, &mut b, &mut links,
                 )));
                 bones.start(params, seed)?;
                 preset::drive(bones.as_mut(), &header, sink, progress)

@@ -11,7 +11,7 @@
 
 use libfuzzer_sys::fuzz_target;
 use morphogen::Error;
-use morphogen::lsys::{Buffered, LSystem, LsysError, Module};
+use morphogen::lsys::{Buffered, LSystem, LsysError, Module, Neighbours};
 use morphogen::sim::Simulation;
 use morphogen::stream::{Record, Sink, SinkError};
 
@@ -69,7 +69,8 @@ fuzz_target!(|data: &[u8]| {
     };
     let mut a = vec![Module::default(); BUFFER_MODULES];
     let mut b = vec![Module::default(); BUFFER_MODULES];
-    let mut buffered = Box::new(LSystem::with_derivation(Buffered::new(&mut a, &mut b)));
+    let mut links = vec![Neighbours::default(); BUFFER_MODULES];
+    let mut buffered = Box::new(LSystem::with_derivation(Buffered::new(&mut a, &mut b, &mut links)));
     match buffered.load(text, 1) {
         Err(LsysError::Parse(e)) => {
             assert!(e.line >= 1 && e.column >= 1);

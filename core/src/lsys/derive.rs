@@ -18,6 +18,7 @@ use heapless::Vec;
 use crate::fx::Fx;
 use crate::rng::KeyedRng;
 
+use super::context::{self, Context, Neighbours};
 use super::grammar::{AXIOM, Grammar, Production, Section, Span, bind, matches};
 use super::{
     LsysError, MAX_DECOMPOSITION_DEPTH, MAX_FORMALS, MAX_PARAMS, MAX_PRODUCTIONS, MAX_STEPS, Module,
@@ -70,62 +71,13 @@ pub trait Derivation {
     fn next_module(&mut self, grammar: &Grammar) -> Result<Next, LsysError>;
 }
 
-/// The index of the nearest context candidate before `j` (ABOP p. 32:
-/// skips ignored symbols, whole branches `[…]`, and climbs out of the
-/// current branch at `[`).
-fn previous(g: &Grammar, s: &[Module], mut j: usize) -> Option<usize> {
-    loop {
-        j = j.checked_sub(1)?;
-        match s.get(j)?.symbol {
-            b']' => {
-                let mut depth = 1u32;
-                while depth > 0 {
-                    j = j.checked_sub(1)?;
-                    match s.get(j)?.symbol {
-                        b']' => depth += 1,
-                        b'[' => depth -= 1,
-                        _ => {}
-                    }
-                }
-            }
-            b'[' => {}
-            sym if g.is_ignored(sym) => {}
-            _ => return Some(j),
-        }
-    }
-}
-
-/// The index of the nearest context candidate at or after `j`: skips
-/// ignored symbols and lateral branches; `None` at the end of a branch.
-fn next(g: &Grammar, s: &[Module], mut j: usize) -> Option<usize> {
-    loop {
-        match s.get(j)?.symbol {
-            b'[' => {
-                let mut depth = 1u32;
-                while depth > 0 {
-                    j += 1;
-                    match s.get(j)?.symbol {
-                        b'[' => depth += 1,
-                        b']' => depth -= 1,
-                        _ => {}
-                    }
-                }
-                j += 1;
-            }
-            b']' => return None,
-            sym if g.is_ignored(sym) => j += 1,
-            _ => return Some(j),
-        }
-    }
-}
-
 /// Matches `p`'s contexts around `m` and binds every formal parameter
 /// (left context, predecessor, right context, in text order).
 fn bind_production(
     g: &Grammar,
     p: &Production,
     m: &Module,
-    context: Option<(&[Module], usize)>,
+    context: Option<(Context<'_>, usize)>,
     formals: &mut [Fx; MAX_FORMALS],
 ) -> bool {
     let left = g.contexts.get(p.left.range()).unwrap_or(&[]);
@@ -142,7 +94,7 @@ fn bind_production(
     };
     let (mut j, mut offset) = (i, left_arity);
     for q in left.iter().rev() {
-        let Some(k) = previous(g, s, j) else {
+        let Some(k) = s.before(j) else {
             return false;
         };
         let Some(mk) = s.get(k) else { return false };
@@ -154,7 +106,7 @@ fn bind_production(
     }
     let (mut j, mut offset) = (i + 1, left_arity + m.arity as usize);
     for q in right {
-        let Some(k) = next(g, s, j) else {
+        let Some(k) = s.from(j) else {
             return false;
         };
         let Some(mk) = s.get(k) else { return false };
@@ -172,7 +124,7 @@ fn bind_production(
 fn choose(
     g: &Grammar,
     m: &Module,
-    context: Option<(&[Module], usize)>,
+    context: Option<(Context<'_>, usize)>,
     step: u8,
     position: u64,
     seed: u64,
@@ -185,7 +137,7 @@ fn choose_in(
     g: &Grammar,
     section: Section,
     m: &Module,
-    context: Option<(&[Module], usize)>,
+    context: Option<(Context<'_>, usize)>,
     step: u8,
     position: u64,
     seed: u64,
@@ -598,7 +550,9 @@ fn cut(s: &mut [Module], len: usize) -> usize {
 
 /// Derivation into two caller-provided module buffers (a fixed-capacity
 /// double buffer): step `k` reads one and writes the other. Handles
-/// context-sensitive grammars; the capacity is the shorter buffer's length
+/// context-sensitive grammars, whose contexts are matched through
+/// [`Neighbours`] linked once a step (a third caller-provided buffer, one
+/// per module); the capacity is the shortest buffer's length
 /// (`BUFFER_MODULES` in errors).
 ///
 /// [`Derivation::restart`] writes the axiom; the steps are derived by
@@ -610,6 +564,7 @@ fn cut(s: &mut [Module], len: usize) -> usize {
 pub struct Buffered<'b> {
     a: &'b mut [Module],
     b: &'b mut [Module],
+    links: &'b mut [Neighbours],
     front_is_a: bool,
     /// Modules of the front string.
     len: usize,
@@ -632,12 +587,19 @@ pub struct Buffered<'b> {
 }
 
 impl<'b> Buffered<'b> {
-    /// A derivation over two buffers.
+    /// A derivation over two module buffers and the context links of the
+    /// string being rewritten (all three the same length: the shortest is
+    /// the capacity).
     #[must_use]
-    pub fn new(a: &'b mut [Module], b: &'b mut [Module]) -> Buffered<'b> {
+    pub fn new(
+        a: &'b mut [Module],
+        b: &'b mut [Module],
+        links: &'b mut [Neighbours],
+    ) -> Buffered<'b> {
         Buffered {
             a,
             b,
+            links,
             front_is_a: true,
             len: 0,
             read: 0,
@@ -667,16 +629,33 @@ impl<'b> Buffered<'b> {
         self.peak
     }
 
+    fn capacity(&self) -> usize {
+        self.a.len().min(self.b.len()).min(self.links.len())
+    }
+
     fn capacity_error(&self) -> LsysError {
         LsysError::Capacity {
             limit: "BUFFER_MODULES",
-            capacity: self.a.len().min(self.b.len()) as u32,
+            capacity: self.capacity() as u32,
+        }
+    }
+
+    /// Links the front string for context matching, if the grammar has
+    /// contexts.
+    fn link(&mut self, g: &Grammar) {
+        if g.is_context_sensitive() {
+            let front: &[Module] = if self.front_is_a { self.a } else { self.b };
+            let front = front.get(..self.len).unwrap_or(&[]);
+            context::link(g, front, self.links);
         }
     }
 
     /// Writes `m` at the end of the back string.
     fn put(&mut self, m: Module) -> Result<(), LsysError> {
         let error = self.capacity_error();
+        if self.out >= self.capacity() {
+            return Err(error);
+        }
         let back: &mut [Module] = if self.front_is_a { self.b } else { self.a };
         *back.get_mut(self.out).ok_or(error)? = m;
         self.out += 1;
@@ -732,7 +711,7 @@ impl<'b> Buffered<'b> {
             let chosen = choose(
                 g,
                 &m,
-                Some((front, self.position)),
+                Some((Context::new(front, self.links), self.position)),
                 self.step,
                 self.position as u64,
                 self.seed,
@@ -762,6 +741,9 @@ impl<'b> Buffered<'b> {
         self.position = 0;
         self.out = 0;
         self.step = self.step.saturating_add(1);
+        if self.step <= self.steps {
+            self.link(g);
+        }
         Ok(())
     }
 }
@@ -779,7 +761,7 @@ impl Derivation for Buffered<'_> {
         self.expanding = None;
         self.decomposing.clear();
         let axiom = grammar.axiom.range();
-        if axiom.len() > self.a.len().min(self.b.len()) {
+        if axiom.len() > self.capacity() {
             return Err(self.capacity_error());
         }
         // As in L-Py, decomposition follows each step, not the axiom.
@@ -790,6 +772,9 @@ impl Derivation for Buffered<'_> {
         self.peak = self.peak.max(self.len);
         if grammar.has_cut() {
             self.len = cut(self.a, self.len);
+        }
+        if steps > 0 {
+            self.link(grammar);
         }
         Ok(())
     }

@@ -33,6 +33,7 @@
 //! assert_eq!(text, "F[+F]F[+F[+F]F]F[+F]F");
 //! ```
 
+mod context;
 mod derive;
 mod expr;
 mod grammar;
@@ -45,6 +46,7 @@ mod fuzz_tests;
 #[cfg(test)]
 mod tests;
 
+pub use context::Neighbours;
 pub use derive::{Buffered, Derivation, Next, Streaming, VISITS_PER_CALL, stream_id};
 pub use grammar::{Grammar, Settings};
 pub use module::{MAX_PARAMS, Module};

@@ -67,7 +67,8 @@ fn streamed(g: &Grammar, steps: u8, seed: u64) -> Vec<Module> {
 fn buffered(g: &Grammar, steps: u8, seed: u64) -> Vec<Module> {
     let mut a = vec![Module::default(); 200_000];
     let mut b = vec![Module::default(); 200_000];
-    let mut d = Buffered::new(&mut a, &mut b);
+    let mut links = vec![Neighbours::default(); 200_000];
+    let mut d = Buffered::new(&mut a, &mut b, &mut links);
     d.restart(g, steps, seed).unwrap();
     let mut out = Vec::new();
     each_module(&mut d, g, |m| out.push(m));
@@ -161,7 +162,8 @@ fn streaming_and_buffered_simulations_emit_identical_streams() {
             let s = run_sim(&mut streaming);
             let mut a = vec![Module::default(); 100_000];
             let mut b = vec![Module::default(); 100_000];
-            let mut buffered = LSystem::with_derivation(Buffered::new(&mut a, &mut b));
+            let mut links = vec![Neighbours::default(); 100_000];
+            let mut buffered = LSystem::with_derivation(Buffered::new(&mut a, &mut b, &mut links));
             buffered.load(source, seed).unwrap();
             let b = run_sim(&mut buffered);
             assert!(s.len() > 100, "{name}");
@@ -260,7 +262,8 @@ fn buffer_capacity_is_an_error_naming_the_limit() {
     let g = grammar(SHRUB);
     let mut a = vec![Module::default(); 1000];
     let mut b = vec![Module::default(); 1000];
-    let mut d = Buffered::new(&mut a, &mut b);
+    let mut links = vec![Neighbours::default(); 1000];
+    let mut d = Buffered::new(&mut a, &mut b, &mut links);
     d.restart(&g, 4, 0).unwrap();
     // Step 4 writes 2,642 modules: the error comes while deriving, before
     // any module is given.
@@ -388,7 +391,8 @@ fn simulation_state_fits_the_mcu_budget() {
     let g = grammar(SHRUB);
     let mut a = vec![Module::default(); 80_000];
     let mut b = vec![Module::default(); 80_000];
-    let mut d = Buffered::new(&mut a, &mut b);
+    let mut links = vec![Neighbours::default(); 80_000];
+    let mut d = Buffered::new(&mut a, &mut b, &mut links);
     d.restart(&g, 7, 0).unwrap();
     each_module(&mut d, &g, |_| {});
     let peak = d.peak_modules();
@@ -1038,7 +1042,8 @@ fn more_than_max_steps_derive_buffered_and_streaming_names_its_limit() {
 fn buffered_segments(source: &str) -> Vec<([Fx; 3], [Fx; 3])> {
     let mut a = vec![Module::default(); 1000];
     let mut b = vec![Module::default(); 1000];
-    let mut sim = LSystem::with_derivation(Buffered::new(&mut a, &mut b));
+    let mut links = vec![Neighbours::default(); 1000];
+    let mut sim = LSystem::with_derivation(Buffered::new(&mut a, &mut b, &mut links));
     sim.load(source, 0).unwrap();
     run_sim(&mut sim)
         .into_iter()
