@@ -35,7 +35,7 @@ pub const MCU_TRIANGLES: usize = 2 * MCU_VERTICES - 4;
 /// 16 B each, which an MCU's RAM cannot spare. The same results, a
 /// third fewer field evaluations.
 pub const HOST_FIELD_CACHE: usize = MCU_VERTICES;
-pub use skeleton::{Grower, MAX_ELEMENTS, MAX_SKELETON_MODULES, Skeleton};
+pub use skeleton::{Grower, MAX_ELEMENTS, MAX_SKELETON_MODULES, MAX_SKELETON_VISITS, Skeleton};
 
 /// Which skeletons a run wraps, one frame each.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

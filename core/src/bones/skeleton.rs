@@ -11,7 +11,9 @@ use nalgebra::Vector3;
 
 use crate::Error;
 use crate::fx::Fx;
-use crate::lsys::{Derivation, Grammar, LsysError, Next, Streaming, turtle_params};
+use crate::lsys::{
+    Derivation, Grammar, LsysError, Next, Streaming, VISITS_PER_CALL, turtle_params,
+};
 use crate::shrinkwrap::{Element, polygon_edges};
 use crate::turtle::{Drawn, Turtle};
 
@@ -20,9 +22,14 @@ pub const MAX_ELEMENTS: usize = 64;
 /// Every bone skeleton fits the shrinkwrap's prepared field (issue 15).
 const _: () = assert!(MAX_ELEMENTS <= crate::shrinkwrap::PREPARED_ELEMENTS);
 /// Modules of one derived skeleton string (so that a grammar that grows
-/// without drawing still ends), each [`Next::Pending`] counted as one (so
-/// that one that erases what it grows ends too).
+/// without drawing still ends).
 pub const MAX_SKELETON_MODULES: u32 = 8192;
+/// Frames and modules visited deriving one skeleton string, counted
+/// [`VISITS_PER_CALL`] for each [`Next::Pending`] answer: a grammar that
+/// erases what it grows (a cut, an empty successor) ends too. Buffered
+/// derivation of 255 steps of strings twice [`MAX_SKELETON_MODULES`]
+/// long needs a quarter of it.
+pub const MAX_SKELETON_VISITS: u32 = 1 << 24;
 
 /// The elements of one bone.
 pub type Skeleton = Vec<Element<Fx>, MAX_ELEMENTS>;
@@ -86,7 +93,8 @@ impl<D: Derivation> Grower<D> {
     /// # Errors
     /// A derivation or turtle error, a polygon that is not a convex
     /// polygon element ([`polygon_edges`]), or [`MAX_ELEMENTS`] (a
-    /// polygon takes one per edge) or [`MAX_SKELETON_MODULES`] exceeded.
+    /// polygon takes one per edge), [`MAX_SKELETON_MODULES`] or
+    /// [`MAX_SKELETON_VISITS`] exceeded.
     pub fn grow(&mut self, steps: u8, seed: u64, out: &mut Skeleton) -> Result<(), Error> {
         out.clear();
         self.derivation.restart(&self.grammar, steps, seed)?;
@@ -95,11 +103,20 @@ impl<D: Derivation> Grower<D> {
             limit: "MAX_ELEMENTS",
             capacity: MAX_ELEMENTS as u32,
         };
-        let mut modules = 0u32;
+        let (mut modules, mut visits) = (0u32, 0u32);
         loop {
-            let next = match self.derivation.next_module(&self.grammar)? {
-                Next::Module(m) => Some(m),
-                Next::Pending => None,
+            let m = match self.derivation.next_module(&self.grammar)? {
+                Next::Module(m) => m,
+                Next::Pending => {
+                    visits += VISITS_PER_CALL;
+                    if visits > MAX_SKELETON_VISITS {
+                        return Err(Error::Capacity {
+                            limit: "MAX_SKELETON_VISITS",
+                            capacity: MAX_SKELETON_VISITS,
+                        });
+                    }
+                    continue;
+                }
                 Next::End => break,
             };
             modules += 1;
@@ -109,7 +126,6 @@ impl<D: Derivation> Grower<D> {
                     capacity: MAX_SKELETON_MODULES,
                 });
             }
-            let Some(m) = next else { continue };
             if m.symbol == b'O' {
                 let s = self.turtle.state();
                 let weight = m.args().first().copied().unwrap_or(s.width);

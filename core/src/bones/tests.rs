@@ -162,6 +162,17 @@ fn a_grammar_that_never_draws_ends_with_a_named_limit() {
             ..
         }
     ));
+    // One that erases what it grows: 2^27 modules, none given.
+    g.load("n = 28\naxiom: A(0)\nA(x) : x < 27 -> A(x + 1) A(x + 1)\nA(x) : x >= 27 ->")
+        .unwrap();
+    let e = g.grow(28, 0, &mut Skeleton::new()).unwrap_err();
+    assert!(matches!(
+        e,
+        Error::Capacity {
+            limit: "MAX_SKELETON_VISITS",
+            ..
+        }
+    ));
     g.load("n = 7\naxiom: F\nF -> FF").unwrap();
     let e = g.grow(7, 0, &mut Skeleton::new()).unwrap_err();
     assert!(matches!(
