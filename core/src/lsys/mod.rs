@@ -10,7 +10,11 @@
 //!   (ABOP Fig. 1.25's shrub has 77 399 modules after 7 steps; streaming
 //!   needs a few hundred bytes for it).
 //! - [`Buffered`] derives any system, context-sensitive ones included, in
-//!   two caller-provided module buffers (a double buffer).
+//!   two caller-provided module buffers (a double buffer), matching
+//!   contexts through a third of links ([`Neighbours`]).
+//! - Both do bounded work per call ([`VISITS_PER_CALL`]), answering
+//!   [`Next::Pending`] where cuts or empty successors erase what they
+//!   visit.
 //! - Both key each stochastic choice by (derivation step, position of the
 //!   module in the string it rewrites), so they agree module for module.
 //! - [`LSystem`] is the simulation: it derives and feeds the modules to the
