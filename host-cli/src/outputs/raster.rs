@@ -104,6 +104,58 @@ mod tests {
     }
 
     #[test]
+    fn random_triangles_cover_the_centres_inside_them() {
+        // Against each pixel centre's three edge functions (sub-pixel
+        // vertices, the top-left rule): tall, thin, tiny and off-picture
+        // triangles, both windings.
+        let one = f64::from(1u32 << SUB);
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut random = |range: f64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * range - range / 4.0
+        };
+        for round in 0..800 {
+            let scale = [3.0, 12.0, 40.0][round / 2 % 3];
+            // Half the rounds on a half-pixel grid: centres exactly on
+            // edges, where the top-left rule decides.
+            let snap = |v: f64| {
+                if round % 2 == 0 {
+                    (v * 2.0).round() / 2.0
+                } else {
+                    v
+                }
+            };
+            let p: [[f32; 2]; 3] =
+                std::array::from_fn(|_| [snap(random(scale)) as f32, snap(random(scale)) as f32]);
+            let mut pixmap = Pixmap::new(24, 24).unwrap();
+            pixmap.fill(Color::WHITE);
+            triangle(&mut pixmap, p, [10, 0, 0]);
+            let q = p.map(|v| v.map(|c| (f64::from(c) * one).round()));
+            let area = (q[1][0] - q[0][0]) * (q[2][1] - q[0][1])
+                - (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]);
+            let [a, mut b, mut c] = q;
+            if area < 0.0 {
+                (b, c) = (c, b);
+            }
+            for y in 0..24 {
+                for x in 0..24 {
+                    let centre = [(f64::from(x) + 0.5) * one, (f64::from(y) + 0.5) * one];
+                    let inside = area != 0.0
+                        && [(a, b), (b, c), (c, a)].iter().all(|&(u, v)| {
+                            let (dx, dy) = (v[0] - u[0], v[1] - u[1]);
+                            let e = dx * (centre[1] - u[1]) - dy * (centre[0] - u[0]);
+                            e > 0.0 || (e == 0.0 && (dy < 0.0 || (dy == 0.0 && dx > 0.0)))
+                        });
+                    let drawn = pixmap.pixel(x, y).unwrap().red() == 10;
+                    assert_eq!(drawn, inside, "round {round} {p:?} at ({x}, {y})");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn triangles_off_the_picture_or_flat_draw_nothing() {
         let mut p = Pixmap::new(3, 3).unwrap();
         p.fill(Color::WHITE);
