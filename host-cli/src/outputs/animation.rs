@@ -315,16 +315,55 @@ pub fn draw_label(
     label: &str,
 ) -> Result<()> {
     let channels = layout.channels();
-    let (w, h) = (width as usize, height as usize);
-    if w.checked_mul(h).and_then(|n| n.checked_mul(channels)) != Some(pixels.len()) {
+    let w = width as usize;
+    if w.checked_mul(height as usize)
+        .and_then(|n| n.checked_mul(channels))
+        != Some(pixels.len())
+    {
         bail!(
             "a {width}×{height} {layout:?} picture has not {} bytes",
             pixels.len()
         );
     }
+    label_coverage(width, height, label, &mut |x, y, towards, weight| {
+        let at = (y * w + x) * channels;
+        for sample in &mut pixels[at..at + 3] {
+            *sample = mix(*sample, towards, weight);
+        }
+        if layout == Pixels::Rgba {
+            pixels[at + 3] = 255;
+        }
+    })
+}
+
+/// `sample` moved towards `towards` by `weight` of 255, rounded.
+pub(crate) fn mix(sample: u8, towards: u8, weight: u16) -> u8 {
+    // weight ≤ 255 and samples ≤ 255: the sum ≤ 65025 + 127.
+    let mixed = (u32::from(sample) * u32::from(255 - weight)
+        + u32::from(towards) * u32::from(weight)
+        + 127)
+        / 255;
+    u8::try_from(mixed).unwrap_or(u8::MAX)
+}
+
+/// Lays `label` out in the top-left corner of a `width × height` picture
+/// ([`draw_label`]) and hands `blend` each pixel `(x, y)` it covers, inside
+/// the picture, with the colour to move it towards and by how much (of
+/// 255): first the box (black, 160), then the glyphs (white, their
+/// coverage), in that order. An empty label covers nothing.
+///
+/// # Errors
+/// When the label's font cannot be read.
+pub(crate) fn label_coverage(
+    width: u32,
+    height: u32,
+    label: &str,
+    blend: &mut dyn FnMut(usize, usize, u8, u16),
+) -> Result<()> {
     if label.is_empty() {
         return Ok(());
     }
+    let (w, h) = (width as usize, height as usize);
     let face = font()?;
     let size = label_px(height);
     let scaled = face.as_scaled(PxScale::from(size));
@@ -346,31 +385,19 @@ pub fn draw_label(
     // The box: `pad` from the corner, `pad` around the text.
     let box_right = (3.0 * pad + caret).ceil();
     let box_bottom = (3.0 * pad + text_height).ceil();
-    let mut blend = |x: i64, y: i64, towards: u8, weight: u16| {
+    let mut inside = |x: i64, y: i64, towards: u8, weight: u16| {
         let (Ok(x), Ok(y)) = (usize::try_from(x), usize::try_from(y)) else {
             return;
         };
-        if x >= w || y >= h {
-            return;
-        }
-        let at = (y * w + x) * channels;
-        for sample in &mut pixels[at..at + 3] {
-            // weight ≤ 255 and samples ≤ 255: the sum ≤ 65025 + 127.
-            let mixed = (u32::from(*sample) * u32::from(255 - weight)
-                + u32::from(towards) * u32::from(weight)
-                + 127)
-                / 255;
-            *sample = u8::try_from(mixed).unwrap_or(u8::MAX);
-        }
-        if layout == Pixels::Rgba {
-            pixels[at + 3] = 255;
+        if x < w && y < h {
+            blend(x, y, towards, weight);
         }
     };
     // Box corners are whole pixels (rounded above).
     let (x0, y0) = (pad as i64, pad as i64);
     for y in y0..box_bottom as i64 {
         for x in x0..box_right as i64 {
-            blend(x, y, 0, 160);
+            inside(x, y, 0, 160);
         }
     }
     let origin = point(2.0 * pad, 2.0 * pad + ascent);
@@ -384,7 +411,7 @@ pub fn draw_label(
         outline.draw(|gx, gy, coverage| {
             // coverage ∈ [0, 1]: the weight ∈ [0, 255].
             let weight = (coverage.clamp(0.0, 1.0) * 255.0).round() as u16;
-            blend(left + i64::from(gx), top + i64::from(gy), 255, weight);
+            inside(left + i64::from(gx), top + i64::from(gy), 255, weight);
         });
     }
     Ok(())

@@ -245,7 +245,7 @@ pub fn trimmed(x: f64, decimals: usize) -> String {
 
 /// Draws `label` ([`animation::draw_label`]) into the top-left corner
 /// of the tile `[x, y, width, height]` of `pixmap` (opaque), e.g. one
-/// picture of a montage.
+/// picture of a montage: straight into the pixels it covers.
 ///
 /// # Errors
 /// When the tile is not inside the picture.
@@ -254,31 +254,15 @@ pub fn label_tile(pixmap: &mut Pixmap, [x, y, w, h]: [u32; 4], label: &str) -> R
     if x.checked_add(w).is_none_or(|r| r > pw) || y.checked_add(h).is_none_or(|b| b > ph) {
         bail!("the tile {x},{y} {w}×{h} is outside the {pw}×{ph} picture");
     }
-    let (w_, x_) = (w as usize, x as usize);
-    let mut tile = Vec::with_capacity(w_ * h as usize * 3);
-    for row in y..y + h {
-        let at = row as usize * pw as usize + x_;
-        tile.extend(
-            pixmap.pixels()[at..at + w_]
-                .iter()
-                .flat_map(|p| [p.red(), p.green(), p.blue()]),
-        );
-    }
-    animation::draw_label(&mut tile, w, h, Pixels::Rgb, label)?;
-    for (k, row) in (y..y + h).enumerate() {
-        let at = row as usize * pw as usize + x_;
-        let line = &tile[k * w_ * 3..(k + 1) * w_ * 3];
-        for (p, rgb) in pixmap.pixels_mut()[at..at + w_]
-            .iter_mut()
-            .zip(line.chunks_exact(3))
-        {
-            if let Some(c) = tiny_skia::PremultipliedColorU8::from_rgba(rgb[0], rgb[1], rgb[2], 255)
-            {
-                *p = c;
-            }
+    let (pw, x, y) = (pw as usize, x as usize, y as usize);
+    let pixels = pixmap.pixels_mut();
+    animation::label_coverage(w, h, label, &mut |tx, ty, towards, weight| {
+        let p = &mut pixels[(y + ty) * pw + x + tx];
+        let rgb = [p.red(), p.green(), p.blue()].map(|c| animation::mix(c, towards, weight));
+        if let Some(c) = tiny_skia::PremultipliedColorU8::from_rgba(rgb[0], rgb[1], rgb[2], 255) {
+            *p = c;
         }
-    }
-    Ok(())
+    })
 }
 
 /// An `animation.png` fed by parallel workers: frame `k` may arrive
