@@ -6,11 +6,13 @@
 //! runs longer than a second. The presets are the scenario files of `scenarios/`,
 //! embedded by [`morphogen_scenario`].
 
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{HumanCount, HumanDuration, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use morphogen::embedded_io::{ErrorKind, ErrorType, Write};
 use morphogen::preset::{Model, Preset};
 use morphogen::sim::Progress;
@@ -416,7 +418,13 @@ fn run_preset(
     bar: &Bar,
     sink: &mut (dyn Sink + Send),
 ) -> Result<(), morphogen::Error> {
-    rayon::scope(|_| morphogen_scenario::run::run(preset, seed, sink, &mut |p| bar.report(p)))
+    let mut counted = Counted {
+        next: sink,
+        records: &bar.records,
+    };
+    rayon::scope(|_| {
+        morphogen_scenario::run::run(preset, seed, &mut counted, &mut |p| bar.report(p))
+    })
 }
 
 /// A run's error, naming `what` (the scenario or the file); a stream
@@ -436,13 +444,22 @@ fn explain(
 }
 
 /// A progress bar on standard error that appears once a run has taken a
-/// second (and never when `shown` is false).
+/// second (and never when `shown` is false): steps done of all, and the
+/// records streamed so far, which move on where steps are few (a whole
+/// plant of `run --grammar` is one step).
 #[derive(Debug)]
 pub struct Bar {
     bar: ProgressBar,
     start: Instant,
     enabled: bool,
+    /// Records streamed, counted by the sink [`run_preset`] wraps.
+    records: AtomicU64,
+    /// When the message is next due, in milliseconds from `start`.
+    next_message: AtomicU64,
 }
+
+/// How often the bar's message is written again, in milliseconds.
+const MESSAGE_EVERY_MS: u64 = 100;
 
 impl Bar {
     /// A hidden bar named `name`.
@@ -450,17 +467,17 @@ impl Bar {
     pub fn new(name: &str, enabled: bool) -> Bar {
         let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
         bar.set_style(
-            ProgressStyle::with_template(
-                "{prefix} [{bar:40}] {pos}/{len} steps, {elapsed} (eta {eta})",
-            )
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
+            ProgressStyle::with_template("{prefix} [{bar:40}] {pos}/{len} steps, {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
         );
         bar.set_prefix(name.to_string());
         Bar {
             bar,
             start: Instant::now(),
             enabled,
+            records: AtomicU64::new(0),
+            next_message: AtomicU64::new(0),
         }
     }
 
@@ -468,7 +485,19 @@ impl Bar {
     pub fn report(&self, p: Progress) {
         self.bar.set_length(u64::from(p.total));
         self.bar.set_position(u64::from(p.done));
-        if self.enabled && self.bar.is_hidden() && self.start.elapsed() > Duration::from_secs(1) {
+        if !self.enabled {
+            return;
+        }
+        let elapsed = self.start.elapsed();
+        let ms = u64::try_from(elapsed.as_millis()).unwrap_or(u64::MAX);
+        if ms < 1000 || ms < self.next_message.load(Ordering::Relaxed) {
+            return;
+        }
+        self.next_message
+            .store(ms + MESSAGE_EVERY_MS, Ordering::Relaxed);
+        self.bar
+            .set_message(status(p, self.records.load(Ordering::Relaxed), elapsed));
+        if self.bar.is_hidden() {
             self.bar.set_draw_target(ProgressDrawTarget::stderr());
         }
     }
@@ -476,6 +505,34 @@ impl Bar {
     /// Clears the bar.
     pub fn finish(&self) {
         self.bar.finish_and_clear();
+    }
+}
+
+/// The bar's message: records streamed, time taken and, once a step is
+/// done, the time left at the pace so far.
+fn status(p: Progress, records: u64, elapsed: Duration) -> String {
+    let mut text = format!(
+        "{} records, {}",
+        HumanCount(records),
+        HumanDuration(elapsed)
+    );
+    if p.done > 0 && p.done < p.total {
+        let left = elapsed.mul_f64(f64::from(p.total - p.done) / f64::from(p.done));
+        let _ = write!(text, " (eta {})", HumanDuration(left));
+    }
+    text
+}
+
+/// A sink that counts the records it hands on to `next` into a [`Bar`].
+struct Counted<'a> {
+    next: &'a mut (dyn Sink + Send),
+    records: &'a AtomicU64,
+}
+
+impl Sink for Counted<'_> {
+    fn record(&mut self, record: &Record) -> Result<(), SinkError> {
+        self.records.fetch_add(1, Ordering::Relaxed);
+        self.next.record(record)
     }
 }
 
@@ -586,6 +643,22 @@ mod tests {
 
     use super::*;
     use crate::outputs::plant;
+
+    #[test]
+    fn the_bar_counts_records_and_tells_the_time_left_once_a_step_is_done() {
+        let at = |done, total| Progress { done, total };
+        let s = Duration::from_secs;
+        // One step for a whole plant: only the records move.
+        assert_eq!(
+            status(at(0, 1), 1_234_567, s(3)),
+            "1,234,567 records, 3 seconds"
+        );
+        assert_eq!(
+            status(at(1, 4), 9, s(2)),
+            "9 records, 2 seconds (eta 6 seconds)"
+        );
+        assert_eq!(status(at(4, 4), 9, s(2)), "9 records, 2 seconds");
+    }
 
     #[test]
     fn grammar_errors_name_the_file_line_and_column() {
