@@ -157,11 +157,20 @@ pub struct AnimationWriter {
     png: png::Writer<SharedFile>,
     width: u32,
     height: u32,
-    pixels: Pixels,
+    layout: Layout,
     frames: u32,
     written: u32,
     /// Bytes a frame.
     frame_bytes: usize,
+}
+
+/// What a frame's bytes are, and so how its label is drawn.
+#[derive(Debug, Clone, Copy)]
+enum Layout {
+    /// Samples ([`draw_label`]).
+    Samples(Pixels),
+    /// Palette indices ([`AnimationWriter::indexed`]).
+    Indexed(LabelPalette),
 }
 
 impl fmt::Debug for AnimationWriter {
@@ -170,7 +179,7 @@ impl fmt::Debug for AnimationWriter {
             .field("path", &self.path)
             .field("width", &self.width)
             .field("height", &self.height)
-            .field("pixels", &self.pixels)
+            .field("layout", &self.layout)
             .field("frames", &self.frames)
             .field("written", &self.written)
             .finish_non_exhaustive()
@@ -192,37 +201,37 @@ impl AnimationWriter {
         frames: u32,
         delay_ms: u16,
     ) -> Result<AnimationWriter> {
-        if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
-            bail!("an animation must be 1 to {MAX_SIDE} pixels a side, not {width}×{height}");
-        }
-        if frames == 0 {
-            bail!("an animation needs at least one frame");
-        }
-        let bytes = u64::from(width) * u64::from(height) * pixels.channels() as u64;
-        let bytes = usize::try_from(bytes).context("an animation frame does not fit in memory")?;
-        let file = SharedFile(Arc::new(Mutex::new(Some(OutputFile::create(path)?))));
-        let mut encoder = png::Encoder::new(file.clone(), width, height);
-        encoder.set_color(pixels.colour_type());
-        encoder.set_depth(png::BitDepth::Eight);
-        encoder.set_compression(png::Compression::Fast);
-        encoder.validate_sequence(true);
-        // Play count 0: loop forever.
-        encoder.set_animated(frames, 0)?;
-        encoder.set_frame_delay(delay_ms, 1000)?;
-        let png = encoder
-            .write_header()
-            .with_context(|| format!("cannot write {}", path.display()))?;
-        Ok(AnimationWriter {
-            path: path.to_path_buf(),
-            file,
-            png,
-            width,
-            height,
-            pixels,
+        let layout = Layout::Samples(pixels);
+        start(path, (width, height), layout, None, frames, delay_ms)
+    }
+
+    /// [`AnimationWriter::new`] for frames of palette indices, one byte a
+    /// pixel, every index inside `palette`: a third of an RGB frame's
+    /// bytes to deflate. The file's palette is `palette` followed by the
+    /// colours the labels need ([`LabelPalette`]), so at most
+    /// [`LabelPalette::MAX_COLOURS`] colours fit.
+    ///
+    /// # Errors
+    /// As [`AnimationWriter::new`], or when `palette` is empty or has more
+    /// colours than fit.
+    pub fn indexed(
+        path: &Path,
+        width: u32,
+        height: u32,
+        palette: &[[u8; 3]],
+        frames: u32,
+        delay_ms: u16,
+    ) -> Result<AnimationWriter> {
+        let (labels, all) = LabelPalette::new(palette)?;
+        let layout = Layout::Indexed(labels);
+        start(
+            path,
+            (width, height),
+            layout,
+            Some(all.concat()),
             frames,
-            written: 0,
-            frame_bytes: bytes,
-        })
+            delay_ms,
+        )
     }
 
     /// Adds the next frame: `pixels` (`width × height` in the layout given
@@ -250,10 +259,31 @@ impl AnimationWriter {
                 pixels.len(),
                 self.width,
                 self.height,
-                self.pixels
+                self.layout
             );
         }
-        draw_label(&mut pixels, self.width, self.height, self.pixels, label)?;
+        // The greatest index, in blocks that compile to vector maxima.
+        let greatest = || {
+            let blocks = pixels.chunks(64);
+            blocks.fold(0, |m, b| b.iter().fold(m, |m, &i| m.max(i)))
+        };
+        if let Layout::Indexed(labels) = self.layout
+            && let index = greatest()
+            && usize::from(index) >= labels.n
+        {
+            bail!(
+                "{}: frame {} has the index {index}, past its {} colours",
+                self.path.display(),
+                self.written,
+                labels.n
+            );
+        }
+        match self.layout {
+            Layout::Samples(layout) => {
+                draw_label(&mut pixels, self.width, self.height, layout, label)?;
+            }
+            Layout::Indexed(labels) => labels.draw(&mut pixels, self.width, self.height, label)?,
+        }
         self.png
             .write_image_data(&pixels)
             .with_context(|| format!("cannot write {}", self.path.display()))?;
@@ -290,6 +320,141 @@ impl AnimationWriter {
             .take()
             .ok_or_else(|| anyhow!("cannot write {}: finished twice", path.display()))?;
         output.finish()
+    }
+}
+
+/// Starts an APNG at `path` of `frames` frames of `width × height` pixels
+/// laid out as `layout` says (with the file's `palette` when indexed).
+fn start(
+    path: &Path,
+    (width, height): (u32, u32),
+    layout: Layout,
+    palette: Option<Vec<u8>>,
+    frames: u32,
+    delay_ms: u16,
+) -> Result<AnimationWriter> {
+    if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
+        bail!("an animation must be 1 to {MAX_SIDE} pixels a side, not {width}×{height}");
+    }
+    if frames == 0 {
+        bail!("an animation needs at least one frame");
+    }
+    let (colour, channels) = match layout {
+        Layout::Samples(pixels) => (pixels.colour_type(), pixels.channels()),
+        Layout::Indexed(_) => (png::ColorType::Indexed, 1),
+    };
+    let bytes = u64::from(width) * u64::from(height) * channels as u64;
+    let bytes = usize::try_from(bytes).context("an animation frame does not fit in memory")?;
+    let file = SharedFile(Arc::new(Mutex::new(Some(OutputFile::create(path)?))));
+    let mut encoder = png::Encoder::new(file.clone(), width, height);
+    encoder.set_color(colour);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::Fast);
+    if let Some(palette) = palette {
+        encoder.set_palette(palette);
+    }
+    encoder.validate_sequence(true);
+    // Play count 0: loop forever.
+    encoder.set_animated(frames, 0)?;
+    encoder.set_frame_delay(delay_ms, 1000)?;
+    let png = encoder
+        .write_header()
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(AnimationWriter {
+        path: path.to_path_buf(),
+        file,
+        png,
+        width,
+        height,
+        layout,
+        frames,
+        written: 0,
+        frame_bytes: bytes,
+    })
+}
+
+/// The colours an indexed animation's labels need beyond the frames' own
+/// `n` (indices below `n`): each colour darkened under a label's box
+/// (indices `n..2n`), then each darkened colour under a glyph at the
+/// coverages 17, 34, …, 255 (15 levels a colour, from `2n`). A glyph's
+/// coverage is rounded to the nearest level, so its edges take 16 shades
+/// instead of 256, a difference of at most 8 in a channel.
+#[derive(Debug, Clone, Copy)]
+pub struct LabelPalette {
+    n: usize,
+}
+
+impl LabelPalette {
+    /// Coverage levels of a glyph, 0 (none) included.
+    const LEVELS: usize = 16;
+    /// The weight of one level, of 255.
+    const STEP: u32 = 255 / (Self::LEVELS as u32 - 1);
+    /// The most colours of frames whose labels fit a palette of 256.
+    pub const MAX_COLOURS: usize = 256 / (Self::LEVELS + 1);
+
+    /// The labels' colours for frames in `palette`, and the whole palette.
+    ///
+    /// # Errors
+    /// When `palette` is empty or has more than [`Self::MAX_COLOURS`].
+    pub fn new(palette: &[[u8; 3]]) -> Result<(LabelPalette, Vec<[u8; 3]>)> {
+        let n = palette.len();
+        if n == 0 || n > Self::MAX_COLOURS {
+            bail!(
+                "an indexed animation takes 1 to {} colours, not {n}",
+                Self::MAX_COLOURS
+            );
+        }
+        let (towards, weight) = BOX;
+        let dark: Vec<[u8; 3]> = palette
+            .iter()
+            .map(|c| c.map(|s| mix(s, towards, weight)))
+            .collect();
+        let mut all = [palette, &dark].concat();
+        for d in &dark {
+            for level in 1..Self::LEVELS as u32 {
+                // ≤ 255: exact in u16.
+                let weight = (level * Self::STEP) as u16;
+                all.push(d.map(|s| mix(s, GLYPH, weight)));
+            }
+        }
+        Ok((LabelPalette { n }, all))
+    }
+
+    /// The index pixel `i` takes when [`label_coverage`] moves it towards
+    /// `towards` by `weight`: the box darkens a frame colour; a glyph adds
+    /// its coverage to the coverage the pixel has (as two blends towards
+    /// white would), rounded to a level. A glyph over a pixel outside the
+    /// box is drawn as over the box.
+    fn blend(self, i: u8, towards: u8, weight: u16) -> u8 {
+        let (n, i, top) = (self.n, usize::from(i), Self::LEVELS - 1);
+        // The frame colour under the pixel, and the glyph level on it.
+        let (k, level) = match i.checked_sub(2 * n) {
+            Some(g) => (g / top, g % top + 1),
+            None => (i % n, 0),
+        };
+        let index = if (towards, weight) == BOX {
+            n + k
+        } else {
+            let before = level as u32 * Self::STEP;
+            let left = (255 - before) * (255 - u32::from(weight).min(255));
+            let cover = 255 - (left + 127) / 255;
+            match ((cover + Self::STEP / 2) / Self::STEP) as usize {
+                0 => i,
+                level => 2 * n + k * top + level - 1,
+            }
+        };
+        // < n · (LEVELS + 1) ≤ 256.
+        u8::try_from(index).unwrap_or(u8::MAX)
+    }
+
+    /// Draws `label` into `indices` (`width × height`, one byte a pixel)
+    /// as [`draw_label`] draws it into samples.
+    fn draw(self, indices: &mut [u8], width: u32, height: u32, label: &str) -> Result<()> {
+        let w = width as usize;
+        label_coverage(width, height, label, &mut |x, y, towards, weight| {
+            let p = &mut indices[y * w + x];
+            *p = self.blend(*p, towards, weight);
+        })
     }
 }
 
@@ -335,6 +500,11 @@ pub fn draw_label(
         }
     })
 }
+
+/// A label's box: the picture moved towards black by 160 of 255.
+const BOX: (u8, u16) = (0, 160);
+/// A label's glyphs: white, by their coverage.
+const GLYPH: u8 = 255;
 
 /// `sample` moved towards `towards` by `weight` of 255, rounded.
 pub(crate) fn mix(sample: u8, towards: u8, weight: u16) -> u8 {
@@ -397,7 +567,7 @@ pub(crate) fn label_coverage(
     let (x0, y0) = (pad as i64, pad as i64);
     for y in y0..box_bottom as i64 {
         for x in x0..box_right as i64 {
-            inside(x, y, 0, 160);
+            inside(x, y, BOX.0, BOX.1);
         }
     }
     let origin = point(2.0 * pad, 2.0 * pad + ascent);
@@ -411,7 +581,7 @@ pub(crate) fn label_coverage(
         outline.draw(|gx, gy, coverage| {
             // coverage ∈ [0, 1]: the weight ∈ [0, 255].
             let weight = (coverage.clamp(0.0, 1.0) * 255.0).round() as u16;
-            inside(left + i64::from(gx), top + i64::from(gy), 255, weight);
+            inside(left + i64::from(gx), top + i64::from(gy), GLYPH, weight);
         });
     }
     Ok(())
@@ -492,6 +662,93 @@ mod tests {
             .filter(|(i, _)| (*i as u32 % W) < 60 && (*i as u32 / W) < 20)
             .map(|(_, p)| [p[0], p[1], p[2]])
             .collect()
+    }
+
+    /// Every frame of the APNG at `path` as RGB (indices looked up).
+    fn decode_rgb(path: &Path) -> Vec<Vec<u8>> {
+        let mut decoder = png::Decoder::new(std::fs::File::open(path).unwrap());
+        decoder.set_transformations(png::Transformations::EXPAND);
+        let mut reader = decoder.read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size()];
+        let mut frames = Vec::new();
+        while let Ok(out) = reader.next_frame(&mut buf) {
+            frames.push(buf[..out.buffer_size()].to_vec());
+        }
+        frames
+    }
+
+    #[test]
+    fn indexed_frames_show_their_colours_and_labels_within_a_level() {
+        let palette = [
+            [255, 255, 255],
+            [128, 128, 128],
+            [30, 160, 40],
+            [200, 40, 170],
+        ];
+        // Stripes of every colour, across the label too.
+        let frame = |shift: u32| -> Vec<u8> {
+            (0..W * H)
+                .map(|i| ((i % W / 3 + i / W / 5 + shift) % 4) as u8)
+                .collect()
+        };
+        let rgb = |indices: &[u8]| -> Vec<u8> {
+            indices
+                .iter()
+                .flat_map(|&i| palette[usize::from(i)])
+                .collect()
+        };
+        let labels = ["day 0", "day 12", "age 6.0 months", ""];
+        let dir = tempfile::tempdir().unwrap();
+        let (indexed, direct) = (dir.path().join("i.png"), dir.path().join("d.png"));
+        let mut a = AnimationWriter::indexed(&indexed, W, H, &palette, 4, 100).unwrap();
+        let mut b = AnimationWriter::new(&direct, W, H, Pixels::Rgb, 4, 100).unwrap();
+        for (k, label) in labels.iter().enumerate() {
+            a.frame(frame(k as u32), label).unwrap();
+            b.frame(rgb(&frame(k as u32)), label).unwrap();
+        }
+        a.finish().unwrap();
+        b.finish().unwrap();
+        let (shown, wanted) = (decode_rgb(&indexed), decode_rgb(&direct));
+        assert_eq!(shown.len(), 4);
+        for (k, (shown, wanted)) in shown.iter().zip(&wanted).enumerate() {
+            let plain = rgb(&frame(k as u32));
+            let mut under = vec![false; (W * H) as usize];
+            label_coverage(W, H, labels[k], &mut |x, y, _, _| {
+                under[y * W as usize + x] = true
+            })
+            .unwrap();
+            let pixels = |b: &[u8]| b.chunks_exact(3).map(<[u8]>::to_vec).collect::<Vec<_>>();
+            for ((s, w), under) in pixels(shown).iter().zip(pixels(wanted)).zip(&under) {
+                // Outside the label: the same; under it, a glyph's
+                // coverage is within half a level (8 of 255).
+                if *under {
+                    let near = s.iter().zip(&w).all(|(s, w)| s.abs_diff(*w) <= 8);
+                    assert!(near, "frame {k}: {s:?} for {w:?}");
+                } else {
+                    assert_eq!(s, &w, "frame {k}");
+                }
+            }
+            assert_eq!(shown != &plain, !labels[k].is_empty(), "frame {k}");
+        }
+        // The indexed file is a third of the bytes to deflate, and smaller.
+        let size = |p: &Path| std::fs::metadata(p).unwrap().len();
+        assert!(size(&indexed) < size(&direct));
+    }
+
+    #[test]
+    fn indexed_frames_refuse_indices_past_their_colours_and_too_many_colours() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("i.png");
+        let colours = [[9, 9, 9]; LabelPalette::MAX_COLOURS + 1];
+        assert!(AnimationWriter::indexed(&path, W, H, &colours, 1, 100).is_err());
+        assert!(AnimationWriter::indexed(&path, W, H, &[], 1, 100).is_err());
+        let mut apng = AnimationWriter::indexed(&path, W, H, &colours[1..], 1, 100).unwrap();
+        let mut pixels = vec![0; (W * H) as usize];
+        pixels[7] = LabelPalette::MAX_COLOURS as u8;
+        let e = apng.frame(pixels, "x").unwrap_err().to_string();
+        assert!(e.contains("the index 15, past its 15 colours"), "{e}");
+        drop(apng);
+        assert!(!path.exists());
     }
 
     #[test]

@@ -285,16 +285,39 @@ impl OrderedAnimation {
         let frames = u32::try_from(frames)?;
         let writer =
             AnimationWriter::new(path, width, height, Pixels::Rgb, frames, ANIMATION_DELAY_MS)?;
-        Ok(OrderedAnimation {
+        Ok(Self::writing(writer))
+    }
+
+    fn writing(writer: AnimationWriter) -> Self {
+        OrderedAnimation {
             state: Mutex::new(OrderedState {
                 writer: Some(writer),
                 next: 0,
                 waiting: BTreeMap::new(),
             }),
-        })
+        }
     }
 
-    /// Hands over frame `slot` (0-based among the animation's frames).
+    /// [`OrderedAnimation::new`] for frames of indices into `palette`
+    /// ([`AnimationWriter::indexed`]); `None` when `palette` has more
+    /// colours than an indexed animation's labels leave room for.
+    pub(crate) fn indexed(
+        path: &Path,
+        (width, height): (u32, u32),
+        palette: &[[u8; 3]],
+        frames: usize,
+    ) -> Result<Option<Self>> {
+        if palette.len() > animation::LabelPalette::MAX_COLOURS {
+            return Ok(None);
+        }
+        let frames = u32::try_from(frames)?;
+        let writer =
+            AnimationWriter::indexed(path, width, height, palette, frames, ANIMATION_DELAY_MS)?;
+        Ok(Some(Self::writing(writer)))
+    }
+
+    /// Hands over frame `slot` (0-based among the animation's frames):
+    /// its RGB bytes, or its indices for [`OrderedAnimation::indexed`].
     pub(crate) fn frame(&self, slot: usize, rgb: Vec<u8>, label: String) -> Result<()> {
         let mut state = self
             .state
