@@ -19,8 +19,8 @@ use super::chart::{Axis, Chart, Series, series_colour};
 use super::mesh::{self, GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
 use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, label_tile, picture,
-    pipeline, raster, trimmed, write_chart,
+    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, picture, pipeline, raster,
+    save_montage, trimmed, write_chart,
 };
 use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
@@ -479,13 +479,13 @@ pub fn write<R: Records + ?Sized>(
         written.push(anim_path);
     }
     if let Some(p) = picture {
-        let mut half = picture::half(&p)?;
-        let (w, h) = (half.width() / ages.len().max(1) as u32, half.height());
-        for (n, &age) in ages.iter().enumerate() {
-            label_tile(&mut half, [n as u32 * w, 0, w, h], &label(age))?;
-        }
+        let (w, h) = (p.width() / 2 / ages.len().max(1) as u32, p.height() / 2);
+        let labels: Vec<_> = (0..)
+            .zip(&ages)
+            .map(|(n, &age)| ([n * w, 0, w, h], label(age)))
+            .collect();
         let path = dir.join("ages.png");
-        picture::save(&half, &path)?;
+        save_montage(&p, &labels, &path)?;
         let months: Vec<String> = ages.iter().map(|a| format!("{a:.0}")).collect();
         let _ = writeln!(summary, "ages.png shows months {}", months.join(", "));
         written.push(path);

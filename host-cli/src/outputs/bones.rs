@@ -22,7 +22,7 @@ use super::animation::{AnimationWriter, Pixels};
 use super::body::{self, Extent, Frame, canvas, canvases, draw, rgb_of, solid};
 use super::chart::{Axis, Chart, Series, write_png, write_svg};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
-use super::{ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, label_tile, picture, trimmed};
+use super::{ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, picture, save_montage, trimmed};
 use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
 
@@ -336,13 +336,13 @@ pub fn write<R: Records + ?Sized>(
         written.push(anim_path);
     }
     if kinds.has(Kind::Png) {
-        let mut half = picture::half(&strip)?;
-        let h = half.height();
-        for (n, &age) in steps.iter().enumerate() {
-            label_tile(&mut half, [n as u32 * panel, 0, panel, h], &label(age))?;
-        }
+        let h = strip.height() / 2;
+        let labels: Vec<_> = (0..)
+            .zip(&steps)
+            .map(|(n, &age)| ([n * panel, 0, panel, h], label(age)))
+            .collect();
         let path = dir.join("bones.png");
-        picture::save(&half, &path)?;
+        save_montage(&strip, &labels, &path)?;
         written.push(path);
     }
     let path = dir.join("summary.txt");

@@ -26,8 +26,8 @@ use super::chart::{Axis, Chart, Series};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
 use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, depth_key, label_tile,
-    mesh, picture, pipeline, raster, tip_bend, trimmed, write_chart,
+    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, depth_key, mesh, picture,
+    pipeline, raster, save_montage, tip_bend, trimmed, write_chart,
 };
 use crate::records::{Place, Records};
 
@@ -620,14 +620,10 @@ pub fn write<R: Records + ?Sized>(
             let frame = frame_at(records, start)?;
             let cell = (n as u32 % columns, n as u32 / columns);
             fit.draw(&mut montage, cell, &frame, j);
-            labels.push((cell, label(&frame)));
-        }
-        let mut half = picture::half(&montage)?;
-        for ((c, r), text) in labels {
-            label_tile(&mut half, [c * 400, r * 400, 400, 400], &text)?;
+            labels.push(([cell.0 * 400, cell.1 * 400, 400, 400], label(&frame)));
         }
         let path = dir.join("years.png");
-        picture::save(&half, &path)?;
+        save_montage(&montage, &labels, &path)?;
         written.push(path);
     }
     drop(last_year);

@@ -243,26 +243,30 @@ pub fn trimmed(x: f64, decimals: usize) -> String {
     }
 }
 
-/// Draws `label` ([`animation::draw_label`]) into the top-left corner
-/// of the tile `[x, y, width, height]` of `pixmap` (opaque), e.g. one
-/// picture of a montage: straight into the pixels it covers.
+/// Writes `pixmap`, a montage drawn at twice its size (opaque), as an
+/// RGB PNG of half that size at `path` ([`picture::half_rgb`]), each
+/// label drawn ([`animation::draw_label`]) into the top-left corner of
+/// its tile `[x, y, width, height]` of the halved picture.
 ///
 /// # Errors
-/// When the tile is not inside the picture.
-pub fn label_tile(pixmap: &mut Pixmap, [x, y, w, h]: [u32; 4], label: &str) -> Result<()> {
-    let (pw, ph) = (pixmap.width(), pixmap.height());
-    if x.checked_add(w).is_none_or(|r| r > pw) || y.checked_add(h).is_none_or(|b| b > ph) {
-        bail!("the tile {x},{y} {w}×{h} is outside the {pw}×{ph} picture");
-    }
-    let (pw, x, y) = (pw as usize, x as usize, y as usize);
-    let pixels = pixmap.pixels_mut();
-    animation::label_coverage(w, h, label, &mut |tx, ty, towards, weight| {
-        let p = &mut pixels[(y + ty) * pw + x + tx];
-        let rgb = [p.red(), p.green(), p.blue()].map(|c| animation::mix(c, towards, weight));
-        if let Some(c) = tiny_skia::PremultipliedColorU8::from_rgba(rgb[0], rgb[1], rgb[2], 255) {
-            *p = c;
+/// When a tile is not inside the halved picture, or as
+/// [`picture::save_half`].
+pub fn save_montage(pixmap: &Pixmap, labels: &[([u32; 4], String)], path: &Path) -> Result<()> {
+    let mut rgb = picture::half_rgb(pixmap)?;
+    let (pw, ph) = (pixmap.width() / 2, pixmap.height() / 2);
+    for &([x, y, w, h], ref label) in labels {
+        if x.checked_add(w).is_none_or(|r| r > pw) || y.checked_add(h).is_none_or(|b| b > ph) {
+            bail!("the tile {x},{y} {w}×{h} is outside the {pw}×{ph} picture");
         }
-    })
+        let (stride, x, y) = (pw as usize, x as usize, y as usize);
+        animation::label_coverage(w, h, label, &mut |tx, ty, towards, weight| {
+            let at = ((y + ty) * stride + x + tx) * 3;
+            for sample in &mut rgb[at..at + 3] {
+                *sample = animation::mix(*sample, towards, weight);
+            }
+        })?;
+    }
+    picture::save_rgb(pw, ph, &rgb, path)
 }
 
 /// An `animation.png` fed by parallel workers: frame `k` may arrive
@@ -474,6 +478,48 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_montage_is_its_tiles_halved_and_labelled_each_as_a_picture_of_its_own() {
+        // Two 160×120 tiles side by side, drawn at twice their size.
+        let mut pixmap = Pixmap::new(640, 240).unwrap();
+        for (k, p) in pixmap.pixels_mut().iter_mut().enumerate() {
+            let v = (k % 640 / 5 + k / 640 / 7) as u8;
+            *p = tiny_skia::PremultipliedColorU8::from_rgba(v, 255 - v, v / 2, 255).unwrap();
+        }
+        let labels = [
+            ([0, 0, 160, 120], "day 3".to_string()),
+            ([160, 0, 160, 120], "age 6.0 months".to_string()),
+        ];
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("m.png");
+        save_montage(&pixmap, &labels, &path).unwrap();
+        let whole = picture::half_rgb(&pixmap).unwrap();
+        let montage = Pixmap::load_png(&path).unwrap();
+        for ([x, _, w, h], label) in &labels {
+            let (x, w) = (*x as usize, *w as usize);
+            let mut tile: Vec<u8> = whole
+                .chunks_exact(320 * 3)
+                .flat_map(|row| row[x * 3..(x + w) * 3].to_vec())
+                .collect();
+            animation::draw_label(&mut tile, w as u32, *h, Pixels::Rgb, label).unwrap();
+            let shown: Vec<u8> = montage
+                .pixels()
+                .chunks_exact(320)
+                .flat_map(|row| {
+                    row[x..x + w]
+                        .iter()
+                        .flat_map(|p| [p.red(), p.green(), p.blue()])
+                })
+                .collect();
+            assert_eq!(shown, tile, "{label}");
+        }
+        let outside = [([200, 0, 160, 120], "x".to_string())];
+        let e = save_montage(&pixmap, &outside, &path)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "the tile 200,0 160×120 is outside the 320×120 picture");
+    }
 
     #[test]
     fn rgb_bytes_drop_alpha_four_pixels_at_a_time_and_after() {
