@@ -9,6 +9,10 @@
 //! error, never padded or cropped, since a padded frame would silently
 //! misplace what it shows.
 //!
+//! Frames are RGB or RGBA samples, or palette indices
+//! ([`AnimationWriter::indexed`]: a third of RGB's bytes to compress, the
+//! labels' colours added to the palette, their glyph edges in 16 shades).
+//!
 //! Labels are drawn with the embedded DejaVu Sans face of
 //! [`super::chart::font`] (no system font is read): white text on a
 //! darkened box, so it reads on light and dark pictures alike. A label
