@@ -120,7 +120,8 @@ w("\n")
 w("## Cost per preset\n\n")
 w(f"SysTick deltas under `-icount shift=0`: QEMU advances 1 ns per instruction\n"
   f"and models a {main['hz'] // 10**6} MHz core clock, so one tick ≈ {ns_per_tick}\n"
-  "instructions. The counts repeat exactly from run to run; they are a proxy\n"
+  "instructions. The counts repeat to within one tick from run to run; they\n"
+  "are a proxy\n"
   "(QEMU does not model cycles; DWT CYCCNT reads 0).\n\n"
   "Each preset runs twice: *simulate* is the first run, into the `Bounds`\n"
   "that fit the OLED's view (the simulation alone, nothing written); the\n"
