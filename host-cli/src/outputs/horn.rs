@@ -26,8 +26,8 @@ use super::chart::{Axis, Chart, Series};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
 use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, depth_key, mesh, picture,
-    pipeline, raster, save_montage, tip_bend, trimmed, write_chart,
+    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, crop_rgb, depth_key, mesh,
+    picture, pipeline, raster, save_montage_rgb, tip_bend, trimmed, write_chart,
 };
 use crate::records::{Place, Records};
 
@@ -302,7 +302,7 @@ pub fn solid(frame: &Frame, m: &Mesh, title: &str, rings_per_year: u32) -> Resul
 
 /// A view: rotation of the skull frame into screen axes (x right, y up,
 /// z towards the viewer).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 struct View {
     rows: [P3; 3],
 }
@@ -368,9 +368,16 @@ fn background() -> Color {
     Color::from_rgba8(250, 249, 246, 255)
 }
 
-/// Draws `mesh` into `pixmap` in the box (x0, y0, scale) mapping screen cm
-/// to pixels with `origin` (screen cm) at the box's (x0, y0).
-fn draw(pixmap: &mut Pixmap, mesh: &Mesh, view: &View, origin: [f64; 2], at: [f32; 2], scale: f64) {
+/// Draws `mesh` into `pixmap`, mapping screen cm to pixels by `scale`
+/// with `origin` (screen cm) at `at` (pixels), then moved by `offset`
+/// whole pixels ([`raster::triangle_at`]).
+fn draw(
+    pixmap: &mut Pixmap,
+    mesh: &Mesh,
+    view: &View,
+    (origin, at, scale): ([f64; 2], [f32; 2], f64),
+    offset: [u32; 2],
+) {
     let light = {
         let l = [-0.45, 0.6, 0.66];
         let n = dot(l, l).sqrt();
@@ -415,7 +422,7 @@ fn draw(pixmap: &mut Pixmap, mesh: &Mesh, view: &View, origin: [f64; 2], at: [f3
         };
         let k = (0.35 + 0.65 * lambert) * band;
         let rgb = HORN.map(|v| (v * k).clamp(0.0, 255.0) as u8);
-        raster::triangle(pixmap, [px(a), px(b), px(c)], rgb);
+        raster::triangle_at(pixmap, offset, [px(a), px(b), px(c)], rgb);
     }
 }
 
@@ -433,13 +440,19 @@ fn render(frame: &Frame, j: u32, width: u32, height: u32) -> Result<Pixmap> {
         ((f64::from(width) - used[0]) / 2.0) as f32,
         (f64::from(height) - (f64::from(height) - used[1]) / 2.0) as f32,
     ];
-    draw(&mut pixmap, &mesh(frame, j), &view, [b[0], b[1]], at, scale);
+    draw(
+        &mut pixmap,
+        &mesh(frame, j),
+        &view,
+        ([b[0], b[1]], at, scale),
+        [0, 0],
+    );
     Ok(pixmap)
 }
 
 /// Frames drawn to one scale, that of the full-grown horn, the skull end
 /// of every horn at the same place in its cell.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 struct Fit {
     cell: u32,
     view: View,
@@ -470,16 +483,15 @@ impl Fit {
     /// Draws `frame` into the cell at column `c`, row `r` of `pixmap`.
     fn draw(&self, pixmap: &mut Pixmap, (c, r): (u32, u32), frame: &Frame, j: u32) {
         let at = [
-            (f64::from(c * self.cell) + self.margin) as f32,
-            (f64::from((r + 1) * self.cell) - self.margin) as f32,
+            self.margin as f32,
+            (f64::from(self.cell) - self.margin) as f32,
         ];
         draw(
             pixmap,
             &mesh(frame, j),
             &self.view,
-            self.corner,
-            at,
-            self.scale,
+            (self.corner, at, self.scale),
+            [c * self.cell, r * self.cell],
         );
     }
 }
@@ -605,6 +617,21 @@ pub fn write<R: Records + ?Sized>(
     let Some(last) = last else {
         return Ok(written);
     };
+    let picked = if kinds.has(Kind::Anim) && starts.len() > 1 {
+        animation_frames(starts.len())
+    } else {
+        Vec::new()
+    };
+    // Every animation frame to the last one's scale, the skull end fixed.
+    let anim_fit = Fit::new(Some(&last), 800);
+    let apng_path = dir.join("animation.png");
+    let apng = if picked.is_empty() {
+        None
+    } else {
+        Some(OrderedAnimation::new(&apng_path, 400, 400, picked.len())?)
+    };
+    // The animation frames still to draw: those not in the montage.
+    let mut to_draw: Vec<(usize, Place)> = picked.iter().map(|&k| starts[k]).enumerate().collect();
     if kinds.has(Kind::Png) {
         let path = dir.join("horn.png");
         picture::save_half(&render(&last, j, 2400, 1800)?, &path)?;
@@ -622,35 +649,47 @@ pub fn write<R: Records + ?Sized>(
             fit.draw(&mut montage, cell, &frame, j);
             labels.push(([cell.0 * 400, cell.1 * 400, 400, 400], label(&frame)));
         }
+        let rgb = picture::half_rgb(&montage)?;
+        let size = (montage.width() / 2, montage.height() / 2);
+        drop(montage);
+        // A year's tile, unlabelled, is the animation's frame of that
+        // year when both are drawn to one scale.
+        if let Some(apng) = apng.as_ref().filter(|_| fit == anim_fit) {
+            let mut left = Vec::with_capacity(to_draw.len());
+            for (slot, start) in to_draw {
+                match years.binary_search(&start) {
+                    Ok(n) => {
+                        let (tile, ref text) = labels[n];
+                        apng.frame(slot, crop_rgb(&rgb, size.0, tile)?, text.clone())?;
+                    }
+                    Err(_) => left.push((slot, start)),
+                }
+            }
+            to_draw = left;
+        }
         let path = dir.join("years.png");
-        save_montage(&montage, &labels, &path)?;
+        save_montage_rgb(rgb, size, &labels, &path)?;
         written.push(path);
     }
     drop(last_year);
-    if kinds.has(Kind::Anim) && starts.len() > 1 {
-        let path = dir.join("animation.png");
-        let picked = animation_frames(starts.len());
-        // Every frame to the last one's scale, the skull end fixed.
-        let fit = Fit::new(Some(&last), 800);
-        let apng = OrderedAnimation::new(&path, 400, 400, picked.len())?;
+    if let Some(apng) = apng {
         let canvases = Canvases::new(800, 800, background());
         pipeline(
             |send| {
-                picked
+                to_draw
                     .iter()
-                    .enumerate()
-                    .try_for_each(|(slot, &k)| send((slot, frame_at(records, starts[k])?)))
+                    .try_for_each(|&(slot, start)| send((slot, frame_at(records, start)?)))
             },
             |(slot, frame): (usize, Frame)| {
                 let mut p = canvases.take()?;
-                fit.draw(&mut p, (0, 0), &frame, j);
+                anim_fit.draw(&mut p, (0, 0), &frame, j);
                 let rgb = picture::half_rgb(&p)?;
                 canvases.give_back(p);
                 apng.frame(slot, rgb, label(&frame))
             },
         )?;
         apng.finish()?;
-        written.push(path);
+        written.push(apng_path);
     }
     drop(last);
     if lines.len() > 1 {
@@ -736,5 +775,26 @@ mod tests {
         for i in 1..=8 {
             assert!(text.contains(&format!("\ng module_{i}\n")));
         }
+    }
+
+    #[test]
+    fn animation_frames_taken_from_the_montage_are_those_drawn_alone() {
+        // ram-horn's 16 frames are half-yearly: with years.png, the 8 at a
+        // year's end are its tiles, the others drawn; alone, all drawn.
+        let records = records("ram-horn");
+        let scenario = morphogen_scenario::builtin("ram-horn").unwrap();
+        scenario.with_preset(|p| {
+            let morphogen::preset::Model::Horn(params) = p.model else {
+                unreachable!("ram-horn is a horn")
+            };
+            let (both, alone) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+            let kinds = |list| Kinds::parse(list).unwrap();
+            write(&records, both.path(), params, kinds("png,anim")).unwrap();
+            write(&records, alone.path(), params, kinds("anim")).unwrap();
+            assert!(both.path().join("years.png").exists());
+            assert!(!alone.path().join("years.png").exists());
+            let read = |dir: &Path| std::fs::read(dir.join("animation.png")).unwrap();
+            assert!(read(both.path()) == read(alone.path()));
+        });
     }
 }

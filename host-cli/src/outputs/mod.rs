@@ -10,7 +10,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, mpsc};
 
-use anyhow::{Result, anyhow, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use morphogen::preset::{Model, Preset};
 use morphogen_scenario::Scenario;
 use tiny_skia::Pixmap;
@@ -252,8 +252,21 @@ pub fn trimmed(x: f64, decimals: usize) -> String {
 /// When a tile is not inside the halved picture, or as
 /// [`picture::save_half`].
 pub fn save_montage(pixmap: &Pixmap, labels: &[([u32; 4], String)], path: &Path) -> Result<()> {
-    let mut rgb = picture::half_rgb(pixmap)?;
-    let (pw, ph) = (pixmap.width() / 2, pixmap.height() / 2);
+    let rgb = picture::half_rgb(pixmap)?;
+    save_montage_rgb(rgb, (pixmap.width() / 2, pixmap.height() / 2), labels, path)
+}
+
+/// [`save_montage`] of a montage already halved: `rgb`, `pw × ph` RGB
+/// pixels row by row.
+///
+/// # Errors
+/// As [`save_montage`].
+pub fn save_montage_rgb(
+    mut rgb: Vec<u8>,
+    (pw, ph): (u32, u32),
+    labels: &[([u32; 4], String)],
+    path: &Path,
+) -> Result<()> {
     for &([x, y, w, h], ref label) in labels {
         if x.checked_add(w).is_none_or(|r| r > pw) || y.checked_add(h).is_none_or(|b| b > ph) {
             bail!("the tile {x},{y} {w}×{h} is outside the {pw}×{ph} picture");
@@ -267,6 +280,29 @@ pub fn save_montage(pixmap: &Pixmap, labels: &[([u32; 4], String)], path: &Path)
         })?;
     }
     picture::save_rgb(pw, ph, &rgb, path)
+}
+
+/// The tile `[x, y, w, h]` of `rgb`, a picture `width` RGB pixels wide,
+/// as RGB bytes row by row.
+///
+/// # Errors
+/// When the tile is not inside the picture.
+pub fn crop_rgb(rgb: &[u8], width: u32, [x, y, w, h]: [u32; 4]) -> Result<Vec<u8>> {
+    let (stride, x, w, h) = (
+        3 * width as usize,
+        3 * x as usize,
+        3 * w as usize,
+        h as usize,
+    );
+    let mut tile = Vec::with_capacity(w * h);
+    for row in rgb.chunks_exact(stride).skip(y as usize).take(h) {
+        let part = row.get(x..x + w);
+        tile.extend_from_slice(part.context("the tile is outside the picture")?);
+    }
+    if tile.len() < w * h {
+        bail!("the tile is outside the picture");
+    }
+    Ok(tile)
 }
 
 /// An `animation.png` fed by parallel workers: frame `k` may arrive
@@ -502,6 +538,10 @@ mod tests {
                 .chunks_exact(320 * 3)
                 .flat_map(|row| row[x * 3..(x + w) * 3].to_vec())
                 .collect();
+            assert_eq!(
+                crop_rgb(&whole, 320, [x as u32, 0, w as u32, 120]).unwrap(),
+                tile
+            );
             animation::draw_label(&mut tile, w as u32, *h, Pixels::Rgb, label).unwrap();
             let shown: Vec<u8> = montage
                 .pixels()
@@ -519,6 +559,8 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert_eq!(e, "the tile 200,0 160×120 is outside the 320×120 picture");
+        assert!(crop_rgb(&whole, 320, [200, 0, 160, 120]).is_err());
+        assert!(crop_rgb(&whole, 320, [0, 1, 160, 120]).is_err());
     }
 
     #[test]
