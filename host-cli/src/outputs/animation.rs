@@ -354,6 +354,7 @@ fn start(
     encoder.set_color(colour);
     encoder.set_depth(png::BitDepth::Eight);
     encoder.set_compression(png::Compression::Fast);
+    encoder.set_filter(super::picture::PICTURE);
     if let Some(palette) = palette {
         encoder.set_palette(palette);
     }

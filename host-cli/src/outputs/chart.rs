@@ -509,7 +509,7 @@ pub fn render_svg(chart: &Chart, width: u32, height: u32) -> Result<String> {
 /// As [`render_rgb`], or when the file cannot be written.
 pub fn write_png(chart: &Chart, path: &Path, width: u32, height: u32) -> Result<()> {
     let rgb = render_rgb(chart, width, height)?;
-    super::picture::save_rgb(width, height, &rgb, path)
+    super::picture::save_plot(width, height, &rgb, path)
         .with_context(|| format!("cannot write the chart {}", path.display()))
 }
 

@@ -1,6 +1,7 @@
 //! Pictures as PNG files: opaque RGB from a tiny-skia pixmap, or
 //! palette-indexed, both with the `png` crate's fast deflate, written
-//! atomically; and [`half`] (or [`half_rgb`], straight to the bytes
+//! atomically (each row predicted from the one above it, [`PICTURE`], or
+//! for charts by Paeth, [`save_plot`]); and [`half`] (or [`half_rgb`], straight to the bytes
 //! saved), the 2×2 average that turns a picture drawn at twice its size
 //! into an anti-aliased one.
 
@@ -12,12 +13,21 @@ use tiny_skia::{Color, IntSize, Pixmap};
 
 use crate::atomic::OutputFile;
 
+/// How the rows of a picture are filtered before deflate: each from the
+/// row above. A drawing on a flat background repeats rows more than it
+/// repeats pixels along a row, and the fast deflate turns the zeros of
+/// repeated rows into runs: smaller files than the crate's default (each
+/// pixel from its left neighbour) in less time (bones.png 113 → 65 KB,
+/// a mosaic's day 17 → 13 KB).
+pub const PICTURE: png::FilterType = png::FilterType::Up;
+
 /// Writes `width × height` 8-bit `colour` samples (`channels` bytes a
-/// pixel: RGB, or one index into `palette`) as a PNG at `path`.
+/// pixel: RGB, or one index into `palette`) as a PNG at `path`, its rows
+/// filtered by `filter`.
 fn encode(
     path: &Path,
     (width, height): (u32, u32),
-    colour: png::ColorType,
+    (colour, filter): (png::ColorType, png::FilterType),
     palette: Option<Vec<u8>>,
     samples: &[u8],
 ) -> Result<()> {
@@ -26,6 +36,7 @@ fn encode(
         encoder.set_color(colour);
         encoder.set_depth(png::BitDepth::Eight);
         encoder.set_compression(png::Compression::Fast);
+        encoder.set_filter(filter);
         if let Some(palette) = palette {
             encoder.set_palette(palette);
         }
@@ -55,7 +66,20 @@ pub fn save(pixmap: &Pixmap, path: &Path) -> Result<()> {
 /// # Errors
 /// When encoding or writing fails.
 pub fn save_rgb(width: u32, height: u32, rgb: &[u8], path: &Path) -> Result<()> {
-    encode(path, (width, height), png::ColorType::Rgb, None, rgb)
+    let format = (png::ColorType::Rgb, PICTURE);
+    encode(path, (width, height), format, None, rgb)
+}
+
+/// [`save_rgb`] for a chart: rows filtered by Paeth, which predicts
+/// thin grid lines and curves both along a row and across rows, where
+/// [`PICTURE`]'s filter leaves every vertical grid line in every row
+/// (a 900 × 500 chart: 315 → 125 KB, encoded in no more time).
+///
+/// # Errors
+/// When encoding or writing fails.
+pub fn save_plot(width: u32, height: u32, rgb: &[u8], path: &Path) -> Result<()> {
+    let format = (png::ColorType::Rgb, png::FilterType::Paeth);
+    encode(path, (width, height), format, None, rgb)
 }
 
 /// Writes a picture of palette indices (one byte a pixel, row by row) as
@@ -73,7 +97,7 @@ pub fn save_indexed(
     encode(
         path,
         (width, height),
-        png::ColorType::Indexed,
+        (png::ColorType::Indexed, PICTURE),
         Some(palette.concat()),
         indices,
     )
@@ -282,6 +306,32 @@ mod tests {
                 .iter()
                 .all(|p| p.red() == 0 && p.alpha() == 255)
         );
+        // A grid of thin lines, as a chart's: the same pixels back from
+        // either filter, and smaller by Paeth.
+        let grid: Vec<u8> = (0..64 * 48)
+            .flat_map(|k| {
+                let v = if k % 64 % 8 == 0 || k / 64 % 8 == 0 {
+                    200
+                } else {
+                    255
+                };
+                [v, v, 255]
+            })
+            .collect();
+        let (plot, rows) = (dir.path().join("plot.png"), dir.path().join("rows.png"));
+        save_plot(64, 48, &grid, &plot).unwrap();
+        save_rgb(64, 48, &grid, &rows).unwrap();
+        for path in [&plot, &rows] {
+            let back = Pixmap::load_png(path).unwrap();
+            let rgb: Vec<u8> = back
+                .pixels()
+                .iter()
+                .flat_map(|p| [p.red(), p.green(), p.blue()])
+                .collect();
+            assert_eq!(rgb, grid);
+        }
+        let size = |path: &Path| std::fs::metadata(path).unwrap().len();
+        assert!(size(&plot) < size(&rows), "{} {}", size(&plot), size(&rows));
         let path = dir.path().join("i.png");
         save_indexed(2, 1, &[[1, 2, 3], [9, 8, 7]], &[1, 0], &path).unwrap();
         let back = Pixmap::load_png(&path).unwrap();
