@@ -15,9 +15,9 @@
 
 use std::path::{Path, PathBuf};
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use morphogen::horn::HornParams;
 use morphogen::stream::Record;
 use tiny_skia::{Color, Pixmap};
@@ -26,8 +26,8 @@ use super::chart::{Axis, Chart, Series};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
 use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, crop_rgb, depth_key, mesh,
-    picture, pipeline, raster, save_montage_rgb, tip_bend, trimmed, write_chart,
+    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, depth_key, mesh,
+    paste_rgb, picture, pipeline, raster, save_montage_rgb, tip_bend, trimmed, write_chart,
 };
 use crate::records::{Place, Records};
 
@@ -369,14 +369,12 @@ fn background() -> Color {
 }
 
 /// Draws `mesh` into `pixmap`, mapping screen cm to pixels by `scale`
-/// with `origin` (screen cm) at `at` (pixels), then moved by `offset`
-/// whole pixels ([`raster::triangle_at`]).
+/// with `origin` (screen cm) at `at` (pixels).
 fn draw(
     pixmap: &mut Pixmap,
     mesh: &Mesh,
     view: &View,
     (origin, at, scale): ([f64; 2], [f32; 2], f64),
-    offset: [u32; 2],
 ) {
     let light = {
         let l = [-0.45, 0.6, 0.66];
@@ -422,7 +420,7 @@ fn draw(
         };
         let k = (0.35 + 0.65 * lambert) * band;
         let rgb = HORN.map(|v| (v * k).clamp(0.0, 255.0) as u8);
-        raster::triangle_at(pixmap, offset, [px(a), px(b), px(c)], rgb);
+        raster::triangle(pixmap, [px(a), px(b), px(c)], rgb);
     }
 }
 
@@ -445,7 +443,6 @@ fn render(frame: &Frame, j: u32, width: u32, height: u32) -> Result<Pixmap> {
         &mesh(frame, j),
         &view,
         ([b[0], b[1]], at, scale),
-        [0, 0],
     );
     Ok(pixmap)
 }
@@ -480,8 +477,8 @@ impl Fit {
         }
     }
 
-    /// Draws `frame` into the cell at column `c`, row `r` of `pixmap`.
-    fn draw(&self, pixmap: &mut Pixmap, (c, r): (u32, u32), frame: &Frame, j: u32) {
+    /// Draws `frame` into `pixmap`, a cell.
+    fn draw(&self, pixmap: &mut Pixmap, frame: &Frame, j: u32) {
         let at = [
             self.margin as f32,
             (f64::from(self.cell) - self.margin) as f32,
@@ -491,9 +488,18 @@ impl Fit {
             &mesh(frame, j),
             &self.view,
             (self.corner, at, self.scale),
-            [c * self.cell, r * self.cell],
         );
     }
+}
+
+/// A frame to draw for years.png (its tile) or the animation (its slot),
+/// or both when they share a scale.
+#[derive(Debug)]
+struct Shot {
+    start: Place,
+    fit: Fit,
+    tile: Option<usize>,
+    slot: Option<usize>,
 }
 
 /// A frame's label: its time in years.
@@ -622,72 +628,95 @@ pub fn write<R: Records + ?Sized>(
     } else {
         Vec::new()
     };
+    let png = kinds.has(Kind::Png);
+    if png {
+        let path = dir.join("horn.png");
+        picture::save_half(&render(&last, j, 2400, 1800)?, &path)?;
+        written.push(path);
+    }
+    // years.png's tiles, then the animation's frames not among them: each
+    // drawn once, on a canvas of its own, by parallel workers.
+    let year_fit = Fit::new(last_year.as_deref(), 800);
     // Every animation frame to the last one's scale, the skull end fixed.
     let anim_fit = Fit::new(Some(&last), 800);
+    drop(last_year);
+    let mut shots: Vec<Shot> = if png {
+        (0..years.len())
+            .map(|n| Shot {
+                start: years[n],
+                fit: year_fit,
+                tile: Some(n),
+                slot: None,
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    for (slot, &k) in picked.iter().enumerate() {
+        let year = years.binary_search(&starts[k]).ok();
+        match year.filter(|_| png && year_fit == anim_fit) {
+            Some(n) => shots[n].slot = Some(slot),
+            None => shots.push(Shot {
+                start: starts[k],
+                fit: anim_fit,
+                tile: None,
+                slot: Some(slot),
+            }),
+        }
+    }
+    shots.sort_by_key(|shot| shot.start);
+    let columns = years.len().clamp(1, 4) as u32;
+    let size = (
+        400 * columns,
+        400 * (years.len() as u32).div_ceil(columns).max(1),
+    );
+    let montage = png.then(|| {
+        let c = background().to_color_u8();
+        Mutex::new([c.red(), c.green(), c.blue()].repeat((size.0 * size.1) as usize))
+    });
     let apng_path = dir.join("animation.png");
     let apng = if picked.is_empty() {
         None
     } else {
         Some(OrderedAnimation::new(&apng_path, 400, 400, picked.len())?)
     };
-    // The animation frames still to draw: those not in the montage.
-    let mut to_draw: Vec<(usize, Place)> = picked.iter().map(|&k| starts[k]).enumerate().collect();
-    if kinds.has(Kind::Png) {
-        let path = dir.join("horn.png");
-        picture::save_half(&render(&last, j, 2400, 1800)?, &path)?;
-        written.push(path);
-        let count = years.len();
-        let columns = count.clamp(1, 4) as u32;
-        let rows = (count as u32).div_ceil(columns).max(1);
-        let fit = Fit::new(last_year.as_deref(), 800);
-        let mut montage = Pixmap::new(800 * columns, 800 * rows).context("empty montage")?;
-        montage.fill(background());
-        let mut labels = Vec::with_capacity(count);
-        for (n, &start) in years.iter().enumerate() {
-            let frame = frame_at(records, start)?;
-            let cell = (n as u32 % columns, n as u32 / columns);
-            fit.draw(&mut montage, cell, &frame, j);
-            labels.push(([cell.0 * 400, cell.1 * 400, 400, 400], label(&frame)));
-        }
-        let rgb = picture::half_rgb(&montage)?;
-        let size = (montage.width() / 2, montage.height() / 2);
-        drop(montage);
-        // A year's tile, unlabelled, is the animation's frame of that
-        // year when both are drawn to one scale.
-        if let Some(apng) = apng.as_ref().filter(|_| fit == anim_fit) {
-            let mut left = Vec::with_capacity(to_draw.len());
-            for (slot, start) in to_draw {
-                match years.binary_search(&start) {
-                    Ok(n) => {
-                        let (tile, ref text) = labels[n];
-                        apng.frame(slot, crop_rgb(&rgb, size.0, tile)?, text.clone())?;
-                    }
-                    Err(_) => left.push((slot, start)),
-                }
+    let canvases = Canvases::new(800, 800, background());
+    let labels = pipeline(
+        |send| {
+            shots
+                .iter()
+                .try_for_each(|shot| send((shot, frame_at(records, shot.start)?)))
+        },
+        |(shot, frame): (&Shot, Frame)| {
+            let mut p = canvases.take()?;
+            shot.fit.draw(&mut p, &frame, j);
+            let rgb = picture::half_rgb(&p)?;
+            canvases.give_back(p);
+            let text = label(&frame);
+            let tile = shot.tile.map(|n| {
+                let n = n as u32;
+                [n % columns * 400, n / columns * 400, 400, 400]
+            });
+            if let (Some(tile), Some(montage)) = (tile, &montage) {
+                let mut montage = montage.lock().map_err(|_| anyhow!("a drawing stopped"))?;
+                paste_rgb(&mut montage, size.0, tile, &rgb)?;
             }
-            to_draw = left;
-        }
+            if let (Some(apng), Some(slot)) = (&apng, shot.slot) {
+                apng.frame(slot, rgb, text.clone())?;
+            }
+            Ok(tile.map(|tile| (tile, text)))
+        },
+    )?;
+    if let Some(montage) = montage {
+        let labels: Vec<_> = labels.into_iter().flatten().collect();
+        let rgb = montage
+            .into_inner()
+            .map_err(|_| anyhow!("a drawing stopped"))?;
         let path = dir.join("years.png");
         save_montage_rgb(rgb, size, &labels, &path)?;
         written.push(path);
     }
-    drop(last_year);
     if let Some(apng) = apng {
-        let canvases = Canvases::new(800, 800, background());
-        pipeline(
-            |send| {
-                to_draw
-                    .iter()
-                    .try_for_each(|&(slot, start)| send((slot, frame_at(records, start)?)))
-            },
-            |(slot, frame): (usize, Frame)| {
-                let mut p = canvases.take()?;
-                anim_fit.draw(&mut p, (0, 0), &frame, j);
-                let rgb = picture::half_rgb(&p)?;
-                canvases.give_back(p);
-                apng.frame(slot, rgb, label(&frame))
-            },
-        )?;
         apng.finish()?;
         written.push(apng_path);
     }

@@ -17,20 +17,11 @@ const REACH: f32 = 65_536.0;
 /// Fills the triangle `p` (pixel coordinates, any winding) with the opaque
 /// colour `rgb`.
 pub fn triangle(pixmap: &mut Pixmap, p: [[f32; 2]; 3], rgb: [u8; 3]) {
-    triangle_at(pixmap, [0, 0], p, rgb);
-}
-
-/// [`triangle`] moved by whole pixels, `offset`, after its coordinates
-/// are rounded: a picture drawn at an offset (a montage's tile) has the
-/// same pixels as drawn alone.
-pub fn triangle_at(pixmap: &mut Pixmap, offset: [u32; 2], p: [[f32; 2]; 3], rgb: [u8; 3]) {
     let colour = PremultipliedColorU8::from_rgba(rgb[0], rgb[1], rgb[2], 255)
         .unwrap_or(PremultipliedColorU8::TRANSPARENT);
     let one = 1i64 << SUB;
-    let fixed = |v: f32, by: u32| {
-        (v.clamp(-REACH, REACH) * one as f32).round() as i64 + i64::from(by) * one
-    };
-    let [a, mut b, mut c] = p.map(|q| [fixed(q[0], offset[0]), fixed(q[1], offset[1])]);
+    let fixed = |v: f32| (v.clamp(-REACH, REACH) * one as f32).round() as i64;
+    let [a, mut b, mut c] = p.map(|q| [fixed(q[0]), fixed(q[1])]);
     let area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
     if area == 0 {
         return;
