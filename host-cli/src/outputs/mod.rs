@@ -23,6 +23,7 @@ pub mod body;
 pub mod bones;
 pub mod chart;
 pub mod curve;
+pub mod fill;
 pub mod horn;
 pub mod mesh;
 pub mod mosaic;

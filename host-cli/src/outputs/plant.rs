@@ -15,11 +15,10 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use morphogen::fx::Fx;
 use morphogen::stream::Record;
-use tiny_skia::{
-    Color, FillRule, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke, Transform,
-};
+use tiny_skia::{Color, Pixmap};
 
 use super::animation::{AnimationWriter, Pixels};
+use super::fill::Filler;
 use super::mesh::{self, GlbWriter, GroupId, Numbers, ObjStyle};
 use super::text::{self, Whole};
 use super::{ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, picture, rgb_bytes};
@@ -156,14 +155,6 @@ pub fn palette(i: u16) -> [u8; 3] {
     [mix(0), mix(1), mix(2)]
 }
 
-fn paint(colour: u16) -> Paint<'static> {
-    let [r, g, b] = palette(colour);
-    let mut paint = Paint::default();
-    paint.set_color(Color::from_rgba8(r, g, b, 255));
-    paint.anti_alias = true;
-    paint
-}
-
 /// The x–y bounding box of the items handed to [`Extent::include`].
 #[derive(Debug, Clone, Copy)]
 struct Extent {
@@ -215,11 +206,12 @@ fn render(
     let mut pixmap = Pixmap::new(width.max(1), height.max(1)).context("the picture has no size")?;
     pixmap.fill(Color::from_rgba8(250, 250, 245, 255));
     let px = |p: &[f64; 3]| {
-        (
+        [
             (margin + (p[0] - lo[0]) * scale) as f32,
             (margin + (hi[1] - p[1]) * scale) as f32,
-        )
+        ]
     };
+    let mut filler = Filler::default();
     back_to_front(&mut |item| match item {
         Item::Segment {
             a,
@@ -227,39 +219,12 @@ fn render(
             width,
             colour,
         } => {
-            let mut pb = PathBuilder::new();
-            let (ax, ay) = px(a);
-            let (bx, by) = px(b);
-            pb.move_to(ax, ay);
-            pb.line_to(bx, by);
-            let Some(path) = pb.finish() else { return };
-            let stroke = Stroke {
-                width: ((width * scale) as f32).max(0.6),
-                line_cap: LineCap::Round,
-                line_join: LineJoin::Round,
-                ..Stroke::default()
-            };
-            pixmap.stroke_path(&path, &paint(*colour), &stroke, Transform::identity(), None);
+            let width = ((width * scale) as f32).max(0.6);
+            filler.segment(&mut pixmap, px(a), px(b), width, palette(*colour));
         }
         Item::Polygon { points, colour } => {
-            let mut pb = PathBuilder::new();
-            for (i, p) in points.iter().enumerate() {
-                let (x, y) = px(p);
-                if i == 0 {
-                    pb.move_to(x, y);
-                } else {
-                    pb.line_to(x, y);
-                }
-            }
-            pb.close();
-            let Some(path) = pb.finish() else { return };
-            pixmap.fill_path(
-                &path,
-                &paint(*colour),
-                FillRule::Winding,
-                Transform::identity(),
-                None,
-            );
+            let points: Vec<[f32; 2]> = points.iter().map(px).collect();
+            filler.polygon(&mut pixmap, &points, palette(*colour));
         }
     })?;
     Ok(pixmap)
