@@ -6,20 +6,24 @@
 //! edge lists, a supersampled scan and a raster pipeline per span) spends
 //! ~70 K instructions on each.
 
-use ab_glyph_rasterizer::{Point, Rasterizer, point};
+use ab_glyph_rasterizer::{Rasterizer, point};
 use tiny_skia::{Pixmap, PremultipliedColorU8};
 
-/// The farthest outside the picture a shape's box is taken, pixels: a
-/// shape reaching beyond is cut there (its part inside is exact as long
-/// as no edge crosses the cut; the plants' shapes lie inside).
-const REACH: f32 = 4_096.0;
+/// How far above or below the picture a point is kept, pixels: rows
+/// outside the picture are not drawn, and a point beyond this moved to it
+/// changes none inside (a plant's points are inside; this bounds f32
+/// arithmetic on a stray one).
+const REACH: f32 = 1.0e6;
 
 /// Coverage below this (of 1) leaves a pixel as it is.
 const NONE: f32 = 0.5 / 255.0;
 
-/// A filler, keeping its coverage grid between shapes.
+/// A filler, keeping its coverage grid and outlines between shapes.
 pub struct Filler {
     grid: Rasterizer,
+    /// The outline being filled, and its part within the picture's columns.
+    outline: Vec<[f32; 2]>,
+    clipped: Vec<[f32; 2]>,
 }
 
 impl std::fmt::Debug for Filler {
@@ -32,6 +36,8 @@ impl Default for Filler {
     fn default() -> Self {
         Filler {
             grid: Rasterizer::new(0, 0),
+            outline: Vec::new(),
+            clipped: Vec::new(),
         }
     }
 }
@@ -40,7 +46,9 @@ impl Filler {
     /// Fills the closed polygon through `points` (pixel coordinates, any
     /// winding, not crossing itself) with the opaque colour `rgb`.
     pub fn polygon(&mut self, pixmap: &mut Pixmap, points: &[[f32; 2]], rgb: [u8; 3]) {
-        self.fill(pixmap, points.iter().copied(), rgb);
+        self.outline.clear();
+        self.outline.extend_from_slice(points);
+        self.fill(pixmap, rgb);
     }
 
     /// Strokes the segment `a`–`b` (pixel coordinates) `width` pixels
@@ -83,21 +91,30 @@ impl Filler {
                 ]
             })
         };
-        let outline = cap(b, left).chain(cap(a, [-left[0], -left[1]]));
-        self.fill(pixmap, outline, rgb);
+        self.outline.clear();
+        self.outline
+            .extend(cap(b, left).chain(cap(a, [-left[0], -left[1]])));
+        self.fill(pixmap, rgb);
     }
 
-    /// Fills the closed outline `points` with `rgb`.
-    fn fill(
-        &mut self,
-        pixmap: &mut Pixmap,
-        points: impl Iterator<Item = [f32; 2]> + Clone,
-        rgb: [u8; 3],
-    ) {
+    /// Fills the closed outline in `self.outline` with `rgb`.
+    fn fill(&mut self, pixmap: &mut Pixmap, rgb: [u8; 3]) {
         let (w, h) = (pixmap.width() as f32, pixmap.height() as f32);
-        let clamp = |p: [f32; 2]| [p[0].clamp(-REACH, w + REACH), p[1].clamp(-REACH, h + REACH)];
+        for p in &mut self.outline {
+            *p = [p[0], p[1].clamp(-REACH, h + REACH)];
+        }
+        // Coverage runs along a row from the grid's left end, so the
+        // outline is cut exactly to a pixel beyond either side of the
+        // picture (not just its box) and the grid spans no more.
+        clip(&self.outline, &mut self.clipped, |p| p[0] >= -1.0, -1.0);
+        clip(
+            &self.clipped,
+            &mut self.outline,
+            |p| p[0] <= w + 1.0,
+            w + 1.0,
+        );
         let (mut lo, mut hi) = ([f32::MAX; 2], [f32::MIN; 2]);
-        for p in points.clone().map(clamp) {
+        for p in &self.outline {
             for k in 0..2 {
                 lo[k] = lo[k].min(p[k]);
                 hi[k] = hi[k].max(p[k]);
@@ -105,8 +122,7 @@ impl Filler {
         }
         // The grid: whole pixels around the box, one more column on the
         // right for the coverage an edge hands its right neighbour; rows
-        // outside the picture left out (each row's coverage is its own),
-        // columns kept (coverage runs along a row from its left end).
+        // outside the picture left out (each row's coverage is its own).
         let (left, top, bottom) = (lo[0].floor(), lo[1].floor().max(0.0), hi[1].ceil().min(h));
         if top >= bottom || hi[0] < 0.0 || lo[0] >= w {
             return;
@@ -114,17 +130,9 @@ impl Filler {
         let columns = (hi[0].ceil() - left) as usize + 2;
         self.grid.reset(columns, (bottom - top) as usize);
         let at = |p: [f32; 2]| point(p[0] - left, p[1] - top);
-        let mut first: Option<Point> = None;
-        let mut last: Option<Point> = None;
-        for p in points.map(clamp).map(at) {
-            if let Some(q) = last {
-                self.grid.draw_line(q, p);
-            }
-            first.get_or_insert(p);
-            last = Some(p);
-        }
-        if let (Some(first), Some(last)) = (first, last) {
-            self.grid.draw_line(last, first);
+        let ends = self.outline.iter().zip(self.outline.iter().cycle().skip(1));
+        for (&p, &q) in ends {
+            self.grid.draw_line(at(p), at(q));
         }
         let stride = pixmap.width() as usize;
         let pixels = pixmap.pixels_mut();
@@ -139,6 +147,28 @@ impl Filler {
                 *pixel = blend(*pixel, rgb, weight);
             }
         });
+    }
+}
+
+/// The closed outline `from` cut to the side of the vertical line
+/// `x = at` where `keep` holds, into `to` (Sutherland–Hodgman: each edge
+/// keeps its end inside and adds where it crosses the line).
+fn clip(from: &[[f32; 2]], to: &mut Vec<[f32; 2]>, keep: impl Fn([f32; 2]) -> bool, at: f32) {
+    to.clear();
+    let cross = |p: [f32; 2], q: [f32; 2]| {
+        let t = (at - p[0]) / (q[0] - p[0]);
+        [at, p[1] + t * (q[1] - p[1])]
+    };
+    let Some(&last) = from.last() else { return };
+    let mut p = last;
+    for &q in from {
+        match (keep(p), keep(q)) {
+            (true, true) => to.push(q),
+            (true, false) => to.push(cross(p, q)),
+            (false, true) => to.extend([cross(p, q), q]),
+            (false, false) => {}
+        }
+        p = q;
     }
 }
 
@@ -200,6 +230,25 @@ mod tests {
         let row: Vec<u8> = (0..5).map(|x| q.pixel(x, 1).unwrap().red()).collect();
         assert_eq!(row, [0, 0, 0, 191, 255]);
         assert!((area(&q) - 3.25).abs() < 0.02);
+        // Slanted edges cut at either side: inside a 10 × 20 picture, the
+        // area under y = 17.5 + x/4 (0 ≤ x ≤ 10) is 187.5; mirrored, the
+        // same; and a shape far larger than the picture fills all of it.
+        for mirror in [false, true] {
+            let mut r = white(10, 20);
+            let x = |x: f32| if mirror { 10.0 - x } else { x };
+            let slanted = [
+                [x(-50.0), 0.0],
+                [x(10.0), 0.0],
+                [x(10.0), 20.0],
+                [x(-50.0), 5.0],
+            ];
+            Filler::default().polygon(&mut r, &slanted, [0, 0, 0]);
+            assert!((area(&r) - 187.5).abs() < 0.05, "{}", area(&r));
+        }
+        let mut r = white(10, 20);
+        let huge = [[-1e5, -3e5], [2e5, 1e5], [-1e5, 1e5]];
+        Filler::default().polygon(&mut r, &huge, [0, 0, 0]);
+        assert!((area(&r) - 200.0).abs() < 0.05, "{}", area(&r));
     }
 
     #[test]
