@@ -9,10 +9,11 @@
 use ab_glyph_rasterizer::{Rasterizer, point};
 use tiny_skia::{Pixmap, PremultipliedColorU8};
 
-/// How far above or below the picture a point is kept, pixels: rows
-/// outside the picture are not drawn, and a point beyond this moved to it
-/// changes none inside (a plant's points are inside; this bounds f32
-/// arithmetic on a stray one).
+/// How far above or below the picture a point is kept, pixels (rows
+/// outside the picture are not drawn): a point beyond is moved to it,
+/// which bounds the f32 arithmetic on a stray point and moves an edge
+/// within the picture by a negligible part of a pixel (a plant's points
+/// are inside).
 const REACH: f32 = 1.0e6;
 
 /// Coverage below this (of 1) leaves a pixel as it is.

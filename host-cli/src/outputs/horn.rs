@@ -370,12 +370,7 @@ fn background() -> Color {
 
 /// Draws `mesh` into `pixmap`, mapping screen cm to pixels by `scale`
 /// with `origin` (screen cm) at `at` (pixels).
-fn draw(
-    pixmap: &mut Pixmap,
-    mesh: &Mesh,
-    view: &View,
-    (origin, at, scale): ([f64; 2], [f32; 2], f64),
-) {
+fn draw(pixmap: &mut Pixmap, mesh: &Mesh, view: &View, origin: [f64; 2], at: [f32; 2], scale: f64) {
     let light = {
         let l = [-0.45, 0.6, 0.66];
         let n = dot(l, l).sqrt();
@@ -438,12 +433,7 @@ fn render(frame: &Frame, j: u32, width: u32, height: u32) -> Result<Pixmap> {
         ((f64::from(width) - used[0]) / 2.0) as f32,
         (f64::from(height) - (f64::from(height) - used[1]) / 2.0) as f32,
     ];
-    draw(
-        &mut pixmap,
-        &mesh(frame, j),
-        &view,
-        ([b[0], b[1]], at, scale),
-    );
+    draw(&mut pixmap, &mesh(frame, j), &view, [b[0], b[1]], at, scale);
     Ok(pixmap)
 }
 
@@ -487,7 +477,9 @@ impl Fit {
             pixmap,
             &mesh(frame, j),
             &self.view,
-            (self.corner, at, self.scale),
+            self.corner,
+            at,
+            self.scale,
         );
     }
 }
@@ -540,9 +532,10 @@ fn frame_at<R: Records + ?Sized>(records: &R, start: Place) -> Result<Frame> {
 
 /// Writes (those of `kinds`) `frame_NNN.obj` for every frame and
 /// `model.glb` with all of them (while the frames are read), `horn.png`,
-/// `years.png` (its frames read again, one at a time, once the last frame
-/// has set the scale), `animation.png` (every frame, or 60 spread evenly,
-/// read again), `bend.png`/`bend.svg`, the centre line's length and
+/// `years.png` and `animation.png` (every frame, or 60 spread evenly):
+/// their frames read again, one at a time, once the last frame has set
+/// the scale, a frame both show drawn once; `bend.png`/`bend.svg`, the
+/// centre line's length and
 /// total turning over time, and `e1-bend.png`/`e1-bend.svg`, the paper's
 /// Fig. 11 from `params` ([`super::tip_bend`]).
 ///
