@@ -5,7 +5,7 @@
 //! pixels across, where a general path filler (tiny-skia: edge lists, a
 //! supersampled scan and a raster pipeline per span) spends ~70 K
 //! instructions on each. A large one goes to tiny-skia, whose span fills
-//! beat a pass over every pixel of its box ([`LARGE`]).
+//! beat a pass over every pixel of its box (`LARGE`).
 
 use ab_glyph_rasterizer::{Rasterizer, point};
 use tiny_skia::{FillRule, Paint, PathBuilder, Pixmap, PremultipliedColorU8, Transform};
