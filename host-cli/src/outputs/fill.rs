@@ -10,6 +10,8 @@
 use ab_glyph_rasterizer::{Rasterizer, point};
 use tiny_skia::{FillRule, Paint, PathBuilder, Pixmap, PremultipliedColorU8, Transform};
 
+use super::animation::mix;
+
 /// How far above or below the picture a point is kept, pixels (rows
 /// outside the picture are not drawn): a point beyond is moved to it,
 /// which bounds the f32 arithmetic on a stray point and moves an edge
@@ -210,16 +212,13 @@ fn clip(from: &[[f32; 2]], to: &mut Vec<[f32; 2]>, keep: impl Fn([f32; 2]) -> bo
     }
 }
 
-/// `pixel` (opaque) moved towards `rgb` by `weight` of 255, rounded.
+/// `pixel` (opaque) moved towards `rgb` by `weight` of 255, rounded
+/// ([`mix`]).
 fn blend(pixel: PremultipliedColorU8, rgb: [u8; 3], weight: u16) -> PremultipliedColorU8 {
-    let mix = |from: u8, to: u8| {
-        let v = u32::from(from) * u32::from(255 - weight) + u32::from(to) * u32::from(weight);
-        ((v + 127) / 255) as u8
-    };
     let [r, g, b] = [
-        mix(pixel.red(), rgb[0]),
-        mix(pixel.green(), rgb[1]),
-        mix(pixel.blue(), rgb[2]),
+        mix(pixel.red(), rgb[0], weight),
+        mix(pixel.green(), rgb[1], weight),
+        mix(pixel.blue(), rgb[2], weight),
     ];
     PremultipliedColorU8::from_rgba(r, g, b, 255).unwrap_or(pixel)
 }
