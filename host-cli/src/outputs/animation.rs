@@ -32,6 +32,7 @@
 
 use std::fmt;
 use std::io::{self, Write};
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
@@ -425,28 +426,32 @@ impl LabelPalette {
         Ok((LabelPalette { n }, all))
     }
 
-    /// The index pixel `i` takes when [`label_coverage`] moves it towards
-    /// `towards` by `weight`: the box darkens a frame colour; a glyph adds
-    /// its coverage to the coverage the pixel has (as two blends towards
-    /// white would), rounded to a level. A glyph over a pixel outside the
-    /// box is drawn as over the box.
-    fn blend(self, i: u8, towards: u8, weight: u16) -> u8 {
+    /// The index pixel `i` takes under a label's box: its frame colour
+    /// darkened (a pixel already darkened or under a glyph stays).
+    fn shade(self, i: u8) -> u8 {
+        let (n, i) = (self.n, usize::from(i));
+        let index = if i < n { n + i } else { i };
+        // < 2n ≤ 256.
+        u8::try_from(index).unwrap_or(u8::MAX)
+    }
+
+    /// The index pixel `i` takes under a glyph of coverage `weight` (of
+    /// 255): the glyph adds its coverage to the coverage the pixel has (as
+    /// two blends towards white would), rounded to a level. A glyph over a
+    /// pixel outside the box is drawn as over the box.
+    fn ink(self, i: u8, weight: u16) -> u8 {
         let (n, i, top) = (self.n, usize::from(i), Self::LEVELS - 1);
         // The frame colour under the pixel, and the glyph level on it.
         let (k, level) = match i.checked_sub(2 * n) {
             Some(g) => (g / top, g % top + 1),
             None => (i % n, 0),
         };
-        let index = if (towards, weight) == BOX {
-            n + k
-        } else {
-            let before = level as u32 * Self::STEP;
-            let left = (255 - before) * (255 - u32::from(weight).min(255));
-            let cover = 255 - (left + 127) / 255;
-            match ((cover + Self::STEP / 2) / Self::STEP) as usize {
-                0 => i,
-                level => 2 * n + k * top + level - 1,
-            }
+        let before = level as u32 * Self::STEP;
+        let left = (255 - before) * (255 - u32::from(weight).min(255));
+        let cover = 255 - (left + 127) / 255;
+        let index = match ((cover + Self::STEP / 2) / Self::STEP) as usize {
+            0 => i,
+            level => 2 * n + k * top + level - 1,
         };
         // < n · (LEVELS + 1) ≤ 256.
         u8::try_from(index).unwrap_or(u8::MAX)
@@ -455,11 +460,23 @@ impl LabelPalette {
     /// Draws `label` into `indices` (`width × height`, one byte a pixel)
     /// as [`draw_label`] draws it into samples.
     fn draw(self, indices: &mut [u8], width: u32, height: u32, label: &str) -> Result<()> {
+        let label = Label::new(width, height, label)?;
         let w = width as usize;
-        label_coverage(width, height, label, &mut |x, y, towards, weight| {
+        let shaded: [u8; 256] = std::array::from_fn(|i| self.shade(i as u8));
+        for row in indices
+            .chunks_exact_mut(w)
+            .take(label.ys.end)
+            .skip(label.ys.start)
+        {
+            for p in &mut row[label.xs.clone()] {
+                *p = shaded[usize::from(*p)];
+            }
+        }
+        for &(x, y, weight) in &label.glyphs {
             let p = &mut indices[y * w + x];
-            *p = self.blend(*p, towards, weight);
-        })
+            *p = self.ink(*p, weight);
+        }
+        Ok(())
     }
 }
 
@@ -484,10 +501,9 @@ pub fn draw_label(
     layout: Pixels,
     label: &str,
 ) -> Result<()> {
-    let channels = layout.channels();
     let w = width as usize;
     if w.checked_mul(height as usize)
-        .and_then(|n| n.checked_mul(channels))
+        .and_then(|n| n.checked_mul(layout.channels()))
         != Some(pixels.len())
     {
         bail!(
@@ -495,15 +511,8 @@ pub fn draw_label(
             pixels.len()
         );
     }
-    label_coverage(width, height, label, &mut |x, y, towards, weight| {
-        let at = (y * w + x) * channels;
-        for sample in &mut pixels[at..at + 3] {
-            *sample = mix(*sample, towards, weight);
-        }
-        if layout == Pixels::Rgba {
-            pixels[at + 3] = 255;
-        }
-    })
+    Label::new(width, height, label)?.draw(pixels, w, [0, 0], layout);
+    Ok(())
 }
 
 /// A label's box: the picture moved towards black by 160 of 255.
@@ -521,75 +530,121 @@ pub(crate) fn mix(sample: u8, towards: u8, weight: u16) -> u8 {
     u8::try_from(mixed).unwrap_or(u8::MAX)
 }
 
-/// Lays `label` out in the top-left corner of a `width × height` picture
-/// ([`draw_label`]) and hands `blend` each pixel `(x, y)` it covers, inside
-/// the picture, with the colour to move it towards and by how much (of
-/// 255): first the box (black, 160), then the glyphs (white, their
-/// coverage), in that order. An empty label covers nothing.
-///
-/// # Errors
-/// When the label's font cannot be read.
-pub(crate) fn label_coverage(
-    width: u32,
-    height: u32,
-    label: &str,
-    blend: &mut dyn FnMut(usize, usize, u8, u16),
-) -> Result<()> {
-    if label.is_empty() {
-        return Ok(());
-    }
-    let (w, h) = (width as usize, height as usize);
-    let face = font()?;
-    let size = label_px(height);
-    let scaled = face.as_scaled(PxScale::from(size));
-    let pad = (size / 4.0).max(2.0).round();
-    let mut caret = 0.0f32;
-    let mut previous = None;
-    let mut glyphs = Vec::with_capacity(label.len());
-    for c in label.chars() {
-        let id = scaled.glyph_id(c);
-        if let Some(previous) = previous {
-            caret += scaled.kern(previous, id);
-        }
-        glyphs.push((id, caret));
-        caret += scaled.h_advance(id);
-        previous = Some(id);
-    }
-    let ascent = scaled.ascent();
-    let text_height = ascent - scaled.descent();
-    // The box: `pad` from the corner, `pad` around the text.
-    let box_right = (3.0 * pad + caret).ceil();
-    let box_bottom = (3.0 * pad + text_height).ceil();
-    let mut inside = |x: i64, y: i64, towards: u8, weight: u16| {
-        let (Ok(x), Ok(y)) = (usize::try_from(x), usize::try_from(y)) else {
-            return;
+/// A label laid out in the top-left corner of a `width × height`
+/// picture ([`draw_label`]): the box that darkens the picture and the
+/// coverage of its glyphs, both cut at the picture's edges.
+#[derive(Debug)]
+pub(crate) struct Label {
+    /// The box: columns `xs` of rows `ys`.
+    xs: Range<usize>,
+    ys: Range<usize>,
+    /// The glyphs' pixels `(x, y, weight)`, white at `weight` of 255, in
+    /// the order they are drawn (glyphs may overlap).
+    glyphs: Vec<(usize, usize, u16)>,
+}
+
+impl Label {
+    /// Lays `label` out (an empty one covers nothing).
+    ///
+    /// # Errors
+    /// When the label's font cannot be read.
+    pub(crate) fn new(width: u32, height: u32, label: &str) -> Result<Label> {
+        let mut laid = Label {
+            xs: 0..0,
+            ys: 0..0,
+            glyphs: Vec::new(),
         };
-        if x < w && y < h {
-            blend(x, y, towards, weight);
+        if label.is_empty() {
+            return Ok(laid);
         }
-    };
-    // Box corners are whole pixels (rounded above).
-    let (x0, y0) = (pad as i64, pad as i64);
-    for y in y0..box_bottom as i64 {
-        for x in x0..box_right as i64 {
-            inside(x, y, BOX.0, BOX.1);
+        let (w, h) = (width as usize, height as usize);
+        let face = font()?;
+        let size = label_px(height);
+        let scaled = face.as_scaled(PxScale::from(size));
+        let pad = (size / 4.0).max(2.0).round();
+        let mut caret = 0.0f32;
+        let mut previous = None;
+        let mut glyphs = Vec::with_capacity(label.len());
+        for c in label.chars() {
+            let id = scaled.glyph_id(c);
+            if let Some(previous) = previous {
+                caret += scaled.kern(previous, id);
+            }
+            glyphs.push((id, caret));
+            caret += scaled.h_advance(id);
+            previous = Some(id);
+        }
+        let ascent = scaled.ascent();
+        let text_height = ascent - scaled.descent();
+        // The box: `pad` from the corner, `pad` around the text; its
+        // corners are whole pixels (rounded above).
+        let box_right = (3.0 * pad + caret).ceil() as usize;
+        let box_bottom = (3.0 * pad + text_height).ceil() as usize;
+        // `lo..hi` cut at `n`.
+        let cut = |lo: usize, hi: usize, n: usize| lo.min(n)..hi.min(n).max(lo.min(n));
+        laid.xs = cut(pad as usize, box_right, w);
+        laid.ys = cut(pad as usize, box_bottom, h);
+        let origin = point(2.0 * pad, 2.0 * pad + ascent);
+        for (id, x) in glyphs {
+            let glyph = id.with_scale_and_position(size, point(origin.x + x, origin.y));
+            let Some(outline) = face.outline_glyph(glyph) else {
+                continue;
+            };
+            let bounds = outline.px_bounds();
+            let (left, top) = (bounds.min.x as i64, bounds.min.y as i64);
+            outline.draw(|gx, gy, coverage| {
+                let (x, y) = (left + i64::from(gx), top + i64::from(gy));
+                if let (Ok(x), Ok(y)) = (usize::try_from(x), usize::try_from(y))
+                    && x < w
+                    && y < h
+                {
+                    // coverage ∈ [0, 1]: the weight ∈ [0, 255].
+                    let weight = (coverage.clamp(0.0, 1.0) * 255.0).round() as u16;
+                    laid.glyphs.push((x, y, weight));
+                }
+            });
+        }
+        Ok(laid)
+    }
+
+    /// Draws it into `pixels`, samples in `layout`, its pixel (x, y) at
+    /// (`origin[0]` + x, `origin[1]` + y) of a picture `stride` pixels
+    /// wide: the box darkened, then each glyph pixel moved towards white
+    /// (an RGBA pixel drawn on is made opaque).
+    ///
+    /// # Panics
+    /// When the label's box or glyphs, so placed, fall outside `pixels`.
+    pub(crate) fn draw(
+        &self,
+        pixels: &mut [u8],
+        stride: usize,
+        origin: [usize; 2],
+        layout: Pixels,
+    ) {
+        let channels = layout.channels();
+        let at = |x: usize, y: usize| ((origin[1] + y) * stride + origin[0] + x) * channels;
+        let shaded: [u8; 256] = std::array::from_fn(|s| mix(s as u8, BOX.0, BOX.1));
+        for y in self.ys.clone() {
+            let row = &mut pixels[at(self.xs.start, y)..at(self.xs.end, y)];
+            for pixel in row.chunks_exact_mut(channels) {
+                for sample in &mut pixel[..3] {
+                    *sample = shaded[usize::from(*sample)];
+                }
+                if layout == Pixels::Rgba {
+                    pixel[3] = 255;
+                }
+            }
+        }
+        for &(x, y, weight) in &self.glyphs {
+            let pixel = &mut pixels[at(x, y)..at(x, y) + channels];
+            for sample in &mut pixel[..3] {
+                *sample = mix(*sample, GLYPH, weight);
+            }
+            if layout == Pixels::Rgba {
+                pixel[3] = 255;
+            }
         }
     }
-    let origin = point(2.0 * pad, 2.0 * pad + ascent);
-    for (id, x) in glyphs {
-        let glyph = id.with_scale_and_position(size, point(origin.x + x, origin.y));
-        let Some(outline) = face.outline_glyph(glyph) else {
-            continue;
-        };
-        let bounds = outline.px_bounds();
-        let (left, top) = (bounds.min.x as i64, bounds.min.y as i64);
-        outline.draw(|gx, gy, coverage| {
-            // coverage ∈ [0, 1]: the weight ∈ [0, 255].
-            let weight = (coverage.clamp(0.0, 1.0) * 255.0).round() as u16;
-            inside(left + i64::from(gx), top + i64::from(gy), GLYPH, weight);
-        });
-    }
-    Ok(())
 }
 
 #[cfg(test)]
@@ -718,10 +773,15 @@ mod tests {
         for (k, (shown, wanted)) in shown.iter().zip(&wanted).enumerate() {
             let plain = rgb(&frame(k as u32));
             let mut under = vec![false; (W * H) as usize];
-            label_coverage(W, H, labels[k], &mut |x, y, _, _| {
-                under[y * W as usize + x] = true
-            })
-            .unwrap();
+            let label = Label::new(W, H, labels[k]).unwrap();
+            for y in label.ys.clone() {
+                for x in label.xs.clone() {
+                    under[y * W as usize + x] = true;
+                }
+            }
+            for &(x, y, _) in &label.glyphs {
+                under[y * W as usize + x] = true;
+            }
             let pixels = |b: &[u8]| b.chunks_exact(3).map(<[u8]>::to_vec).collect::<Vec<_>>();
             for ((s, w), under) in pixels(shown).iter().zip(pixels(wanted)).zip(&under) {
                 // Outside the label: the same; under it, a glyph's

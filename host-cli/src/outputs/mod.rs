@@ -272,13 +272,8 @@ pub fn save_montage_rgb(
         if x.checked_add(w).is_none_or(|r| r > pw) || y.checked_add(h).is_none_or(|b| b > ph) {
             bail!("the tile {x},{y} {w}×{h} is outside the {pw}×{ph} picture");
         }
-        let (stride, x, y) = (pw as usize, x as usize, y as usize);
-        animation::label_coverage(w, h, label, &mut |tx, ty, towards, weight| {
-            let at = ((y + ty) * stride + x + tx) * 3;
-            for sample in &mut rgb[at..at + 3] {
-                *sample = animation::mix(*sample, towards, weight);
-            }
-        })?;
+        let origin = [x as usize, y as usize];
+        animation::Label::new(w, h, label)?.draw(&mut rgb, pw as usize, origin, Pixels::Rgb);
     }
     picture::save_rgb(pw, ph, &rgb, path)
 }
