@@ -371,6 +371,20 @@ fn background() -> Color {
 /// Draws `mesh` into `pixmap`, mapping screen cm to pixels by `scale`
 /// with `origin` (screen cm) at `at` (pixels).
 fn draw(pixmap: &mut Pixmap, mesh: &Mesh, view: &View, origin: [f64; 2], at: [f32; 2], scale: f64) {
+    for (p, rgb) in shaded(mesh, view, origin, at, scale) {
+        raster::triangle(pixmap, p, rgb);
+    }
+}
+
+/// The triangles of `mesh` facing the camera, back to front, in pixels
+/// (screen cm mapped by `scale`, `origin` at `at`), each with its shade.
+fn shaded(
+    mesh: &Mesh,
+    view: &View,
+    origin: [f64; 2],
+    at: [f32; 2],
+    scale: f64,
+) -> Vec<([[f32; 2]; 3], [u8; 3])> {
     let light = {
         let l = [-0.45, 0.6, 0.66];
         let n = dot(l, l).sqrt();
@@ -403,38 +417,71 @@ fn draw(pixmap: &mut Pixmap, mesh: &Mesh, view: &View, origin: [f64; 2], at: [f3
     };
     // No anti-aliasing per triangle (it would leave seams between them);
     // pictures are drawn at twice their size and averaged down instead.
-    for (_, t, month) in order.into_iter().map(|(_, i)| tris[i]) {
-        let (a, b, c) = (screen[t[0]], screen[t[1]], screen[t[2]]);
-        let n = cross(sub(b, a), sub(c, a));
-        let len = dot(n, n).sqrt().max(1e-12);
-        let lambert = (dot(n, light) / len).max(0.0);
-        let band = match month {
-            Some(m) if m % 2 == 1 => 0.86,
-            Some(_) => 1.0,
-            None => 0.8,
-        };
-        let k = (0.35 + 0.65 * lambert) * band;
-        let rgb = HORN.map(|v| (v * k).clamp(0.0, 255.0) as u8);
-        raster::triangle(pixmap, [px(a), px(b), px(c)], rgb);
-    }
+    order
+        .into_iter()
+        .map(|(_, i)| {
+            let (_, t, month) = tris[i];
+            let (a, b, c) = (screen[t[0]], screen[t[1]], screen[t[2]]);
+            let n = cross(sub(b, a), sub(c, a));
+            let len = dot(n, n).sqrt().max(1e-12);
+            let lambert = (dot(n, light) / len).max(0.0);
+            let band = match month {
+                Some(m) if m % 2 == 1 => 0.86,
+                Some(_) => 1.0,
+                None => 0.8,
+            };
+            let k = (0.35 + 0.65 * lambert) * band;
+            let rgb = HORN.map(|v| (v * k).clamp(0.0, 255.0) as u8);
+            ([px(a), px(b), px(c)], rgb)
+        })
+        .collect()
 }
 
-/// Renders one frame alone, fitted to a `width × height` picture.
-fn render(frame: &Frame, j: u32, width: u32, height: u32) -> Result<Pixmap> {
-    let mut pixmap = Pixmap::new(width, height).context("picture size must be positive")?;
-    pixmap.fill(background());
+/// Rows of `horn.png`'s drawing a band holds ([`save_picture`]): even, so
+/// halving pairs the rows the whole drawing would pair.
+const BAND: u32 = 150;
+
+/// Saves `frame` alone as a `width × height` picture at `path`, fitted to
+/// a drawing of twice that size, drawn [`BAND`] rows at a time on one
+/// canvas and halved band by band: the pixels of the whole drawing, whose
+/// canvas (17 MB for `horn.png`) is never held.
+fn save_picture(frame: &Frame, j: u32, (width, height): (u32, u32), path: &Path) -> Result<()> {
+    let (w, h) = (2 * width, 2 * height);
     let view = camera();
     let b = bounds(&view, frame);
-    let margin = 0.06 * f64::from(width.min(height));
-    let scale = ((f64::from(width) - 2.0 * margin) / (b[2] - b[0]).max(1e-6))
-        .min((f64::from(height) - 2.0 * margin) / (b[3] - b[1]).max(1e-6));
+    let margin = 0.06 * f64::from(w.min(h));
+    let scale = ((f64::from(w) - 2.0 * margin) / (b[2] - b[0]).max(1e-6))
+        .min((f64::from(h) - 2.0 * margin) / (b[3] - b[1]).max(1e-6));
     let used = [(b[2] - b[0]) * scale, (b[3] - b[1]) * scale];
     let at = [
-        ((f64::from(width) - used[0]) / 2.0) as f32,
-        (f64::from(height) - (f64::from(height) - used[1]) / 2.0) as f32,
+        ((f64::from(w) - used[0]) / 2.0) as f32,
+        (f64::from(h) - (f64::from(h) - used[1]) / 2.0) as f32,
     ];
-    draw(&mut pixmap, &mesh(frame, j), &view, [b[0], b[1]], at, scale);
-    Ok(pixmap)
+    let tris = shaded(&mesh(frame, j), &view, [b[0], b[1]], at, scale);
+    // Each band's triangles, back to front.
+    let mut bands = vec![Vec::new(); h.div_ceil(BAND) as usize];
+    for (p, colour) in tris {
+        let rows = raster::rows(p);
+        let last = (rows.end() / BAND).min(bands.len() as u32 - 1);
+        for band in rows.start() / BAND..=last {
+            bands[band as usize].push((p, colour));
+        }
+    }
+    let mut canvas = Pixmap::new(w, BAND.min(h)).context("picture size must be positive")?;
+    let mut rgb = vec![0; 3 * width as usize * height as usize];
+    let band_bytes = 3 * width as usize * BAND as usize / 2;
+    let rows = rgb.chunks_mut(band_bytes);
+    for ((top, tris), rgb) in (0..h).step_by(BAND as usize).zip(bands).zip(rows) {
+        if h - top < canvas.height() {
+            canvas = Pixmap::new(w, h - top).context("picture size must be positive")?;
+        }
+        canvas.fill(background());
+        for (p, colour) in tris {
+            raster::triangle_in_band(&mut canvas, top, p, colour);
+        }
+        picture::half_rgb_into(&canvas, rgb)?;
+    }
+    picture::save_rgb(width, height, &rgb, path)
 }
 
 /// Frames drawn to one scale, that of the full-grown horn, the skull end
@@ -624,7 +671,7 @@ pub fn write<R: Records + ?Sized>(
     let png = kinds.has(Kind::Png);
     if png {
         let path = dir.join("horn.png");
-        picture::save_half(&render(&last, j, 2400, 1800)?, &path)?;
+        save_picture(&last, j, (1200, 900), &path)?;
         written.push(path);
     }
     // years.png's tiles, then the animation's frames not among them: each

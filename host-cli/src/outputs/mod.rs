@@ -250,8 +250,8 @@ pub fn trimmed(x: f64, decimals: usize) -> String {
 /// its tile `[x, y, width, height]` of the halved picture.
 ///
 /// # Errors
-/// When a tile is not inside the halved picture, or as
-/// [`picture::save_half`].
+/// When `pixmap` is less than 2 pixels wide or high, a tile is not
+/// inside the halved picture, or the file cannot be written.
 pub fn save_montage(pixmap: &Pixmap, labels: &[([u32; 4], String)], path: &Path) -> Result<()> {
     let rgb = picture::half_rgb(pixmap)?;
     save_montage_rgb(rgb, (pixmap.width() / 2, pixmap.height() / 2), labels, path)

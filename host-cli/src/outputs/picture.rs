@@ -162,7 +162,9 @@ impl Canvases {
 pub fn half(pixmap: &Pixmap) -> Result<Pixmap> {
     let size = IntSize::from_wh(pixmap.width() / 2, pixmap.height() / 2)
         .context("picture too small to halve")?;
-    Pixmap::from_vec(halve::<4>(pixmap), size).context("picture too small to halve")
+    let mut rgba = vec![0; 4 * size.width() as usize * size.height() as usize];
+    halve::<4>(pixmap, &mut rgba);
+    Pixmap::from_vec(rgba, size).context("picture too small to halve")
 }
 
 /// [`half`] as RGB bytes, row by row: a picture drawn at twice its size
@@ -171,38 +173,44 @@ pub fn half(pixmap: &Pixmap) -> Result<Pixmap> {
 /// # Errors
 /// When `pixmap` is less than 2 pixels wide or high.
 pub fn half_rgb(pixmap: &Pixmap) -> Result<Vec<u8>> {
-    if pixmap.width() < 2 || pixmap.height() < 2 {
-        bail!("picture too small to halve");
-    }
-    Ok(halve::<3>(pixmap))
+    let mut rgb = vec![0; 3 * (pixmap.width() / 2 * (pixmap.height() / 2)) as usize];
+    half_rgb_into(pixmap, &mut rgb)?;
+    Ok(rgb)
 }
 
-/// Writes `pixmap`, drawn at twice its size, as an RGB PNG of half that
-/// size ([`half_rgb`]).
+/// [`half_rgb`] into `rgb`: for a picture drawn band by band, each band
+/// halved into its rows of the whole.
 ///
 /// # Errors
-/// When `pixmap` is less than 2 pixels wide or high, or encoding or
-/// writing fails.
-pub fn save_half(pixmap: &Pixmap, path: &Path) -> Result<()> {
-    let rgb = half_rgb(pixmap)?;
-    save_rgb(pixmap.width() / 2, pixmap.height() / 2, &rgb, path)
+/// When `pixmap` is less than 2 pixels wide or high, or `rgb` is not
+/// the size of its half.
+pub fn half_rgb_into(pixmap: &Pixmap, rgb: &mut [u8]) -> Result<()> {
+    let (w, h) = (pixmap.width() / 2, pixmap.height() / 2);
+    if w == 0 || h == 0 {
+        bail!("picture too small to halve");
+    }
+    if rgb.len() != 3 * w as usize * h as usize {
+        bail!("{} bytes cannot hold a {w}×{h} RGB picture", rgb.len());
+    }
+    halve::<3>(pixmap, rgb);
+    Ok(())
 }
 
 /// The 2×2 block averages of `pixmap`, the first `C` bytes of each, row by
-/// row; an odd last row or column of `pixmap` is left out.
+/// row, into `out` (that many bytes); an odd last row or column of
+/// `pixmap` is left out.
 ///
 /// A picture drawn at twice its size is mostly background, so the rows
 /// are taken 16 pixels at a time and a run of one colour in both rows
 /// (checked with a branch-free fold the compiler vectorises) is that
 /// colour halved. Any other block is averaged by [`average`].
-fn halve<const C: usize>(pixmap: &Pixmap) -> Vec<u8> {
+fn halve<const C: usize>(pixmap: &Pixmap, out: &mut [u8]) {
     /// Source pixels a uniform run covers (one 64-byte chunk a row).
     const RUN: usize = 16;
-    let (w, h) = (pixmap.width() as usize / 2, pixmap.height() as usize / 2);
+    let w = pixmap.width() as usize / 2;
     let stride = 4 * pixmap.width() as usize;
-    let mut out = vec![0; C * w * h];
     if w == 0 {
-        return out;
+        return;
     }
     // A uniform run's halved bytes, and its colour.
     let mut fill = [0; 4 * RUN / 2];
@@ -241,7 +249,6 @@ fn halve<const C: usize>(pixmap: &Pixmap) -> Vec<u8> {
         let from = 8 * (done / C);
         average::<C>(&mut row[done..], &top[from..], &bottom[from..]);
     }
-    out
 }
 
 /// The 2×2 block averages of the pixel pairs of `top` and `bottom`, the

@@ -6,6 +6,8 @@
 //! ([`super::picture::half`]) for smooth edges — far cheaper than a
 //! general path filler with coverage per triangle.
 
+use std::ops::RangeInclusive;
+
 use tiny_skia::{Pixmap, PremultipliedColorU8};
 
 /// Sub-pixel bits of the vertex coordinates.
@@ -17,11 +19,33 @@ const REACH: f32 = 65_536.0;
 /// Fills the triangle `p` (pixel coordinates, any winding) with the opaque
 /// colour `rgb`.
 pub fn triangle(pixmap: &mut Pixmap, p: [[f32; 2]; 3], rgb: [u8; 3]) {
+    triangle_in_band(pixmap, 0, p, rgb);
+}
+
+/// The rows of a picture the triangle `p` can fill (a row or so more
+/// than it does: enough to pick the bands of a picture drawn band by
+/// band that it reaches).
+pub fn rows(p: [[f32; 2]; 3]) -> RangeInclusive<u32> {
+    // As `triangle` reads a coordinate (not a number: 0), to whole pixels
+    // outwards and one more, since rounding to sub-pixels may move it.
+    let ys = p.map(|q| if q[1].is_nan() { 0.0 } else { q[1] });
+    let lo = ys.into_iter().fold(f32::INFINITY, f32::min);
+    let hi = ys.into_iter().fold(f32::NEG_INFINITY, f32::max);
+    // Saturating casts: negative to 0, past u32 to u32::MAX.
+    (lo.floor() - 1.0) as u32..=(hi.ceil() + 1.0) as u32
+}
+
+/// [`triangle`] for a picture drawn band by band: `pixmap` holds the
+/// picture's rows from `top` on, and gets the same pixels of them as the
+/// whole picture would (the vertices are moved by whole pixels after
+/// their rounding to sub-pixels, where every edge test is exact).
+pub fn triangle_in_band(pixmap: &mut Pixmap, top: u32, p: [[f32; 2]; 3], rgb: [u8; 3]) {
     let colour = PremultipliedColorU8::from_rgba(rgb[0], rgb[1], rgb[2], 255)
         .unwrap_or(PremultipliedColorU8::TRANSPARENT);
     let one = 1i64 << SUB;
     let fixed = |v: f32| (v.clamp(-REACH, REACH) * one as f32).round() as i64;
-    let [a, mut b, mut c] = p.map(|q| [fixed(q[0]), fixed(q[1])]);
+    let top = i64::from(top) * one;
+    let [a, mut b, mut c] = p.map(|q| [fixed(q[0]), fixed(q[1]) - top]);
     let area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
     if area == 0 {
         return;
@@ -167,5 +191,50 @@ mod tests {
         triangle(&mut p, [[0.0, 0.0], [3.0, 3.0], [1.5, 1.5]], [10, 0, 0]);
         triangle(&mut p, [[-1e9, -1e9], [1e9, -1e9], [0.0, 1e9]], [20, 0, 0]);
         assert_eq!(ascii(&p), ["bbb", "bbb", "bbb"]);
+    }
+
+    #[test]
+    fn a_triangle_drawn_band_by_band_is_the_triangle_drawn_whole() {
+        // Triangles large and small, some far off the picture or with a
+        // coordinate not a number, each drawn whole and in bands of 5 rows
+        // (each band drawing it when its rows reach the band): the same
+        // pixels.
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut random = |range: f32| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 40) as f32 / (1u64 << 24) as f32 * range - range / 4.0
+        };
+        let mut tris: Vec<[[f32; 2]; 3]> = (0..600)
+            .map(|k| {
+                let scale = [4.0, 12.0, 40.0, 90.0][k % 4];
+                std::array::from_fn(|_| [random(scale), random(scale)])
+            })
+            .collect();
+        tris.push([[10.0, f32::NAN], [30.0, 25.0], [5.0, 30.0]]);
+        tris.push([[-1e9, -1e9], [1e9, 10.5], [5.0, 1e9]]);
+        tris.push([[3.0, 2.0], [30.0, 9.0], [12.0, 1e30]]);
+        let (w, h, band) = (40u32, 33u32, 5u32);
+        let rows_of = |p: &Pixmap, from: u32, n: u32| {
+            p.pixels()[(from * w) as usize..][..(n * w) as usize].to_vec()
+        };
+        for p in tris {
+            let mut whole = Pixmap::new(w, h).unwrap();
+            triangle(&mut whole, p, [10, 0, 0]);
+            for top in (0..h).step_by(band as usize) {
+                let mut part = Pixmap::new(w, band.min(h - top)).unwrap();
+                let reach = rows(p);
+                if *reach.start() < top + part.height() && *reach.end() >= top {
+                    triangle_in_band(&mut part, top, p, [10, 0, 0]);
+                }
+                let n = part.height();
+                assert_eq!(
+                    rows_of(&part, 0, n),
+                    rows_of(&whole, top, n),
+                    "{p:?} from row {top}"
+                );
+            }
+        }
     }
 }
