@@ -54,6 +54,8 @@ ratio() { python3 -c "print(f'{$1 / $2:.2f}')"; }
 # `oled` or `serve`; profile `small`, opt-level "z") is the goal's figure,
 # the default build (profile `release`; it also draws and serves) beside it.
 say "flash: firmware, thumbv7m-none-eabi"
+# As firmware-check.sh builds (and REPORT.md records) it: fixed paths.
+. "$root/scripts/fixed-paths.sh"
 fw_target="${CARGO_TARGET_DIR:-$root/firmware-example/target}/thumbv7m-none-eabi"
 flash_of() { llvm-size -A "$1" | awk '$1 ~ /^\.(vector_table|text|rodata|data)$/ {s += $2} END {print s}'; }
 (cd firmware-example && env -u MORPHOGEN_SCENARIOS cargo build --profile small --target thumbv7m-none-eabi \

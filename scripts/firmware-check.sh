@@ -44,21 +44,9 @@ set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
 fw="$root/firmware-example"
-# Panic locations name their source files by absolute path, so the flash
-# figures would move with the folders the sources sit in (in the
-# stream-only build, 14 files of the core and 11 of the registry: 14 B
-# of flash per character of the checkout's path). Every Cortex-M build
-# here maps the checkout and the registry to fixed names, so a figure is
-# the same on any machine (a path with spaces is left as it is).
-registry="${CARGO_HOME:-$HOME/.cargo}/registry/src"
-case "$root$registry" in
-  *[[:space:]]*) ;;
-  *)
-    for t in THUMBV6M_NONE_EABI THUMBV7M_NONE_EABI THUMBV7EM_NONE_EABIHF; do
-      export "CARGO_TARGET_${t}_RUSTFLAGS=--remap-path-prefix=$root=/morphogen --remap-path-prefix=$registry=/crates"
-    done
-    ;;
-esac
+# Cortex-M builds name their sources by fixed paths (flash figures the
+# same on any machine).
+. "$root/scripts/fixed-paths.sh"
 capture_only=""
 flip=""
 write_report=1
