@@ -127,19 +127,24 @@ mod tests {
         assert_eq!(ascii(&p), [".aaaa.", ".baaa.", ".bbaa.", ".bbba."]);
     }
 
+    /// Coordinates in [−range/4, 3·range/4) from an xorshift sequence
+    /// seeded by `seed`: vertices on a picture `range` wide and around it.
+    fn coordinates(mut seed: u64) -> impl FnMut(f64) -> f64 {
+        move |range| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * range - range / 4.0
+        }
+    }
+
     #[test]
     fn random_triangles_cover_the_centres_inside_them() {
         // Against each pixel centre's three edge functions (sub-pixel
         // vertices, the top-left rule): tall, thin, tiny and off-picture
         // triangles, both windings.
         let one = f64::from(1u32 << SUB);
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut random = |range: f64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * range - range / 4.0
-        };
+        let mut random = coordinates(0x2545_f491_4f6c_dd1d);
         for round in 0..800 {
             let scale = [3.0, 12.0, 40.0][round / 2 % 3];
             // Half the rounds on a half-pixel grid: centres exactly on
@@ -199,17 +204,11 @@ mod tests {
         // coordinate not a number, each drawn whole and in bands of 5 rows
         // (each band drawing it when its rows reach the band): the same
         // pixels.
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut random = |range: f32| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 40) as f32 / (1u64 << 24) as f32 * range - range / 4.0
-        };
+        let mut random = coordinates(0x9e37_79b9_7f4a_7c15);
         let mut tris: Vec<[[f32; 2]; 3]> = (0..600)
             .map(|k| {
                 let scale = [4.0, 12.0, 40.0, 90.0][k % 4];
-                std::array::from_fn(|_| [random(scale), random(scale)])
+                std::array::from_fn(|_| [random(scale) as f32, random(scale) as f32])
             })
             .collect();
         tris.push([[10.0, f32::NAN], [30.0, 25.0], [5.0, 30.0]]);
