@@ -27,7 +27,7 @@ use crate::mask;
 use crate::schema::{self, BoneFrames, DayFrames, File, Include};
 use crate::surface::{self, SurfaceSpec};
 pub use crate::value::Invalid;
-use crate::value::{Result, fx, int, invalid};
+use crate::value::{Result, fx, int, invalid, shown};
 
 /// Reads the file an [`Include`] names.
 pub trait Files {
@@ -390,7 +390,7 @@ fn percent(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
     if !v.is_finite() || v < lo || v > hi {
         return invalid(
             key,
-            format!("{v} % is out of range (allowed: {lo} to {hi} %)"),
+            format!("{} % is out of range (allowed: {lo} to {hi} %)", shown(v)),
         );
     }
     Ok(Fx::from_bits((v * 65536.0 / 100.0).round() as i32))
@@ -403,7 +403,7 @@ fn degrees(key: &str, v: f64) -> Result<Angle> {
     if !v.is_finite() || v.abs() > 3600.0 {
         return invalid(
             key,
-            format!("{v}° is out of range (allowed: -3600 to 3600)"),
+            format!("{}° is out of range (allowed: -3600 to 3600)", shown(v)),
         );
     }
     if v.fract() == 0.0 {

@@ -25,11 +25,24 @@ pub(crate) fn invalid<T>(key: impl Into<String>, message: impl Into<String>) -> 
     })
 }
 
+/// `v` as a message shows it: as written for everyday sizes, in
+/// scientific notation when very large or very small (`1e308`, not 309
+/// digits).
+pub(crate) fn shown(v: f64) -> String {
+    let size = v.abs();
+    if size != 0.0 && !(1e-4..1e9).contains(&size) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
 /// A real number as 16.16 fixed point, rounded to nearest, within
 /// `lo..=hi`.
 pub(crate) fn fx(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
     note(key, v, lo, hi, false);
     if !v.is_finite() || v < lo || v > hi {
+        let v = shown(v);
         return invalid(key, format!("{v} is out of range (allowed: {lo} to {hi})"));
     }
     // |v| < 32768, so v·65536 is exact in f64 and fits an i32 once rounded.
@@ -89,4 +102,22 @@ pub(crate) fn ranges<R>(check: impl FnOnce() -> R) -> (R, Vec<Range>) {
     let result = check();
     let noted = NOTED.with_borrow_mut(Option::take).unwrap_or_default();
     (result, noted)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_in_messages_are_short() {
+        assert_eq!(shown(1e308), "1e308");
+        assert_eq!(shown(-2.5e-7), "-2.5e-7");
+        assert_eq!(shown(123_456.5), "123456.5");
+        assert_eq!(shown(0.25), "0.25");
+        assert_eq!(shown(0.0), "0");
+        assert_eq!(shown(f64::NAN), "NaN");
+        assert_eq!(shown(f64::NEG_INFINITY), "-inf");
+        let e = fx("horn.length", 1e300, 0.0, 100.0).unwrap_err();
+        assert_eq!(e.message, "1e300 is out of range (allowed: 0 to 100)");
+    }
 }
