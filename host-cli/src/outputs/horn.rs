@@ -457,8 +457,9 @@ fn save_picture(frame: &Frame, j: u32, (width, height): (u32, u32), path: &Path)
         ((f64::from(w) - used[0]) / 2.0) as f32,
         (f64::from(h) - (f64::from(h) - used[1]) / 2.0) as f32,
     ];
+    let mut canvas = Pixmap::new(w, BAND.min(h)).context("picture size must be positive")?;
     let tris = shaded(&mesh(frame, j), &view, [b[0], b[1]], at, scale);
-    // Each band's triangles, back to front.
+    // Each band's triangles, back to front (h > 0: at least one band).
     let mut bands = vec![Vec::new(); h.div_ceil(BAND) as usize];
     for (p, colour) in tris {
         let rows = raster::rows(p);
@@ -467,7 +468,6 @@ fn save_picture(frame: &Frame, j: u32, (width, height): (u32, u32), path: &Path)
             bands[band as usize].push((p, colour));
         }
     }
-    let mut canvas = Pixmap::new(w, BAND.min(h)).context("picture size must be positive")?;
     let mut rgb = vec![0; 3 * width as usize * height as usize];
     let band_bytes = 3 * width as usize * BAND as usize / 2;
     let rows = rgb.chunks_mut(band_bytes);
