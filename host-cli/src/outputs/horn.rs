@@ -476,8 +476,9 @@ fn save_picture(frame: &Frame, j: u32, (width, height): (u32, u32), path: &Path)
             canvas = Pixmap::new(w, h - top).context("picture size must be positive")?;
         }
         canvas.fill(background());
+        let first = u16::try_from(top).context("picture too tall to draw in bands")?;
         for (p, colour) in tris {
-            raster::triangle_in_band(&mut canvas, top, p, colour);
+            raster::triangle_in_band(&mut canvas, first, p, colour);
         }
         picture::half_rgb_into(&canvas, rgb)?;
     }

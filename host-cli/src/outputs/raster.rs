@@ -13,7 +13,8 @@ use tiny_skia::{Pixmap, PremultipliedColorU8};
 /// Sub-pixel bits of the vertex coordinates.
 const SUB: u32 = 8;
 /// The largest coordinate kept, pixels: beyond any picture, and small
-/// enough that edge products (< 2 · (2¹⁶⁺⁸)²) fit an `i64`.
+/// enough that edge products (< 2 · (2¹⁷⁺⁸)², a band's shift of at most
+/// 2¹⁶ rows included) fit an `i64`.
 const REACH: f32 = 65_536.0;
 
 /// Fills the triangle `p` (pixel coordinates, any winding) with the opaque
@@ -39,7 +40,7 @@ pub fn rows(p: [[f32; 2]; 3]) -> RangeInclusive<u32> {
 /// picture's rows from `top` on, and gets the same pixels of them as the
 /// whole picture would (the vertices are moved by whole pixels after
 /// their rounding to sub-pixels, where every edge test is exact).
-pub fn triangle_in_band(pixmap: &mut Pixmap, top: u32, p: [[f32; 2]; 3], rgb: [u8; 3]) {
+pub fn triangle_in_band(pixmap: &mut Pixmap, top: u16, p: [[f32; 2]; 3], rgb: [u8; 3]) {
     let colour = PremultipliedColorU8::from_rgba(rgb[0], rgb[1], rgb[2], 255)
         .unwrap_or(PremultipliedColorU8::TRANSPARENT);
     let one = 1i64 << SUB;
@@ -225,7 +226,7 @@ mod tests {
                 let mut part = Pixmap::new(w, band.min(h - top)).unwrap();
                 let reach = rows(p);
                 if *reach.start() < top + part.height() && *reach.end() >= top {
-                    triangle_in_band(&mut part, top, p, [10, 0, 0]);
+                    triangle_in_band(&mut part, top as u16, p, [10, 0, 0]);
                 }
                 let n = part.height();
                 assert_eq!(
