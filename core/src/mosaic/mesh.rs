@@ -382,10 +382,7 @@ impl<'m> Mesh<'m> {
         let Some(tri) = self.faces.get(f as usize) else {
             return [[0; 3]; 3];
         };
-        tri.map(|v| match self.vertices.get(v as usize) {
-            Some(&v) => v,
-            None => [0; 3],
-        })
+        tri.map(|v| self.vertices.get(v as usize).copied().unwrap_or_default())
     }
 
     /// The centroid of face `f` (Q16).
@@ -417,9 +414,12 @@ impl<'m> Mesh<'m> {
     /// ones set to zero).
     #[must_use]
     pub fn snap(&self, f: u32, p: [i32; 3]) -> [i32; 3] {
-        let corners = self.corners(f);
+        self.snap_onto(f, self.corners(f), self.normal(f).map(i64::from), p)
+    }
+
+    /// [`Mesh::snap`] onto face `f` with its `corners` and normal `n`.
+    fn snap_onto(&self, f: u32, corners: [[i32; 3]; 3], n: [i64; 3], p: [i32; 3]) -> [i32; 3] {
         let [a, b, c] = corners;
-        let n = self.normal(f).map(i64::from);
         // The weight of a corner: twice the area of (the next corner, the
         // one after, p) along n; Q16 cross (< 2^37) · Q16 normal < 2^55.
         let weight = |s: [i32; 3], t: [i32; 3]| {
@@ -439,6 +439,7 @@ impl<'m> Mesh<'m> {
     /// about it onto the neighbouring face, or, at a boundary, loses its
     /// part across the edge. At most [`MAX_CROSSINGS`] edges are crossed.
     #[must_use]
+    #[inline]
     pub fn walk(&self, from: Place, d: [i64; 3]) -> Place {
         let n = self.normal(from.face).map(i64::from);
         let d = along_plane(d, n);
@@ -462,7 +463,11 @@ impl<'m> Mesh<'m> {
     ) -> Place {
         let to = per_axis(|c| (i64::from(p[c]) + d[c]) as i32);
         let off = dot(sub(to, corners[0]), n) >> 16;
-        let to = if off.abs() <= 2 { to } else { self.snap(f, to) };
+        let to = if off.abs() <= 2 {
+            to
+        } else {
+            self.snap_onto(f, *corners, n, to)
+        };
         Place { face: f, p: to }
     }
 
@@ -514,7 +519,7 @@ impl<'m> Mesh<'m> {
         }
         Place {
             face,
-            p: self.snap(face, p),
+            p: self.snap_onto(face, corners, n, p),
         }
     }
 
@@ -522,7 +527,7 @@ impl<'m> Mesh<'m> {
     /// leaves by first, and the part of `d` made before it (Q16, below 1):
     /// h/−rate smallest, h the height of `p` over the edge and rate the
     /// move's; `None` if the move ends inside.
-    #[inline]
+    #[inline(always)]
     fn exit(
         &self,
         f: u32,
@@ -534,13 +539,12 @@ impl<'m> Mesh<'m> {
             return None;
         }
         let edges = match self.inward.get(f as usize) {
-            Some(stored) => stored.map(|e| e.map(i64::from)),
-            None => {
-                inward_normals(self.normal(f).map(i64::from), *corners).map(|e| e.map(i64::from))
-            }
+            Some(stored) => *stored,
+            None => inward_normals(self.normal(f).map(i64::from), *corners),
         };
         let mut exit: Option<(usize, i64)> = None;
-        for (k, (&inward, s)) in edges.iter().zip(corners).enumerate() {
+        for (k, (inward, s)) in edges.iter().zip(corners).enumerate() {
+            let inward = inward.map(i64::from);
             let rate = dot(d, inward);
             if rate >= 0 {
                 continue;

@@ -350,8 +350,11 @@ impl Snapshot<'_> {
             self.runs::<SHIFTED>(&probe, |edge, run| {
                 // The slots after this one: the pairs not yet found.
                 let later = run.start.max(slot + 1)..run.end;
+                if later.is_empty() {
+                    return;
+                }
                 if WHOLE {
-                    // base = 0: slots index the sums (none if later is empty).
+                    // base = 0: slots index the sums.
                     if let Some(sums) = sums.get_mut(later.clone()) {
                         own = self.run_pairs::<SHIFTED>(&probe, edge, later.start, own, sums);
                     }
@@ -361,9 +364,8 @@ impl Snapshot<'_> {
                     own = self.run_across::<SHIFTED>(&probe, edge, later, own, sums, base, beyond);
                     return;
                 }
-                // later.start > slot ≥ base; an empty run may end below
-                // base, then the wrapped range is empty or out of bounds.
-                let local = later.start - base..later.end.wrapping_sub(base);
+                // base ≤ slot < later.start < later.end: no underflow.
+                let local = later.start - base..later.end - base;
                 if let Some(sums) = sums.get_mut(local) {
                     own = self.run_pairs::<SHIFTED>(&probe, edge, later.start, own, sums);
                 }

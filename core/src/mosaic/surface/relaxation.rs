@@ -156,7 +156,10 @@ impl CubeGrid {
         for (o, s) in order.iter_mut().zip(sorted.iter_mut()) {
             let i = s[0] as u32;
             *o = i;
-            *s = places.get(i as usize).map_or([0; 3], |at| at.p);
+            *s = match places.get(i as usize) {
+                Some(at) => at.p,
+                None => [0; 3],
+            };
         }
         // Each entry now ends its bucket: move them one on.
         offsets.copy_within(0..b, 1);
@@ -169,14 +172,15 @@ impl CubeGrid {
     #[inline]
     fn runs(&self, c: usize, first: u32, last: u32) -> ([(u32, u32); 2], usize) {
         let m = self.modulus[c];
-        if last.saturating_sub(first) >= m.get() - 1 {
+        let span = last.saturating_sub(first);
+        if span >= m.get() - 1 {
             return ([(0, m.get()), (0, 0)], 1);
         }
-        let (a, b) = (first % m, last % m);
-        if a <= b {
-            ([(a, b - a + 1), (0, 0)], 1)
-        } else {
-            ([(a, m.get() - a), (0, b + 1)], 2)
+        // last % m, from first's residue: a + span < 2m.
+        let a = first % m;
+        match (a + span).checked_sub(m.get()) {
+            None => ([(a, span + 1), (0, 0)], 1),
+            Some(b) => ([(a, m.get() - a), (0, b + 1)], 2),
         }
     }
 }
@@ -190,6 +194,9 @@ pub struct Snapshot<'s> {
     kind: &'s [u8],
     grid: CubeGrid,
     forces: &'s SurfaceForces<'s>,
+    /// The window of a probe at the origin ([`Window::around`]): what
+    /// depends on r alone, once a step.
+    around_origin: Window,
 }
 
 impl Snapshot<'_> {
@@ -221,20 +228,17 @@ impl Snapshot<'_> {
     fn probe(&self, slot: usize) -> Option<Probe<'_>> {
         let p = *self.sorted.get(slot)?;
         let i = self.cell(slot);
-        let r = self.forces.radius;
-        let reach = r.wrapping_sub(1);
         let kind = self.kind_of(i);
+        let origin = self.around_origin;
         Some(Probe {
             cell: i,
             kind,
             p,
             window: Window {
-                edge: p.map(|x| x.wrapping_sub(reach) as u32),
-                reach,
-                width: (r as u32).wrapping_mul(2).wrapping_sub(1),
-                r2: i64::from(r) * i64::from(r),
+                edge: p.map(|x| x.wrapping_sub(origin.reach) as u32),
+                ..origin
             },
-            r: i64::from(r),
+            r: i64::from(self.forces.radius),
             repel: &self.forces.repel[kind],
         })
     }
@@ -329,15 +333,15 @@ impl Snapshot<'_> {
             let own = self.runs(&probe, [0; 3], |mut own, run| {
                 // The slots after this one: the pairs not yet found.
                 let later = run.start.max(slot + 1)..run.end;
+                if later.is_empty() {
+                    return own;
+                }
                 if WHOLE {
-                    // base = 0: slots index the sums (none if later is empty).
+                    // base = 0: slots index the sums.
                     return match sums.get_mut(later.clone()) {
                         Some(sums) => self.run_pairs(&probe, later.start, own, sums),
                         None => own,
                     };
-                }
-                if later.is_empty() {
-                    return own;
                 }
                 // base ≤ slot < later.start ≤ split ≤ later.end: no underflow.
                 let split = held.max(later.start).min(later.end);
@@ -498,14 +502,15 @@ impl Snapshot<'_> {
                 ((ONE - wa) * s[c] + wa * steer + (ONE >> 1)) >> 16
             })
         };
-        let d = per_axis(|c| {
-            let push = ((wd * blend[c] + (ONE >> 1)) >> 16).max(-r).min(r);
-            if beta == 0 {
-                return push; // no carry: (0 + 2^15) >> 16 = 0
-            }
-            let carry = (beta * i64::from(last[c]) + (ONE >> 1)) >> 16;
-            (push + carry).max(-r).min(r)
-        });
+        let push = per_axis(|c| ((wd * blend[c] + (ONE >> 1)) >> 16).max(-r).min(r));
+        let d = if beta == 0 {
+            push // no carry: (0 + 2^15) >> 16 = 0
+        } else {
+            per_axis(|c| {
+                let carry = (beta * i64::from(last[c]) + (ONE >> 1)) >> 16;
+                (push[c] + carry).max(-r).min(r)
+            })
+        };
         let to = forces.mesh.walk(from, d);
         let step = per_axis(|c| to.p[c].wrapping_sub(from.p[c]));
         (to, step)
@@ -541,10 +546,23 @@ struct Window {
     r2: i64,
 }
 
+impl Window {
+    /// The window of radius `r` around the origin (its `edge` is then
+    /// −(r − 1)).
+    fn around(r: i32) -> Window {
+        let reach = r.wrapping_sub(1);
+        Window {
+            edge: [reach.wrapping_neg() as u32; 3],
+            reach,
+            width: (r as u32).wrapping_mul(2).wrapping_sub(1),
+            r2: i64::from(r) * i64::from(r),
+        }
+    }
+}
+
 /// The push on cell `i` of cell `j` displaced by `d` (Q16) from it, at
-/// squared distance `d2` < r² (Q32): ρ·(r − d)·d⃗/d as Q32. Out of line:
-/// the scan's loop keeps its registers.
-#[inline(never)]
+/// squared distance `d2` < r² (Q32): ρ·(r − d)·d⃗/d as Q32.
+#[inline]
 fn push(i: usize, j: usize, d: [i64; 3], d2: i64, r: i64, repel: i64) -> [i64; 3] {
     if d2 == 0 {
         // Coincident cells: apart along x, the lower index towards −x.
@@ -560,7 +578,7 @@ fn push(i: usize, j: usize, d: [i64; 3], d2: i64, r: i64, repel: i64) -> [i64; 3
 /// on `j` by `i` (`repel[1]`), with one root and one division. The floor
 /// of `k·(−d)/2^16` is taken from `−k·d` itself, so the bits are those of
 /// `j`'s own [`push`].
-#[inline(never)]
+#[inline]
 fn pair_pushes(i: usize, j: usize, d: [i64; 3], d2: i64, r: i64, repel: [i32; 2]) -> [[i64; 3]; 2] {
     let repel = repel.map(i64::from);
     if d2 == 0 {
@@ -613,6 +631,7 @@ pub fn snapshot<'s>(
         kind: &cells.kind[..n],
         grid,
         forces,
+        around_origin: Window::around(forces.radius),
     };
     let velocity = match cells.velocity.get_mut(..n) {
         Some(v) => v,
@@ -643,6 +662,7 @@ pub fn sorted_snapshot<'s>(
         kind,
         grid,
         forces,
+        around_origin: Window::around(forces.radius),
     }
 }
 
@@ -695,11 +715,14 @@ pub fn relax_pairs(
     sums.fill([0; 3]);
     // Every later slot's sum is in `sums`: nothing goes beyond.
     snapshot.pair_sums(0..n, sums, &mut |_, _| {});
-    for (slot, sum) in sums.iter().enumerate() {
-        let i = snapshot.cell(slot);
+    for (sum, &i) in sums.iter().zip(snapshot.order) {
+        let i = i as usize;
+        let Some(place) = places.get_mut(i) else {
+            continue;
+        };
         let last = velocity.get(i).copied().unwrap_or([0; 3]);
-        let (to, step) = snapshot.moved_by(*sum, places[i], last);
-        places[i] = to;
+        let (to, step) = snapshot.moved_by(*sum, *place, last);
+        *place = to;
         if let Some(v) = velocity.get_mut(i) {
             *v = step;
         }
