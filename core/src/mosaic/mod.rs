@@ -39,6 +39,7 @@
 //! ```
 
 pub mod control;
+mod day;
 pub mod division;
 pub mod domain;
 pub mod grid;
@@ -56,8 +57,9 @@ pub use params::{CellType, Frames, MAX_MOMENTUM, MAX_SELF_ADHESION, MAX_TYPES, P
 use crate::Error;
 use crate::fx::Fx;
 use crate::rng::KeyedRng;
-use crate::sim::{Deferred, Progress, Simulation, Start};
+use crate::sim::{Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
+use day::{Day, Run};
 use division::{Purpose, stream_id};
 use grid::Grid;
 use relaxation::{Forces, Relax};
@@ -226,18 +228,9 @@ pub fn expected_peak_cells(params: &Params) -> u64 {
 #[derive(Debug)]
 pub struct Mosaic<'a, S: Relax> {
     store: S,
-    params: Option<&'a Params<'a>>,
-    seed: u64,
-    cells: u32,
-    day: u16,
-    /// Steps done: 0 before day 0, then days done + 1.
-    done: u32,
-    frame: u32,
-    radius: i32,
+    run: Run<'a>,
     field: Field,
     divisions: [[u32; MAX_TYPES]; MAX_TYPES],
-    /// A failed [`Mosaic::start`], reported by the next step.
-    pending: Deferred,
 }
 
 impl<'a, S: Relax> Mosaic<'a, S> {
@@ -245,16 +238,9 @@ impl<'a, S: Relax> Mosaic<'a, S> {
     pub const fn new(store: S) -> Mosaic<'a, S> {
         Mosaic {
             store,
-            params: None,
-            seed: 0,
-            cells: 0,
-            day: 0,
-            done: 0,
-            frame: 0,
-            radius: 0,
+            run: Run::new(),
             field: Field::zero(),
             divisions: [[0; MAX_TYPES]; MAX_TYPES],
-            pending: Deferred::new(),
         }
     }
 
@@ -264,50 +250,19 @@ impl<'a, S: Relax> Mosaic<'a, S> {
     /// Invalid parameters, or more initial cells than the store holds; the
     /// error is also kept and returned by the next [`Simulation::step`].
     pub fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
-        self.params = None;
-        let result = self.try_start(params, seed);
-        self.pending.keep(result)
-    }
-
-    fn try_start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
-        validate(params)?;
-        if params.initial_cells as usize > self.store.capacity() {
-            return Err(Error::Capacity {
-                limit: CELL_LIMIT,
-                capacity: self.store.capacity() as u32,
-            });
-        }
-        let velocities = self.store.slices().velocity.len();
-        if params.momentum != Fx::ZERO && velocities < self.store.capacity() {
-            return Err(Error::Capacity {
-                limit: VELOCITY_LIMIT,
-                capacity: velocities as u32,
-            });
-        }
-        self.field = match &params.anisotropy {
-            Some(a) => Field::interpolate(&params.domain, a).map_err(MosaicError::Control)?,
-            None => Field::zero(),
-        };
-        self.params = Some(params);
-        self.seed = seed;
-        self.cells = 0;
-        self.day = 0;
-        self.done = 0;
-        self.frame = 0;
-        self.divisions = [[0; MAX_TYPES]; MAX_TYPES];
-        Ok(())
+        self.start_run(params, seed)
     }
 
     /// Number of cells.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.cells as usize
+        self.run.cells as usize
     }
 
     /// Whether there are no cells (before day 0).
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.cells == 0
+        self.run.cells == 0
     }
 
     /// The cell store (for benches and tools that drive the kernels
@@ -319,7 +274,7 @@ impl<'a, S: Relax> Mosaic<'a, S> {
     /// The current repulsion radius (Q16 bits).
     #[must_use]
     pub fn radius(&self) -> Fx {
-        Fx::from_bits(self.radius)
+        Fx::from_bits(self.run.radius)
     }
 
     /// The cells' positions (Q16 bits) by id.
@@ -343,30 +298,43 @@ impl<'a, S: Relax> Mosaic<'a, S> {
     /// The day last simulated (0 after the initial relaxation).
     #[must_use]
     pub fn day(&self) -> u16 {
-        self.day
+        self.run.day
+    }
+}
+
+impl<'a, S: Relax> Day<'a> for Mosaic<'a, S> {
+    fn run(&mut self) -> &mut Run<'a> {
+        &mut self.run
     }
 
-    fn params(&self) -> Result<&'a Params<'a>, Error> {
-        self.params.ok_or(Error::NotStarted)
+    fn prepare(&mut self, params: &'a Params<'a>) -> Result<(), Error> {
+        validate(params)?;
+        let velocities = self.store.slices().velocity.len();
+        day::check_store(params, self.store.capacity(), velocities)?;
+        self.field = match &params.anisotropy {
+            Some(a) => Field::interpolate(&params.domain, a).map_err(MosaicError::Control)?,
+            None => Field::zero(),
+        };
+        self.divisions = [[0; MAX_TYPES]; MAX_TYPES];
+        Ok(())
     }
 
     /// r = w_r·√(area/N), held below half the smallest side (so that the
     /// minimum image is unique).
     fn update_radius(&mut self, params: &Params) {
-        let n = i64::from(self.cells.max(1));
+        let n = i64::from(self.run.cells.max(1));
         let spacing = ((params.domain.area_q32() / n) as u64).isqrt() as i64; // Q16
         let r = (spacing * i64::from(params.radius_weight.to_bits())) >> 16;
         let half = i64::from(params.domain.size[0].min(params.domain.size[1]).to_bits() / 2 - 1);
-        self.radius = r.clamp(1, half.max(1)) as i32;
+        self.run.radius = r.clamp(1, half.max(1)) as i32;
     }
 
-    /// Spreads the initial cells (day 0).
     fn place(&mut self, params: &Params) -> Result<(), Error> {
         let cells = self.store.slices();
         cells.velocity.fill([0; 2]);
         let size = params.domain.size.map(|s| s.to_bits() as u32);
         for id in 0..params.initial_cells {
-            let mut rng = KeyedRng::new(self.seed, stream_id(Purpose::Place, 0, id));
+            let mut rng = KeyedRng::new(self.run.seed, stream_id(Purpose::Place, 0, id));
             let p = [rng.below(size[0]) as i32, rng.below(size[1]) as i32];
             let mut kind = division::initial_type(&mut rng, params.types);
             if kind != 0 && params.mask.is_some_and(|m| !m.allows(&params.domain, p)) {
@@ -377,18 +345,16 @@ impl<'a, S: Relax> Mosaic<'a, S> {
             cells.kind[id as usize] = kind;
             cells.next_division[id as usize] = division::interval(&mut rng, t)?;
         }
-        self.cells = params.initial_cells;
+        self.run.cells = params.initial_cells;
         Ok(())
     }
 
-    /// Divides every cell whose day has come (in id order; children are
-    /// appended and divide on later days only).
     fn divide(&mut self, params: &Params) -> Result<(), Error> {
-        let day = self.day;
+        let (seed, day) = (self.run.seed, self.run.day);
         let capacity = self.store.capacity();
-        let disc = self.radius / 200; // diameter 1 % of r
+        let disc = self.run.radius / 200; // diameter 1 % of r
         let cells = self.store.slices();
-        let existing = self.cells as usize;
+        let existing = self.run.cells as usize;
         let mut n = existing;
         for id in 0..existing {
             if cells.next_division[id] > day {
@@ -401,7 +367,7 @@ impl<'a, S: Relax> Mosaic<'a, S> {
                 });
             }
             let parent = cells.kind[id];
-            let split = division::split(self.seed, day, id as u32, parent, params, disc)?;
+            let split = division::split(seed, day, id as u32, parent, params, disc)?;
             let (child, off) = (split.child, split.offset);
             let p = cells.pos[id];
             cells.pos[n] = [
@@ -421,12 +387,10 @@ impl<'a, S: Relax> Mosaic<'a, S> {
             self.divisions[parent as usize % MAX_TYPES][child as usize % MAX_TYPES] += 1;
             n += 1;
         }
-        self.cells = n as u32;
+        self.run.cells = n as u32;
         Ok(())
     }
 
-    /// `times` relaxation steps at the current radius, with or without
-    /// adhesion.
     fn relax(&mut self, params: &Params, times: u16, adhesion: bool) {
         let repel = if adhesion {
             repulsion(&params.adhesion)
@@ -435,7 +399,7 @@ impl<'a, S: Relax> Mosaic<'a, S> {
         };
         let forces = Forces {
             domain: &params.domain,
-            radius: self.radius,
+            radius: self.run.radius,
             repel,
             push_weight: params.push_weight.to_bits(),
             anisotropy_weight: params
@@ -444,20 +408,13 @@ impl<'a, S: Relax> Mosaic<'a, S> {
             field: params.anisotropy.as_ref().map(|_| &self.field),
             momentum: params.momentum.to_bits(),
         };
-        let n = self.cells as usize;
+        let n = self.run.cells as usize;
         let max_bins = self.store.slices().bins.len().saturating_sub(1);
-        let grid = Grid::plan(&params.domain, self.radius, max_bins);
+        let grid = Grid::plan(&params.domain, self.run.radius, max_bins);
         self.store.relax(n, &grid, &forces, times);
     }
 
-    fn emit(&mut self, params: &Params, sink: &mut dyn Sink) -> Result<(), Error> {
-        if !params.frames.includes(self.day) {
-            return Ok(());
-        }
-        sink.record(&Record::FrameStart {
-            frame: self.frame,
-            time: Fx::from_int(i32::from(self.day)),
-        })?;
+    fn records(&mut self, sink: &mut dyn Sink) -> Result<(), Error> {
         let n = self.len();
         let (pos, kind) = (self.store.positions(), self.store.kinds());
         for (id, (p, k)) in pos[..n].iter().zip(&kind[..n]).enumerate() {
@@ -467,8 +424,6 @@ impl<'a, S: Relax> Mosaic<'a, S> {
                 p: [Fx::from_bits(p[0]), Fx::from_bits(p[1])],
             })?;
         }
-        sink.record(&Record::FrameEnd { frame: self.frame })?;
-        self.frame += 1;
         Ok(())
     }
 }
@@ -483,30 +438,10 @@ impl<'a, S: Relax> Start<'a> for Mosaic<'a, S> {
 
 impl<S: Relax> Simulation for Mosaic<'_, S> {
     /// Step 0 places and relaxes the initial cells; step d ≥ 1 simulates
-    /// day d. A step streams its day if [`Params::frames`] selects it.
+    /// day d (the day cycle both mosaics share). A step streams its day if
+    /// [`Params::frames`] selects it.
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
-        self.pending.check()?;
-        let params = self.params()?;
-        let total = u32::from(params.days) + 1;
-        if self.done >= total {
-            return Ok(Progress { done: total, total });
-        }
-        if self.done == 0 {
-            self.place(params)?;
-            self.update_radius(params);
-            self.relax(params, params.initial_relaxations, false);
-        } else {
-            self.day += 1;
-            self.divide(params)?;
-            self.update_radius(params);
-            self.relax(params, params.daily_relaxations, true);
-        }
-        self.emit(params, sink)?;
-        self.done += 1;
-        Ok(Progress {
-            done: self.done,
-            total,
-        })
+        self.step_day(sink)
     }
 }
 

@@ -71,10 +71,10 @@ fn grid_and_naive_relaxation_agree_bit_for_bit() {
         momentum: 0,
     };
     for _ in 0..5 {
-        let f = forces(a.radius);
+        let f = forces(a.run.radius);
         let n = a.len();
         let mut s = a.store.slices();
-        let grid = Grid::plan(&params.domain, a.radius, s.bins.len() - 1);
+        let grid = Grid::plan(&params.domain, a.run.radius, s.bins.len() - 1);
         relaxation::relax(&mut s, n, &grid, &f);
         relaxation::relax_naive(&mut b.store.slices(), n, &f);
     }
@@ -217,7 +217,7 @@ fn a_heavy_ball_step_adds_beta_times_the_last_move_to_the_plain_step() {
     m.update_radius(params);
     let forces = |momentum| Forces {
         domain: &params.domain,
-        radius: m.radius,
+        radius: m.run.radius,
         repel: [[40_000; MAX_TYPES]; MAX_TYPES],
         push_weight: params.push_weight.to_bits(),
         anisotropy_weight: 0,
@@ -227,7 +227,7 @@ fn a_heavy_ball_step_adds_beta_times_the_last_move_to_the_plain_step() {
     let (heavy, plain) = (forces(beta), forces(0));
     let n = m.len();
     let mut store = m.store;
-    let grid = Grid::plan(&params.domain, m.radius, 128);
+    let grid = Grid::plan(&params.domain, m.run.radius, 128);
     for step in 0..4 {
         let before = store.cells;
         let last = store.velocity;
@@ -241,7 +241,7 @@ fn a_heavy_ball_step_adds_beta_times_the_last_move_to_the_plain_step() {
             for c in 0..2 {
                 let d = i64::from(params.domain.delta(c, copy.cells[i][c], before[i][c]));
                 let carry = (i64::from(beta) * i64::from(last[i][c]) + (1 << 15)) >> 16;
-                let r = i64::from(m.radius);
+                let r = i64::from(m.run.radius);
                 let s = (d + carry).clamp(-r, r);
                 let want = params.domain.confine(c, i64::from(before[i][c]) + s);
                 assert_eq!(store.cells[i][c], want, "step {step} cell {i}");
@@ -371,7 +371,7 @@ fn shares_of_the_slots_and_their_spills_give_the_sums_of_one_pass() {
         m.update_radius(params);
         let f = Forces {
             domain: &params.domain,
-            radius: m.radius,
+            radius: m.run.radius,
             repel: [[40_000; MAX_TYPES]; MAX_TYPES],
             push_weight: params.push_weight.to_bits(),
             anisotropy_weight: 0,
@@ -379,7 +379,7 @@ fn shares_of_the_slots_and_their_spills_give_the_sums_of_one_pass() {
             momentum: 0,
         };
         let n = m.len();
-        let grid = Grid::plan(&params.domain, m.radius, max_bins);
+        let grid = Grid::plan(&params.domain, m.run.radius, max_bins);
         let mut cells = m.store.slices();
         let (snapshot, _) = relaxation::snapshot(&mut cells, n, &grid, &f);
         let mut whole = vec![[0i64; 2]; n];

@@ -2,7 +2,7 @@
 //! onto the iso-surface V(r) = V0 of a skeleton's field
 //! V(r) = Σ ρ_i / |r − R_i|, from a sphere around the skeleton inwards.
 //!
-//! - [`field`] evaluates V and ∇V (wide accumulators in fixed point);
+//! - [`field`](fn@field) evaluates V and ∇V (wide accumulators in fixed point);
 //! - [`Mesh`] is the closed triangle mesh: a UV sphere, refined by edge
 //!   splits only, so it stays a genus-0 2-manifold by construction;
 //! - [`Shrinkwrap`] is the iteration: raise V0 by ΔV, move every vertex,

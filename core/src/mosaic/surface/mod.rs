@@ -17,14 +17,15 @@ pub mod spec;
 pub mod store;
 
 use super::control::{Anisotropy, Field};
+use super::day::{self, Day, Run};
 use super::division::{self, Purpose, stream_id};
 use super::mesh::{Mesh, MeshError, MeshInfo, MeshParts, Place, along_plane};
 use super::params::{MAX_TYPES, Params};
-use super::{CELL_LIMIT, MosaicError, VELOCITY_LIMIT, repulsion, validate};
+use super::{CELL_LIMIT, MosaicError, repulsion, validate};
 use crate::Error;
 use crate::fx::{Fx, Real};
 use crate::rng::KeyedRng;
-use crate::sim::{Deferred, Progress, Simulation, Start};
+use crate::sim::{Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 use meshes::MeshStore;
 use relaxation::{SurfaceForces, SurfaceRelax};
@@ -91,14 +92,7 @@ pub struct SurfaceMosaic<'a, S: SurfaceRelax, M: MeshStore> {
     meshes: M,
     /// The counts, area and bounds of the mesh in `meshes`.
     mesh: MeshInfo,
-    params: Option<&'a Params<'a>>,
-    seed: u64,
-    cells: u32,
-    day: u16,
-    done: u32,
-    frame: u32,
-    radius: i32,
-    pending: Deferred,
+    run: Run<'a>,
 }
 
 /// The mesh in `meshes`, as `info` describes it.
@@ -134,14 +128,7 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
             store,
             meshes,
             mesh: MeshInfo::EMPTY,
-            params: None,
-            seed: 0,
-            cells: 0,
-            day: 0,
-            done: 0,
-            frame: 0,
-            radius: 0,
-            pending: Deferred::new(),
+            run: Run::new(),
         }
     }
 
@@ -151,44 +138,7 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
     /// Invalid parameters, a run without a surface, or more initial cells
     /// than the store holds; also returned by the next step.
     pub fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
-        self.params = None;
-        let result = self.try_start(params, seed);
-        self.pending.keep(result)
-    }
-
-    fn try_start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
-        validate(params)?;
-        let Some(surface) = &params.surface else {
-            return Err(MosaicError::Param("surface (a surface mosaic needs one)").into());
-        };
-        self.mesh = MeshInfo::EMPTY;
-        let (nv, nf) = surface.counts();
-        let (buffers, _) = self.meshes.buffers(nv, nf)?;
-        self.mesh = build_mesh(surface, buffers)?.info();
-        let capacity = self.store.capacity();
-        if params.initial_cells as usize > capacity {
-            return Err(Error::Capacity {
-                limit: CELL_LIMIT,
-                capacity: capacity as u32,
-            });
-        }
-        let velocities = self.store.slices().velocity.len();
-        if params.momentum != Fx::ZERO && velocities < capacity {
-            return Err(Error::Capacity {
-                limit: VELOCITY_LIMIT,
-                capacity: velocities as u32,
-            });
-        }
-        if let Some(a) = &params.anisotropy {
-            self.tabulate(params, a)?;
-        }
-        self.params = Some(params);
-        self.seed = seed;
-        self.cells = 0;
-        self.day = 0;
-        self.done = 0;
-        self.frame = 0;
-        Ok(())
+        self.start_run(params, seed)
     }
 
     /// The mesh (empty before a start).
@@ -200,13 +150,13 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
     /// Number of cells.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.cells as usize
+        self.run.cells as usize
     }
 
     /// Whether there are no cells (before day 0).
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.cells == 0
+        self.run.cells == 0
     }
 
     /// The cell store (for benches and tools that drive the kernels
@@ -218,32 +168,13 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
     /// The current repulsion radius (Q16 bits).
     #[must_use]
     pub fn radius(&self) -> Fx {
-        Fx::from_bits(self.radius)
+        Fx::from_bits(self.run.radius)
     }
 
     /// Where the cells are, by id.
     #[must_use]
     pub fn places(&self) -> &[Place] {
         &self.store.places()[..self.len()]
-    }
-
-    fn params(&self) -> Result<&'a Params<'a>, Error> {
-        self.params.ok_or(Error::NotStarted)
-    }
-
-    /// r = w_r·√(area/N) for the mesh's area.
-    fn update_radius(&mut self, params: &Params) {
-        let n = u64::from(self.cells.max(1));
-        let area = self.mesh().area_q16();
-        // area/N as Q32: shifted first while it fits (2^47 square units
-        // and more only on meshes of millions of large triangles).
-        let per_cell = match area.checked_mul(1 << 16) {
-            Some(q32) => q32 / n,
-            None => (area / n).saturating_mul(1 << 16),
-        };
-        let spacing = per_cell.isqrt(); // Q16
-        let r = (spacing * u64::from(params.radius_weight.to_bits().unsigned_abs())) >> 16;
-        self.radius = r.clamp(1, 1 << 28) as i32;
     }
 
     /// The (u, v) of `p` in the domain, through the control map.
@@ -339,12 +270,49 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
             .unwrap_or(1)
             .max(1)
     }
+}
 
-    /// Spreads the initial cells (day 0).
+impl<'a, S: SurfaceRelax, M: MeshStore> Day<'a> for SurfaceMosaic<'a, S, M> {
+    fn run(&mut self) -> &mut Run<'a> {
+        &mut self.run
+    }
+
+    fn prepare(&mut self, params: &'a Params<'a>) -> Result<(), Error> {
+        validate(params)?;
+        let Some(surface) = &params.surface else {
+            return Err(MosaicError::Param("surface (a surface mosaic needs one)").into());
+        };
+        self.mesh = MeshInfo::EMPTY;
+        let (nv, nf) = surface.counts();
+        let (buffers, _) = self.meshes.buffers(nv, nf)?;
+        self.mesh = build_mesh(surface, buffers)?.info();
+        let velocities = self.store.slices().velocity.len();
+        day::check_store(params, self.store.capacity(), velocities)?;
+        if let Some(a) = &params.anisotropy {
+            self.tabulate(params, a)?;
+        }
+        Ok(())
+    }
+
+    /// r = w_r·√(area/N) for the mesh's area.
+    fn update_radius(&mut self, params: &Params) {
+        let n = u64::from(self.run.cells.max(1));
+        let area = self.mesh().area_q16();
+        // area/N as Q32: shifted first while it fits (2^47 square units
+        // and more only on meshes of millions of large triangles).
+        let per_cell = match area.checked_mul(1 << 16) {
+            Some(q32) => q32 / n,
+            None => (area / n).saturating_mul(1 << 16),
+        };
+        let spacing = per_cell.isqrt(); // Q16
+        let r = (spacing * u64::from(params.radius_weight.to_bits().unsigned_abs())) >> 16;
+        self.run.radius = r.clamp(1, 1 << 28) as i32;
+    }
+
     fn place(&mut self, params: &Params) -> Result<(), Error> {
         let largest = self.largest_double_area();
         for id in 0..params.initial_cells {
-            let mut rng = KeyedRng::new(self.seed, stream_id(Purpose::Place, 0, id));
+            let mut rng = KeyedRng::new(self.run.seed, stream_id(Purpose::Place, 0, id));
             let at = self.random_place(&mut rng, largest);
             let mut kind = division::initial_type(&mut rng, params.types);
             let uv = self.control_uv(params, at.p);
@@ -360,18 +328,17 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
                 *v = [0; 3];
             }
         }
-        self.cells = params.initial_cells;
+        self.run.cells = params.initial_cells;
         Ok(())
     }
 
-    /// Divides every cell whose day has come (children appended).
     fn divide(&mut self, params: &Params) -> Result<(), Error> {
-        let day = self.day;
+        let (seed, day) = (self.run.seed, self.run.day);
         let capacity = self.store.capacity();
-        let disc = self.radius / 200;
+        let disc = self.run.radius / 200;
         let mesh = mesh_of(&self.meshes, &self.mesh);
         let cells = self.store.slices();
-        let existing = self.cells as usize;
+        let existing = self.run.cells as usize;
         let mut n = existing;
         for id in 0..existing {
             if cells.next_division[id] > day {
@@ -383,7 +350,7 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
                     capacity: capacity as u32,
                 });
             }
-            let split = division::split(self.seed, day, id as u32, cells.kind[id], params, disc)?;
+            let split = division::split(seed, day, id as u32, cells.kind[id], params, disc)?;
             let off = split.offset.map(i64::from);
             let at = cells.place[id];
             let [along, across] = mesh.frame(at.face);
@@ -397,7 +364,7 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
             cells.next_division[id] = split.parent_next;
             n += 1;
         }
-        self.cells = n as u32;
+        self.run.cells = n as u32;
         Ok(())
     }
 
@@ -411,7 +378,7 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
         let mesh = Mesh::view(&self.mesh, arrays);
         let forces = SurfaceForces {
             mesh: &mesh,
-            radius: self.radius,
+            radius: self.run.radius,
             repel,
             push_weight: params.push_weight.to_bits(),
             anisotropy_weight: params
@@ -420,19 +387,12 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
             field: params.anisotropy.as_ref().map(|_| field),
             momentum: params.momentum.to_bits(),
         };
-        let n = self.cells as usize;
+        let n = self.run.cells as usize;
         self.store.relax(n, &forces, times);
     }
 
-    fn emit(&mut self, params: &Params, sink: &mut dyn Sink) -> Result<(), Error> {
-        if !params.frames.includes(self.day) {
-            return Ok(());
-        }
-        sink.record(&Record::FrameStart {
-            frame: self.frame,
-            time: Fx::from_int(i32::from(self.day)),
-        })?;
-        if self.frame == 0 {
+    fn records(&mut self, sink: &mut dyn Sink) -> Result<(), Error> {
+        if self.run.frame == 0 {
             let mesh = self.mesh();
             for (id, v) in mesh.vertices().iter().enumerate() {
                 sink.record(&Record::MeshVertex {
@@ -453,8 +413,6 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
                 p: at.p.map(Fx::from_bits),
             })?;
         }
-        sink.record(&Record::FrameEnd { frame: self.frame })?;
-        self.frame += 1;
         Ok(())
     }
 }
@@ -471,28 +429,7 @@ impl<S: SurfaceRelax, M: MeshStore> Simulation for SurfaceMosaic<'_, S, M> {
     /// Step 0 places and relaxes the initial cells; step d ≥ 1 simulates
     /// day d, as on the plane.
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
-        self.pending.check()?;
-        let params = self.params()?;
-        let total = u32::from(params.days) + 1;
-        if self.done >= total {
-            return Ok(Progress { done: total, total });
-        }
-        if self.done == 0 {
-            self.place(params)?;
-            self.update_radius(params);
-            self.relax(params, params.initial_relaxations, false);
-        } else {
-            self.day += 1;
-            self.divide(params)?;
-            self.update_radius(params);
-            self.relax(params, params.daily_relaxations, true);
-        }
-        self.emit(params, sink)?;
-        self.done += 1;
-        Ok(Progress {
-            done: self.done,
-            total,
-        })
+        self.step_day(sink)
     }
 }
 

@@ -7,10 +7,10 @@
 use super::meshes::ArrayMeshStore;
 use super::store::ArraySurfaceStore;
 use super::*;
-use crate::mosaic::Domain;
 use crate::mosaic::mesh::MeshArrays;
 use crate::mosaic::params::{CellType, Frames, NO_MUTATION, pair_table};
 use crate::mosaic::shapes::{Shape, Tessellation};
+use crate::mosaic::{Domain, VELOCITY_LIMIT};
 use crate::stream::Encoder;
 use crate::stream::SinkError;
 
