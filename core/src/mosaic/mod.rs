@@ -225,7 +225,12 @@ pub fn expected_peak_cells(params: &Params) -> u64 {
 }
 
 /// A running mosaic over the cell store `S`.
+///
+/// `repr(C)`: the store first, at the offset where the MCU's relaxation
+/// loops reach its arrays with the shortest immediates (Rust's own layout
+/// put the run's counters first: croton-mcu 0.8 % more instructions).
 #[derive(Debug)]
+#[repr(C)]
 pub struct Mosaic<'a, S: Relax> {
     store: S,
     run: Run<'a>,
