@@ -766,10 +766,19 @@ impl View {
         boxes
     }
 
-    /// The object shaded, every point in its nearest cell's colour, a
-    /// [`TILE`]-square of pixels at a time ([`View::colour_square`]).
-    fn paint(&self, near: &Nearest, colours: &[[u8; 3]]) -> Result<Pixmap> {
+    /// A canvas for [`View::paint`], its size.
+    fn canvas(&self) -> Result<Pixmap> {
         let (w, h) = (self.w, self.h);
+        Pixmap::new(w as u32, h as u32)
+            .ok_or_else(|| anyhow::anyhow!("a {w}×{h} picture is too large"))
+    }
+
+    /// The object shaded on `canvas` (from [`View::canvas`]), every point
+    /// in its nearest cell's colour, a [`TILE`]-square of pixels at a time
+    /// ([`View::colour_square`]): every pixel is painted, so one canvas
+    /// serves every day.
+    fn paint(&self, near: &Nearest, colours: &[[u8; 3]], canvas: &mut Pixmap) {
+        let w = self.w;
         let across = self.tiles_across();
         // Each face's colour for each type, and last for a type the
         // parameters do not name (grey).
@@ -788,9 +797,7 @@ impl View {
                 })
                 .collect(),
         };
-        let mut pixmap = Pixmap::new(w as u32, h as u32)
-            .ok_or_else(|| anyhow::anyhow!("a {w}×{h} picture is too large"))?;
-        pixmap
+        canvas
             .pixels_mut()
             .par_chunks_mut(w * TILE)
             .enumerate()
@@ -807,7 +814,6 @@ impl View {
                     self.colour_square(near, &shaded, square, None, &mut scratch, rows);
                 }
             });
-        picture::half(&pixmap)
     }
 
     /// Colours the pixels of `square` into `rows` (the band of [`TILE`]
@@ -925,10 +931,21 @@ pub fn write<R: Records + ?Sized>(
         _ => 0.35,
     };
     let view = kinds.has(Kind::Png).then(|| shell.view(elevation));
+    // The view's canvas, and its picture at half the size as RGB: one of
+    // each for every day (a day's canvas of a 1400² view is 7.8 MB).
+    let mut pictures = match &view {
+        Some(view) => {
+            let canvas = view.canvas()?;
+            let half = 3 * (canvas.width() / 2 * (canvas.height() / 2)) as usize;
+            Some((view, canvas, vec![0; half]))
+        }
+        None => None,
+    };
     let mut written = Vec::new();
     let mut counts = Vec::new();
     let mut areas = Vec::new();
-    // The last day's cells and picture, for `surface.png` and `mosaic.obj`.
+    // The last day's cells, for `mosaic.obj` (its picture stays in
+    // `pictures` for `surface.png`).
     let mut last = None;
     for d in &days {
         let mut by_type = vec![0usize; colours.len()];
@@ -953,15 +970,14 @@ pub fn write<R: Records + ?Sized>(
         } else {
             areas.push(None);
         }
-        let mut drawn = None;
-        if let Some(view) = &view {
+        if let Some((view, canvas, half)) = &mut pictures {
             let path = dir.join(format!("surface_day{:02}.png", d.day));
-            let pixmap = view.paint(&near, &colours)?;
-            picture::save(&pixmap, &path)?;
+            view.paint(&near, &colours, canvas);
+            picture::half_rgb_into(canvas, half)?;
+            picture::save_rgb(canvas.width() / 2, canvas.height() / 2, half, &path)?;
             written.push(path);
-            drawn = Some(pixmap);
         }
-        last = Some((near, drawn));
+        last = Some(near);
     }
     if kinds.has(Kind::Csv) {
         let path = dir.join("types.csv");
@@ -972,10 +988,10 @@ pub fn write<R: Records + ?Sized>(
         let path = dir.join("surface.obj");
         written.extend(write_obj(&path, &shell.bare()?, ObjStyle::PLAIN)?);
     }
-    if let Some((near, drawn)) = last {
-        if let Some(pixmap) = drawn {
+    if let Some(near) = last {
+        if let Some((_, canvas, half)) = &pictures {
             let path = dir.join("surface.png");
-            picture::save(&pixmap, &path)?;
+            picture::save_rgb(canvas.width() / 2, canvas.height() / 2, half, &path)?;
             written.push(path);
         }
         if kinds.has(Kind::Obj) {
