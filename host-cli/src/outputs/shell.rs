@@ -868,8 +868,20 @@ impl View {
         let x1 = (x0 + side).min(self.w);
         for y in y0..(y0 + side).min(self.h) {
             let row = &mut rows[(y % TILE) * self.w..][x0..x1];
-            for (x, px) in (x0..x1).zip(row) {
-                let face = self.face[y * self.w + x];
+            let faces = &self.face[y * self.w..][x0..x1];
+            if let Reach::One(kind) = reach {
+                // One type for the whole square: its column of the table.
+                let column = shaded.column(kind);
+                for (px, &face) in row.iter_mut().zip(faces) {
+                    *px = if face == u32::MAX {
+                        background
+                    } else {
+                        shaded.at(face, column)
+                    };
+                }
+                continue;
+            }
+            for (x, (px, &face)) in (x0..x1).zip(row.iter_mut().zip(faces)) {
                 *px = if face == u32::MAX {
                     background
                 } else {
@@ -878,7 +890,7 @@ impl View {
                         Reach::Among => nearest_among(cells, &self.point(x, y)).map(|(_, k)| k),
                         Reach::Far => along.kind_at(&self.point(x, y)),
                     };
-                    shaded.of(face, kind)
+                    shaded.at(face, shaded.column(kind))
                 };
             }
         }
@@ -894,9 +906,14 @@ struct Shaded {
 }
 
 impl Shaded {
-    fn of(&self, face: u32, kind: Option<u8>) -> PremultipliedColorU8 {
-        let t = kind.map_or(self.types - 1, |k| usize::from(k).min(self.types - 1));
-        self.colours[face as usize * self.types + t]
+    /// The column of type `kind` (none: the last, grey).
+    fn column(&self, kind: Option<u8>) -> usize {
+        kind.map_or(self.types - 1, |k| usize::from(k).min(self.types - 1))
+    }
+
+    /// Face `face`'s colour in `column`.
+    fn at(&self, face: u32, column: usize) -> PremultipliedColorU8 {
+        self.colours[face as usize * self.types + column]
     }
 }
 
