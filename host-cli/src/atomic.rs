@@ -113,3 +113,14 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         .with_context(|| format!("cannot write {}", path.display()))?;
     file.finish()
 }
+
+/// Writes the file at `from` again at `to`, whole or not at all (the last
+/// day's picture as `mosaic.png`: its bytes, not the picture encoded a
+/// second time).
+///
+/// # Errors
+/// When `from` cannot be read or `to` cannot be written.
+pub fn copy(from: &Path, to: &Path) -> Result<()> {
+    let bytes = fs::read(from).with_context(|| format!("cannot read {}", from.display()))?;
+    OutputFile::write_with(to, |file| file.write_all(&bytes))
+}

@@ -265,6 +265,10 @@ fn a_mosaic_on_an_unrolled_cylinder_is_put_back_on_the_cylinder() {
     for day in ["surface_day00.png", "surface_day35.png", "surface.png"] {
         assert!(dir.join(day).exists(), "{day}");
     }
+    // The last day's pictures again, byte for byte.
+    let bytes = |name: &str| std::fs::read(dir.join(name)).unwrap();
+    assert_eq!(bytes("surface.png"), bytes("surface_day35.png"));
+    assert_eq!(bytes("mosaic.png"), bytes("day_35.png"));
 }
 
 #[test]

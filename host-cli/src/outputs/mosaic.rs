@@ -25,7 +25,6 @@ use anyhow::{Result, anyhow};
 use morphogen::fx::Fx;
 use morphogen::mosaic::{Domain, Params};
 use morphogen::stream::Record;
-use tiny_skia::Pixmap;
 
 use super::chart::{Axis, Chart, Series};
 use super::mesh::{ObjStyle, write_obj};
@@ -33,7 +32,7 @@ use super::picture::{self, save_indexed};
 use super::surface::{Surface, pattern_pixel};
 use super::text;
 use super::{Kind, Kinds, OrderedAnimation, animation_frames, pipeline, write_chart};
-use crate::atomic::{OutputFile, write_atomic};
+use crate::atomic::{self, OutputFile, write_atomic};
 use crate::records::{Place, Records};
 
 /// The longest side of the pictures, in pixels.
@@ -168,10 +167,9 @@ pub fn write<R: Records + ?Sized>(
         None
     };
     let mut last: Option<Arc<Day>> = None;
-    // The picture of the latest day drawn so far (by position), and of
-    // the object, kept for mosaic.png, surface.png and mosaic.obj, which
-    // show the last day.
-    let latest: Mutex<Option<(usize, Indexed, Option<Pixmap>)>> = Mutex::new(None);
+    // The picture of the latest day drawn so far (by position), kept for
+    // mosaic.obj, which shows the last day.
+    let latest: Mutex<Option<(usize, Indexed)>> = Mutex::new(None);
     // Per day: its number and the cells of each type.
     let mut counts: Vec<(i32, Vec<usize>)> = Vec::new();
     let per_day: Vec<(Vec<PathBuf>, Option<Vec<u64>>)> = pipeline(
@@ -219,12 +217,15 @@ pub fn write<R: Records + ?Sized>(
             let mut paths = Vec::with_capacity(2);
             if kinds.has(Kind::Csv) {
                 let csv = dir.join(format!("cells_day{:02}.csv", d.day));
-                write_csv(&surface, &d.cells, &csv)?;
+                let unit = |v: Fx| f64::from(v.to_bits()) / 65_536.0;
+                let points = d.cells.iter().map(|&(id, kind, u, v)| {
+                    (id, kind, surface.point(unit(u), unit(v)))
+                });
+                write_csv(points, &csv)?;
                 paths.push(csv);
             }
             let animated = apng.as_ref().zip(slot);
             let mut areas = None;
-            let mut object = None;
             if kinds.has(Kind::Png) || kinds.has(Kind::Csv) || animated.is_some() {
                 let picture = voronoi(domain, &colours, &d.cells);
                 areas = kinds.has(Kind::Csv).then(|| picture.areas(colours.len()));
@@ -237,7 +238,6 @@ pub fn write<R: Records + ?Sized>(
                         let drawn = view.paint(picture.palette(), &|i| picture.index(i))?;
                         picture::save(&drawn, &png)?;
                         paths.push(png);
-                        object = Some(drawn);
                     }
                 }
                 if let Some(((apng, indexed), slot)) = animated {
@@ -252,7 +252,7 @@ pub fn write<R: Records + ?Sized>(
                     .lock()
                     .map_err(|_| anyhow!("a mosaic picture writer stopped"))?;
                 if latest.as_ref().is_none_or(|(at, ..)| *at < position) {
-                    *latest = Some((position, picture, object));
+                    *latest = Some((position, picture));
                 }
             }
             Ok((paths, areas))
@@ -277,22 +277,18 @@ pub fn write<R: Records + ?Sized>(
         let drawn = latest
             .into_inner()
             .map_err(|_| anyhow!("a mosaic picture writer stopped"))?;
-        let (picture, object) = match drawn {
-            Some((at, picture, object)) if at + 1 == counts.len() => (picture, object),
-            _ => (voronoi(domain, &colours, &last.cells), None),
+        let picture = match drawn {
+            Some((at, picture)) if at + 1 == counts.len() => picture,
+            _ => voronoi(domain, &colours, &last.cells),
         };
         if kinds.has(Kind::Png) {
+            // Every day's pictures were written: the last day's again.
             let path = dir.join("mosaic.png");
-            picture.save(&path)?;
+            atomic::copy(&dir.join(format!("day_{:02}.png", last.day)), &path)?;
             written.push(path);
-            let object = match (object, &view) {
-                (Some(drawn), _) => Some(drawn),
-                (None, Some(view)) => Some(view.paint(picture.palette(), &|i| picture.index(i))?),
-                (None, None) => None,
-            };
-            if let Some(object) = object {
+            if view.is_some() {
                 let path = dir.join("surface.png");
-                picture::save(&object, &path)?;
+                atomic::copy(&dir.join(format!("surface_day{:02}.png", last.day)), &path)?;
                 written.push(path);
             }
         }
@@ -340,19 +336,24 @@ pub(super) fn write_counts_and_mask(
     Ok(written)
 }
 
-/// Writes `cells` as `id,type,x,y,z` lines under a header: their points
-/// on `surface` (on the plane the exact positions, z = 0).
-fn write_csv(surface: &Surface, cells: &[(u32, u8, Fx, Fx)], path: &Path) -> Result<()> {
+/// Writes `cells`, `(id, type, point)` each, as `id,type,x,y,z` lines
+/// under a header: a point read from the stream (a cell's place on a mesh,
+/// on the plane its position with z = 0) as the exact decimals of its
+/// 16.16 bits, a point computed from one (on a cylinder, a torus) in the
+/// shortest form that reads back ([`text::float`]).
+pub(super) fn write_csv(
+    cells: impl Iterator<Item = (u32, u8, [f64; 3])>,
+    path: &Path,
+) -> Result<()> {
     OutputFile::write_with(path, |file| {
         file.write_all(b"id,type,x,y,z\n")?;
         let mut line = Vec::with_capacity(64);
-        let unit = |v: Fx| f64::from(v.to_bits()) / 65_536.0;
-        for &(id, kind, u, v) in cells {
+        for (id, kind, point) in cells {
             line.clear();
             text::int(&mut line, id);
             line.push(b',');
             text::int(&mut line, kind);
-            for c in surface.point(unit(u), unit(v)) {
+            for c in point {
                 line.push(b',');
                 text::float(&mut line, c);
             }

@@ -8,7 +8,6 @@
 //! by sampling every triangle); the cell counts chart and the mask as for
 //! the plane.
 
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
@@ -19,10 +18,10 @@ use rayon::prelude::*;
 use tiny_skia::{Pixmap, PremultipliedColorU8};
 
 use super::mesh::{Mesh, ObjStyle, Rgb, write_obj};
-use super::mosaic::{write_counts_and_mask, write_shares};
+use super::mosaic::{write_counts_and_mask, write_csv, write_shares};
 use super::picture;
 use super::{Kind, Kinds};
-use crate::atomic::OutputFile;
+use crate::atomic;
 use crate::records::{Place, Records};
 
 /// The picture's longer side in pixels (drawn at twice the size, halved).
@@ -622,10 +621,14 @@ impl Shell {
             w,
             h,
             scale,
-            lo,
-            hi,
-            margin,
+            top: hi[1] + margin,
             axes: [right, up, towards],
+            columns: (0..w)
+                .map(|x| {
+                    let across = (x as f64 + 0.5) / scale + lo[0] - margin;
+                    right.map(|k| k * across)
+                })
+                .collect(),
             depth,
             face,
             shades,
@@ -666,13 +669,14 @@ struct View {
     h: usize,
     /// Pixels a unit.
     scale: f64,
-    /// The screen's least and greatest (right, up) of the mesh, and the
-    /// margin around it, units.
-    lo: [f64; 2],
-    hi: [f64; 2],
-    margin: f64,
+    /// The screen's up at the picture's top edge (the mesh's highest and
+    /// the margin above it), units.
+    top: f64,
     /// Right, up and towards the viewer.
     axes: [[f64; 3]; 3],
+    /// Per column, the part of its points that the column makes (`right`
+    /// times the screen's right of the pixels' centres): [`View::point`].
+    columns: Vec<[f64; 3]>,
     /// Per pixel: the depth towards the viewer of the nearest face, and
     /// that face (none: `u32::MAX`).
     depth: Vec<f64>,
@@ -694,16 +698,21 @@ const SQUARES: usize = 21;
 const NO_BOX: [[f64; 3]; 2] = [[f64::MAX; 3], [f64::MIN; 3]];
 
 impl View {
+    /// The part of the points of row `y` that its height makes (`up` times
+    /// the screen's up of the pixels' centres), for [`View::point`].
+    fn row(&self, y: usize) -> [f64; 3] {
+        let up = self.top - (y as f64 + 0.5) / self.scale;
+        self.axes[1].map(|k| k * up)
+    }
+
     /// The point of the object pixel `(x, y)` shows (that of the plane of
-    /// its face).
-    fn point(&self, x: usize, y: usize) -> [f64; 3] {
-        let [right, up, towards] = self.axes;
-        let s = [
-            (x as f64 + 0.5) / self.scale + self.lo[0] - self.margin,
-            self.hi[1] + self.margin - (y as f64 + 0.5) / self.scale,
-            self.depth[y * self.w + x],
-        ];
-        [0, 1, 2].map(|i| right[i] * s[0] + up[i] * s[1] + towards[i] * s[2])
+    /// its face), `row` its row's part ([`View::row`]): right · s₀ + up ·
+    /// s₁ + towards · depth, s₀ and s₁ the screen's right and up of the
+    /// pixel's centre.
+    fn point(&self, row: [f64; 3], x: usize, y: usize) -> [f64; 3] {
+        let column = self.columns[x];
+        let depth = self.depth[y * self.w + x];
+        [0, 1, 2].map(|i| column[i] + row[i] + self.axes[2][i] * depth)
     }
 
     /// [`TILE`]-squares across the picture.
@@ -728,11 +737,12 @@ impl View {
             .enumerate()
             .for_each(|(band, boxes)| {
                 for y in band * TILE..((band + 1) * TILE).min(self.h) {
+                    let row = self.row(y);
                     for x in 0..self.w {
                         if self.face[y * self.w + x] == u32::MAX {
                             continue;
                         }
-                        let p = self.point(x, y);
+                        let p = self.point(row, x, y);
                         let tile = &mut boxes[(x / TILE) * SQUARES..(x / TILE + 1) * SQUARES];
                         let side = TILE >> 2;
                         let [lo, hi] =
@@ -867,6 +877,7 @@ impl View {
         let mut along = Along::new(near);
         let x1 = (x0 + side).min(self.w);
         for y in y0..(y0 + side).min(self.h) {
+            let part = self.row(y);
             let row = &mut rows[(y % TILE) * self.w..][x0..x1];
             let faces = &self.face[y * self.w..][x0..x1];
             if let Reach::One(kind) = reach {
@@ -887,8 +898,10 @@ impl View {
                 } else {
                     let kind = match reach {
                         Reach::One(kind) => kind,
-                        Reach::Among => nearest_among(cells, &self.point(x, y)).map(|(_, k)| k),
-                        Reach::Far => along.kind_at(&self.point(x, y)),
+                        Reach::Among => {
+                            nearest_among(cells, &self.point(part, x, y)).map(|(_, k)| k)
+                        }
+                        Reach::Far => along.kind_at(&self.point(part, x, y)),
                     };
                     shaded.at(face, shaded.column(kind))
                 };
@@ -961,8 +974,8 @@ pub fn write<R: Records + ?Sized>(
     let mut written = Vec::new();
     let mut counts = Vec::new();
     let mut areas = Vec::new();
-    // The last day's cells, for `mosaic.obj` (its picture stays in
-    // `pictures` for `surface.png`).
+    // The last day and its cells, for `surface.png` (a copy of its
+    // picture) and `mosaic.obj`.
     let mut last = None;
     for d in &days {
         let mut by_type = vec![0usize; colours.len()];
@@ -975,13 +988,7 @@ pub fn write<R: Records + ?Sized>(
         let near = Nearest::new(&d.cells, &shell);
         if kinds.has(Kind::Csv) {
             let path = dir.join(format!("cells_day{:02}.csv", d.day));
-            OutputFile::write_with(&path, |f| {
-                f.write_all(b"id,type,x,y,z\n")?;
-                for (id, kind, p) in &d.cells {
-                    writeln!(f, "{id},{kind},{},{},{}", p[0], p[1], p[2])?;
-                }
-                Ok(())
-            })?;
+            write_csv(d.cells.iter().copied(), &path)?;
             written.push(path);
             areas.push(Some(shell.areas(&near, colours.len())));
         } else {
@@ -994,7 +1001,7 @@ pub fn write<R: Records + ?Sized>(
             picture::save_rgb(canvas.width() / 2, canvas.height() / 2, half, &path)?;
             written.push(path);
         }
-        last = Some(near);
+        last = Some((d.day, near));
     }
     if kinds.has(Kind::Csv) {
         let path = dir.join("types.csv");
@@ -1005,10 +1012,10 @@ pub fn write<R: Records + ?Sized>(
         let path = dir.join("surface.obj");
         written.extend(write_obj(&path, &shell.bare()?, ObjStyle::PLAIN)?);
     }
-    if let Some(near) = last {
-        if let Some((_, canvas, half)) = &pictures {
+    if let Some((day, near)) = last {
+        if pictures.is_some() {
             let path = dir.join("surface.png");
-            picture::save_rgb(canvas.width() / 2, canvas.height() / 2, half, &path)?;
+            atomic::copy(&dir.join(format!("surface_day{day:02}.png")), &path)?;
             written.push(path);
         }
         if kinds.has(Kind::Obj) {
@@ -1256,7 +1263,7 @@ mod tests {
                     continue;
                 }
                 shown += 1;
-                let p = view.point(x, y);
+                let p = view.point(view.row(y), x, y);
                 let tile = (y / TILE) * view.tiles_across() + x / TILE;
                 for level in 0..3 {
                     let side = TILE >> level;
