@@ -696,10 +696,21 @@ fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
         DayFrames::Days(list) => {
             let mut out = Vec::with_capacity(list.len());
             for (i, d) in list.iter().enumerate() {
-                let d: u16 = int(&format!("mosaic.frames[{i}]"), *d, 0, i64::from(days))?;
+                let key = format!("mosaic.frames[{i}]");
+                if *d > i64::from(days) && *d <= 4096 {
+                    // Most often a shorter run (`--set mosaic.days=…`) than
+                    // the frames were written for: name the day it ends.
+                    return invalid(
+                        key,
+                        format!(
+                            "day {d} is past the run's last day, mosaic.days = {days} (allowed: 0 to mosaic.days, or \"every-day\")"
+                        ),
+                    );
+                }
+                let d: u16 = int(&key, *d, 0, i64::from(days))?;
                 if out.last().is_some_and(|&p| p >= d) {
                     return invalid(
-                        format!("mosaic.frames[{i}]"),
+                        key,
                         "days must increase (allowed: 0 to mosaic.days, increasing)",
                     );
                 }
@@ -1222,6 +1233,38 @@ columns = [
             .unwrap_err()
             .to_string();
         assert!(err.contains("body.table.columns[3].girth"), "{err}");
+    }
+
+    /// A run made shorter than its frames says which day it ends on.
+    #[test]
+    fn frames_past_the_last_day_name_it() {
+        let croton = crate::builtin("croton").unwrap();
+        let set = |key: &str, value: &str| {
+            croton
+                .clone_with_sets(&[(key.into(), value.into())])
+                .map(|_| ())
+                .map_err(|e| e.to_string())
+        };
+        let err = set("mosaic.days", "1").unwrap_err();
+        assert!(
+            err.ends_with(
+                "mosaic.frames[1]: day 10 is past the run's last day, mosaic.days = 1 \
+                 (allowed: 0 to mosaic.days, or \"every-day\")"
+            ),
+            "{err}"
+        );
+        let err = set("mosaic.frames", "[0, 5, 5]").unwrap_err();
+        assert!(
+            err.ends_with(
+                "mosaic.frames[2]: days must increase (allowed: 0 to mosaic.days, increasing)"
+            ),
+            "{err}"
+        );
+        let err = set("mosaic.frames", "[0, 4097]").unwrap_err();
+        assert!(
+            err.ends_with("mosaic.frames[1]: 4097 is out of range (allowed: 0 to 35)"),
+            "{err}"
+        );
     }
 
     fn f(v: Fx) -> f64 {

@@ -218,9 +218,10 @@ pub fn write<R: Records + ?Sized>(
             if kinds.has(Kind::Csv) {
                 let csv = dir.join(format!("cells_day{:02}.csv", d.day));
                 let unit = |v: Fx| f64::from(v.to_bits()) / 65_536.0;
-                let points = d.cells.iter().map(|&(id, kind, u, v)| {
-                    (id, kind, surface.point(unit(u), unit(v)))
-                });
+                let points = d
+                    .cells
+                    .iter()
+                    .map(|&(id, kind, u, v)| (id, kind, surface.point(unit(u), unit(v))));
                 write_csv(points, &csv)?;
                 paths.push(csv);
             }
