@@ -163,7 +163,11 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
         .collect();
     // Check every combination before running any.
     for (_, chosen) in &combos {
-        base.clone_with_sets(&scenario_sets(chosen)?)?;
+        base.clone_with_sets(&scenario_sets(chosen)?)
+            .with_context(|| {
+                let sets: Vec<String> = chosen.iter().map(|(k, v)| format!("{k}={v}")).collect();
+                format!("the combination {}", sets.join(" "))
+            })?;
     }
     fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;

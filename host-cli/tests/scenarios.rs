@@ -479,6 +479,33 @@ fn sweeps_do_not_depend_on_threads_or_shards() {
     assert_ne!(read("a"), one);
 }
 
+/// A combination that cannot run stops the sweep before any runs, named.
+#[test]
+fn a_sweep_names_the_combination_that_cannot_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = morphogen(
+        &[
+            "sweep",
+            "croton",
+            "--set",
+            "mosaic.days=40,1",
+            "--set",
+            "seed=1,2",
+            "--out",
+            "s",
+        ],
+        tmp.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.starts_with("error: the combination mosaic.days=1 seed=1: ")
+            && err.contains("day 10 is past the run's last day, mosaic.days = 1"),
+        "{err}"
+    );
+    assert!(!tmp.path().join("s").exists(), "nothing ran");
+}
+
 #[test]
 fn every_example_in_the_scenario_docs_runs() {
     let docs =
