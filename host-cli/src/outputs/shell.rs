@@ -35,6 +35,11 @@ const TILE: usize = 16;
 const CUBES_PER_CELL: i64 = 8;
 /// The light's direction (towards the light), normalised when used.
 const LIGHT: [f64; 3] = [-0.4, -0.6, 0.7];
+/// The cosine of the largest angle between two faces at a vertex that a
+/// picture shades smoothly across (45°): a sharper edge stays an edge.
+const CREASE: f64 = std::f64::consts::FRAC_1_SQRT_2;
+/// The shade level of a pixel that shows no face ([`View::level`]).
+const NOTHING: u8 = 0;
 /// The picture's background.
 const BACKGROUND: Rgb = [246, 244, 238];
 /// Sample points per triangle side for the area shares (s(s+1)/2 each).
@@ -451,6 +456,71 @@ impl Shell {
         f.map(|i| self.vertices.get(i as usize).copied().unwrap_or([0.0; 3]))
     }
 
+    /// The shade at each corner of each face: 0.35 + 0.65 |n · l| for the
+    /// light l and the normal n at the corner's vertex, the mean of the
+    /// normals of the faces there that meet this one at less than
+    /// [`CREASE`] (weighted by their areas, and each turned to this face's
+    /// side, so that a mesh wound either way shades alike). A picture
+    /// shaded between these is smooth where the surface is, where one
+    /// shade a face shows every facet.
+    fn corner_shades(&self) -> Vec<[f64; 3]> {
+        let light = normalised(LIGHT);
+        // Twice each face's area times its unit normal.
+        let normals: Vec<[f64; 3]> = self
+            .faces
+            .iter()
+            .map(|f| {
+                let [a, b, c] = self.corners(f);
+                cross(sub(b, a), sub(c, a))
+            })
+            .collect();
+        // The faces at each vertex: `around[starts[v]..starts[v + 1]]`.
+        let mut starts = vec![0usize; self.vertices.len() + 1];
+        for f in &self.faces {
+            for &v in f {
+                if let Some(n) = starts.get_mut(v as usize + 1) {
+                    *n += 1;
+                }
+            }
+        }
+        for v in 1..starts.len() {
+            starts[v] += starts[v - 1];
+        }
+        let mut fill = starts.clone();
+        let mut around = vec![0usize; starts[self.vertices.len()]];
+        for (i, f) in self.faces.iter().enumerate() {
+            for &v in f {
+                if let Some(at) = fill.get_mut(v as usize) {
+                    around[*at] = i;
+                    *at += 1;
+                }
+            }
+        }
+        let units: Vec<[f64; 3]> = normals.iter().map(|&n| normalised(n)).collect();
+        self.faces
+            .iter()
+            .zip(&units)
+            .map(|(f, &unit)| {
+                f.map(|v| {
+                    let (from, to) = match starts.get(v as usize..v as usize + 2) {
+                        Some(&[from, to]) => (from, to),
+                        _ => (0, 0),
+                    };
+                    // This face among them (its own cosine is 1).
+                    let mut sum = [0.0; 3];
+                    for &g in &around[from..to] {
+                        let cos = dot(units[g], unit);
+                        if cos.abs() >= CREASE {
+                            let n = normals[g].map(|x| if cos < 0.0 { -x } else { x });
+                            sum = [0, 1, 2].map(|k| sum[k] + n[k]);
+                        }
+                    }
+                    0.35 + 0.65 * dot(normalised(sum), light).abs()
+                })
+            })
+            .collect()
+    }
+
     /// The area of each type's cells' Voronoi regions on the mesh, by
     /// sampling every triangle at the same barycentric points.
     fn areas(&self, near: &Nearest, types: usize) -> Vec<u64> {
@@ -536,8 +606,8 @@ impl Shell {
 
     /// The object seen from `elevation` radians above its equator
     /// (orthographic, z up) at twice the picture's size: per pixel the
-    /// nearest face and its depth, found once for all the days (the mesh
-    /// does not move), and each face's shade.
+    /// depth of the nearest face and its shade there, found once for all
+    /// the days (the mesh does not move).
     fn view(&self, elevation: f64) -> View {
         let (sin_e, cos_e) = elevation.sin_cos();
         let towards = [0.0, -cos_e, sin_e]; // towards the viewer
@@ -567,10 +637,11 @@ impl Shell {
                 s[2],
             ]
         };
-        // Depth and face of the nearest triangle per pixel.
+        let corners = self.corner_shades();
+        // Depth of the nearest triangle per pixel, and its shade there.
         let mut depth = vec![f64::MIN; w * h];
-        let mut face = vec![u32::MAX; w * h];
-        for (fi, f) in self.faces.iter().enumerate() {
+        let mut level = vec![NOTHING; w * h];
+        for (f, shades) in self.faces.iter().zip(&corners) {
             let [a, b, c] = f.map(|i| to_px(&screen[i as usize]));
             let area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
             if area.abs() < 1e-12 {
@@ -601,22 +672,14 @@ impl Shell {
                     let k = y * w + x;
                     if z > depth[k] {
                         depth[k] = z;
-                        face[k] = fi as u32;
+                        // Within the corners' shades, all in [0.35, 1]:
+                        // a level of at least 89, never NOTHING.
+                        let shade = wa * shades[0] + wb * shades[1] + wc * shades[2];
+                        level[k] = (shade * 255.0 + 0.5) as u8;
                     }
                 }
             }
         }
-        let light = normalised(LIGHT);
-        // Each face's shade, by its normal's angle to the light.
-        let shades: Vec<f64> = self
-            .faces
-            .iter()
-            .map(|f| {
-                let [a, b, c] = self.corners(f);
-                let n = normalised(cross(sub(b, a), sub(c, a)));
-                0.35 + 0.65 * dot(n, light).abs()
-            })
-            .collect();
         let mut view = View {
             w,
             h,
@@ -630,8 +693,7 @@ impl Shell {
                 })
                 .collect(),
             depth,
-            face,
-            shades,
+            level,
             boxes: Vec::new(),
         };
         view.boxes = view.boxes();
@@ -678,11 +740,9 @@ struct View {
     /// times the screen's right of the pixels' centres): [`View::point`].
     columns: Vec<[f64; 3]>,
     /// Per pixel: the depth towards the viewer of the nearest face, and
-    /// that face (none: `u32::MAX`).
+    /// its shade there in 255ths ([`NOTHING`]: no face).
     depth: Vec<f64>,
-    face: Vec<u32>,
-    /// Each face's shade, by its normal's angle to the light.
-    shades: Vec<f64>,
+    level: Vec<u8>,
     /// Per [`TILE`]-square of pixels (row by row), the least and greatest
     /// corner of the box around the points it shows, then the same of its
     /// quarters and of theirs ([`SQUARES`] in all: [`View::square`]); an
@@ -739,7 +799,7 @@ impl View {
                 for y in band * TILE..((band + 1) * TILE).min(self.h) {
                     let row = self.row(y);
                     for x in 0..self.w {
-                        if self.face[y * self.w + x] == u32::MAX {
+                        if self.level[y * self.w + x] == NOTHING {
                             continue;
                         }
                         let p = self.point(row, x, y);
@@ -790,23 +850,7 @@ impl View {
     fn paint(&self, near: &Nearest, colours: &[[u8; 3]], canvas: &mut Pixmap) {
         let w = self.w;
         let across = self.tiles_across();
-        // Each face's colour for each type, and last for a type the
-        // parameters do not name (grey).
-        let shaded = Shaded {
-            types: colours.len() + 1,
-            colours: self
-                .shades
-                .iter()
-                .flat_map(|&shade| {
-                    colours.iter().chain([&[128; 3]]).map(move |c| {
-                        // shade ≤ 1: rounded, in 0..=255.
-                        let [r, g, b] = c.map(|c| (f64::from(c) * shade + 0.5) as u8);
-                        PremultipliedColorU8::from_rgba(r, g, b, 255)
-                            .unwrap_or(PremultipliedColorU8::TRANSPARENT)
-                    })
-                })
-                .collect(),
-        };
+        let shaded = Shaded::new(colours);
         canvas
             .pixels_mut()
             .par_chunks_mut(w * TILE)
@@ -869,9 +913,6 @@ impl View {
         }
         let side = TILE >> square.level;
         let [x0, y0] = square.corner;
-        let background =
-            PremultipliedColorU8::from_rgba(BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 255)
-                .unwrap_or(PremultipliedColorU8::TRANSPARENT);
         // Only when the cells were too far to gather: searched, but for
         // the pixels near enough the last one searched.
         let mut along = Along::new(near);
@@ -879,54 +920,60 @@ impl View {
         for y in y0..(y0 + side).min(self.h) {
             let part = self.row(y);
             let row = &mut rows[(y % TILE) * self.w..][x0..x1];
-            let faces = &self.face[y * self.w..][x0..x1];
+            let levels = &self.level[y * self.w..][x0..x1];
             if let Reach::One(kind) = reach {
                 // One type for the whole square: its column of the table.
                 let column = shaded.column(kind);
-                for (px, &face) in row.iter_mut().zip(faces) {
-                    *px = if face == u32::MAX {
-                        background
-                    } else {
-                        shaded.at(face, column)
-                    };
+                for (px, &level) in row.iter_mut().zip(levels) {
+                    *px = column[usize::from(level)];
                 }
                 continue;
             }
-            for (x, (px, &face)) in (x0..x1).zip(row.iter_mut().zip(faces)) {
-                *px = if face == u32::MAX {
-                    background
-                } else {
-                    let kind = match reach {
-                        Reach::One(kind) => kind,
-                        Reach::Among => {
-                            nearest_among(cells, &self.point(part, x, y)).map(|(_, k)| k)
-                        }
-                        Reach::Far => along.kind_at(&self.point(part, x, y)),
-                    };
-                    shaded.at(face, shaded.column(kind))
+            for (x, (px, &level)) in (x0..x1).zip(row.iter_mut().zip(levels)) {
+                let kind = match reach {
+                    _ if level == NOTHING => None,
+                    Reach::One(kind) => kind,
+                    Reach::Among => nearest_among(cells, &self.point(part, x, y)).map(|(_, k)| k),
+                    Reach::Far => along.kind_at(&self.point(part, x, y)),
                 };
+                *px = shaded.column(kind)[usize::from(level)];
             }
         }
     }
 }
 
-/// Each face's colour of each type, shaded ([`View::paint`]).
+/// Each type's colour at each shade ([`View::paint`]).
 struct Shaded {
-    /// Types a face, the last for a type the parameters do not name.
-    types: usize,
-    /// Face by face, type by type.
-    colours: Vec<PremultipliedColorU8>,
+    /// Type by type, the last for a type the parameters do not name
+    /// (grey), the colour at each level of [`View::level`]: at
+    /// [`NOTHING`] the background.
+    colours: Vec<[PremultipliedColorU8; 256]>,
 }
 
 impl Shaded {
-    /// The column of type `kind` (none: the last, grey).
-    fn column(&self, kind: Option<u8>) -> usize {
-        kind.map_or(self.types - 1, |k| usize::from(k).min(self.types - 1))
+    fn new(colours: &[[u8; 3]]) -> Shaded {
+        let opaque = |[r, g, b]: Rgb| {
+            PremultipliedColorU8::from_rgba(r, g, b, 255)
+                .unwrap_or(PremultipliedColorU8::TRANSPARENT)
+        };
+        let colours = colours
+            .iter()
+            .chain([&[128; 3]])
+            .map(|c| {
+                std::array::from_fn(|level| match level {
+                    0 => opaque(BACKGROUND),
+                    // level ≤ 255: rounded, in 0..=255.
+                    _ => opaque(c.map(|c| ((u32::from(c) * level as u32 + 127) / 255) as u8)),
+                })
+            })
+            .collect();
+        Shaded { colours }
     }
 
-    /// Face `face`'s colour in `column`.
-    fn at(&self, face: u32, column: usize) -> PremultipliedColorU8 {
-        self.colours[face as usize * self.types + column]
+    /// The colours of type `kind` (none: the last, grey).
+    fn column(&self, kind: Option<u8>) -> &[PremultipliedColorU8; 256] {
+        let last = self.colours.len() - 1;
+        &self.colours[kind.map_or(last, |k| usize::from(k).min(last))]
     }
 }
 
@@ -1230,6 +1277,104 @@ mod tests {
         assert!(among > 50 && narrowed * 2 > among, "{among}, {narrowed}");
     }
 
+    /// A globe of radius `r`: `rings` bands from pole to pole of
+    /// `segments` facets each (a fan of triangles round each pole, two
+    /// triangles a facet between).
+    fn globe(r: f64, rings: u32, segments: u32) -> Shell {
+        let mut vertices = vec![[0.0, 0.0, r]];
+        for i in 1..rings {
+            let polar = std::f64::consts::PI * f64::from(i) / f64::from(rings);
+            for j in 0..segments {
+                let a = std::f64::consts::TAU * f64::from(j) / f64::from(segments);
+                let p = [polar.sin() * a.cos(), polar.sin() * a.sin(), polar.cos()];
+                vertices.push(p.map(|x| r * x));
+            }
+        }
+        vertices.push([0.0, 0.0, -r]);
+        let south = (rings - 1) * segments + 1;
+        // Ring i (1 to rings − 1), meridian j.
+        let at = |i: u32, j: u32| 1 + (i - 1) * segments + j % segments;
+        let mut faces = Vec::new();
+        for j in 0..segments {
+            faces.push([0, at(1, j), at(1, j + 1)]);
+            faces.push([south, at(rings - 1, j + 1), at(rings - 1, j)]);
+            for i in 1..rings - 1 {
+                let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j), at(i + 1, j + 1));
+                faces.extend([[a, c, b], [b, c, d]]);
+            }
+        }
+        Shell { vertices, faces }
+    }
+
+    /// The largest step in shade between neighbouring pixels of the
+    /// middle of the picture (half its width and height) that both show
+    /// the object.
+    fn largest_step(view: &View) -> u8 {
+        let mut step = 0;
+        for y in view.h / 4..view.h * 3 / 4 {
+            for x in view.w / 4..view.w * 3 / 4 {
+                let here = view.level[y * view.w + x];
+                let (right, down) = (x + 1 < view.w, y + 1 < view.h);
+                for there in [
+                    right.then(|| view.level[y * view.w + x + 1]),
+                    down.then(|| view.level[(y + 1) * view.w + x]),
+                ]
+                .into_iter()
+                .flatten()
+                {
+                    if here != NOTHING && there != NOTHING {
+                        step = step.max(here.abs_diff(there));
+                    }
+                }
+            }
+        }
+        step
+    }
+
+    #[test]
+    fn a_smooth_surface_shades_smoothly_and_an_edge_stays_an_edge() {
+        // A globe of facets 15° apart: one shade a facet steps by up to
+        // 0.65 · sin 15° (43 levels) from facet to facet. (At the limb the
+        // shade turns fast even on a true sphere: the middle of the
+        // picture shows its side that faces the viewer.)
+        let globe = globe(40.0, 12, 24);
+        let view = globe.view(0.35);
+        let smooth = largest_step(&view);
+        assert!(smooth <= 4, "a step of {smooth} levels");
+        // Wound either way, the same shades.
+        let mut mixed = globe.clone();
+        for f in mixed.faces.iter_mut().step_by(2) {
+            f.swap(1, 2);
+        }
+        assert!(mixed.view(0.35).level == view.level);
+        // A cube's faces meet at 90°: edges. It shows its top and front,
+        // each in one shade (to rounding).
+        let r = 40.0;
+        let vertices = (0..8)
+            .map(|k| [1, 2, 4].map(|bit| if k & bit == 0 { -r } else { r }))
+            .collect();
+        let quads = [
+            [0, 1, 3, 2],
+            [4, 6, 7, 5],
+            [0, 4, 5, 1],
+            [2, 3, 7, 6],
+            [0, 2, 6, 4],
+            [1, 5, 7, 3],
+        ];
+        let faces = quads
+            .iter()
+            .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+            .collect();
+        let view = Shell { vertices, faces }.view(0.35);
+        let levels: std::collections::BTreeSet<u8> = view
+            .level
+            .iter()
+            .copied()
+            .filter(|&l| l != NOTHING)
+            .collect();
+        assert!(levels.len() <= 4, "{levels:?}");
+    }
+
     #[test]
     fn a_squares_box_is_the_box_of_the_points_its_pixels_show() {
         // An octahedron: six vertices on the axes, eight faces.
@@ -1259,7 +1404,7 @@ mod tests {
         let mut shown = 0;
         for y in 0..view.h {
             for x in 0..view.w {
-                if view.face[y * view.w + x] == u32::MAX {
+                if view.level[y * view.w + x] == NOTHING {
                     continue;
                 }
                 shown += 1;
