@@ -19,8 +19,8 @@ use super::chart::{Axis, Chart, Series, series_colour};
 use super::mesh::{self, GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
 use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, picture, pipeline, raster,
-    save_montage, trimmed, write_chart,
+    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, normals, picture,
+    pipeline, raster, save_montage, trimmed, write_chart,
 };
 use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
@@ -173,15 +173,47 @@ fn colour(title: &str) -> [f32; 3] {
     }
 }
 
+/// How [`draw`] shades a frame's triangles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Shading {
+    /// One shade a triangle: the body's polygons, as the paper draws them.
+    Flat,
+    /// Between the shades at the corners ([`normals::corner_normals`]):
+    /// the smooth surface of a wrapped bone.
+    Smooth,
+}
+
 /// Draws `frame` seen from its left side (+z), orthographic, painter's
-/// order far to near, Lambert-shaded, into a [`canvas`] where model point
-/// (x, y) lands at `(ox + s·x, oy − s·y)` in the saved picture's pixels.
-pub(crate) fn draw(pixmap: &mut Pixmap, frame: &Frame, base: [f32; 3], s: f32, ox: f32, oy: f32) {
+/// order far to near, Lambert-shaded as `shading` says, into a [`canvas`]
+/// where model point (x, y) lands at `(ox + s·x, oy − s·y)` in the saved
+/// picture's pixels.
+pub(crate) fn draw(
+    pixmap: &mut Pixmap,
+    frame: &Frame,
+    (base, shading): ([f32; 3], Shading),
+    s: f32,
+    ox: f32,
+    oy: f32,
+) {
     let (s, ox, oy) = (s * OVERSAMPLE, ox * OVERSAMPLE, oy * OVERSAMPLE);
     let light = {
         let l = [-0.35f64, 0.65, 0.68];
         let n = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt();
         l.map(|c| c / n)
+    };
+    let corners = match shading {
+        Shading::Flat => Vec::new(),
+        Shading::Smooth => normals::corner_normals(&frame.vertices, &frame.triangles),
+    };
+    // Red, green and blue of `base` Lambert-shaded by the normal `n` of
+    // length `len`.
+    let shade = |n: [f64; 3], len: f64| {
+        let lambert = ((n[0] * light[0] + n[1] * light[1] + n[2] * light[2]) / len).max(0.0);
+        let k = (0.35 + 0.65 * lambert) as f32;
+        let c = Color::from_rgba(base[0] * k, base[1] * k, base[2] * k, 1.0)
+            .unwrap_or(Color::BLACK)
+            .to_color_u8();
+        [c.red(), c.green(), c.blue()]
     };
     let mut order: Vec<(i64, usize)> = Vec::with_capacity(frame.triangles.len());
     for (i, t) in frame.triangles.iter().enumerate() {
@@ -207,17 +239,12 @@ pub(crate) fn draw(pixmap: &mut Pixmap, frame: &Frame, base: [f32; 3], s: f32, o
         if len <= 0.0 || n[2] < 0.0 {
             continue; // degenerate, or facing away from the viewer
         }
-        let lambert = ((n[0] * light[0] + n[1] * light[1] + n[2] * light[2]) / len).max(0.0);
-        let k = (0.35 + 0.65 * lambert) as f32;
-        let shade = Color::from_rgba(base[0] * k, base[1] * k, base[2] * k, 1.0)
-            .unwrap_or(Color::BLACK)
-            .to_color_u8();
         let at = |p: [f64; 3]| [ox + s * p[0] as f32, oy - s * p[1] as f32];
-        raster::triangle(
-            pixmap,
-            [at(a), at(b), at(c)],
-            [shade.red(), shade.green(), shade.blue()],
-        );
+        let p = [at(a), at(b), at(c)];
+        match corners.get(i) {
+            Some(corners) => raster::smooth_triangle(pixmap, p, corners.map(|n| shade(n, 1.0))),
+            None => raster::triangle(pixmap, p, shade(n, len)),
+        }
     }
 }
 
@@ -263,7 +290,14 @@ fn side_view(
     let mut p = sides.take()?;
     let (ox, oy) = ((-b.0 * s) as f32, (b.3 * s) as f32);
     ground(&mut p, oy);
-    draw(&mut p, frame, colour(title), s as f32, ox, oy);
+    draw(
+        &mut p,
+        frame,
+        (colour(title), Shading::Flat),
+        s as f32,
+        ox,
+        oy,
+    );
     Ok(p)
 }
 
@@ -422,7 +456,7 @@ pub fn write<R: Records + ?Sized>(
                 };
                 if let (Some(slot), Some(p)) = (strip.iter().position(|&i| i == k), &mut picture) {
                     let ox = (f64::from(panel) * slot as f64 - b.0 * s) as f32;
-                    draw(p, &f, colour(title), s as f32, ox, oy);
+                    draw(p, &f, (colour(title), Shading::Flat), s as f32, ox, oy);
                     ages.push(f.age);
                 }
                 let header = format!("{title} frame {}, age {:.2} months", f.index, f.age);

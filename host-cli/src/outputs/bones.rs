@@ -19,7 +19,7 @@ use morphogen::stream::Record;
 use nalgebra::Vector3;
 
 use super::animation::{AnimationWriter, Pixels};
-use super::body::{self, Extent, Frame, canvas, canvases, draw, rgb_of, solid};
+use super::body::{self, Extent, Frame, Shading, canvas, canvases, draw, rgb_of, solid};
 use super::chart::{Axis, Chart, Series, write_png, write_svg};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::{ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, picture, save_montage, trimmed};
@@ -273,7 +273,7 @@ pub fn write<R: Records + ?Sized>(
         if kinds.has(Kind::Png) || animated.is_some() {
             let mut one = ones.take()?;
             let (ox, oy) = ((-b.0 * s) as f32, (b.3 * s) as f32);
-            draw(&mut one, &f, BONE, s as f32, ox, oy);
+            draw(&mut one, &f, (BONE, Shading::Smooth), s as f32, ox, oy);
             let rgb = picture::half_rgb(&one)?;
             let (w, h) = (one.width() / 2, one.height() / 2);
             ones.give_back(one);
@@ -291,7 +291,7 @@ pub fn write<R: Records + ?Sized>(
                 (f64::from(panel) * k as f64 - b.0 * ps) as f32,
                 (b.3 * ps) as f32,
             );
-            draw(&mut strip, &f, BONE, ps as f32, ox, oy);
+            draw(&mut strip, &f, (BONE, Shading::Smooth), ps as f32, ox, oy);
         }
         steps.push(f.age);
         k += 1;

@@ -9,7 +9,7 @@
 //! counter-clockwise seen from outside (the orientation is read off the
 //! first rings, so any outline orientation works).
 //!
-//! `horn.png` is the last frame, flat-shaded with the monthly increments as
+//! `horn.png` is the last frame, shaded smoothly with the monthly increments as
 //! alternating bands (crowded in winter: the annual rings); `years.png` shows
 //! the frames at the end of each year side by side, to the same scale.
 
@@ -26,7 +26,7 @@ use super::chart::{Axis, Chart, Series};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
 use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, depth_key, mesh,
+    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, depth_key, mesh, normals,
     paste_rgb, picture, pipeline, raster, save_montage_rgb, tip_bend, trimmed, write_chart,
 };
 use crate::records::{Place, Records};
@@ -372,34 +372,42 @@ fn background() -> Color {
 /// with `origin` (screen cm) at `at` (pixels).
 fn draw(pixmap: &mut Pixmap, mesh: &Mesh, view: &View, origin: [f64; 2], at: [f32; 2], scale: f64) {
     for (p, rgb) in shaded(mesh, view, origin, at, scale) {
-        raster::triangle(pixmap, p, rgb);
+        raster::smooth_triangle(pixmap, p, rgb);
     }
 }
 
+/// A triangle to draw: its corners in pixels and their colours.
+type Shaded = ([[f32; 2]; 3], [[u8; 3]; 3]);
+
 /// The triangles of `mesh` facing the camera, back to front, in pixels
-/// (screen cm mapped by `scale`, `origin` at `at`), each with its shade.
+/// (screen cm mapped by `scale`, `origin` at `at`), each with the colour
+/// of its corners: its band's, Lambert-shaded by the normal at the corner
+/// ([`normals::corner_normals`]), so the horn shades smoothly round and
+/// along, and its bands and the tip's cap keep their edges.
 fn shaded(
     mesh: &Mesh,
     view: &View,
     origin: [f64; 2],
     at: [f32; 2],
     scale: f64,
-) -> Vec<([[f32; 2]; 3], [u8; 3])> {
+) -> Vec<Shaded> {
     let light = {
         let l = [-0.45, 0.6, 0.66];
         let n = dot(l, l).sqrt();
         [l[0] / n, l[1] / n, l[2] / n]
     };
     let screen: Vec<P3> = mesh.vertices.iter().map(|&p| view.apply(p)).collect();
-    let tris: Vec<(f64, [usize; 3], Option<u32>)> = mesh
-        .groups
+    let all: Vec<&Triangle> = mesh.groups.iter().flat_map(|g| g.1.iter()).collect();
+    let indices: Vec<[u32; 3]> = all.iter().map(|(t, _)| t.map(|k| k as u32)).collect();
+    let corners = normals::corner_normals(&screen, &indices);
+    let tris: Vec<(f64, usize)> = all
         .iter()
-        .flat_map(|g| g.1.iter())
-        .filter_map(|&(t, month)| {
+        .enumerate()
+        .filter_map(|(i, &&(t, _))| {
             let (a, b, c) = (screen[t[0]], screen[t[1]], screen[t[2]]);
             let n = cross(sub(b, a), sub(c, a));
             // Back faces of the closed surface are hidden.
-            (n[2] > 0.0).then(|| ((a[2] + b[2] + c[2]) / 3.0, t, month))
+            (n[2] > 0.0).then(|| ((a[2] + b[2] + c[2]) / 3.0, i))
         })
         .collect();
     // Back to front: the stable sort by depth, of keys and positions.
@@ -420,19 +428,19 @@ fn shaded(
     order
         .into_iter()
         .map(|(_, i)| {
-            let (_, t, month) = tris[i];
-            let (a, b, c) = (screen[t[0]], screen[t[1]], screen[t[2]]);
-            let n = cross(sub(b, a), sub(c, a));
-            let len = dot(n, n).sqrt().max(1e-12);
-            let lambert = (dot(n, light) / len).max(0.0);
+            let k = tris[i].1;
+            let (t, month) = *all[k];
             let band = match month {
                 Some(m) if m % 2 == 1 => 0.86,
                 Some(_) => 1.0,
                 None => 0.8,
             };
-            let k = (0.35 + 0.65 * lambert) * band;
-            let rgb = HORN.map(|v| (v * k).clamp(0.0, 255.0) as u8);
-            ([px(a), px(b), px(c)], rgb)
+            let rgb = corners[k].map(|n| {
+                let lambert = dot(n, light).max(0.0);
+                let k = (0.35 + 0.65 * lambert) * band;
+                HORN.map(|v| (v * k).clamp(0.0, 255.0) as u8)
+            });
+            (t.map(|v| px(screen[v])), rgb)
         })
         .collect()
 }
@@ -478,7 +486,7 @@ fn save_picture(frame: &Frame, j: u32, (width, height): (u32, u32), path: &Path)
         canvas.fill(background());
         let first = u16::try_from(top).context("picture too tall to draw in bands")?;
         for (p, colour) in tris {
-            raster::triangle_in_band(&mut canvas, first, p, colour);
+            raster::smooth_triangle_in_band(&mut canvas, first, p, colour);
         }
         picture::half_rgb_into(&canvas, rgb)?;
     }

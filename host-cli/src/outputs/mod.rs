@@ -27,6 +27,7 @@ pub mod fill;
 pub mod horn;
 pub mod mesh;
 pub mod mosaic;
+pub mod normals;
 pub mod picture;
 pub mod plant;
 pub mod raster;

@@ -19,6 +19,7 @@ use tiny_skia::{Pixmap, PremultipliedColorU8};
 
 use super::mesh::{Mesh, ObjStyle, Rgb, write_obj};
 use super::mosaic::{write_counts_and_mask, write_csv, write_shares};
+use super::normals;
 use super::picture;
 use super::{Kind, Kinds};
 use crate::atomic;
@@ -35,9 +36,6 @@ const TILE: usize = 16;
 const CUBES_PER_CELL: i64 = 8;
 /// The light's direction (towards the light), normalised when used.
 const LIGHT: [f64; 3] = [-0.4, -0.6, 0.7];
-/// The cosine of the largest angle between two faces at a vertex that a
-/// picture shades smoothly across (45°): a sharper edge stays an edge.
-const CREASE: f64 = std::f64::consts::FRAC_1_SQRT_2;
 /// The shade level of a pixel that shows no face ([`View::level`]).
 const NOTHING: u8 = 0;
 /// The picture's background.
@@ -457,67 +455,14 @@ impl Shell {
     }
 
     /// The shade at each corner of each face: 0.35 + 0.65 |n · l| for the
-    /// light l and the normal n at the corner's vertex, the mean of the
-    /// normals of the faces there that meet this one at less than
-    /// [`CREASE`] (weighted by their areas, and each turned to this face's
-    /// side, so that a mesh wound either way shades alike). A picture
-    /// shaded between these is smooth where the surface is, where one
-    /// shade a face shows every facet.
+    /// light l and the normal n there ([`normals::corner_normals`]), so a
+    /// picture shaded between the corners is smooth where the surface is
+    /// and keeps its edges.
     fn corner_shades(&self) -> Vec<[f64; 3]> {
         let light = normalised(LIGHT);
-        // Twice each face's area times its unit normal.
-        let normals: Vec<[f64; 3]> = self
-            .faces
-            .iter()
-            .map(|f| {
-                let [a, b, c] = self.corners(f);
-                cross(sub(b, a), sub(c, a))
-            })
-            .collect();
-        // The faces at each vertex: `around[starts[v]..starts[v + 1]]`.
-        let mut starts = vec![0usize; self.vertices.len() + 1];
-        for f in &self.faces {
-            for &v in f {
-                if let Some(n) = starts.get_mut(v as usize + 1) {
-                    *n += 1;
-                }
-            }
-        }
-        for v in 1..starts.len() {
-            starts[v] += starts[v - 1];
-        }
-        let mut fill = starts.clone();
-        let mut around = vec![0usize; starts[self.vertices.len()]];
-        for (i, f) in self.faces.iter().enumerate() {
-            for &v in f {
-                if let Some(at) = fill.get_mut(v as usize) {
-                    around[*at] = i;
-                    *at += 1;
-                }
-            }
-        }
-        let units: Vec<[f64; 3]> = normals.iter().map(|&n| normalised(n)).collect();
-        self.faces
-            .iter()
-            .zip(&units)
-            .map(|(f, &unit)| {
-                f.map(|v| {
-                    let (from, to) = match starts.get(v as usize..v as usize + 2) {
-                        Some(&[from, to]) => (from, to),
-                        _ => (0, 0),
-                    };
-                    // This face among them (its own cosine is 1).
-                    let mut sum = [0.0; 3];
-                    for &g in &around[from..to] {
-                        let cos = dot(units[g], unit);
-                        if cos.abs() >= CREASE {
-                            let n = normals[g].map(|x| if cos < 0.0 { -x } else { x });
-                            sum = [0, 1, 2].map(|k| sum[k] + n[k]);
-                        }
-                    }
-                    0.35 + 0.65 * dot(normalised(sum), light).abs()
-                })
-            })
+        normals::corner_normals(&self.vertices, &self.faces)
+            .into_iter()
+            .map(|corners| corners.map(|n| 0.35 + 0.65 * dot(n, light).abs()))
             .collect()
     }
 
