@@ -384,13 +384,7 @@ type Shaded = ([[f32; 2]; 3], [[u8; 3]; 3]);
 /// of its corners: its band's, Lambert-shaded by the normal at the corner
 /// ([`normals::corner_normals`]), so the horn shades smoothly round and
 /// along, and its bands and the tip's cap keep their edges.
-fn shaded(
-    mesh: &Mesh,
-    view: &View,
-    origin: [f64; 2],
-    at: [f32; 2],
-    scale: f64,
-) -> Vec<Shaded> {
+fn shaded(mesh: &Mesh, view: &View, origin: [f64; 2], at: [f32; 2], scale: f64) -> Vec<Shaded> {
     let light = {
         let l = [-0.45, 0.6, 0.66];
         let n = dot(l, l).sqrt();

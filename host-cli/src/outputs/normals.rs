@@ -17,33 +17,51 @@ pub const CREASE: f64 = std::f64::consts::FRAC_1_SQRT_2;
 /// index is out of range, has zero normals.
 #[must_use]
 pub fn corner_normals(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[[f64; 3]; 3]> {
-    // Each vertex's point: the first vertex at its coordinates (sorted by
-    // them, and by index among equals).
-    let mut by_place: Vec<([u64; 3], usize)> = vertices
+    // Each vertex's point: the first vertex at its coordinates, found
+    // among the vertices sorted by a mix of the coordinates' bits.
+    let bits = |v: &[f64; 3]| v.map(f64::to_bits);
+    let mix = |[x, y, z]: [u64; 3]| {
+        (x ^ y.rotate_left(21) ^ z.rotate_left(42)).wrapping_mul(0x9e37_79b9_7f4a_7c15)
+    };
+    let mut by_mix: Vec<(u64, usize)> = vertices
         .iter()
         .enumerate()
-        .map(|(i, v)| (v.map(f64::to_bits), i))
+        .map(|(i, v)| (mix(bits(v)), i))
         .collect();
-    by_place.sort_unstable();
+    by_mix.sort_unstable();
     let mut point: Vec<usize> = (0..vertices.len()).collect();
-    for pair in by_place.windows(2) {
-        if pair[1].0 == pair[0].0 {
-            point[pair[1].1] = point[pair[0].1];
+    for run in by_mix.chunk_by(|a, b| a.0 == b.0) {
+        // In index order: each takes the first of its coordinates.
+        for (k, &(_, i)) in run.iter().enumerate() {
+            if let Some(&(_, first)) = run[..k]
+                .iter()
+                .find(|&&(_, j)| bits(&vertices[j]) == bits(&vertices[i]))
+            {
+                point[i] = point[first];
+            }
         }
     }
-    let corner = |v: u32| point.get(v as usize).copied();
-    // Twice each triangle's area times its unit normal, and that unit.
-    let normals: Vec<[f64; 3]> = triangles
+    // Each triangle's points; none for one whose index is out of range.
+    let points: Vec<Option<[usize; 3]>> = triangles
         .iter()
-        .map(|t| match t.map(|v| corner(v).map(|p| vertices[p])) {
-            [Some(a), Some(b), Some(c)] => cross(sub(b, a), sub(c, a)),
-            _ => [0.0; 3],
+        .map(|t| {
+            let [a, b, c] = t.map(|v| point.get(v as usize).copied());
+            Some([a?, b?, c?])
         })
         .collect();
-    let units: Vec<[f64; 3]> = normals.iter().map(|&n| unit(n)).collect();
+    // Twice each triangle's area times its unit normal, and that unit.
+    let mut normals = vec![[0.0; 3]; triangles.len()];
+    let mut units = vec![[0.0; 3]; triangles.len()];
+    for ((n, u), t) in normals.iter_mut().zip(&mut units).zip(&points) {
+        if let Some([a, b, c]) = *t {
+            let [a, b, c] = [a, b, c].map(|p| vertices[p]);
+            *n = cross(sub(b, a), sub(c, a));
+            *u = unit(*n);
+        }
+    }
     // The triangles at each point: `around[starts[p]..starts[p + 1]]`.
     let mut starts = vec![0usize; vertices.len() + 1];
-    for p in triangles.iter().flatten().filter_map(|&v| corner(v)) {
+    for &p in points.iter().flatten().flatten() {
         starts[p + 1] += 1;
     }
     for p in 1..starts.len() {
@@ -51,8 +69,8 @@ pub fn corner_normals(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[[f6
     }
     let mut fill = starts.clone();
     let mut around = vec![0usize; starts[vertices.len()]];
-    for (i, t) in triangles.iter().enumerate() {
-        for p in t.iter().filter_map(|&v| corner(v)) {
+    for (i, t) in points.iter().enumerate() {
+        for &p in t.iter().flatten() {
             around[fill[p]] = i;
             fill[p] += 1;
         }
@@ -61,46 +79,57 @@ pub fn corner_normals(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[[f6
     // first (turned to its side), any two are within the crease: each
     // corner there takes the one mean, turned to its triangle's side.
     let sign = |cos: f64| if cos < 0.0 { -1.0 } else { 1.0 };
-    let shared: Vec<Option<[f64; 3]>> = (0..vertices.len())
-        .map(|p| {
-            let faces = &around[starts[p]..starts[p + 1]];
-            let first = units[*faces.first()?];
-            let mut sum = [0.0; 3];
-            for &g in faces {
-                let cos = dot(units[g], first);
-                if cos.abs() < HALF_CREASE {
-                    return None;
-                }
-                sum = [0, 1, 2].map(|k| sum[k] + sign(cos) * normals[g][k]);
+    let mut shared = vec![None; vertices.len()];
+    for (p, mean) in shared.iter_mut().enumerate() {
+        let faces = &around[starts[p]..starts[p + 1]];
+        let Some(&first) = faces.first() else {
+            continue;
+        };
+        let mut sum = [0.0; 3];
+        let mut alike = true;
+        for &g in faces {
+            let cos = dot(units[g], units[first]);
+            alike &= cos.abs() >= HALF_CREASE;
+            let s = sign(cos);
+            sum = [
+                sum[0] + s * normals[g][0],
+                sum[1] + s * normals[g][1],
+                sum[2] + s * normals[g][2],
+            ];
+        }
+        if alike {
+            *mean = Some((first, unit(sum)));
+        }
+    }
+    let mut corners = vec![[[0.0; 3]; 3]; triangles.len()];
+    for (i, (out, t)) in corners.iter_mut().zip(&points).enumerate() {
+        let Some(t) = t else {
+            continue;
+        };
+        let own = units[i];
+        for (n, &p) in out.iter_mut().zip(t) {
+            if let Some((first, mean)) = shared[p] {
+                let turn = sign(dot(own, units[first]));
+                *n = [turn * mean[0], turn * mean[1], turn * mean[2]];
+                continue;
             }
-            Some(unit(sum))
-        })
-        .collect();
-    triangles
-        .iter()
-        .zip(&units)
-        .map(|(t, &own)| {
-            t.map(|v| {
-                let Some(p) = corner(v) else {
-                    return [0.0; 3];
-                };
-                let faces = &around[starts[p]..starts[p + 1]];
-                if let Some(mean) = shared[p] {
-                    let turn = sign(dot(own, units[faces[0]]));
-                    return mean.map(|x| turn * x);
+            // This triangle among them (its own cosine is 1).
+            let mut sum = [0.0; 3];
+            for &g in &around[starts[p]..starts[p + 1]] {
+                let cos = dot(units[g], own);
+                if cos.abs() >= CREASE {
+                    let s = sign(cos);
+                    sum = [
+                        sum[0] + s * normals[g][0],
+                        sum[1] + s * normals[g][1],
+                        sum[2] + s * normals[g][2],
+                    ];
                 }
-                // This triangle among them (its own cosine is 1).
-                let mut sum = [0.0; 3];
-                for &g in faces {
-                    let cos = dot(units[g], own);
-                    if cos.abs() >= CREASE {
-                        sum = [0, 1, 2].map(|k| sum[k] + sign(cos) * normals[g][k]);
-                    }
-                }
-                unit(sum)
-            })
-        })
-        .collect()
+            }
+            *n = unit(sum);
+        }
+    }
+    corners
 }
 
 /// The cosine of half [`CREASE`] (22.5°).
