@@ -25,6 +25,7 @@ use tiny_skia::{Color, Pixmap};
 use super::chart::{Axis, Chart, Series};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
+use super::vector::{cross, dot, sub};
 use super::{
     ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, depth_key, mesh, normals,
     paste_rgb, picture, pipeline, raster, save_montage_rgb, tip_bend, trimmed, write_chart,
@@ -168,22 +169,6 @@ pub struct Mesh {
     pub vertices: Vec<P3>,
     /// Per module: the module and its triangles.
     pub groups: Vec<(u16, Vec<Triangle>)>,
-}
-
-fn sub(a: P3, b: P3) -> P3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: P3, b: P3) -> P3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: P3, b: P3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 fn centroid(points: &[P3]) -> P3 {

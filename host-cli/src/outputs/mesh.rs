@@ -38,6 +38,7 @@ use gltf_json as json;
 use json::validation::{Checked::Valid, USize64};
 
 use super::text;
+use super::vector::{cross, dot, sub};
 use crate::atomic::{OutputFile, write_atomic};
 
 /// An sRGB colour, 8 bits a channel (as the pictures use them).
@@ -527,22 +528,6 @@ impl Mesh {
         }
         Some(colours.into_iter().map(|c| c.unwrap_or([255; 3])).collect())
     }
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 fn scaled(a: [f64; 3], s: f64) -> [f64; 3] {

@@ -35,6 +35,7 @@ pub mod shell;
 pub mod surface;
 pub mod text;
 pub mod tip_bend;
+mod vector;
 
 /// A kind of output file `run --only` selects.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

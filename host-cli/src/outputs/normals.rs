@@ -7,6 +7,8 @@
 /// shaded smoothly across (45°): a sharper edge stays an edge.
 pub const CREASE: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
+use super::vector::{cross, dot, sub, unit};
+
 /// The unit normal at each corner of each of `triangles` (indices into
 /// `vertices`): the mean of the normals of the triangles at that point
 /// that meet this one at less than [`CREASE`], weighted by their areas,
@@ -134,32 +136,6 @@ pub fn corner_normals(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[[f6
 
 /// The cosine of half [`CREASE`] (22.5°).
 const HALF_CREASE: f64 = 0.923_879_532_511_286_7;
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// `v` scaled to length 1; the zero vector stays 0.
-fn unit(v: [f64; 3]) -> [f64; 3] {
-    let length = dot(v, v).sqrt();
-    if length > 0.0 {
-        v.map(|x| x / length)
-    } else {
-        [0.0; 3]
-    }
-}
 
 #[cfg(test)]
 mod tests {

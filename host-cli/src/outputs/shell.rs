@@ -21,6 +21,7 @@ use super::mesh::{Mesh, ObjStyle, Rgb, write_obj};
 use super::mosaic::{write_counts_and_mask, write_csv, write_shares};
 use super::normals;
 use super::picture;
+use super::vector::{cross, dot, sub, unit};
 use super::{Kind, Kinds};
 use crate::atomic;
 use crate::records::{Place, Records};
@@ -428,27 +429,6 @@ impl Found {
     }
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn normalised(v: [f64; 3]) -> [f64; 3] {
-    let l = dot(v, v).sqrt().max(1e-12);
-    v.map(|x| x / l)
-}
-
 impl Shell {
     fn corners(&self, f: &[u32; 3]) -> [[f64; 3]; 3] {
         f.map(|i| self.vertices.get(i as usize).copied().unwrap_or([0.0; 3]))
@@ -459,7 +439,7 @@ impl Shell {
     /// picture shaded between the corners is smooth where the surface is
     /// and keeps its edges.
     fn corner_shades(&self) -> Vec<[f64; 3]> {
-        let light = normalised(LIGHT);
+        let light = unit(LIGHT);
         normals::corner_normals(&self.vertices, &self.faces)
             .into_iter()
             .map(|corners| corners.map(|n| 0.35 + 0.65 * dot(n, light).abs()))

@@ -15,6 +15,7 @@ use tiny_skia::{Pixmap, PremultipliedColorU8};
 
 use super::mesh::{Mesh, Rgb};
 use super::picture;
+use super::vector::unit;
 
 /// The colour of the mosaic at the fractions (u, v) of the domain's
 /// width and height (its Voronoi picture).
@@ -156,7 +157,7 @@ impl Surface {
         if Pixmap::new(width, rows).is_none() {
             anyhow::bail!("a {width}×{rows} picture is too large");
         }
-        let light = normalised(LIGHT);
+        let light = unit(LIGHT);
         // What a column sees depends on its screen coordinate s alone: the
         // side's depth there, and on the near side (z = +depth) and the far
         // wall's inside (z = −depth) the angle round the axis and the shade.
@@ -301,11 +302,6 @@ fn rounded(v: f64) -> u8 {
     let whole = v as u64;
     let up = v - whole as f64 >= 0.5;
     (whole + u64::from(up)).min(255) as u8
-}
-
-fn normalised(v: [f64; 3]) -> [f64; 3] {
-    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    v.map(|x| x / n)
 }
 
 #[cfg(test)]
