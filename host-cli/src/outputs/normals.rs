@@ -138,21 +138,22 @@ pub fn corner_normals(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[[f6
 const HALF_CREASE: f64 = 0.923_879_532_511_286_7;
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    /// A globe of radius 1 from `rings` bands of `segments` facets (a fan
+    /// A globe of radius `r` from `rings` bands of `segments` facets (a fan
     /// round each pole), as vertices and triangles wound outwards.
-    fn globe(rings: u32, segments: u32) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-        let mut vertices = vec![[0.0, 0.0, 1.0]];
+    pub(crate) fn globe(r: f64, rings: u32, segments: u32) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+        let mut vertices = vec![[0.0, 0.0, r]];
         for i in 1..rings {
             let polar = std::f64::consts::PI * f64::from(i) / f64::from(rings);
             for j in 0..segments {
                 let a = std::f64::consts::TAU * f64::from(j) / f64::from(segments);
-                vertices.push([polar.sin() * a.cos(), polar.sin() * a.sin(), polar.cos()]);
+                let p = [polar.sin() * a.cos(), polar.sin() * a.sin(), polar.cos()];
+                vertices.push(p.map(|x| r * x));
             }
         }
-        vertices.push([0.0, 0.0, -1.0]);
+        vertices.push([0.0, 0.0, -r]);
         let south = (rings - 1) * segments + 1;
         let at = |i: u32, j: u32| 1 + (i - 1) * segments + j % segments;
         let mut triangles = Vec::new();
@@ -173,7 +174,7 @@ mod tests {
 
     #[test]
     fn a_globe_gets_the_normals_of_the_sphere() {
-        let (vertices, triangles) = globe(12, 24);
+        let (vertices, triangles) = globe(1.0, 12, 24);
         let normals = corner_normals(&vertices, &triangles);
         for (t, corners) in triangles.iter().zip(&normals) {
             for (&v, &n) in t.iter().zip(corners) {
@@ -189,7 +190,7 @@ mod tests {
 
     #[test]
     fn either_winding_and_repeated_vertices_give_the_same_normals() {
-        let (vertices, triangles) = globe(8, 12);
+        let (vertices, triangles) = globe(1.0, 8, 12);
         let normals = corner_normals(&vertices, &triangles);
         // Every other triangle wound the other way.
         let mut mixed = triangles.clone();

@@ -1203,31 +1203,9 @@ mod tests {
     }
 
     /// A globe of radius `r`: `rings` bands from pole to pole of
-    /// `segments` facets each (a fan of triangles round each pole, two
-    /// triangles a facet between).
+    /// `segments` facets each.
     fn globe(r: f64, rings: u32, segments: u32) -> Shell {
-        let mut vertices = vec![[0.0, 0.0, r]];
-        for i in 1..rings {
-            let polar = std::f64::consts::PI * f64::from(i) / f64::from(rings);
-            for j in 0..segments {
-                let a = std::f64::consts::TAU * f64::from(j) / f64::from(segments);
-                let p = [polar.sin() * a.cos(), polar.sin() * a.sin(), polar.cos()];
-                vertices.push(p.map(|x| r * x));
-            }
-        }
-        vertices.push([0.0, 0.0, -r]);
-        let south = (rings - 1) * segments + 1;
-        // Ring i (1 to rings − 1), meridian j.
-        let at = |i: u32, j: u32| 1 + (i - 1) * segments + j % segments;
-        let mut faces = Vec::new();
-        for j in 0..segments {
-            faces.push([0, at(1, j), at(1, j + 1)]);
-            faces.push([south, at(rings - 1, j + 1), at(rings - 1, j)]);
-            for i in 1..rings - 1 {
-                let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j), at(i + 1, j + 1));
-                faces.extend([[a, c, b], [b, c, d]]);
-            }
-        }
+        let (vertices, faces) = normals::tests::globe(r, rings, segments);
         Shell { vertices, faces }
     }
 
