@@ -218,10 +218,10 @@ pub(crate) mod tests {
         assert_eq!(corner_normals(&apart, &own), normals);
     }
 
-    #[test]
-    fn a_cube_keeps_its_edges() {
-        let vertices: Vec<[f64; 3]> = (0..8)
-            .map(|k| [1, 2, 4].map(|bit| if k & bit == 0 { -1.0 } else { 1.0 }))
+    /// A cube of half side `r` round the origin, two triangles a face.
+    pub(crate) fn cube(r: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+        let vertices = (0..8)
+            .map(|k| [1, 2, 4].map(|bit| if k & bit == 0 { -r } else { r }))
             .collect();
         let quads = [
             [0, 2, 3, 1],
@@ -231,10 +231,16 @@ pub(crate) mod tests {
             [0, 4, 6, 2],
             [1, 3, 7, 5],
         ];
-        let triangles: Vec<[u32; 3]> = quads
+        let triangles = quads
             .iter()
             .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
             .collect();
+        (vertices, triangles)
+    }
+
+    #[test]
+    fn a_cube_keeps_its_edges() {
+        let (vertices, triangles) = cube(1.0);
         let normals = corner_normals(&vertices, &triangles);
         for (t, corners) in triangles.iter().zip(&normals) {
             let [a, b, c] = t.map(|v| vertices[v as usize]);

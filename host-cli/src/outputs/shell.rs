@@ -1252,22 +1252,7 @@ mod tests {
         assert!(mixed.view(0.35).level == view.level);
         // A cube's faces meet at 90°: edges. It shows its top and front,
         // each in one shade (to rounding).
-        let r = 40.0;
-        let vertices = (0..8)
-            .map(|k| [1, 2, 4].map(|bit| if k & bit == 0 { -r } else { r }))
-            .collect();
-        let quads = [
-            [0, 1, 3, 2],
-            [4, 6, 7, 5],
-            [0, 4, 5, 1],
-            [2, 3, 7, 6],
-            [0, 2, 6, 4],
-            [1, 5, 7, 3],
-        ];
-        let faces = quads
-            .iter()
-            .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
-            .collect();
+        let (vertices, faces) = normals::tests::cube(40.0);
         let view = Shell { vertices, faces }.view(0.35);
         let levels: std::collections::BTreeSet<u8> = view
             .level
