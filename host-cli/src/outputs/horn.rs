@@ -9,9 +9,10 @@
 //! counter-clockwise seen from outside (the orientation is read off the
 //! first rings, so any outline orientation works).
 //!
-//! `horn.png` is the last frame, shaded smoothly with the monthly increments as
-//! alternating bands (crowded in winter: the annual rings); `years.png` shows
-//! the frames at the end of each year side by side, to the same scale.
+//! `horn.png` is the last frame, shaded smoothly, with the monthly
+//! increments as alternating bands (crowded in winter: the annual rings);
+//! `years.png` shows the frames at the end of each year side by side, to
+//! the same scale.
 
 use std::path::{Path, PathBuf};
 

@@ -1,8 +1,9 @@
 //! Triangles for the mesh pictures (horn, bodies, bones), flat-shaded or
-//! shaded smoothly between their corners' colours, without
-//! anti-aliasing: pixel centres inside the triangle take its colour, and a centre exactly on an edge goes to one side only (the
-//! top-left rule), so the triangles of a mesh meet with neither seams nor
-//! double coverage. Pictures are drawn at twice their size and halved
+//! shaded smoothly between their corners' colours, without anti-aliasing:
+//! pixel centres inside the triangle take its colour, and a centre
+//! exactly on an edge goes to one side only (the top-left rule), so the
+//! triangles of a mesh meet with neither seams nor double coverage.
+//! Pictures are drawn at twice their size and halved
 //! ([`super::picture::half`]) for smooth edges — far cheaper than a
 //! general path filler with coverage per triangle.
 
@@ -99,9 +100,10 @@ pub fn smooth_triangle_in_band(pixmap: &mut Pixmap, top: u16, p: [[f32; 2]; 3], 
     // Its value at the box's first centre: a's colour, and the gradient
     // times the way there from a in sub-pixels (whole pixels in a band
     // as in the whole picture: the same value at each pixel), raised by
-    // 2⁻⁸ of a level so that the rounding of the gradient (below 2⁻¹⁶
-    // of a level over the largest picture) keeps every value inside a
-    // corner's 0 to 255, which the pixels take without a clamp.
+    // 2⁻⁸ of a level so that the rounding of the gradient (half a unit
+    // a pixel: below 2⁻¹⁵ of a level over the 2¹⁷ pixels a vertex may be
+    // away) keeps every value inside the corners' 0 to 255, which the
+    // pixels take without a clamp.
     let one = 1i64 << SUB;
     let way = [
         cover.x0 * one + one / 2 - cover.a[0],
