@@ -1,6 +1,7 @@
 //! The crate-wide error: one variant per module that can fail.
 
 use crate::body::BodyError;
+use crate::bones::BonesError;
 use crate::horn::HornError;
 use crate::lsys::LsysError;
 use crate::mosaic::MosaicError;
@@ -36,6 +37,8 @@ pub enum Error {
     Body(BodyError),
     /// A shrinkwrap run cannot start.
     Shrinkwrap(ShrinkwrapError),
+    /// A bone run's frames do not fit its grammar.
+    Bones(BonesError),
 }
 
 impl core::fmt::Display for Error {
@@ -52,6 +55,7 @@ impl core::fmt::Display for Error {
             Error::Lsys(e) => write!(f, "L-system: {e}"),
             Error::Body(e) => write!(f, "body: {e}"),
             Error::Shrinkwrap(e) => write!(f, "shrinkwrap: {e}"),
+            Error::Bones(e) => write!(f, "bones: {e}"),
         }
     }
 }

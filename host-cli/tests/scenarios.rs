@@ -413,6 +413,20 @@ fn a_user_skeleton_is_wrapped_by_a_bone_preset() {
         ),
         "error: --set bones.grammar=missing.lsys: cannot read missing.lsys: No such file or directory (os error 2)"
     );
+    // Frames past the grammar's n, and a first sphere the mesh cannot
+    // hold, are refused before the run, with what is allowed.
+    let set = |kv: &str| error("", &["run", "bone-growth", "--set", kv]);
+    assert_eq!(
+        set("bones.frames.every_step_from=13"),
+        "error: --set bones.frames.every_step_from=13: bones.frames.every_step_from: 13 is out of \
+         range (allowed: 0 to 12)"
+    );
+    assert_eq!(
+        set("bones.wrap.parallels=51"),
+        "error: --set bones.wrap.parallels=51: bones.wrap.parallels: 51 parallels of 24 meridians \
+         make a sphere of 1226 vertices, more than the shrinkwrap mesh holds (MCU_VERTICES = \
+         1200; allowed with 24 meridians: 1 to 49)"
+    );
     // A sweep over skeletons reads them the same way; its table keeps
     // their names.
     std::fs::copy(&own, tmp.path().join("long-bone.lsys")).unwrap();

@@ -8,7 +8,7 @@ use morphogen::body::table::Column as CoreColumn;
 use morphogen::body::{
     BodyError, BodyModel, BodyParams, Cylinder, GrowthTable, Interpolation, Label, Mesh, Skeleton,
 };
-use morphogen::bones::{BonesParams, Frames as BoneFramesCore};
+use morphogen::bones::{BonesParams, Frames as BoneFramesCore, MCU_VERTICES};
 use morphogen::fx::{Angle, Fx};
 use morphogen::growth::Sigmoid as CoreSigmoid;
 use morphogen::growth_curve;
@@ -1131,7 +1131,13 @@ fn bones(b: &schema::Bones, files: &dyn Files) -> Result<Checked> {
         }
         BoneFrames::Table(t) => match (t.every_step_from, t.seeds) {
             (Some(first), None) => BoneFramesCore::EveryStep {
-                first: int("bones.frames.every_step_from", first, 0, 255)?,
+                // Steps past the grammar's n are not derived.
+                first: int(
+                    "bones.frames.every_step_from",
+                    first,
+                    0,
+                    i64::from(parsed.settings().steps),
+                )?,
             },
             (None, Some(n)) => BoneFramesCore::Seeds(int("bones.frames.seeds", n, 1, 255)?),
             _ => {
@@ -1150,7 +1156,22 @@ fn bones(b: &schema::Bones, files: &dyn Files) -> Result<Checked> {
             format!("{meridians} is not a multiple of 4 (allowed: 4, 8, … 252)"),
         );
     }
-    let parallels: u8 = int("bones.wrap.parallels", w.parallels, 1, 255)?;
+    // The initial sphere, m·p + 2 vertices, fits the mesh.
+    let most = ((MCU_VERTICES as i64 - 2) / i64::from(meridians)).min(255);
+    let most = most - (1 - most % 2); // odd
+    if w.parallels > most && w.parallels <= 255 {
+        return invalid(
+            "bones.wrap.parallels",
+            format!(
+                "{} parallels of {meridians} meridians make a sphere of {} vertices, more than \
+                 the shrinkwrap mesh holds (MCU_VERTICES = {MCU_VERTICES}; allowed with \
+                 {meridians} meridians: 1 to {most})",
+                w.parallels,
+                w.parallels * i64::from(meridians) + 2
+            ),
+        );
+    }
+    let parallels: u8 = int("bones.wrap.parallels", w.parallels, 1, most)?;
     if parallels.is_multiple_of(2) {
         return invalid(
             "bones.wrap.parallels",

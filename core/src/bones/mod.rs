@@ -52,6 +52,39 @@ pub enum Frames {
     Seeds(u8),
 }
 
+/// A bone run whose frames do not fit its grammar.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum BonesError {
+    /// [`Frames::EveryStep`] starts after the grammar's last step `n`.
+    FirstStepPastEnd {
+        /// The first step asked for.
+        first: u8,
+        /// The grammar's `n`.
+        steps: u8,
+    },
+}
+
+impl core::fmt::Display for BonesError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            BonesError::FirstStepPastEnd { first, steps } => write!(
+                f,
+                "frames from step {first}, past the grammar's last step n = {steps}"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for BonesError {}
+
+impl From<BonesError> for crate::Error {
+    fn from(e: BonesError) -> crate::Error {
+        crate::Error::Bones(e)
+    }
+}
+
 /// A bone run's parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct BonesParams<'a> {

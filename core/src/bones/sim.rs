@@ -18,7 +18,7 @@ use crate::sim::{Deferred, Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 
 use super::skeleton::{Grower, Skeleton};
-use super::{BonesParams, Frames};
+use super::{BonesError, BonesParams, Frames};
 
 /// A bone simulation with a mesh of at most `V` vertices and `T`
 /// triangles, keeping the field at up to `C` of them between moves
@@ -68,14 +68,23 @@ impl<'a, const V: usize, const T: usize, const C: usize, D: Derivation> Bones<'a
     /// step.
     ///
     /// # Errors
-    /// The grammar's parse error.
+    /// The grammar's parse error, or [`BonesError::FirstStepPastEnd`].
     pub fn start(&mut self, params: &'a BonesParams<'a>, seed: u64) -> Result<(), Error> {
         self.params = Some(params);
         self.seed = seed;
         self.frame = 0;
         self.wrapping = false;
         let loaded = self.grower.load(params.grammar).map_err(Error::from);
-        self.failed.keep(loaded)
+        let checked = loaded.and_then(|()| {
+            let steps = self.grower.grammar().settings().steps;
+            match params.frames {
+                Frames::EveryStep { first } if first > steps => {
+                    Err(BonesError::FirstStepPastEnd { first, steps }.into())
+                }
+                _ => Ok(()),
+            }
+        });
+        self.failed.keep(checked)
     }
 
     /// The current skeleton.
@@ -95,6 +104,7 @@ impl<'a, const V: usize, const T: usize, const C: usize, D: Derivation> Bones<'a
         match self.params.map(|p| p.frames) {
             None => 0,
             Some(Frames::Final) => 1,
+            // first ≤ n: checked by `start`.
             Some(Frames::EveryStep { first }) => n.saturating_sub(first) as u32 + 1,
             Some(Frames::Seeds(count)) => count as u32,
         }

@@ -184,6 +184,27 @@ fn a_grammar_that_never_draws_ends_with_a_named_limit() {
     ));
 }
 
+/// Frames from a step past the grammar's `n` are refused at the start,
+/// not derived: the grammar's steps are the run's.
+#[test]
+fn frames_past_the_grammars_last_step_are_refused() {
+    let params = BonesParams {
+        frames: Frames::EveryStep { first: 13 },
+        ..PRESETS[2].1
+    };
+    let mut bones = Bones::<MCU_VERTICES, MCU_TRIANGLES>::new();
+    let refused = Err(Error::Bones(BonesError::FirstStepPastEnd {
+        first: 13,
+        steps: 12,
+    }));
+    assert_eq!(bones.start(&params, 0), refused);
+    let last = BonesParams {
+        frames: Frames::EveryStep { first: 12 },
+        ..params
+    };
+    assert_eq!(bones.start(&last, 0), Ok(()));
+}
+
 /// |v| in f64 (nalgebra's `norm` needs its `libm` feature).
 fn length(v: Vector3<f64>) -> f64 {
     v.dot(&v).sqrt()
