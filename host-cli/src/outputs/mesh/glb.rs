@@ -177,6 +177,42 @@ impl GlbWriter {
         }))
     }
 
+    /// An accessor of `points` as `VEC3` of `f32` for a vertex attribute,
+    /// with their least and greatest coordinates when `bounded` (glTF
+    /// requires them of `POSITION`).
+    fn vec3(
+        &mut self,
+        points: &[[f32; 3]],
+        bounded: bool,
+    ) -> Result<json::Index<json::Accessor>, MeshError> {
+        use json::accessor::{ComponentType as C, Type as T};
+        let bounds = bounded.then(|| {
+            let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
+            for p in points {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+            (lo.to_vec(), hi.to_vec())
+        });
+        let bytes: Vec<u8> = points
+            .iter()
+            .flatten()
+            .flat_map(|c| c.to_le_bytes())
+            .collect();
+        let count = points.len();
+        self.accessor(
+            &bytes,
+            Some(ARRAY_BUFFER),
+            count,
+            C::F32,
+            T::Vec3,
+            false,
+            bounds,
+        )
+    }
+
     fn material(&mut self, name: &str) -> json::Index<json::Material> {
         if let Some((_, m)) = self.materials.iter().find(|(n, _)| n == name) {
             return *m;
@@ -217,43 +253,9 @@ impl GlbWriter {
             // POSITION, with the bounds glTF requires (of the f32 values).
             let points: Vec<[f32; 3]> =
                 mesh.positions.iter().map(|p| p.map(|c| c as f32)).collect();
-            let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
-            for p in &points {
-                for k in 0..3 {
-                    lo[k] = lo[k].min(p[k]);
-                    hi[k] = hi[k].max(p[k]);
-                }
-            }
-            let bytes: Vec<u8> = points
-                .iter()
-                .flatten()
-                .flat_map(|c| c.to_le_bytes())
-                .collect();
-            let a = self.accessor(
-                &bytes,
-                Some(ARRAY_BUFFER),
-                vertices,
-                C::F32,
-                T::Vec3,
-                false,
-                Some((lo.to_vec(), hi.to_vec())),
-            )?;
+            let a = self.vec3(&points, true)?;
             attributes.insert(Valid(json::mesh::Semantic::Positions), a);
-            let bytes: Vec<u8> = mesh
-                .vertex_normals()
-                .iter()
-                .flatten()
-                .flat_map(|c| c.to_le_bytes())
-                .collect();
-            let a = self.accessor(
-                &bytes,
-                Some(ARRAY_BUFFER),
-                vertices,
-                C::F32,
-                T::Vec3,
-                false,
-                None,
-            )?;
+            let a = self.vec3(&mesh.vertex_normals(), false)?;
             attributes.insert(Valid(json::mesh::Semantic::Normals), a);
             if let Some(colours) = mesh.resolved_colours() {
                 let table: Vec<u8> = (0..=255).map(linear).collect();

@@ -23,7 +23,7 @@ use morphogen::mosaic::Params;
 use morphogen::stream::Record;
 
 use super::chart::{Axis, Chart, Series};
-use super::mesh::{ObjStyle, write_obj};
+use super::mesh::{Mesh, ObjStyle, write_obj};
 use super::picture;
 use super::surface::Surface;
 use super::text;
@@ -290,20 +290,22 @@ pub fn write<R: Records + ?Sized>(
             }
         }
         if kinds.has(Kind::Obj) {
-            let path = dir.join("mosaic.obj");
-            let style = ObjStyle {
-                vertex_colours: true,
-                ..ObjStyle::PLAIN
-            };
-            written.extend(write_obj(
-                &path,
-                &surface.mesh(Some(&|u, v| picture.at(u, v)))?,
-                style,
-            )?);
+            let coloured = surface.mesh(Some(&|u, v| picture.at(u, v)))?;
+            written.extend(write_mosaic_obj(dir, &coloured)?);
         }
     }
     written.extend(write_counts_and_mask(params, names, &counts, dir, kinds)?);
     Ok(written)
+}
+
+/// Writes `mosaic.obj`: `coloured`, the surface with the last day's
+/// cells on it as a colour per vertex, on the plane or on a mesh alike.
+pub(super) fn write_mosaic_obj(dir: &Path, coloured: &Mesh) -> Result<Vec<PathBuf>> {
+    let style = ObjStyle {
+        vertex_colours: true,
+        ..ObjStyle::PLAIN
+    };
+    write_obj(&dir.join("mosaic.obj"), coloured, style)
 }
 
 /// Writes the cells-per-type chart (`cells.png`, `cells.svg`, when there

@@ -20,7 +20,7 @@ use morphogen::stream::Record;
 use rayon::prelude::*;
 
 use super::mesh::{Mesh, ObjStyle, Rgb, write_obj};
-use super::mosaic::{write_counts_and_mask, write_csv, write_shares};
+use super::mosaic::{write_counts_and_mask, write_csv, write_mosaic_obj, write_shares};
 use super::picture;
 use super::vector::{cross, dot, sub};
 use super::{Kind, Kinds};
@@ -242,16 +242,7 @@ pub fn write<R: Records + ?Sized>(
             written.push(path);
         }
         if kinds.has(Kind::Obj) {
-            let path = dir.join("mosaic.obj");
-            let style = ObjStyle {
-                vertex_colours: true,
-                ..ObjStyle::PLAIN
-            };
-            written.extend(write_obj(
-                &path,
-                &shell.coloured(&near, &colours, 2)?,
-                style,
-            )?);
+            written.extend(write_mosaic_obj(dir, &shell.coloured(&near, &colours, 2)?)?);
         }
     }
     written.extend(write_counts_and_mask(params, names, &counts, dir, kinds)?);
