@@ -289,6 +289,23 @@ fn a_user_body_runs_from_its_files_and_their_mistakes_are_named() {
         String::from_utf8_lossy(&o.stderr).trim(),
         "error: tail.cylinders:4: the growth table has no column 'length' (it has elbow-to-ground, cannon-diameter, hind-leg, head-width)"
     );
+    // Lengths the cylinders' features cannot have: the cylinder and the
+    // age of the frame that meets them.
+    let o = morphogen(
+        &[
+            "run",
+            "cow-trot",
+            "--set",
+            "body.table.columns[0].values[3]=30000",
+        ],
+        tmp.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr).trim(),
+        "error: cow-trot: body: cylinder 'torso' at age 3.00 months: the measured lengths give a \
+         negative L² or R²"
+    );
 }
 
 /// A user's skeleton (issue 18): `--grammar` with a bone preset wraps it

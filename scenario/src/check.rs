@@ -1102,7 +1102,7 @@ fn cylinder_of(e: &morphogen::Error) -> Option<Label> {
             | BodyError::DegenerateCylinder { cylinder }
             | BodyError::DegenerateFeature { cylinder }
             | BodyError::SingularFeatures { cylinder }
-            | BodyError::NegativeSize { cylinder }
+            | BodyError::NegativeSize { cylinder, .. }
             | BodyError::UnknownColumn { cylinder, .. },
         ) => Some(*cylinder),
         _ => None,

@@ -1,6 +1,7 @@
 //! What can be wrong with a body model, its growth table or its mesh.
 
 use super::Label;
+use crate::fx::Fx;
 
 /// A body that cannot be grown; each variant names the cylinder, column or
 /// mesh element at fault.
@@ -38,6 +39,9 @@ pub enum BodyError {
     NegativeSize {
         /// The cylinder.
         cylinder: Label,
+        /// The age (months) it was sized for, once known: a run names its
+        /// frame's ([`BodyError::at_age`]).
+        age: Option<Fx>,
     },
     /// A feature names a column the growth table does not have.
     UnknownColumn {
@@ -87,10 +91,13 @@ impl core::fmt::Display for BodyError {
                 "cylinder '{cylinder}': its two features have the same axial vs radial proportions, \
                  so length and radius cannot both be solved (singular 2x2 system)"
             ),
-            BodyError::NegativeSize { cylinder } => write!(
-                f,
-                "cylinder '{cylinder}': the measured lengths give a negative L² or R²"
-            ),
+            BodyError::NegativeSize { cylinder, age } => {
+                write!(f, "cylinder '{cylinder}'")?;
+                if let Some(age) = age {
+                    write!(f, " at age {age:.2} months")?;
+                }
+                f.write_str(": the measured lengths give a negative L² or R²")
+            }
             BodyError::UnknownColumn { cylinder, column } => write!(
                 f,
                 "cylinder '{cylinder}': the growth table has no column {column}"
@@ -109,6 +116,24 @@ impl core::fmt::Display for BodyError {
                 write!(f, "tube {tube} needs at least 2 stations and 3 sides")
             }
             BodyError::ZeroCount => f.write_str("the run needs at least one frame and gait phase"),
+        }
+    }
+}
+
+impl BodyError {
+    /// This error of a body sized for `age` (months): a
+    /// [`BodyError::NegativeSize`] names it; the others are unchanged.
+    #[must_use]
+    pub fn at_age(self, age: Fx) -> BodyError {
+        match self {
+            BodyError::NegativeSize {
+                cylinder,
+                age: None,
+            } => BodyError::NegativeSize {
+                cylinder,
+                age: Some(age),
+            },
+            e => e,
         }
     }
 }

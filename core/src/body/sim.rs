@@ -137,7 +137,12 @@ impl<const C: usize> Simulation for Body<'_, C> {
             Some(g) => g.joint(c.name, phase),
             None => Joint::REST,
         };
-        self.skeleton.pose(model, params.table, age, &joint)?;
+        self.skeleton
+            .pose(model, params.table, age, &joint)
+            .map_err(|e| match e {
+                Error::Body(e) => Error::Body(e.at_age(age)),
+                e => e,
+            })?;
         sink.record(&Record::FrameStart { frame, time: age })?;
         for id in 0..model.mesh.vertex_count() {
             let Some(p) = model.mesh.vertex::<Fx>(id) else {

@@ -196,6 +196,7 @@ pub fn solve<R: Real>(
     if alpha <= R::zero() || beta <= R::zero() {
         return Err(BodyError::NegativeSize {
             cylinder: cylinder.name,
+            age: None,
         });
     }
     Ok(Growth {
