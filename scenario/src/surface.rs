@@ -3,9 +3,13 @@
 //! checked into what the core's [`Surface`] borrows.
 
 use morphogen::fx::Fx;
+use morphogen::mosaic::MosaicError;
+use morphogen::mosaic::mesh::{MAX_FACES, MAX_VERTICES, MeshError};
 use morphogen::mosaic::shapes::{Shape, Tessellation};
-use morphogen::mosaic::surface::{ControlMap, Surface, SurfaceMesh};
+use morphogen::mosaic::surface::meshes::MeshStore;
+use morphogen::mosaic::surface::{ControlMap, Surface, SurfaceMesh, build_mesh};
 
+use crate::run::MeshVecs;
 use crate::schema::{self, Include};
 use crate::value::{Invalid, Result, fx, int, invalid};
 
@@ -94,7 +98,14 @@ pub fn check(
                 s.ribs.unwrap_or(0),
                 0,
                 i64::from(segments / 4),
-            )?,
+            )
+            .map_err(|e| Invalid {
+                message: format!(
+                    "{}: a rib takes 4 of mosaic.surface.segments = {segments}",
+                    e.message
+                ),
+                ..e
+            })?,
             depth: fx("mosaic.surface.depth", s.depth.unwrap_or(0.0), 0.0, 0.5)?,
         }),
         "cap" => tess(Shape::Cap {
@@ -137,12 +148,52 @@ pub fn check(
             obj(&bytes)?
         }
     };
-    Ok(SurfaceSpec {
+    let spec = SurfaceSpec {
         shape,
         vertices,
         faces,
         control,
-    })
+    };
+    carries_cells(&spec, name)?;
+    Ok(spec)
+}
+
+/// Builds the mesh as a run does and checks it with the core's
+/// [`build_mesh`], so that a shape too small for its grid, or an OBJ the
+/// core cannot use, is refused here, naming its key, not at the run's
+/// start.
+fn carries_cells(spec: &SurfaceSpec, name: &str) -> Result<()> {
+    let surface = spec.surface();
+    let (vertices, faces) = surface.counts();
+    let built = if vertices > MAX_VERTICES || faces > MAX_FACES {
+        // Refused before the buffers (some 120 B a triangle) are allocated.
+        Err(MosaicError::Mesh(MeshError::TooLarge).into())
+    } else {
+        let mut vecs = MeshVecs::default();
+        vecs.buffers(vertices, faces)
+            .and_then(|(buffers, _)| build_mesh(&surface, buffers).map(drop))
+    };
+    let Err(e) = built else { return Ok(()) };
+    let (problem, remedy) = match e {
+        morphogen::Error::Mosaic(MosaicError::Mesh(e @ MeshError::Degenerate { .. })) => (
+            e.to_string(),
+            "make it larger, or use fewer rings or segments",
+        ),
+        morphogen::Error::Mosaic(MosaicError::Mesh(e)) => {
+            (e.to_string(), "use fewer rings or segments")
+        }
+        other => return invalid("mosaic.surface", other.to_string()),
+    };
+    match spec.shape {
+        Some(t) => invalid(
+            "mosaic.surface",
+            format!(
+                "shape {name:?} in {} rings × {} segments cannot carry cells: {problem}; {remedy}",
+                t.rings, t.segments
+            ),
+        ),
+        None => invalid("mosaic.surface.file", problem),
+    }
 }
 
 fn need_file(s: &schema::Surface) -> Result<&Include> {
@@ -251,8 +302,8 @@ initial_probability = 1
         assert!(refusal("v 0 0 0\nv 900 0 0\nv 0 1 0\nf 1 2 3\n").contains("vertex 2"));
         let flat = "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n";
         assert!(
-            refusal(flat).contains("triangle 0 has no area"),
-            "{}",
+            refusal(flat).starts_with("t.toml:16: mosaic.surface.file: triangle 0 has no area"),
+            "refused at the door, naming the key: {}",
             refusal(flat)
         );
         let fin = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 -1 0\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
@@ -260,6 +311,30 @@ initial_probability = 1
             refusal(fin).contains("shared by more than two"),
             "{}",
             refusal(fin)
+        );
+    }
+
+    #[test]
+    fn a_shape_too_small_for_its_grid_is_refused_at_the_door() {
+        let stem = |radius: &str, rings: u32| {
+            on("").replace(
+                "shape = \"obj\"\nfile = { text = \"\"\"\"\"\" }",
+                &format!("shape = \"stem\"\nradius = {radius}\nlength = 20\nrings = {rings}"),
+            )
+        };
+        let refused = |text: String| match Scenario::from_text("t.toml", &text) {
+            Ok(_) => "accepted".to_string(),
+            Err(e) => e.to_string(),
+        };
+        assert_eq!(refused(stem("2", 24)), "accepted");
+        assert_eq!(
+            refused(stem("0.01", 24)),
+            "t.toml:14: mosaic.surface: shape \"stem\" in 24 rings × 48 segments cannot carry \
+             cells: triangle 1728 has no area; make it larger, or use fewer rings or segments"
+        );
+        assert!(
+            refused(stem("2", 1024).replace("length = 20", "length = 20\nsegments = 1024"))
+                .contains("more than 1048576 vertices"),
         );
     }
 }
