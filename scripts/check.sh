@@ -71,6 +71,10 @@ for name in $("$morphogen" list | cut -d' ' -f1); do
 done
 echo "all $(ls "$shown" | wc -l) scenario files reproduce their fixtures"
 
+step "boundary probe: every number of one preset per model at both ends of its range, refused or run, never a panic (docs/robustness.md)"
+python3 scripts/boundary-probe.py --bin "$morphogen" --timeout 5 \
+    growth-curve ram-horn cow-growth long-bone croton-mcu watermelon-mcu
+
 step "fuzz smoke: every reader's libFuzzer target for 20 s (docs/robustness.md)"
 bash scripts/fuzz.sh 20
 
