@@ -161,7 +161,9 @@ pub fn check(
 /// Builds the mesh as a run does and checks it with the core's
 /// [`build_mesh`], so that a shape too small for its grid, or an OBJ the
 /// core cannot use, is refused here, naming its key, not at the run's
-/// start.
+/// start. The run builds it again in its own store (the core checks what
+/// it is given): 6.4 M instructions more for watermelon-fruit's 3,000
+/// triangles, 0.08 % of its `verify`.
 fn carries_cells(spec: &SurfaceSpec, name: &str) -> Result<()> {
     let surface = spec.surface();
     let (vertices, faces) = surface.counts();
