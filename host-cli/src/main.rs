@@ -93,7 +93,12 @@ enum Command {
         mask: Option<PathBuf>,
         /// Stop a run whose stream grows past this many MiB (a runaway
         /// grammar, a huge mosaic).
-        #[arg(long, value_name = "MB", default_value_t = exec::DEFAULT_MAX_STREAM_MB)]
+        #[arg(
+            long,
+            value_name = "MB",
+            default_value_t = exec::DEFAULT_MAX_STREAM_MB,
+            value_parser = clap::value_parser!(u32).range(1..)
+        )]
         max_stream_mb: u32,
         /// Write only these kinds of file, a comma list of png (pictures
         /// and chart bitmaps), obj (meshes and their .mtl), glb

@@ -623,6 +623,13 @@ fn runaway_and_unreadable_grammars_stop_with_the_limit_named() {
         "{}",
         text(&o)
     );
+    let o = morphogen(&["run", "growth-curve", "--max-stream-mb", "0"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(
+        text(&o).contains("'0' for '--max-stream-mb <MB>'"),
+        "a cap of 0 MiB stops every run: refused before it starts: {}",
+        text(&o)
+    );
     let mut big = b"n = 1\naxiom: F\n# ".to_vec();
     big.resize(17 << 20, b'x');
     let big = file("big.lsys", &big);
