@@ -347,7 +347,8 @@ impl Compiler<'_, '_> {
     }
 }
 
-/// A decimal number `12`, `0.5`, `.5`, `3.`.
+/// A decimal number `12`, `0.5`, `.5`, `3.`; an exponent (`1e-3`) is
+/// refused where it starts, naming the form that is read.
 fn number(c: &mut Cursor<'_>) -> Result<Fx, ParseError> {
     let start = c.pos;
     let mut digits = 0;
@@ -364,6 +365,11 @@ fn number(c: &mut Cursor<'_>) -> Result<Fx, ParseError> {
     }
     if digits == 0 {
         return Err(c.err_at(start, ParseErrorKind::Expected("a number")));
+    }
+    if matches!(c.peek(), Some(b'e' | b'E')) {
+        return Err(c.err(ParseErrorKind::Expected(
+            "a decimal without exponent (0.001, not 1e-3)",
+        )));
     }
     let text = c.text.get(start..c.pos).unwrap_or("0");
     let (int, frac) = text.split_once('.').unwrap_or((text, ""));

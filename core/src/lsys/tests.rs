@@ -422,7 +422,7 @@ fn parse_err(text: &str) -> ParseError {
 #[test]
 fn malformed_grammars_get_located_errors() {
     use ParseErrorKind as K;
-    let cases: [(&str, u32, u32, K); 19] = [
+    let cases: [(&str, u32, u32, K); 21] = [
         ("n = 1\naxiom: F[", 2, 9, K::UnclosedBranch),
         ("n = 1\naxiom: F\nF -> F]F", 3, 7, K::UnmatchedClose),
         ("n = 1\naxiom: F\nF -> F[+F][[-F]", 3, 11, K::UnclosedBranch),
@@ -452,6 +452,18 @@ fn malformed_grammars_get_located_errors() {
             ),
         ),
         ("n = 1\naxiom: F(40000)", 2, 10, K::NumberOutOfRange),
+        (
+            "n = 1\ndelta = 1e9\naxiom: F",
+            2,
+            10,
+            K::Expected("a decimal without exponent (0.001, not 1e-3)"),
+        ),
+        (
+            "n = 1\naxiom: F(2.5E-3)",
+            2,
+            13,
+            K::Expected("a decimal without exponent (0.001, not 1e-3)"),
+        ),
         ("n = 1\naxiom: F\nF -> F é", 3, 8, K::NotAscii),
         ("n = 1\naxiom: F\nF : x > -> F", 3, 5, K::UnknownName),
         (
