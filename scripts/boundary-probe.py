@@ -12,6 +12,8 @@ to A and to B, and the run's outcome is classed:
   PANIC     a panic (exit 101 or "panicked" on standard error)
   TIMEOUT   still running after --timeout seconds (slow, not necessarily wrong)
   OTHER     any other exit code, or exit 2 without a message
+  no-range  refused far out of range without saying the range (so its ends
+            are not tried; printed with --verbose)
 
 A key whose far-out value is accepted is reported as UNBOUNDED. The exit
 code is 1 when anything is PANIC, OTHER or UNBOUNDED. By hand, after a change
@@ -119,7 +121,7 @@ def probe_key(args, preset, scenario, path, original, out):
     """The outcomes of one key: [(what, value, outcome, message)]."""
     name = ".".join(str(p) for p in path)
     results = []
-    range_seen = None
+    range_seen, refusal = None, ""
     for far in FAR[type(original)]:
         outcome, message = run(args, preset, setting(scenario, path, far), out)
         if outcome == "ok":
@@ -127,10 +129,13 @@ def probe_key(args, preset, scenario, path, original, out):
         elif outcome != "refused":
             results.append((name, far, outcome, message))
         else:
+            refusal = message
             found = ALLOWED.search(message)
             if found:
                 range_seen = found.groups()
     if range_seen is None:
+        if refusal:
+            results.append((name, FAR[type(original)][0], "no-range", refusal))
         return results
     for end in range_seen:
         try:
@@ -181,7 +186,8 @@ def main():
                 counts[outcome] = counts.get(outcome, 0) + 1
             print(f"{preset}: " + ", ".join(f"{n} {o}" for o, n in sorted(counts.items())))
             for name, value, outcome, message in results:
-                if outcome == "ok" or (outcome == "refused" and not args.verbose):
+                quiet = outcome in ("refused", "no-range") and not args.verbose
+                if outcome == "ok" or quiet:
                     continue
                 print(f"  {outcome:9} {name} = {value}: {message[:300]}")
                 bad += outcome in ("PANIC", "OTHER", "UNBOUNDED")
