@@ -12,7 +12,7 @@ use morphogen::body::Body;
 use morphogen::bones::{Bones, HOST_FIELD_CACHE, MCU_TRIANGLES, MCU_VERTICES};
 use morphogen::lsys::{Buffered, Grammar, LSystem, LsysError, Module, Neighbours};
 use morphogen::mosaic::grid::Grid;
-use morphogen::mosaic::mesh::{MeshArrays, MeshParts, Place};
+use morphogen::mosaic::mesh::{MAX_FACES, MAX_VERTICES, MeshArrays, MeshError, MeshParts, Place};
 use morphogen::mosaic::relaxation::{self, Forces, Relax};
 use morphogen::mosaic::store::{CellSlices, CellStore};
 use morphogen::mosaic::surface::meshes::MeshStore;
@@ -21,7 +21,7 @@ use morphogen::mosaic::surface::relaxation::{
 };
 use morphogen::mosaic::surface::store::{SurfaceSlices, SurfaceStore};
 use morphogen::mosaic::surface::{MeshBuffers, SurfaceMosaic};
-use morphogen::mosaic::{Mosaic, Params as MosaicParams, host_capacity};
+use morphogen::mosaic::{Mosaic, MosaicError, Params as MosaicParams, host_capacity};
 use morphogen::preset::{self, Model, Preset, Runner};
 use morphogen::sim::Progress;
 use morphogen::stream::Sink;
@@ -618,6 +618,10 @@ impl MeshStore for MeshVecs {
         vertices: usize,
         faces: usize,
     ) -> Result<(MeshBuffers<'_>, &mut [[i32; 3]]), morphogen::Error> {
+        // Refused before the buffers (some 120 B a triangle) are allocated.
+        if vertices > MAX_VERTICES || faces > MAX_FACES {
+            return Err(MosaicError::Mesh(MeshError::TooLarge).into());
+        }
         self.vertices.resize(vertices, [0; 3]);
         self.faces.resize(faces, [0; 3]);
         self.neighbours.resize(faces, [0; 3]);

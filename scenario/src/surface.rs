@@ -4,7 +4,7 @@
 
 use morphogen::fx::Fx;
 use morphogen::mosaic::MosaicError;
-use morphogen::mosaic::mesh::{MAX_FACES, MAX_VERTICES, MeshError};
+use morphogen::mosaic::mesh::MeshError;
 use morphogen::mosaic::shapes::{Shape, Tessellation};
 use morphogen::mosaic::surface::meshes::MeshStore;
 use morphogen::mosaic::surface::{ControlMap, Surface, SurfaceMesh, build_mesh};
@@ -167,14 +167,9 @@ pub fn check(
 fn carries_cells(spec: &SurfaceSpec, name: &str) -> Result<()> {
     let surface = spec.surface();
     let (vertices, faces) = surface.counts();
-    let built = if vertices > MAX_VERTICES || faces > MAX_FACES {
-        // Refused before the buffers (some 120 B a triangle) are allocated.
-        Err(MosaicError::Mesh(MeshError::TooLarge).into())
-    } else {
-        let mut vecs = MeshVecs::default();
-        vecs.buffers(vertices, faces)
-            .and_then(|(buffers, _)| build_mesh(&surface, buffers).map(drop))
-    };
+    let built = MeshVecs::default()
+        .buffers(vertices, faces)
+        .and_then(|(buffers, _)| build_mesh(&surface, buffers).map(drop));
     let Err(e) = built else { return Ok(()) };
     let (problem, remedy) = match e {
         morphogen::Error::Mosaic(MosaicError::Mesh(e @ MeshError::Degenerate { .. })) => (
