@@ -25,7 +25,7 @@ step "lint"
 cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy -p morphogen --all-targets --features rig,defmt,surface-runner -- -D warnings
 (cd firmware-example && cargo clippy --release -- -D warnings)
-(cd firmware-example && cargo clippy --release --no-default-features --features semihosting -- -D warnings)
+(cd firmware-example && cargo clippy --release --no-default-features --features semihosting,bitwise-crc -- -D warnings)
 (cd firmware-example && cargo clippy --release --features surface -- -D warnings)
 # firmware-rp2040 shares firmware-example's target folder: the host-side
 # build dependencies (the scenario compiler) are built once.

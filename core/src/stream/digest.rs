@@ -1,6 +1,8 @@
 //! Digests: CRC-32 per frame, CRC-64 over the whole stream and over a
 //! preset's parameters.
 
+#[cfg(feature = "bitwise-frame-crc")]
+use crc::NoTable;
 use crc::{CRC_32_ISO_HDLC, CRC_64_XZ, Crc, Table};
 use serde::Serialize;
 
@@ -12,8 +14,15 @@ type Slices = Table<16>;
 #[cfg(not(target_pointer_width = "64"))]
 type Slices = Table<1>;
 
+/// The per-frame CRC's table: none with the feature `bitwise-frame-crc`
+/// (bit by bit, for the smallest flash), else as the stream digest's.
+#[cfg(feature = "bitwise-frame-crc")]
+type FrameTable = NoTable;
+#[cfg(not(feature = "bitwise-frame-crc"))]
+type FrameTable = Slices;
+
 /// The per-frame check: CRC-32/ISO-HDLC (the zlib/Ethernet CRC).
-pub(super) static FRAME_CRC: Crc<u32, Slices> = Crc::<u32, Slices>::new(&CRC_32_ISO_HDLC);
+pub(super) static FRAME_CRC: Crc<u32, FrameTable> = Crc::<u32, FrameTable>::new(&CRC_32_ISO_HDLC);
 /// The stream and parameter digest: CRC-64/XZ.
 static STREAM_CRC: Crc<u64, Slices> = Crc::<u64, Slices>::new(&CRC_64_XZ);
 
@@ -89,4 +98,17 @@ impl postcard::ser_flavors::Flavor for ParamDigest {
 #[must_use]
 pub fn params_digest<P: Serialize + ?Sized>(params: &P) -> u64 {
     postcard::serialize_with_flavor(params, ParamDigest(STREAM_CRC.digest())).unwrap_or(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{FRAME_CRC, StreamDigest};
+
+    /// The catalogue's check values (the CRC of "123456789"), whichever
+    /// table the build uses (`bitwise-frame-crc` or not).
+    #[test]
+    fn the_digests_are_the_catalogued_crcs() {
+        assert_eq!(FRAME_CRC.checksum(b"123456789"), 0xcbf4_3926);
+        assert_eq!(StreamDigest::of(b"123456789"), 0x995d_c9bb_df19_39fa);
+    }
 }
