@@ -18,6 +18,7 @@ pub mod serve;
 pub mod stdout;
 pub mod sweep;
 pub mod verify;
+pub mod written;
 
 /// How a command ended, mapped to the process exit code.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

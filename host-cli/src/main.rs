@@ -10,7 +10,7 @@ use morphogen_cli::outputs::{Kind, Kinds};
 use morphogen_cli::stdout::StdoutError;
 use morphogen_cli::{
     Outcome, atomic, body_input, capture, exec, fixture, jsonl, listen, outputs, say, send, serve,
-    sweep, verify,
+    sweep, verify, written,
 };
 use morphogen_scenario::Scenario;
 
@@ -452,9 +452,7 @@ fn run(
         run.bytes,
         run.digest
     )?;
-    for path in written {
-        say!("  wrote {}", path.display())?;
-    }
+    written::say_wrote(&written)?;
     Ok(Outcome::Ok)
 }
 
@@ -496,9 +494,7 @@ fn run_grammar(
         run.bytes,
         run.digest
     )?;
-    for path in written {
-        say!("  wrote {}", path.display())?;
-    }
+    written::say_wrote(&written)?;
     Ok(Outcome::Ok)
 }
 

@@ -19,8 +19,8 @@ use super::chart::{Axis, Chart, Series, series_colour};
 use super::mesh::{self, GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
 use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, normals, picture,
-    pipeline, raster, save_montage, trimmed, write_chart,
+    ANIMATION_DELAY_MS, Kind, Kinds, Numbering, OrderedAnimation, animation_frames, normals,
+    picture, pipeline, raster, save_montage, trimmed, write_chart,
 };
 use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
@@ -390,6 +390,7 @@ pub fn write<R: Records + ?Sized>(
         Ok(())
     })?;
     let b = extent.bounds();
+    let numbering = Numbering::up_to(count.saturating_sub(1) as u64, 3);
     let mut summary = format!("{title}: {count} frames\n");
     if let Some((vertices, triangles)) = first {
         let _ = writeln!(summary, "vertices {vertices}, triangles {triangles}");
@@ -479,7 +480,7 @@ pub fn write<R: Records + ?Sized>(
         |(f, m, slot): (Frame, Option<mesh::Mesh>, Option<usize>)| {
             let mut paths = Vec::with_capacity(2);
             if let Some(m) = m.filter(|_| kinds.has(Kind::Obj)) {
-                let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
+                let obj_path = dir.join(numbering.name("frame_", f.index, ".obj"));
                 write_frame_obj(&obj_path, &m, ObjStyle::PLAIN, LIBRARY)?;
                 paths.push(obj_path);
             }
@@ -490,7 +491,7 @@ pub fn write<R: Records + ?Sized>(
                 let (w, h) = (side.width() / 2, side.height() / 2);
                 sides.give_back(side);
                 if kinds.has(Kind::Png) {
-                    let png_path = dir.join(format!("side_{:03}.png", f.index));
+                    let png_path = dir.join(numbering.name("side_", f.index, ".png"));
                     picture::save_rgb(w, h, &view, &png_path)?;
                     paths.push(png_path);
                 }

@@ -22,7 +22,9 @@ use super::animation::{AnimationWriter, Pixels};
 use super::body::{self, Extent, Frame, Shading, canvas, canvases, draw, rgb_of, solid};
 use super::chart::{Axis, Chart, Series, write_png, write_svg};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
-use super::{ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, picture, save_montage, trimmed};
+use super::{
+    ANIMATION_DELAY_MS, Kind, Kinds, Numbering, animation_frames, picture, save_montage, trimmed,
+};
 use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
 
@@ -200,6 +202,7 @@ pub fn write<R: Records + ?Sized>(
         Ok(())
     })?;
     let b = extent.bounds();
+    let numbering = Numbering::up_to(count.saturating_sub(1) as u64, 3);
     let level = f64::from_fx(params.wrap.target);
     let mut summary = format!(
         "{preset}: {count} frames, V0 = {level}\nframe  steps  elements  vertices  triangles  V-E+F  worst |V-V0|/V0\n",
@@ -261,7 +264,7 @@ pub fn write<R: Records + ?Sized>(
             let m = solid(&f, &header, "bone", rgb_of(BONE))?;
             if kinds.has(Kind::Obj) {
                 library.write_once(&m)?;
-                let obj_path = dir.join(format!("frame_{:03}.obj", f.index));
+                let obj_path = dir.join(numbering.name("frame_", f.index, ".obj"));
                 write_frame_obj(&obj_path, &m, ObjStyle::PLAIN, LIBRARY)?;
                 written.push(obj_path);
             }
@@ -278,7 +281,7 @@ pub fn write<R: Records + ?Sized>(
             let (w, h) = (one.width() / 2, one.height() / 2);
             ones.give_back(one);
             if kinds.has(Kind::Png) {
-                let png_path = dir.join(format!("bone_{:03}.png", f.index));
+                let png_path = dir.join(numbering.name("bone_", f.index, ".png"));
                 picture::save_rgb(w, h, &rgb, &png_path)?;
                 written.push(png_path);
             }

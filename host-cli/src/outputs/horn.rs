@@ -28,8 +28,9 @@ use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
 use super::vector::{cross, dot, sub};
 use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, depth_key, mesh, normals,
-    paste_rgb, picture, pipeline, raster, save_montage_rgb, tip_bend, trimmed, write_chart,
+    ANIMATION_DELAY_MS, Kind, Kinds, Numbering, OrderedAnimation, animation_frames, depth_key,
+    mesh, normals, paste_rgb, picture, pipeline, raster, save_montage_rgb, tip_bend, trimmed,
+    write_chart,
 };
 use crate::records::{Place, Records};
 
@@ -596,6 +597,7 @@ pub fn write<R: Records + ?Sized>(
     let mut glb = kinds.has(Kind::Glb).then(|| GlbWriter::new("horn", 0.01));
     let meshes = kinds.has(Kind::Obj) || kinds.has(Kind::Glb);
     let mut library = Library::new(dir, LIBRARY);
+    let numbering = Numbering::up_to(records.frame_starts()?.saturating_sub(1) as u64, 3);
     let objs: Vec<Option<PathBuf>> = pipeline(
         |send| {
             let mut framer = Framer::default();
@@ -637,7 +639,7 @@ pub fn write<R: Records + ?Sized>(
             if !kinds.has(Kind::Obj) {
                 return Ok(None);
             }
-            let path = dir.join(format!("frame_{index:03}.obj"));
+            let path = dir.join(numbering.name("frame_", index, ".obj"));
             write_frame_obj(&path, &solid, ObjStyle::PLAIN, LIBRARY)?;
             Ok(Some(path))
         },

@@ -27,7 +27,7 @@ use super::mesh::{Mesh, ObjStyle, write_obj};
 use super::picture;
 use super::surface::Surface;
 use super::text;
-use super::{Kind, Kinds, OrderedAnimation, animation_frames, pipeline, write_chart};
+use super::{Kind, Kinds, Numbering, OrderedAnimation, animation_frames, pipeline, write_chart};
 use crate::atomic::{self, OutputFile, write_atomic};
 use crate::records::{Place, Records};
 
@@ -133,6 +133,7 @@ pub fn write<R: Records + ?Sized>(
     kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
     let colours: Vec<[u8; 3]> = params.types.iter().map(|t| t.colour).collect();
+    let numbering = Numbering::up_to(u64::from(params.days), 2);
     let domain = &params.domain;
     let surface = Surface::of(domain);
     let (w, h) = picture_size(domain);
@@ -212,7 +213,7 @@ pub fn write<R: Records + ?Sized>(
         |(d, position, slot): (Arc<Day>, usize, Option<usize>)| {
             let mut paths = Vec::with_capacity(2);
             if kinds.has(Kind::Csv) {
-                let csv = dir.join(format!("cells_day{:02}.csv", d.day));
+                let csv = dir.join(numbering.name("cells_day", d.day, ".csv"));
                 let unit = |v: Fx| f64::from(v.to_bits()) / 65_536.0;
                 let points = d
                     .cells
@@ -227,11 +228,11 @@ pub fn write<R: Records + ?Sized>(
                 let picture = voronoi(domain, &colours, &d.cells);
                 areas = kinds.has(Kind::Csv).then(|| picture.areas(colours.len()));
                 if kinds.has(Kind::Png) {
-                    let png = dir.join(format!("day_{:02}.png", d.day));
+                    let png = dir.join(numbering.name("day_", d.day, ".png"));
                     picture.save(&png)?;
                     paths.push(png);
                     if let Some(view) = &view {
-                        let png = dir.join(format!("surface_day{:02}.png", d.day));
+                        let png = dir.join(numbering.name("surface_day", d.day, ".png"));
                         let drawn = view.paint(picture.palette(), &|i| picture.index(i))?;
                         picture::save(&drawn, &png)?;
                         paths.push(png);
@@ -281,11 +282,14 @@ pub fn write<R: Records + ?Sized>(
         if kinds.has(Kind::Png) {
             // Every day's pictures were written: the last day's again.
             let path = dir.join("mosaic.png");
-            atomic::copy(&dir.join(format!("day_{:02}.png", last.day)), &path)?;
+            atomic::copy(&dir.join(numbering.name("day_", last.day, ".png")), &path)?;
             written.push(path);
             if view.is_some() {
                 let path = dir.join("surface.png");
-                atomic::copy(&dir.join(format!("surface_day{:02}.png", last.day)), &path)?;
+                atomic::copy(
+                    &dir.join(numbering.name("surface_day", last.day, ".png")),
+                    &path,
+                )?;
                 written.push(path);
             }
         }

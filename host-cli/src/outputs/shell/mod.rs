@@ -23,7 +23,7 @@ use super::mesh::{Mesh, ObjStyle, Rgb, write_obj};
 use super::mosaic::{write_counts_and_mask, write_csv, write_mosaic_obj, write_shares};
 use super::picture;
 use super::vector::{cross, dot, sub};
-use super::{Kind, Kinds};
+use super::{Kind, Kinds, Numbering};
 use crate::atomic;
 use crate::records::{Place, Records};
 use nearest::{Along, Nearest};
@@ -178,6 +178,7 @@ pub fn write<R: Records + ?Sized>(
     kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
     let colours: Vec<[u8; 3]> = params.types.iter().map(|t| t.colour).collect();
+    let numbering = Numbering::up_to(u64::from(params.days), 2);
     let (shell, days) = read(records)?;
     let elevation = match params.surface.map(|s| s.control) {
         Some(ControlMap::Plane) => 1.0,
@@ -210,7 +211,7 @@ pub fn write<R: Records + ?Sized>(
         counts.push((d.day, by_type));
         let near = Nearest::new(&d.cells, &shell);
         if kinds.has(Kind::Csv) {
-            let path = dir.join(format!("cells_day{:02}.csv", d.day));
+            let path = dir.join(numbering.name("cells_day", d.day, ".csv"));
             write_csv(d.cells.iter().copied(), &path)?;
             written.push(path);
             areas.push(Some(shell.areas(&near, colours.len())));
@@ -218,7 +219,7 @@ pub fn write<R: Records + ?Sized>(
             areas.push(None);
         }
         if let Some((view, canvas, half)) = &mut pictures {
-            let path = dir.join(format!("surface_day{:02}.png", d.day));
+            let path = dir.join(numbering.name("surface_day", d.day, ".png"));
             view.paint(&near, &colours, canvas);
             picture::half_rgb_into(canvas, half)?;
             picture::save_rgb(canvas.width() / 2, canvas.height() / 2, half, &path)?;
@@ -238,7 +239,7 @@ pub fn write<R: Records + ?Sized>(
     if let Some((day, near)) = last {
         if pictures.is_some() {
             let path = dir.join("surface.png");
-            atomic::copy(&dir.join(format!("surface_day{day:02}.png")), &path)?;
+            atomic::copy(&dir.join(numbering.name("surface_day", day, ".png")), &path)?;
             written.push(path);
         }
         if kinds.has(Kind::Obj) {
