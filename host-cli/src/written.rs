@@ -6,6 +6,8 @@ use std::collections::HashMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 
+use indicatif::{DecimalBytes, HumanCount};
+
 use crate::say;
 
 /// A series is reported in one line from this many files.
@@ -38,7 +40,7 @@ impl<'a> Pattern<'a> {
 
 /// The lines that report `paths` (in their order): a file a line, each
 /// series of three or more files with one pattern as
-/// `DIR/day_00.png … day_35.png (36 files, 1.2 MB)` where its first file
+/// `DIR/day_00.png … day_35.png (36 files, 1.20 MB)` where its first file
 /// was.
 #[must_use]
 pub fn lines(paths: &[PathBuf]) -> Vec<String> {
@@ -63,7 +65,7 @@ pub fn lines(paths: &[PathBuf]) -> Vec<String> {
     lines
 }
 
-/// `DIR/day_00.png … day_35.png (36 files, 1.2 MB)`.
+/// `DIR/day_00.png … day_35.png (36 files, 1.20 MB)`.
 fn series_line(series: &[&PathBuf]) -> String {
     let (first, last) = (series[0], series[series.len() - 1]);
     let bytes: u64 = series
@@ -75,8 +77,8 @@ fn series_line(series: &[&PathBuf]) -> String {
         "{} … {} ({} files, {})",
         first.display(),
         last.file_name().unwrap_or_default().to_string_lossy(),
-        series.len(),
-        size(bytes)
+        HumanCount(series.len() as u64),
+        DecimalBytes(bytes)
     )
 }
 
@@ -89,22 +91,6 @@ pub fn say_wrote(paths: &[PathBuf]) -> anyhow::Result<()> {
         say!("  wrote {line}")?;
     }
     Ok(())
-}
-
-/// `bytes` in the largest decimal unit that keeps a number from 1 up
-/// (`512 B`, `40.1 kB`, `1.4 GB`).
-fn size(bytes: u64) -> String {
-    const UNITS: [&str; 4] = ["kB", "MB", "GB", "TB"];
-    if bytes < 1000 {
-        return format!("{bytes} B");
-    }
-    let mut value = bytes as f64 / 1000.0;
-    let mut unit = 0;
-    while value >= 1000.0 && unit + 1 < UNITS.len() {
-        value /= 1000.0;
-        unit += 1;
-    }
-    format!("{value:.1} {}", UNITS[unit])
 }
 
 #[cfg(test)]
@@ -165,9 +151,18 @@ mod tests {
     }
 
     #[test]
-    fn sizes_read_in_decimal_units() {
-        assert_eq!(size(999), "999 B");
-        assert_eq!(size(40_100), "40.1 kB");
-        assert_eq!(size(1_400_000_000), "1.4 GB");
+    fn a_series_line_counts_the_bytes_of_its_files() {
+        let dir = tempfile::tempdir().unwrap();
+        let written: Vec<PathBuf> = (0..1200)
+            .map(|k| dir.path().join(format!("frame_{k:04}.obj")))
+            .collect();
+        for path in &written {
+            std::fs::write(path, [b'v'; 1500]).unwrap();
+        }
+        let line = format!(
+            "{}/frame_0000.obj … frame_1199.obj (1,200 files, 1.80 MB)",
+            dir.path().display()
+        );
+        assert_eq!(lines(&written), [line]);
     }
 }
