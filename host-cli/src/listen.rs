@@ -334,9 +334,7 @@ impl Listener {
             std::fs::create_dir_all(&dir)
                 .with_context(|| format!("cannot create output folder {}", dir.display()))?;
             let picture = crate::rig::render_received(&stream.header, &stream.frames, rig)?;
-            for path in crate::rig::save_rig_png(&picture, rig, &dir)? {
-                say!("  wrote {}", path.display())?;
-            }
+            crate::written::say_wrote(&crate::rig::save_rig_png(&picture, rig, &dir)?)?;
         }
         Ok(())
     }
