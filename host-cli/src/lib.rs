@@ -14,6 +14,7 @@ pub mod outputs;
 pub mod records;
 pub mod rig;
 pub mod send;
+pub mod serial;
 pub mod serve;
 pub mod stdout;
 pub mod sweep;

@@ -12,7 +12,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use morphogen::stream::{FrameError, Header, MAX_FRAME, Reader, Record};
 
 use crate::fixture::{self, Fixture};
-use crate::{Outcome, say, verify};
+use crate::{Outcome, say, serial, verify};
 
 /// Arguments of `morphogen listen`.
 #[derive(Debug, clap::Args)]
@@ -140,15 +140,12 @@ fn open(source: &str, baud: u32) -> Result<(Box<dyn Read>, bool)> {
         return Ok((Box::new(io::BufReader::new(file)), false));
     }
     if cfg!(unix) && !path.exists() {
-        bail!(
-            "no serial port or file {source} (SOURCE is a serial port, a file, or - for standard input)"
-        );
+        return Err(serial::missing(
+            source,
+            "SOURCE is a serial port, a file, or - for standard input",
+        ));
     }
-    let port = serialport::new(source, baud)
-        .timeout(PORT_TIMEOUT)
-        .open()
-        .with_context(|| format!("cannot open serial port {source}"))?;
-    Ok((port, true))
+    Ok((serial::open(source, baud, PORT_TIMEOUT)?, true))
 }
 
 /// The state of a live decode.

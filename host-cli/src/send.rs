@@ -10,7 +10,7 @@ use std::time::Duration;
 use anyhow::{Context, Result, anyhow};
 use morphogen::sent::MAX_SENT;
 
-use crate::{Outcome, exec, say};
+use crate::{Outcome, exec, say, serial};
 
 /// Arguments of `morphogen send`.
 #[derive(Debug, clap::Args)]
@@ -67,20 +67,24 @@ pub fn run(args: &Args) -> Result<Outcome> {
 }
 
 /// Writes `bytes` to `dest`: `-`, a serial port (an existing file that is
-/// not a regular one), or a file (created or replaced).
+/// not a regular one), or a file (created or replaced) but not one under
+/// `/dev/`, where a missing file is an unplugged or mistyped port.
 fn write(dest: &str, baud: u32, bytes: &[u8]) -> Result<()> {
     if dest == "-" {
         let mut out = io::stdout().lock();
         out.write_all(bytes)?;
         return Ok(out.flush()?);
     }
+    if serial::is_missing_device(dest) {
+        return Err(serial::missing(
+            dest,
+            "DEST is a serial port, a file, or - for standard output",
+        ));
+    }
     let path = Path::new(dest);
     let port = path.exists() && !path.is_file() && !path.is_dir();
     if port || (cfg!(windows) && dest.starts_with("COM")) {
-        let mut port = serialport::new(dest, baud)
-            .timeout(PORT_TIMEOUT)
-            .open()
-            .with_context(|| format!("cannot open serial port {dest}"))?;
+        let mut port = serial::open(dest, baud, PORT_TIMEOUT)?;
         port.write_all(bytes)
             .and_then(|()| port.flush())
             .with_context(|| format!("cannot write to serial port {dest}"))?;

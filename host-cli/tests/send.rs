@@ -100,3 +100,22 @@ fn what_does_not_fit_a_message_is_refused_with_the_reason() {
     }
     assert!(!file.exists());
 }
+
+#[test]
+fn a_missing_port_is_named_not_created() {
+    // A mistyped or unplugged port under /dev/ is an error, where any
+    // other missing path is a file to write.
+    let port = "/dev/morphogen-no-such-port";
+    let o = send(&["ram-horn", port]);
+    assert_eq!(o.status.code(), Some(2), "{o:?}");
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.starts_with(&format!("error: no serial port {port}: ")),
+        "{stderr}"
+    );
+    assert!(
+        stderr.ends_with(" (DEST is a serial port, a file, or - for standard output)\n"),
+        "{stderr}"
+    );
+    assert!(!std::path::Path::new(port).exists());
+}
