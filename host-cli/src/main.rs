@@ -130,9 +130,10 @@ enum Command {
         /// starting with its header) to check instead of re-running.
         #[arg(long, conflicts_with = "targets")]
         stream: Option<PathBuf>,
-        /// Threads re-running fixtures side by side (default: all cores).
-        #[arg(long)]
-        jobs: Option<usize>,
+        /// Threads re-running fixtures side by side, 1 to 256 (default:
+        /// all cores).
+        #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
+        jobs: Option<u16>,
     },
     /// Write the golden fixtures of presets or scenario files (the only
     /// writer of fixtures). A scenario file's fixture keeps a
@@ -512,7 +513,7 @@ enum Checked {
 /// threads and compares each stream with its fixture; a line per fixture,
 /// in order, as soon as it and those before it are done, then one summary
 /// line. A mismatch leaves its new stream as `stream.bin.pending`.
-fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<usize>) -> Result<Outcome> {
+fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<u16>) -> Result<Outcome> {
     use rayon::prelude::*;
     let scenarios: Vec<Scenario> = if targets.is_empty() {
         fixture::names(fixtures)?
@@ -529,7 +530,7 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<usize>) ->
         bail!("no fixtures in {}", fixtures.display());
     }
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(jobs.unwrap_or(0))
+        .num_threads(jobs.map_or(0, usize::from))
         .build()
         .context("cannot start the worker threads")?;
     let check = |scenario: &Scenario| -> Result<Checked> {

@@ -40,9 +40,9 @@ pub struct Args {
     /// Run only combinations k with k mod N = I − 1 (I from 1 to N).
     #[arg(long, value_name = "I/N", conflicts_with = "merge")]
     shard: Option<String>,
-    /// Threads (default: all cores).
-    #[arg(long)]
-    jobs: Option<usize>,
+    /// Threads, 1 to 256 (default: all cores).
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
+    jobs: Option<u16>,
     /// Join the `sweep.csv` of these shard folders into `--out`.
     #[arg(long, num_args = 1.., value_name = "DIR", conflicts_with_all = ["target", "sets"])]
     merge: Vec<PathBuf>,
@@ -172,7 +172,7 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
     fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.jobs.unwrap_or(0))
+        .num_threads(args.jobs.map_or(0, usize::from))
         .build()
         .context("cannot start the worker threads")?;
     let rows: Vec<Result<String>> = pool.install(|| {

@@ -274,6 +274,15 @@ fn bad_input_exits_2_with_a_message_and_no_backtrace() {
             ],
             "cannot read capture",
         ),
+        (
+            vec![
+                "verify".into(),
+                "growth-curve".into(),
+                "--jobs".into(),
+                "100000".into(),
+            ],
+            "100000 is not in 1..=256",
+        ),
         (vec!["frobnicate".into()], "unrecognized subcommand"),
     ];
     for (args, message) in cases {
