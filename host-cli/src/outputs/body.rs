@@ -390,7 +390,7 @@ pub fn write<R: Records + ?Sized>(
         Ok(())
     })?;
     let b = extent.bounds();
-    let numbering = Numbering::up_to(count.saturating_sub(1) as u64, 3);
+    let numbering = Numbering::frames(count);
     let mut summary = format!("{title}: {count} frames\n");
     if let Some((vertices, triangles)) = first {
         let _ = writeln!(summary, "vertices {vertices}, triangles {triangles}");

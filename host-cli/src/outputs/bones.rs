@@ -202,7 +202,7 @@ pub fn write<R: Records + ?Sized>(
         Ok(())
     })?;
     let b = extent.bounds();
-    let numbering = Numbering::up_to(count.saturating_sub(1) as u64, 3);
+    let numbering = Numbering::frames(count);
     let level = f64::from_fx(params.wrap.target);
     let mut summary = format!(
         "{preset}: {count} frames, V0 = {level}\nframe  steps  elements  vertices  triangles  V-E+F  worst |V-V0|/V0\n",

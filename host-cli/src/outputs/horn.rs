@@ -597,7 +597,7 @@ pub fn write<R: Records + ?Sized>(
     let mut glb = kinds.has(Kind::Glb).then(|| GlbWriter::new("horn", 0.01));
     let meshes = kinds.has(Kind::Obj) || kinds.has(Kind::Glb);
     let mut library = Library::new(dir, LIBRARY);
-    let numbering = Numbering::up_to(records.frame_starts()?.saturating_sub(1) as u64, 3);
+    let numbering = Numbering::frames(records.frame_starts()?);
     let objs: Vec<Option<PathBuf>> = pipeline(
         |send| {
             let mut framer = Framer::default();

@@ -194,12 +194,23 @@ pub struct Numbering {
 
 impl Numbering {
     /// For the numbers up to `last`, at least `min` digits wide.
-    #[must_use]
-    pub fn up_to(last: u64, min: usize) -> Numbering {
+    fn up_to(last: u64, min: usize) -> Numbering {
         let digits = last.max(1).ilog10() as usize + 1;
         Numbering {
             width: digits.max(min),
         }
+    }
+
+    /// For `count` frames numbered from 0: `frame_007.obj`.
+    #[must_use]
+    pub fn frames(count: usize) -> Numbering {
+        Numbering::up_to(count.saturating_sub(1) as u64, 3)
+    }
+
+    /// For a mosaic's days 0 to `days`: `day_05.png`.
+    #[must_use]
+    pub fn days(days: u16) -> Numbering {
+        Numbering::up_to(u64::from(days), 2)
     }
 
     /// `{stem}{n}{ext}`, `n` zero-padded to the series' width.
@@ -540,17 +551,15 @@ mod tests {
 
     #[test]
     fn a_series_is_numbered_as_wide_as_its_last_number() {
-        let frames = |last| Numbering::up_to(last, 3);
-        assert_eq!(frames(9).name("frame_", 7, ".obj"), "frame_007.obj");
-        assert_eq!(frames(999).name("frame_", 999, ".obj"), "frame_999.obj");
-        assert_eq!(frames(1000).name("frame_", 7, ".obj"), "frame_0007.obj");
+        let frames = Numbering::frames;
+        assert_eq!(frames(10).name("frame_", 7, ".obj"), "frame_007.obj");
+        assert_eq!(frames(1000).name("frame_", 999, ".obj"), "frame_999.obj");
+        assert_eq!(frames(1001).name("frame_", 7, ".obj"), "frame_0007.obj");
+        assert_eq!(frames(1).name("frame_", 0, ".obj"), "frame_000.obj");
         assert_eq!(frames(0).name("frame_", 0, ".obj"), "frame_000.obj");
+        assert_eq!(Numbering::days(35).name("day_", 5, ".png"), "day_05.png");
         assert_eq!(
-            Numbering::up_to(35, 2).name("day_", 5, ".png"),
-            "day_05.png"
-        );
-        assert_eq!(
-            Numbering::up_to(4096, 2).name("day_", 35, ".png"),
+            Numbering::days(4096).name("day_", 35, ".png"),
             "day_0035.png"
         );
     }

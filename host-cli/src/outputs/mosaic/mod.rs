@@ -133,7 +133,7 @@ pub fn write<R: Records + ?Sized>(
     kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
     let colours: Vec<[u8; 3]> = params.types.iter().map(|t| t.colour).collect();
-    let numbering = Numbering::up_to(u64::from(params.days), 2);
+    let numbering = Numbering::days(params.days);
     let domain = &params.domain;
     let surface = Surface::of(domain);
     let (w, h) = picture_size(domain);

@@ -178,7 +178,7 @@ pub fn write<R: Records + ?Sized>(
     kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
     let colours: Vec<[u8; 3]> = params.types.iter().map(|t| t.colour).collect();
-    let numbering = Numbering::up_to(u64::from(params.days), 2);
+    let numbering = Numbering::days(params.days);
     let (shell, days) = read(records)?;
     let elevation = match params.surface.map(|s| s.control) {
         Some(ControlMap::Plane) => 1.0,
