@@ -442,6 +442,11 @@ fn run(
         }
         Ok(files)
     })?;
+    // An earlier run's files of the series this run wrote anew, as they
+    // were (their sizes), then gone.
+    let stale = outputs::numbered::stale(&dir, &written)?;
+    let stale_lines = written::lines(&stale);
+    outputs::numbered::remove(&stale)?;
     if writing.quiet {
         return Ok(Outcome::Ok);
     }
@@ -454,6 +459,9 @@ fn run(
         run.digest
     )?;
     written::say_wrote(&written)?;
+    for line in stale_lines {
+        say!("  removed an earlier run's {line}")?;
+    }
     Ok(Outcome::Ok)
 }
 

@@ -397,6 +397,37 @@ fn only_png_writes_no_meshes_and_quiet_prints_nothing() {
 }
 
 #[test]
+fn a_run_replaces_an_earlier_runs_series_whole() {
+    // 32 frames, then 16 into the same folder: frames 16 to 31 would mix
+    // two runs; then `--only png` leaves the OBJ series alone.
+    let tmp = tempfile::tempdir().unwrap();
+    let frames = |dir: &Path| {
+        files(dir)
+            .into_iter()
+            .filter(|n| n.starts_with("frame_"))
+            .collect::<Vec<_>>()
+    };
+    let (dir, _) = run(tmp.path(), "ram-horn", &["--set", "horn.frames_per_year=4"]);
+    assert_eq!(frames(&dir).len(), 32);
+    let (_, o) = run(tmp.path(), "ram-horn", &[]);
+    let expected: Vec<String> = (0..16).map(|k| format!("frame_{k:03}.obj")).collect();
+    assert_eq!(frames(&dir), expected);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let removed = format!(
+        "  removed an earlier run's {}/frame_016.obj … frame_031.obj (16 files, ",
+        dir.display()
+    );
+    assert!(stdout.contains(&removed), "{stdout}");
+    let (_, o) = run(
+        tmp.path(),
+        "ram-horn",
+        &["--only", "png", "--set", "horn.years=2"],
+    );
+    assert_eq!(frames(&dir), expected);
+    assert!(!String::from_utf8_lossy(&o.stdout).contains("removed"));
+}
+
+#[test]
 fn an_unknown_output_kind_is_an_error_listing_the_allowed_ones() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("x");

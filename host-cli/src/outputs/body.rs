@@ -19,7 +19,8 @@ use super::chart::{Axis, Chart, Series, series_colour};
 use super::mesh::{self, GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
 use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, Numbering, OrderedAnimation, animation_frames, normals,
+    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, normals,
+    numbered::{FileSeries, Numbering},
     picture, pipeline, raster, save_montage, trimmed, write_chart,
 };
 use crate::atomic::write_atomic;
@@ -480,7 +481,7 @@ pub fn write<R: Records + ?Sized>(
         |(f, m, slot): (Frame, Option<mesh::Mesh>, Option<usize>)| {
             let mut paths = Vec::with_capacity(2);
             if let Some(m) = m.filter(|_| kinds.has(Kind::Obj)) {
-                let obj_path = dir.join(numbering.name("frame_", f.index, ".obj"));
+                let obj_path = dir.join(numbering.name(FileSeries::FRAMES, f.index));
                 write_frame_obj(&obj_path, &m, ObjStyle::PLAIN, LIBRARY)?;
                 paths.push(obj_path);
             }
@@ -491,7 +492,7 @@ pub fn write<R: Records + ?Sized>(
                 let (w, h) = (side.width() / 2, side.height() / 2);
                 sides.give_back(side);
                 if kinds.has(Kind::Png) {
-                    let png_path = dir.join(numbering.name("side_", f.index, ".png"));
+                    let png_path = dir.join(numbering.name(FileSeries::SIDES, f.index));
                     picture::save_rgb(w, h, &view, &png_path)?;
                     paths.push(png_path);
                 }

@@ -23,7 +23,9 @@ use super::body::{self, Extent, Frame, Shading, canvas, canvases, draw, rgb_of, 
 use super::chart::{Axis, Chart, Series, write_png, write_svg};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, Numbering, animation_frames, picture, save_montage, trimmed,
+    ANIMATION_DELAY_MS, Kind, Kinds, animation_frames,
+    numbered::{FileSeries, Numbering},
+    picture, save_montage, trimmed,
 };
 use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
@@ -264,7 +266,7 @@ pub fn write<R: Records + ?Sized>(
             let m = solid(&f, &header, "bone", rgb_of(BONE))?;
             if kinds.has(Kind::Obj) {
                 library.write_once(&m)?;
-                let obj_path = dir.join(numbering.name("frame_", f.index, ".obj"));
+                let obj_path = dir.join(numbering.name(FileSeries::FRAMES, f.index));
                 write_frame_obj(&obj_path, &m, ObjStyle::PLAIN, LIBRARY)?;
                 written.push(obj_path);
             }
@@ -281,7 +283,7 @@ pub fn write<R: Records + ?Sized>(
             let (w, h) = (one.width() / 2, one.height() / 2);
             ones.give_back(one);
             if kinds.has(Kind::Png) {
-                let png_path = dir.join(numbering.name("bone_", f.index, ".png"));
+                let png_path = dir.join(numbering.name(FileSeries::BONES, f.index));
                 picture::save_rgb(w, h, &rgb, &png_path)?;
                 written.push(png_path);
             }

@@ -28,9 +28,9 @@ use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
 use super::picture::Canvases;
 use super::vector::{cross, dot, sub};
 use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, Numbering, OrderedAnimation, animation_frames, depth_key,
-    mesh, normals, paste_rgb, picture, pipeline, raster, save_montage_rgb, tip_bend, trimmed,
-    write_chart,
+    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, depth_key, mesh, normals,
+    numbered::{FileSeries, Numbering},
+    paste_rgb, picture, pipeline, raster, save_montage_rgb, tip_bend, trimmed, write_chart,
 };
 use crate::records::{Place, Records};
 
@@ -639,7 +639,7 @@ pub fn write<R: Records + ?Sized>(
             if !kinds.has(Kind::Obj) {
                 return Ok(None);
             }
-            let path = dir.join(numbering.name("frame_", index, ".obj"));
+            let path = dir.join(numbering.name(FileSeries::FRAMES, index));
             write_frame_obj(&path, &solid, ObjStyle::PLAIN, LIBRARY)?;
             Ok(Some(path))
         },

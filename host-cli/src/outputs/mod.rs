@@ -28,6 +28,7 @@ pub mod horn;
 pub mod mesh;
 pub mod mosaic;
 pub mod normals;
+pub mod numbered;
 pub mod picture;
 pub mod plant;
 pub mod raster;
@@ -181,43 +182,6 @@ pub fn animation_frames(count: usize) -> Vec<usize> {
     }
     let slots = MAX_ANIMATION_FRAMES - 1;
     (0..=slots).map(|i| i * (count - 1) / slots).collect()
-}
-
-/// How the files of a series are numbered: every number as wide as the
-/// last one's, and at least as wide as the default presets' names
-/// (`frame_007.obj`, `day_35.png`), so that the names sort in the series'
-/// order (`day_0099.png` before `day_1000.png`).
-#[derive(Debug, Clone, Copy)]
-pub struct Numbering {
-    width: usize,
-}
-
-impl Numbering {
-    /// For the numbers up to `last`, at least `min` digits wide.
-    fn up_to(last: u64, min: usize) -> Numbering {
-        let digits = last.max(1).ilog10() as usize + 1;
-        Numbering {
-            width: digits.max(min),
-        }
-    }
-
-    /// For `count` frames numbered from 0: `frame_007.obj`.
-    #[must_use]
-    pub fn frames(count: usize) -> Numbering {
-        Numbering::up_to(count.saturating_sub(1) as u64, 3)
-    }
-
-    /// For a mosaic's days 0 to `days`: `day_05.png`.
-    #[must_use]
-    pub fn days(days: u16) -> Numbering {
-        Numbering::up_to(u64::from(days), 2)
-    }
-
-    /// `{stem}{n}{ext}`, `n` zero-padded to the series' width.
-    #[must_use]
-    pub fn name(self, stem: &str, n: impl std::fmt::Display, ext: &str) -> String {
-        format!("{stem}{n:0width$}{ext}", width = self.width)
-    }
 }
 
 /// A picture's pixels as RGB bytes (every pixel opaque).
@@ -548,21 +512,6 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_series_is_numbered_as_wide_as_its_last_number() {
-        let frames = Numbering::frames;
-        assert_eq!(frames(10).name("frame_", 7, ".obj"), "frame_007.obj");
-        assert_eq!(frames(1000).name("frame_", 999, ".obj"), "frame_999.obj");
-        assert_eq!(frames(1001).name("frame_", 7, ".obj"), "frame_0007.obj");
-        assert_eq!(frames(1).name("frame_", 0, ".obj"), "frame_000.obj");
-        assert_eq!(frames(0).name("frame_", 0, ".obj"), "frame_000.obj");
-        assert_eq!(Numbering::days(35).name("day_", 5, ".png"), "day_05.png");
-        assert_eq!(
-            Numbering::days(4096).name("day_", 35, ".png"),
-            "day_0035.png"
-        );
-    }
 
     #[test]
     fn a_montage_is_its_tiles_halved_and_labelled_each_as_a_picture_of_its_own() {

@@ -27,7 +27,11 @@ use super::mesh::{Mesh, ObjStyle, write_obj};
 use super::picture;
 use super::surface::Surface;
 use super::text;
-use super::{Kind, Kinds, Numbering, OrderedAnimation, animation_frames, pipeline, write_chart};
+use super::{
+    Kind, Kinds, OrderedAnimation, animation_frames,
+    numbered::{FileSeries, Numbering},
+    pipeline, write_chart,
+};
 use crate::atomic::{self, OutputFile, write_atomic};
 use crate::records::{Place, Records};
 
@@ -213,7 +217,7 @@ pub fn write<R: Records + ?Sized>(
         |(d, position, slot): (Arc<Day>, usize, Option<usize>)| {
             let mut paths = Vec::with_capacity(2);
             if kinds.has(Kind::Csv) {
-                let csv = dir.join(numbering.name("cells_day", d.day, ".csv"));
+                let csv = dir.join(numbering.name(FileSeries::CELLS, d.day));
                 let unit = |v: Fx| f64::from(v.to_bits()) / 65_536.0;
                 let points = d
                     .cells
@@ -228,11 +232,11 @@ pub fn write<R: Records + ?Sized>(
                 let picture = voronoi(domain, &colours, &d.cells);
                 areas = kinds.has(Kind::Csv).then(|| picture.areas(colours.len()));
                 if kinds.has(Kind::Png) {
-                    let png = dir.join(numbering.name("day_", d.day, ".png"));
+                    let png = dir.join(numbering.name(FileSeries::DAYS, d.day));
                     picture.save(&png)?;
                     paths.push(png);
                     if let Some(view) = &view {
-                        let png = dir.join(numbering.name("surface_day", d.day, ".png"));
+                        let png = dir.join(numbering.name(FileSeries::SURFACES, d.day));
                         let drawn = view.paint(picture.palette(), &|i| picture.index(i))?;
                         picture::save(&drawn, &png)?;
                         paths.push(png);
@@ -282,12 +286,12 @@ pub fn write<R: Records + ?Sized>(
         if kinds.has(Kind::Png) {
             // Every day's pictures were written: the last day's again.
             let path = dir.join("mosaic.png");
-            atomic::copy(&dir.join(numbering.name("day_", last.day, ".png")), &path)?;
+            atomic::copy(&dir.join(numbering.name(FileSeries::DAYS, last.day)), &path)?;
             written.push(path);
             if view.is_some() {
                 let path = dir.join("surface.png");
                 atomic::copy(
-                    &dir.join(numbering.name("surface_day", last.day, ".png")),
+                    &dir.join(numbering.name(FileSeries::SURFACES, last.day)),
                     &path,
                 )?;
                 written.push(path);

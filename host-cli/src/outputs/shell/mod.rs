@@ -21,9 +21,10 @@ use rayon::prelude::*;
 
 use super::mesh::{Mesh, ObjStyle, Rgb, write_obj};
 use super::mosaic::{write_counts_and_mask, write_csv, write_mosaic_obj, write_shares};
+use super::numbered::{FileSeries, Numbering};
 use super::picture;
 use super::vector::{cross, dot, sub};
-use super::{Kind, Kinds, Numbering};
+use super::{Kind, Kinds};
 use crate::atomic;
 use crate::records::{Place, Records};
 use nearest::{Along, Nearest};
@@ -211,7 +212,7 @@ pub fn write<R: Records + ?Sized>(
         counts.push((d.day, by_type));
         let near = Nearest::new(&d.cells, &shell);
         if kinds.has(Kind::Csv) {
-            let path = dir.join(numbering.name("cells_day", d.day, ".csv"));
+            let path = dir.join(numbering.name(FileSeries::CELLS, d.day));
             write_csv(d.cells.iter().copied(), &path)?;
             written.push(path);
             areas.push(Some(shell.areas(&near, colours.len())));
@@ -219,7 +220,7 @@ pub fn write<R: Records + ?Sized>(
             areas.push(None);
         }
         if let Some((view, canvas, half)) = &mut pictures {
-            let path = dir.join(numbering.name("surface_day", d.day, ".png"));
+            let path = dir.join(numbering.name(FileSeries::SURFACES, d.day));
             view.paint(&near, &colours, canvas);
             picture::half_rgb_into(canvas, half)?;
             picture::save_rgb(canvas.width() / 2, canvas.height() / 2, half, &path)?;
@@ -239,7 +240,7 @@ pub fn write<R: Records + ?Sized>(
     if let Some((day, near)) = last {
         if pictures.is_some() {
             let path = dir.join("surface.png");
-            atomic::copy(&dir.join(numbering.name("surface_day", day, ".png")), &path)?;
+            atomic::copy(&dir.join(numbering.name(FileSeries::SURFACES, day)), &path)?;
             written.push(path);
         }
         if kinds.has(Kind::Obj) {
