@@ -53,15 +53,6 @@ impl Framebuffer {
         }
     }
 
-    /// Rows of RGB bytes, top to bottom.
-    #[must_use]
-    pub fn to_rgb8(&self) -> Vec<u8> {
-        self.pixels
-            .iter()
-            .flat_map(|c| [c.r(), c.g(), c.b()])
-            .collect()
-    }
-
     /// An enlarged picture of the rig as it looks lit: each pixel `scale`
     /// pixels wide, drawn as a round LED on a dark board for an LED matrix
     /// ([`RigPalette::Rgb`]), as a square with a thin gap for an OLED

@@ -158,12 +158,6 @@ impl Group {
         starts.zip(&self.ends).map(|(s, &e)| &self.corners[s..e])
     }
 
-    /// The number of faces.
-    #[must_use]
-    pub fn face_count(&self) -> usize {
-        self.ends.len()
-    }
-
     /// The faces as triangles: each polygon a fan from its first corner
     /// (polygons are taken to be convex).
     pub fn triangles(&self) -> impl Iterator<Item = [u32; 3]> {
