@@ -191,6 +191,10 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(e) = atomic::remove_unfinished_when_stopped() {
+        eprintln!("error: {e:#}");
+        return ExitCode::from(2);
+    }
     match dispatch(cli.command) {
         Ok(Outcome::Ok) => ExitCode::SUCCESS,
         Ok(Outcome::Mismatch) => ExitCode::from(1),

@@ -694,3 +694,40 @@ fn a_capture_cannot_choose_its_fixture_by_a_path_in_its_name() {
         );
     }
 }
+
+#[cfg(unix)]
+#[test]
+fn a_run_stopped_by_a_signal_leaves_no_temporary_file() {
+    // amanita-df20 simulates for seconds: it is stopped while its stream
+    // is being written, as soon as the temporary file is there.
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_morphogen"))
+        .args(["run", "amanita-df20", "--quiet", "--out"])
+        .arg(&out)
+        .spawn()
+        .unwrap();
+    let temporary = |dir: &Path| -> Vec<String> {
+        fs::read_dir(dir)
+            .map(|entries| {
+                entries
+                    .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                    .filter(|n| n.starts_with(".morphogen-"))
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    let started = std::time::Instant::now();
+    while temporary(&out).is_empty() {
+        assert!(started.elapsed().as_secs() < 60, "no stream after 60 s");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let kill = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "{status:?}");
+    assert_eq!(temporary(&out), Vec::<String>::new());
+}
