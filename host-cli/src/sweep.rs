@@ -186,12 +186,49 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
         table.push_str(&row?);
     }
     write_atomic(&args.out.join(TABLE), table.as_bytes())?;
+    let stale = remove_earlier_runs(&args.out, combos.iter().map(|(k, _)| *k))?;
     crate::say!(
         "{} of {total} runs (shard {index}/{count}) -> {}",
         combos.len(),
         args.out.join(TABLE).display()
     )?;
+    if let (Some(first), Some(last)) = (stale.first(), stale.last()) {
+        let folders = if stale.len() == 1 {
+            first.clone()
+        } else {
+            format!("{first} … {last} ({} folders)", stale.len())
+        };
+        crate::say!("removed an earlier sweep's {folders}, not in {TABLE}")?;
+    }
     Ok(crate::Outcome::Ok)
+}
+
+/// The folder of run `k`.
+fn run_folder(k: usize) -> String {
+    format!("run-{k:05}")
+}
+
+/// Removes the run folders in `out` that are not those of `runs` (an
+/// earlier sweep's, which this one's table does not list); returns their
+/// names, sorted.
+fn remove_earlier_runs(out: &Path, runs: impl Iterator<Item = usize>) -> Result<Vec<String>> {
+    let ours: std::collections::HashSet<String> = runs.map(run_folder).collect();
+    let is_run = |name: &str| {
+        name.strip_prefix("run-")
+            .is_some_and(|k| k.len() == 5 && k.bytes().all(|b| b.is_ascii_digit()))
+    };
+    let mut stale = Vec::new();
+    for entry in fs::read_dir(out).with_context(|| format!("cannot list {}", out.display()))? {
+        let entry = entry.with_context(|| format!("cannot list {}", out.display()))?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if is_run(&name) && !ours.contains(&name) && entry.path().is_dir() {
+            fs::remove_dir_all(entry.path())
+                .with_context(|| format!("cannot remove {}", entry.path().display()))?;
+            stale.push(name);
+        }
+    }
+    stale.sort();
+    Ok(stale)
 }
 
 /// The record kinds counted in the table, in column order.
@@ -242,7 +279,7 @@ fn one_run(
         None => scenario.seed(),
     };
     let run = exec::run(&scenario, seed, false)?;
-    let dir = out.join(format!("run-{k:05}"));
+    let dir = out.join(run_folder(k));
     fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     write_atomic(&dir.join("stream.bin"), &run.stream)?;
     write_atomic(

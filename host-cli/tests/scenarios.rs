@@ -510,6 +510,33 @@ fn sweeps_do_not_depend_on_threads_or_shards() {
     assert_ne!(read("a"), one);
 }
 
+#[test]
+fn a_smaller_sweep_into_the_same_folder_removes_the_earlier_runs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sweep = |seeds: &str| {
+        let o = morphogen(
+            &["sweep", "growth-curve", "--set", seeds, "--out", "s"],
+            tmp.path(),
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    sweep("seed=1..4");
+    let said = sweep("seed=1..2");
+    assert!(
+        said.contains(
+            "removed an earlier sweep's run-00002 … run-00003 (2 folders), not in sweep.csv"
+        ),
+        "{said}"
+    );
+    let mut names: Vec<String> = std::fs::read_dir(tmp.path().join("s"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["run-00000", "run-00001", "sweep.csv"]);
+}
+
 /// A combination that cannot run stops the sweep before any runs, named.
 #[test]
 fn a_sweep_names_the_combination_that_cannot_run() {
