@@ -11,7 +11,12 @@
 # CPU is user + system seconds of the whole process (all threads, to
 # 0.1 ms), the median of N runs (default 5), verify and run interleaved
 # so that load on a busy machine hits both alike. --instructions counts instructions with
-# valgrind (callgrind) instead: one run each, stable, ~50x slower.
+# valgrind (callgrind) instead: one run each, stable, ~50x slower. It
+# adds two columns: the instructions `run` spends in the png crate's
+# encoder (`write_image_data`: filtering and fdeflate's fastest
+# compression of every picture and animation frame), and the ratio run /
+# verify would have if that were all the outputs cost: the least any
+# `run` that writes these pictures as compressed PNGs could reach.
 # The binary is built with `cargo build --release -p morphogen-cli` unless
 # --bin is given (CARGO_TARGET_DIR is honoured).
 set -euo pipefail
@@ -44,11 +49,13 @@ fi
 scratch="$(mktemp -d)"
 trap 'rm -rf "$scratch"' EXIT
 : >"$scratch/ratios"
+: >"$scratch/floors"
 
-# The cost of one command: CPU seconds or instructions.
+# The cost of one command: CPU seconds or instructions (its profile kept
+# in $scratch/profile).
 cost() {
     if [[ "$mode" == instructions ]]; then
-        valgrind --tool=callgrind --callgrind-out-file=/dev/null "$@" \
+        valgrind --tool=callgrind --callgrind-out-file="$scratch/profile" "$@" \
             2>&1 >/dev/null | awk '/Collected :/ {print $4}'
     else
         # getrusage of the child: microseconds, where time(1) prints
@@ -73,8 +80,20 @@ else
     unit="CPU s, median of $runs"
     n="$runs"
 fi
-echo "| preset | verify ($unit) | run ($unit) | run / verify |"
-echo "|---|---:|---:|---:|"
+# The instructions of the last profile in the PNG encoder (every
+# instantiation of png's Writer::write_image_data, inclusive).
+png_encoding() {
+    callgrind_annotate --inclusive=yes "$scratch/profile" 2>/dev/null |
+        awk '/write_image_data \[/ {gsub(",", "", $1); s += $1} END {print s + 0}'
+}
+
+if [[ "$mode" == instructions ]]; then
+    echo "| preset | verify ($unit) | run ($unit) | run / verify | PNG encoding in run | run / verify, PNG alone |"
+    echo "|---|---:|---:|---:|---:|---:|"
+else
+    echo "| preset | verify ($unit) | run ($unit) | run / verify |"
+    echo "|---|---:|---:|---:|"
+fi
 for p in "${presets[@]}"; do
     : >"$scratch/verify"
     : >"$scratch/run"
@@ -86,7 +105,14 @@ for p in "${presets[@]}"; do
     v="$(median <"$scratch/verify")"
     r="$(median <"$scratch/run")"
     ratio="$(awk -v v="$v" -v r="$r" 'BEGIN {if (v > 0) printf "%.2f", r / v; else print "n/a"}')"
-    echo "| $p | $v | $r | $ratio |"
+    if [[ "$mode" == instructions ]]; then
+        png="$(png_encoding)"
+        floor="$(awk -v v="$v" -v p="$png" 'BEGIN {if (v > 0) printf "%.2f", 1 + p / v; else print "n/a"}')"
+        echo "| $p | $v | $r | $ratio | $png | $floor |"
+        echo "$floor" >>"$scratch/floors"
+    else
+        echo "| $p | $v | $r | $ratio |"
+    fi
     echo "$ratio $p" >>"$scratch/ratios"
 done
 
@@ -100,3 +126,8 @@ sort -g "$scratch/ratios" | awk -v unit="$unit" '
         printf "run / verify (%s): min %s (%s), median %s, max %s (%s); %d of %d presets <= 1.3\n",
             unit, r[1], name[1], r[int((n + 1) / 2)], r[n], name[n], met, n
     }'
+if [[ -s "$scratch/floors" ]]; then
+    awk '$1 > 1.3 {over++} END {
+        printf "%d of %d presets would be over 1.3 with PNG encoding their only output\n", over, NR
+    }' "$scratch/floors"
+fi
