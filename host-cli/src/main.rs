@@ -545,7 +545,7 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<u16>) -> R
         .num_threads(jobs.map_or(0, usize::from))
         .build()
         .context("cannot start the worker threads")?;
-    let check = |scenario: &Scenario| -> Result<Checked> {
+    let check = |i: usize, scenario: &Scenario| -> Result<Checked> {
         let name = scenario.name();
         if !fixture::dir(fixtures, name).is_dir() {
             return Ok(Checked::Missing(format!(
@@ -559,20 +559,32 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<u16>) -> R
             )));
         }
         let fixture = fixture::load(fixtures, name)?;
+        let seed = fixture.summary.seed;
+        // A file named on the command line whose own seed is not the
+        // fixture's: its edited seed is not what was checked.
+        let note = if targets.get(i).is_some_and(|t| exec::is_file(t)) && scenario.seed() != seed {
+            format!(
+                "\n  note: run with the fixture's seed {seed}; {} says seed = {} (bless it to take that seed)",
+                scenario.origin(),
+                scenario.seed()
+            )
+        } else {
+            String::new()
+        };
         // A bar for a lone run; side by side, the lines show progress.
-        let run = exec::run(scenario, fixture.summary.seed, scenarios.len() == 1)?;
+        let run = exec::run(scenario, seed, scenarios.len() == 1)?;
         Ok(match verify::compare(&fixture.stream, &run.stream) {
             None => {
                 fixture::drop_pending(fixtures, name)?;
                 Checked::Ok(format!(
-                    "ok        {name} ({} frames, digest {:016x})",
+                    "ok        {name} ({} frames, digest {:016x}){note}",
                     run.frames, run.digest
                 ))
             }
             Some(diff) => {
                 let pending = fixture::write_pending(fixtures, name, &run.stream)?;
                 Checked::Mismatch(format!(
-                    "MISMATCH  {name}: {diff}\n  new stream: {} (take it with `morphogen bless --accept {name}`)",
+                    "MISMATCH  {name}: {diff}\n  new stream: {} (take it with `morphogen bless --accept {name}`){note}",
                     pending.display()
                 ))
             }
@@ -587,7 +599,7 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<u16>) -> R
                     .enumerate()
                     .try_for_each_with(done, |done, (i, s)| {
                         // A failed send: the printer stopped early.
-                        done.send((i, check(s))).map_err(drop)
+                        done.send((i, check(i, s))).map_err(drop)
                     })
             })
         });

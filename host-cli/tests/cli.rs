@@ -731,3 +731,24 @@ fn a_run_stopped_by_a_signal_leaves_no_temporary_file() {
     assert_eq!(status.code(), Some(130), "{status:?}");
     assert_eq!(temporary(&out), Vec::<String>::new());
 }
+
+#[test]
+fn verifying_a_file_whose_seed_is_not_its_fixtures_says_which_ran() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("mine.toml");
+    let fixtures = tmp.path().join("fixtures");
+    let (file_arg, fixtures_arg) = (file.to_str().unwrap(), fixtures.to_str().unwrap());
+    let shown = morphogen(&["show", "growth-curve"]);
+    let shown = String::from_utf8(shown.stdout).unwrap();
+    fs::write(&file, &shown).unwrap();
+    let o = morphogen(&["bless", file_arg, "--fixtures", fixtures_arg]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    fs::write(&file, shown.replace("\nseed = 0\n", "\nseed = 7\n")).unwrap();
+    let o = morphogen(&["verify", file_arg, "--fixtures", fixtures_arg]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let note = format!("note: run with the fixture's seed 0; {file_arg} says seed = 7");
+    assert!(text(&o).contains(&note), "{}", text(&o));
+    // Verifying the fixtures themselves says nothing of it.
+    let o = morphogen(&["verify", "--fixtures", fixtures_arg]);
+    assert!(!text(&o).contains("note:"), "{}", text(&o));
+}
