@@ -139,11 +139,12 @@ fn open(source: &str, baud: u32) -> Result<(Box<dyn Read>, bool)> {
         let file = std::fs::File::open(path).with_context(|| format!("cannot read {source}"))?;
         return Ok((Box::new(io::BufReader::new(file)), false));
     }
+    let usage = "SOURCE is a serial port, a file, or - for standard input";
+    if serial::is_missing_device(source) {
+        return Err(serial::missing(source, usage));
+    }
     if cfg!(unix) && !path.exists() {
-        return Err(serial::missing(
-            source,
-            "SOURCE is a serial port, a file, or - for standard input",
-        ));
+        bail!("no file or serial port {source} ({usage})");
     }
     Ok((serial::open(source, baud, PORT_TIMEOUT)?, true))
 }

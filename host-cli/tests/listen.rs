@@ -152,6 +152,13 @@ fn a_missing_port_is_named() {
         stderr.ends_with(" (SOURCE is a serial port, a file, or - for standard input)\n"),
         "{stderr}"
     );
+    // Elsewhere a missing path is most likely a file.
+    let o = listen(&["no-such-capture.bin"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr),
+        "error: no file or serial port no-such-capture.bin (SOURCE is a serial port, a file, or - for standard input)\n"
+    );
 }
 
 #[test]
