@@ -93,9 +93,9 @@ impl Numbering {
     }
 }
 
-/// The files in `dir` that belong to a series of which this run wrote
-/// some (`written`) but that it did not write: an earlier run's, sorted
-/// by name. A series this run did not write (`--only`) is left alone.
+/// The files (not folders) in `dir` that belong to a series of which
+/// this run wrote some (`written`) but that it did not write: an earlier
+/// run's, sorted by name. A series this run did not write (`--only`) is left alone.
 ///
 /// # Errors
 /// When `dir` cannot be listed.
@@ -118,7 +118,8 @@ pub fn stale(dir: &Path, written: &[PathBuf]) -> Result<Vec<PathBuf>> {
         let entry = entry.with_context(|| format!("cannot list {}", dir.display()))?;
         let name = entry.file_name();
         let Some(name) = name.to_str() else { continue };
-        if !names.contains(name) && renewed.iter().any(|s| s.has(name)) {
+        let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
+        if !is_dir && !names.contains(name) && renewed.iter().any(|s| s.has(name)) {
             stale.push(entry.path());
         }
     }
@@ -186,6 +187,8 @@ mod tests {
         touch("day_00.png");
         touch("notes_001.txt");
         touch("frame_0001.obj");
+        // A folder of a series' name is not a file of it.
+        fs::create_dir(dir.join("frame_009.obj")).unwrap();
         // This run: 2 frames' OBJ, no side views (`--only obj`).
         let written = vec![touch("frame_000.obj"), touch("frame_001.obj")];
         let names: Vec<String> = stale(dir, &written)
