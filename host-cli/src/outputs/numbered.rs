@@ -95,7 +95,8 @@ impl Numbering {
 
 /// The files (not folders) in `dir` that belong to a series of which
 /// this run wrote some (`written`) but that it did not write: an earlier
-/// run's, sorted by name. A series this run did not write (`--only`) is left alone.
+/// run's, sorted by name. A series this run did not write (`--only`) is
+/// left alone.
 ///
 /// # Errors
 /// When `dir` cannot be listed.
@@ -144,7 +145,7 @@ mod tests {
 
     #[test]
     fn a_series_is_numbered_as_wide_as_its_last_number() {
-        let frames = |count| Numbering::frames(count);
+        let frames = Numbering::frames;
         let obj = FileSeries::FRAMES;
         assert_eq!(frames(10).name(obj, 7), "frame_007.obj");
         assert_eq!(frames(1000).name(obj, 999), "frame_999.obj");
