@@ -105,7 +105,7 @@ if os.path.exists(f"{work}/stream-only.elf"):
       f"`small` is `release` at `opt-level = \"z\"` without overflow checks): every\n"
       f"preset, streamed to UART0 exactly as `morphogen run` writes `stream.bin`\n"
       f"(the default build's capture without its extent frames, checked). It must\n"
-      f"stay under 96 KB (96,000 B) of flash, issue 15's goal (the check fails\n"
+      f"stay under 96 KB (96,000 B) of flash (the check fails\n"
       f"otherwise): {96000 - flash:,} B to spare.\n"
       f"The default build (profile `release`, with extents, drawing on the OLED\n"
       f"and serving sent scenarios) takes {full_flash:,} B.\n")

@@ -4,7 +4,7 @@
 # (simulation + stream.bin, records.jsonl, PNG/OBJ/CSV), and their ratio,
 # as a markdown table on standard output, then a line with the ratios'
 # least, median and greatest (the presets named) and how many meet
-# issue 15's goal of 1.3x. Non-interactive.
+# the goal of 1.3x. Non-interactive.
 #
 #   scripts/bench-outputs.sh [--runs N] [--instructions] [--bin PATH] [PRESET …]
 #

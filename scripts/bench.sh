@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Prints issue 15's table of speed and size figures, all measured in this
+# Prints the README's table of speed and size figures, all measured in this
 # one run (this machine is noisy: times are medians of several runs, and
 # each ratio compares runs made side by side). Not part of CI.
 #
@@ -126,7 +126,7 @@ cat <<EOF2
 | relaxation, 2 threads ÷ 1 thread (croton-ageing) | relaxation alone (\`cargo bench -p morphogen --bench threads\`): $threads; the whole \`verify\`: $(ratio "$relax1" "$relax2")× ($relax1 s / $relax2 s) | ≥ 1.7×, same bytes |
 | \`verify\` of all presets, 2 cores | $(ratio "$verify1" "$verify2")× faster ($verify1 s / $verify2 s) | ≥ 1.7× faster |
 | instructions per cell-relaxation step (croton, 2 000 cells) | $per_cell (each pair once, the host's step); $(python3 -c "print(round($relax_mcu_ir / 2000))") per cell one after another (the MCU's) | ≤ 700 |
-| the same on a mesh (2 000 cells on watermelon-fruit's ellipsoid, w_r 1; issue 16) | $surface_per_cell: $(python3 -c "print(f'{$surface_ir / $relax_ir:.2f}')")× the plane's; per cell (the MCU's) $(python3 -c "print(round($surface_mcu_ir / 2000))"): $(python3 -c "print(f'{$surface_mcu_ir / $relax_mcu_ir:.2f}')")× the plane's per cell | ≤ 2× |
+| the same on a mesh (2 000 cells on watermelon-fruit's ellipsoid, w_r 1) | $surface_per_cell: $(python3 -c "print(f'{$surface_ir / $relax_ir:.2f}')")× the plane's; per cell (the MCU's) $(python3 -c "print(round($surface_mcu_ir / 2000))"): $(python3 -c "print(f'{$surface_mcu_ir / $relax_mcu_ir:.2f}')")× the plane's per cell | ≤ 2× |
 | shrinkwrap triangles/s (bone-growth, \`verify\` CPU) | $(python3 -c "print(f'{$triangles / $wrap_s / 1000:.0f} K')") ($triangles in $wrap_s s) | ≥ 150 K |
 | shrub n = 7 derive + turtle instructions | $(python3 -c "print(f'{$shrub_ir / 1e6:.1f} M')") | ≤ 20 M |
 

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Fuzz smoke (issue 14): builds every cargo-fuzz target of core/fuzz (the
-# core's readers) and fuzz/ (the host's readers) and runs each for SECONDS
-# (default 20), one after the other. Prints one line per target and exits
-# non-zero if any target crashed (its input is in <crate>/artifacts/<target>/).
+# Fuzz smoke: builds every cargo-fuzz target of core/fuzz (the core's
+# readers) and fuzz/ (the host's readers) and runs each for SECONDS (default
+# 20), one after the other. Prints one line per target and exits non-zero if
+# any target crashed (its input is in <crate>/artifacts/<target>/).
 #
 #   bash scripts/fuzz.sh [SECONDS]
 #   FUZZ_TARGETS="mask scenario" bash scripts/fuzz.sh 600   # some targets

@@ -1,6 +1,6 @@
 //! Instruction counts of the models' hot paths under Valgrind (gungraun):
-//! the figures of issue 15 that a noisy machine cannot time. Needs
-//! valgrind and `cargo install gungraun-runner --version 0.20.0`; run by
+//! the speed figures that a noisy machine cannot time. Needs valgrind and
+//! `cargo install gungraun-runner --version 0.20.0`; run by
 //! `scripts/bench.sh`, or `cargo bench -p morphogen --bench
 //! model_instructions`. Setup (parsing, the initial relaxations) is not
 //! counted.

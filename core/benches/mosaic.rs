@@ -1,4 +1,4 @@
-//! Clonal mosaic costs (issue 6). Run with
+//! Clonal mosaic costs. Run with
 //! `cargo bench -p morphogen --bench mosaic`. The big mosaics run on the
 //! host (the core has no heap): this bench runs them as the host does, on
 //! the scenario crate's `Vec`-backed store

@@ -1,9 +1,9 @@
-//! The host's relaxation on one and on two threads (issue 15): the whole
+//! The host's relaxation on one and on two threads: the whole
 //! `croton-ageing` run (10 000 cells growing for 30 days, 280 relaxation
 //! steps of 50 000 cells on average) as the host runs it, on a pool of one
 //! thread and one of two, in turn, with the time spent relaxing counted
-//! apart from the run's. Prints the medians and, pair by pair, the
-//! ratios' median. Run with `cargo bench -p morphogen --bench threads`.
+//! apart from the run's. Prints the medians and, pair by pair, the ratios'
+//! median. Run with `cargo bench -p morphogen --bench threads`.
 
 use std::time::{Duration, Instant};
 

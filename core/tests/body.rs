@@ -608,7 +608,7 @@ fn hoof_heights(params: &BodyParams<'_>, frame: u32) -> ([[f64; 2]; 2], f64) {
     (hooves, lowest)
 }
 
-/// Issue 18: every body of every frame stands on its hooves. Without a
+/// Every body of every frame stands on its hooves. Without a
 /// gait all four touch the ground; in a trot the gait lifts one hoof of
 /// each pair, and the lower (supporting) fore and hind hooves touch. No
 /// vertex goes below the ground. Tolerance: 0.25 in (horse), 0.6 cm (cow).

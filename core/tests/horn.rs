@@ -1,6 +1,6 @@
-//! The horn's acceptance checks (issue 4): continuity between modules, only
-//! the youngest positioner moving, fixed point against the f64 reference,
-//! and the state staying small.
+//! The horn's acceptance checks: continuity between modules, only the
+//! youngest positioner moving, fixed point against the f64 reference, and
+//! the state staying small.
 #![allow(clippy::float_arithmetic, clippy::unwrap_used, clippy::panic)]
 
 use morphogen::Error;

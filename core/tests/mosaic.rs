@@ -1,4 +1,4 @@
-//! Cross-module checks of the clonal mosaic (issue 6): regularity after the
+//! Cross-module checks of the clonal mosaic: regularity after the
 //! initial relaxation, growth and mutation against an independent
 //! reference of the division process, and reproducibility.
 #![allow(

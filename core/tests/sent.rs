@@ -1,5 +1,5 @@
 //! Built-in scenarios through `morphogen::sent`: what a device reads is
-//! the preset the host runs (issue 17, item 6).
+//! the preset the host runs.
 
 use morphogen::sent::{MAX_SENT, SentModel, SentReader, SentScenario};
 

@@ -1,4 +1,4 @@
-//! What a mosaic's Voronoi pictures cost (issue 15: `run` ÷ `verify`).
+//! What a mosaic's Voronoi pictures cost, a part of `run` ÷ `verify`.
 //! Run with `cargo bench -p morphogen-cli --bench pictures`.
 //!
 //! Each bench colours every day of a preset's golden stream

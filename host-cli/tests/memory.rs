@@ -1,9 +1,9 @@
-//! Issue 15: the host's memory is not bounded by the stream. `run
-//! --grammar` of ABOP's shrub streams into its file and draws from it; a
-//! counting allocator sees every heap byte of the library doing it.
-//! Beyond the plant's picture (its RGBA canvas, the RGB copy the PNG
-//! encoder takes, the compressed bytes), the peak heap stays far below
-//! the stream and does not grow with it.
+//! The host's memory is not bounded by the stream. `run --grammar` of
+//! ABOP's shrub streams into its file and draws from it; a counting
+//! allocator sees every heap byte of the library doing it. Beyond the
+//! plant's picture (its RGBA canvas, the RGB copy the PNG encoder takes,
+//! the compressed bytes), the peak heap stays far below the stream and
+//! does not grow with it.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;

@@ -1,7 +1,7 @@
-//! Issue 19: what `morphogen run` writes beyond the stream, through the
-//! binary: animated PNGs with a label per frame, charts with axes (PNG
-//! and SVG), one `model.glb` per run with vertex colours and every frame,
-//! and the `--only` and `--quiet` options.
+//! What `morphogen run` writes beyond the stream, through the binary:
+//! animated PNGs with a label per frame, charts with axes (PNG and SVG),
+//! one `model.glb` per run with vertex colours and every frame, and the
+//! `--only` and `--quiet` options.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -182,8 +182,8 @@ fn the_ram_horn_animates_its_frames_and_exports_a_coloured_glb() {
 fn the_trotting_horse_animates_its_side_views_and_charts_its_table() {
     let tmp = tempfile::tempdir().unwrap();
     let (dir, _) = run(tmp.path(), "horse-trot", &["--only", "anim,glb,svg"]);
-    // The run's extent at one scale: 563 px high before issue 18, when
-    // hooves floated above and sank below the ground.
+    // The run's extent at one scale, with every hoof on the ground (none
+    // floating above or sunk below it).
     let side = (640, 547);
     check_animation(&dir, 36, side);
     check_glb(&dir, 36);

@@ -1,7 +1,7 @@
-//! Scenario files end to end (issue 13): every preset's `show` output runs
-//! to its fixture's bytes, every documented parameter reaches the digest, a
-//! user's scenario is blessed and verified, and sweeps do not depend on the
-//! thread count or on sharding.
+//! Scenario files end to end: every preset's `show` output runs to its
+//! fixture's bytes, every documented parameter reaches the digest, a user's
+//! scenario is blessed and verified, and sweeps do not depend on the thread
+//! count or on sharding.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -308,7 +308,7 @@ fn a_user_body_runs_from_its_files_and_their_mistakes_are_named() {
     );
 }
 
-/// A user's skeleton (issue 18): `--grammar` with a bone preset wraps it
+/// A user's skeleton: `--grammar` with a bone preset wraps it
 /// with the preset's shrinkwrap, as a scenario file naming it does; a
 /// `--set` names files relative to the current folder, even on a built-in;
 /// mistakes are named by the grammar file.

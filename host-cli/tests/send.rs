@@ -1,5 +1,5 @@
 //! `morphogen send`: the message a device reads, and the scenarios it
-//! refuses (issue 17, item 6).
+//! refuses.
 
 use std::process::{Command, Output};
 

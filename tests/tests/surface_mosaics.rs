@@ -1,6 +1,5 @@
-//! Issue 16: mosaics grown on a mesh. For every preset with a
-//! `[mosaic.surface]`, from what `morphogen run` writes (`surface.obj`,
-//! `cells_dayNN.csv`):
+//! Mosaics grown on a mesh. For every preset with a `[mosaic.surface]`,
+//! from what `morphogen run` writes (`surface.obj`, `cells_dayNN.csv`):
 //! - every cell of every streamed day lies on the mesh: its distance to the
 //!   nearest triangle is below 10⁻³ of the mesh's size (its bounding box's
 //!   diagonal);

@@ -382,7 +382,7 @@ static HORSE_SPINE: [Station; 16] = at_z(
 );
 
 /// Elbow or stifle to sole; the last two rings one above the other: a
-/// flat sole on the ground (issue 18).
+/// flat sole on the ground.
 const HORSE_FORE: [(i32, i32, i32, i32); 11] = [
     (200, 440, 45, 38),
     (200, 370, 42, 32),
@@ -397,7 +397,7 @@ const HORSE_FORE: [(i32, i32, i32, i32); 11] = [
     (215, 0, 22, 20),
 ];
 /// Elbow or stifle to sole; the last two rings one above the other: a
-/// flat sole on the ground (issue 18).
+/// flat sole on the ground.
 const HORSE_HIND: [(i32, i32, i32, i32); 11] = [
     (-215, 470, 60, 45),
     (-205, 400, 55, 40),
@@ -712,7 +712,7 @@ static COW_SPINE: [Station; 15] = at_z(
 );
 
 /// Elbow or stifle to sole; the last two rings one above the other: a
-/// flat sole on the ground (issue 18).
+/// flat sole on the ground.
 const COW_FORE: [(i32, i32, i32, i32); 11] = [
     (330, 800, 110, 90),
     (330, 700, 100, 80),
@@ -727,7 +727,7 @@ const COW_FORE: [(i32, i32, i32, i32); 11] = [
     (358, 0, 52, 47),
 ];
 /// Elbow or stifle to sole; the last two rings one above the other: a
-/// flat sole on the ground (issue 18).
+/// flat sole on the ground.
 const COW_HIND: [(i32, i32, i32, i32); 11] = [
     (-600, 880, 140, 100),
     (-560, 730, 120, 90),

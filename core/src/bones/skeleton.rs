@@ -19,7 +19,7 @@ use crate::turtle::{Drawn, Turtle};
 
 /// Skeleton elements of one bone.
 pub const MAX_ELEMENTS: usize = 64;
-/// Every bone skeleton fits the shrinkwrap's prepared field (issue 15).
+/// Every bone skeleton fits the shrinkwrap's prepared field.
 const _: () = assert!(MAX_ELEMENTS <= crate::shrinkwrap::PREPARED_ELEMENTS);
 /// Modules of one derived skeleton string (so that a grammar that grows
 /// without drawing still ends).

@@ -27,8 +27,8 @@ const FRAC: u32 = 16;
 /// Narrows an `i64` to `i32`, saturating. Written as "does it survive the
 /// round trip" (on a 32-bit core: one compare of the high word with the low
 /// word's sign), and the bound from the sign (`-1 ^ MAX` is `MIN`): inlined
-/// at every product, this is a fifth of the flash the two range compares
-/// took (issue 15).
+/// at every product, this is a fifth of the flash two range compares
+/// would take.
 const fn saturate(v: i64) -> i32 {
     let narrow = v as i32;
     if narrow as i64 == v {

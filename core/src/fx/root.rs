@@ -3,7 +3,7 @@
 //! Sec. 3.2.1.1; one division where `u32::isqrt` takes two, each a library
 //! call on a Cortex-M0) and [`isqrt_u64`] / [`rounded_isqrt_u64`] for
 //! fixed-point lengths and square roots (the shrinkwrap's field, the
-//! turtle; issue 15).
+//! turtle).
 
 /// Newton's starting point for `x` in `[2^30, 2^32)`, indexed by its top
 /// byte `b` (no index needs a bounds check; entries below 64 are never

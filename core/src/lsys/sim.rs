@@ -174,9 +174,9 @@ impl<D: Derivation> LSystem<D> {
     /// homomorphism draws without changing what is derived. On computers
     /// a grammar without interpretation rules skips it, and it is kept out
     /// of line: inlined, it slows the per-module loop of every grammar (the
-    /// shrub bench, issue 15: 19.6 M instructions out of line, 21.2 M
-    /// inlined). 32-bit targets always call it, inlined: one copy of the
-    /// derivation's fast path in flash.
+    /// shrub bench: 19.6 M instructions out of line, 21.2 M inlined).
+    /// 32-bit targets always call it, inlined: one copy of the derivation's
+    /// fast path in flash.
     /// Like the derivation, it is pending after [`VISITS_PER_CALL`]
     /// modules or frames (rules with empty successors erase modules).
     #[cfg_attr(target_pointer_width = "64", inline(never))]

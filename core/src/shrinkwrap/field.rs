@@ -21,7 +21,7 @@ fn min_distance<R: Real>() -> R {
 /// The number types the field is evaluated in: `f64` in its own
 /// arithmetic ([`summed_field`]), [`Fx`] by an integer kernel on prepared
 /// elements that rounds and saturates exactly as [`summed_field`] does on
-/// [`Fx`] but skips the saturation where the range is proven (issue 15).
+/// [`Fx`] but skips the saturation where the range is proven.
 pub trait FieldReal: Real {
     /// The element in the integer form of the kernel, if this number type
     /// has one and the element is in its range.
@@ -321,8 +321,8 @@ const SHARED_ENDS: usize = 8;
 const NOT_SHARED: u8 = u8::MAX;
 
 /// Whether ends are shared ([`SHARED_ENDS`]): on a computer. On an MCU
-/// the 430 B of flash it takes are more than issue 15 allows for it (every
-/// end is then `NOT_SHARED`, and the field the same).
+/// the 430 B of flash it takes are more than the flash goal allows for it
+/// (every end is then `NOT_SHARED`, and the field the same).
 const SHARE_ENDS: bool = cfg!(target_pointer_width = "64");
 
 /// The shared-end number of position `x` (Q16 bits), given the distinct

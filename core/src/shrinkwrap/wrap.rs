@@ -111,10 +111,10 @@ pub struct Shrinkwrap<R: Real, const V: usize, const T: usize, const C: usize = 
 /// V and ∇V at the first `C` vertices where the last move left them: the
 /// level check after a move evaluates the field there, and the next move
 /// starts from the same place, so one evaluation (with the gradient) serves
-/// both instead of a potential and then the field again (issue 15: a
-/// third of a bone's field evaluations). Valid for vertices below its
-/// length while the skeleton stays the same (`Shrinkwrap::iterate`
-/// checks); the results are those of evaluating again, bit for bit.
+/// both instead of a potential and then the field again (a third of a bone's
+/// field evaluations). Valid for vertices below its length while the
+/// skeleton stays the same (`Shrinkwrap::iterate` checks); the results are
+/// those of evaluating again, bit for bit.
 /// 16 B per vertex for `Fx`: for a host; an MCU keeps `C` = 0.
 #[derive(Debug)]
 struct FieldCache<R: Real, const C: usize> {

@@ -1,6 +1,6 @@
-//! Animated PNG (APNG) files from a run's pictures (issue 19, point 2):
-//! frames of one size, each with its label ("day 12", "age 6.0 months")
-//! drawn into its top-left corner, shown `delay_ms` apart and looped.
+//! Animated PNG (APNG) files from a run's pictures: frames of one size,
+//! each with its label ("day 12", "age 6.0 months") drawn into its
+//! top-left corner, shown `delay_ms` apart and looped.
 //!
 //! [`AnimationWriter`] streams: it holds one frame at a time, so a writer
 //! that draws frame after frame never keeps them all. [`Animation`] is the

@@ -1,8 +1,8 @@
-//! Charts of a run's tables (issue 19, point 1): curves over one x axis
-//! against a left y scale and, for a quantity of another size, a right
-//! one; with ticks, axis titles with their units, a title and a legend.
-//! Drawn with `plotters` into an RGB buffer (encoded here with `png`) or
-//! into an SVG string, and written atomically.
+//! Charts of a run's tables: curves over one x axis against a left y scale
+//! and, for a quantity of another size, a right one; with ticks, axis
+//! titles with their units, a title and a legend. Drawn with `plotters`
+//! into an RGB buffer (encoded here with `png`) or into an SVG string, and
+//! written atomically.
 //!
 //! Text needs no system font: DejaVu Sans, embedded by the `dejavu` crate,
 //! is registered with plotters' `ab_glyph` text renderer as `sans-serif`

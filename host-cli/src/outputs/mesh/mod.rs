@@ -1,10 +1,9 @@
-//! One mesh writer for every model (issue 19, point 3): a model-independent
-//! [`Mesh`] (positions, polygon faces in named groups, optional per-vertex
-//! colours and normals, named materials) written as Wavefront OBJ with an
-//! `.mtl` ([`write_obj`]) or as binary glTF 2.0 ([`write_glb`],
-//! [`GlbWriter`]) with `POSITION`, `NORMAL`, `COLOR_0` and indices, one mesh
-//! per frame and, for several frames, an animation that shows one frame at
-//! a time.
+//! One mesh writer for every model: a model-independent [`Mesh`] (positions,
+//! polygon faces in named groups, optional per-vertex colours and normals,
+//! named materials) written as Wavefront OBJ with an `.mtl` ([`write_obj`])
+//! or as binary glTF 2.0 ([`write_glb`], [`GlbWriter`]) with `POSITION`,
+//! `NORMAL`, `COLOR_0` and indices, one mesh per frame and, for several
+//! frames, an animation that shows one frame at a time.
 //!
 //! Every model's geometry fits: horn rings (a group `module_<i>` per
 //! module, triangles), body and bone surfaces (one unnamed group of
