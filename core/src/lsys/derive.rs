@@ -570,10 +570,11 @@ pub struct Buffered<'b> {
     len: usize,
     read: usize,
     peak: usize,
-    /// Steps asked for, and the step under way (from 1; past `steps` once
-    /// the string is derived).
+    /// Steps asked for, and the step under way (from 1 to `steps`).
     steps: u8,
     step: u8,
+    /// Whether the last step is written (the string is read from then on).
+    derived: bool,
     seed: u64,
     /// The front module rewritten next.
     position: usize,
@@ -606,6 +607,7 @@ impl<'b> Buffered<'b> {
             peak: 0,
             steps: 0,
             step: 1,
+            derived: true,
             seed: 0,
             position: 0,
             out: 0,
@@ -740,8 +742,12 @@ impl<'b> Buffered<'b> {
         self.front_is_a = !self.front_is_a;
         self.position = 0;
         self.out = 0;
-        self.step = self.step.saturating_add(1);
-        if self.step <= self.steps {
+        // A counter that saturated at `steps` = 255 would never end.
+        if self.step >= self.steps {
+            self.derived = true;
+        } else {
+            // step < steps ≤ u8::MAX: no overflow.
+            self.step += 1;
             self.link(g);
         }
         Ok(())
@@ -755,6 +761,7 @@ impl Derivation for Buffered<'_> {
         self.len = 0;
         self.steps = steps;
         self.step = 1;
+        self.derived = steps == 0;
         self.seed = seed;
         self.position = 0;
         self.out = 0;
@@ -781,7 +788,7 @@ impl Derivation for Buffered<'_> {
 
     fn next_module(&mut self, grammar: &Grammar) -> Result<Next, LsysError> {
         for _ in 0..VISITS_PER_CALL {
-            if self.step > self.steps {
+            if self.derived {
                 let m = self.string().get(self.read).copied();
                 self.read += 1;
                 return Ok(m.map_or(Next::End, Next::Module));

@@ -1026,6 +1026,11 @@ fn more_than_max_steps_derive_buffered_and_streaming_names_its_limit() {
     assert!(g.needs_buffer());
     let s = buffered(&g, 200, 0);
     assert_eq!(s[0].args(), [Fx::from_int(200)]);
+    // The largest n ends too, at A(255): its step counter cannot pass it.
+    let g = grammar("n = 255\naxiom: A(0) B\nA(k) -> A(k + 1)\nB -> (1) B\nB -> (1) C");
+    let s = buffered(&g, 255, 0);
+    assert_eq!(s[0].args(), [Fx::from_int(255)]);
+    assert_eq!(s.len(), 2);
     assert_eq!(
         Streaming::new().restart(&g, 200, 0),
         Err(LsysError::Capacity {
