@@ -77,6 +77,7 @@ pub fn run(args: &Args) -> Result<Outcome> {
         seen: 0,
         bad_outside: 0,
         bad: 0,
+        unreported: None,
         failed: 0,
     };
     let mut buf = [0u8; 4096];
@@ -166,6 +167,10 @@ struct Listener {
     bad_outside: u32,
     /// Bad frames in all.
     bad: u32,
+    /// Bad frames since the last one reported (a run of them is reported
+    /// by its first and its count, not a line each), and the source byte
+    /// the last of them started at.
+    unreported: Option<(u32, u64)>,
     /// Streams that differ from their fixture or have none.
     failed: u32,
 }
@@ -200,6 +205,9 @@ impl Listener {
             return Ok(());
         };
         let frame_start = at + 1 - len as u64;
+        if result.is_ok() {
+            self.report_bad_run();
+        }
         match result {
             Ok(Record::Header(header)) => {
                 if let Some(mut stream) = self.stream.take() {
@@ -222,22 +230,39 @@ impl Listener {
             }
             Err(e) if e.is_corrupt() => {
                 self.bad += 1;
+                // The first of a run of bad frames is reported here, the
+                // rest by their count once the run ends.
+                let quiet = match &mut self.unreported {
+                    Some((count, last)) => {
+                        *count += 1;
+                        *last = frame_start;
+                        true
+                    }
+                    None => {
+                        self.unreported = Some((0, frame_start));
+                        false
+                    }
+                };
                 match &mut self.stream {
                     Some(stream) => {
                         stream.bad += 1;
                         if self.rig.is_some() {
                             stream.frames.push(Err(e));
                         }
-                        let line = format!(
-                            "  {}: bad frame at byte {} of the stream ({frame_start} of the source), skipped: {e}",
-                            stream.header.preset,
-                            stream.bytes.len() - len
-                        );
-                        stream.bar.suspend(|| eprintln!("{line}"));
+                        if !quiet {
+                            let line = format!(
+                                "  {}: bad frame at byte {} of the stream ({frame_start} of the source), skipped: {e}",
+                                stream.header.preset,
+                                stream.bytes.len() - len
+                            );
+                            stream.bar.suspend(|| eprintln!("{line}"));
+                        }
                     }
                     None => {
                         self.bad_outside += 1;
-                        eprintln!("  bad frame at byte {frame_start}, before any header: {e}");
+                        if !quiet {
+                            eprintln!("  bad frame at byte {frame_start}, before any header: {e}");
+                        }
                     }
                 }
             }
@@ -251,8 +276,13 @@ impl Listener {
                 stream.frames.len() + 1,
                 stream.bad
             ));
-            if let Ok(fixture) = &stream.fixture
-                && stream.bytes.len() as u64 >= fixture.summary.bytes
+            // Complete at its fixture's size, or at a run's stream cap
+            // where it has none: its memory is bounded either way.
+            let size = match &stream.fixture {
+                Ok(fixture) => fixture.summary.bytes,
+                Err(_) => u64::from(crate::exec::DEFAULT_MAX_STREAM_MB) << 20,
+            };
+            if stream.bytes.len() as u64 >= size
                 && let Some(stream) = self.stream.take()
             {
                 self.complete(stream)?;
@@ -337,9 +367,25 @@ impl Listener {
         Ok(())
     }
 
+    /// Reports how many bad frames followed the last one reported.
+    fn report_bad_run(&mut self) {
+        if let Some((count, last)) = self.unreported.take()
+            && count > 0
+        {
+            let line = format!(
+                "  {count} more bad frame(s) in a row after it, the last at byte {last} of the source, skipped"
+            );
+            match &self.stream {
+                Some(stream) => stream.bar.suspend(|| eprintln!("{line}")),
+                None => eprintln!("{line}"),
+            }
+        }
+    }
+
     /// The source ended: a frame in progress is truncated, a stream in
     /// progress complete as it is.
     fn end(&mut self) -> Result<()> {
+        self.report_bad_run();
         if self.reader.pending() > 0 {
             self.bad += 1;
             match &mut self.stream {

@@ -1,10 +1,11 @@
 //! `morphogen listen` on a file, on a damaged file and on a live
-//! pseudo-terminal (issue 17, item 3).
+//! pseudo-terminal.
 
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-use std::sync::mpsc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
 use morphogen::rig::Bounds;
@@ -83,6 +84,36 @@ fn a_flipped_bit_costs_its_frame_and_fails_the_check() {
     );
     assert!(stdout.contains("ok        long-bone"), "{stdout}");
     assert!(stdout.contains("2 stream(s), 1 bad frame(s)"), "{stdout}");
+}
+
+#[test]
+fn a_run_of_bad_frames_is_reported_once_with_its_count() {
+    // Line noise: a megabyte of zero bytes (each ends an empty frame), then
+    // a stream, then garbage inside a second copy of it.
+    let dir = tempfile::tempdir().unwrap();
+    let capture = dir.path().join("noise.bin");
+    let mut bytes = vec![0u8; 1 << 20];
+    bytes.extend(stream("growth-curve"));
+    let mut damaged = stream("growth-curve");
+    damaged[3000..4000].fill(0x55);
+    bytes.extend(damaged);
+    std::fs::write(&capture, &bytes).unwrap();
+    let o = listen(&[capture.to_str().unwrap()]);
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr),
+    );
+    assert_eq!(o.status.code(), Some(1), "{stdout}{stderr}");
+    assert!(stdout.contains("ok        growth-curve"), "{stdout}");
+    assert!(
+        stderr.lines().count() < 12,
+        "a line per bad frame: {} lines",
+        stderr.lines().count()
+    );
+    assert!(
+        stderr.contains("more bad frame(s) in a row after it"),
+        "{stderr}"
+    );
 }
 
 /// `bytes` with the extent a firmware sends after each header: the
@@ -183,27 +214,44 @@ fn a_live_stream_through_a_pseudo_terminal_is_verified() {
             }
         }
     });
-    let first = lines.recv_timeout(Duration::from_secs(30)).unwrap();
+    // Opening a port takes no time: a minute without a word is a hang.
+    let first = lines
+        .recv_timeout(Duration::from_secs(60))
+        .expect("listen said nothing in 60 s, or ended without a word");
     assert_eq!(
         first,
         format!("listening on {} at 115200 baud", port.display())
     );
     let mut master = std::fs::File::from(pty.master);
     let bytes = stream("growth-curve");
-    let writer = std::thread::spawn(move || {
-        // A device's pace: the stream in pieces.
-        bytes
-            .chunks(512)
-            .try_for_each(|piece| master.write_all(piece))
+    let total = bytes.len();
+    let written = Arc::new(AtomicUsize::new(0));
+    let writer = std::thread::spawn({
+        let written = Arc::clone(&written);
+        move || {
+            // A device's pace: the stream in pieces.
+            bytes.chunks(512).try_for_each(|piece| {
+                master.write_all(piece)?;
+                written.fetch_add(piece.len(), Ordering::Relaxed);
+                Ok::<_, std::io::Error>(())
+            })
+        }
     });
-    let start = Instant::now();
+    // listen takes as it verifies, however slowly: it fails only when it
+    // has taken no byte for a minute, or has not ended a minute after the
+    // last.
+    let (mut taken, mut since) = (0, Instant::now());
     let status = loop {
         if let Some(status) = child.try_wait().unwrap() {
             break status;
         }
+        let now = written.load(Ordering::Relaxed);
+        if now != taken {
+            (taken, since) = (now, Instant::now());
+        }
         assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "listen did not finish"
+            since.elapsed() < Duration::from_secs(60),
+            "listen went a minute without taking a byte or ending ({taken} of {total} bytes written)"
         );
         std::thread::sleep(Duration::from_millis(20));
     };
