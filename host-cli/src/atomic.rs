@@ -62,23 +62,104 @@ impl Drop for Unfinished {
 }
 
 /// A file being written; dropped without [`OutputFile::finish`], it
-/// leaves nothing behind.
+/// leaves nothing behind. Only a regular file is replaced: a symlink is
+/// followed to the file it names, and a device or a FIFO (`--out
+/// /dev/null`, a pipe to another program) is written to as it is.
 #[derive(Debug)]
 pub struct OutputFile {
     path: PathBuf,
-    writer: BufWriter<NamedTempFile>,
+    writer: BufWriter<Target>,
     /// Whether [`OutputFile::finish`] syncs it to the disk.
     durable: bool,
     /// Dropped after the temporary file is renamed or removed.
-    _unfinished: Unfinished,
+    _unfinished: Option<Unfinished>,
+}
+
+/// Where an [`OutputFile`]'s bytes go.
+#[derive(Debug)]
+enum Target {
+    /// A temporary file beside the file, renamed over it when finished.
+    Replacing(NamedTempFile),
+    /// The device or FIFO itself.
+    Direct(fs::File),
+}
+
+impl Write for Target {
+    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+        match self {
+            Target::Replacing(file) => file.write(bytes),
+            Target::Direct(file) => file.write(bytes),
+        }
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        match self {
+            Target::Replacing(file) => file.flush(),
+            Target::Direct(file) => file.flush(),
+        }
+    }
+}
+
+/// The file `path` names once symlinks are followed, and whether it is a
+/// device or a FIFO (written to, not replaced).
+///
+/// # Errors
+/// A folder, a socket, a dangling symlink or a loop of them.
+fn resolve(path: &Path) -> Result<(PathBuf, bool)> {
+    let Ok(link) = fs::symlink_metadata(path) else {
+        return Ok((path.to_path_buf(), false)); // a new file
+    };
+    let target = if link.file_type().is_symlink() {
+        fs::canonicalize(path).with_context(|| {
+            format!(
+                "cannot write {}: a symlink to nothing that can be written",
+                path.display()
+            )
+        })?
+    } else {
+        path.to_path_buf()
+    };
+    let kind = fs::metadata(&target)
+        .with_context(|| format!("cannot write {}", path.display()))?
+        .file_type();
+    if kind.is_file() {
+        return Ok((target, false));
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_char_device() || kind.is_block_device() || kind.is_fifo() {
+            return Ok((target, true));
+        }
+    }
+    anyhow::bail!(
+        "cannot write {}: it is {}, not a file",
+        path.display(),
+        morphogen_scenario::file_kind(kind)
+    )
 }
 
 impl OutputFile {
-    /// Starts writing `path` (through a temporary file in its folder).
+    /// Starts writing `path`: through a temporary file in its folder, or
+    /// straight into it when it is a device or a FIFO.
     ///
     /// # Errors
-    /// When the folder is not writable.
+    /// When the folder is not writable, or `path` is a folder or another
+    /// thing that is not a file.
     pub fn create(path: &Path) -> Result<OutputFile> {
+        let (path, direct) = resolve(path)?;
+        if direct {
+            let file = fs::OpenOptions::new()
+                .write(true)
+                .open(&path)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+            return Ok(OutputFile {
+                path,
+                writer: BufWriter::with_capacity(1 << 16, Target::Direct(file)),
+                durable: false,
+                _unfinished: None,
+            });
+        }
         let folder = path
             .parent()
             .filter(|p| !p.as_os_str().is_empty())
@@ -88,9 +169,9 @@ impl OutputFile {
             .tempfile_in(folder)
             .with_context(|| format!("cannot write in {}", folder.display()))?;
         Ok(OutputFile {
-            path: path.to_path_buf(),
-            _unfinished: Unfinished::new(tmp.path()),
-            writer: BufWriter::with_capacity(1 << 16, tmp),
+            _unfinished: Some(Unfinished::new(tmp.path())),
+            writer: BufWriter::with_capacity(1 << 16, Target::Replacing(tmp)),
+            path,
             durable: false,
         })
     }
@@ -114,11 +195,15 @@ impl OutputFile {
     /// When a write, the sync or the rename fails.
     pub fn finish(self) -> Result<()> {
         let path = self.path;
-        let tmp = self
+        let target = self
             .writer
             .into_inner()
             .map_err(io::IntoInnerError::into_error)
             .with_context(|| format!("cannot write {}", path.display()))?;
+        let tmp = match target {
+            Target::Direct(_) => return Ok(()),
+            Target::Replacing(tmp) => tmp,
+        };
         if self.durable {
             tmp.as_file()
                 .sync_all()

@@ -59,6 +59,10 @@ pub const SCENARIO_FILE: &str = "scenario.toml";
 /// The new stream `verify` leaves beside a fixture it does not match.
 pub const PENDING_FILE: &str = "stream.bin.pending";
 
+/// The scenario of the pending stream, where it is not the fixture's own
+/// (`verify FILE.toml` of an edited file): `bless --accept` takes both.
+pub const PENDING_SCENARIO_FILE: &str = "scenario.toml.pending";
+
 /// The environment variable naming the fixtures folder.
 pub const FIXTURES_ENV: &str = "MORPHOGEN_FIXTURES";
 
@@ -94,28 +98,77 @@ pub fn locate(given: Option<PathBuf>, for_writing: bool) -> Result<PathBuf> {
     )
 }
 
-/// Writes `stream` as `name`'s pending stream; returns its path.
+/// Writes `stream`, made from `scenario`, as `name`'s pending stream, with
+/// the scenario beside it when it is not the fixture's own; returns the
+/// stream's path.
 ///
 /// # Errors
-/// When it cannot be written.
-pub fn write_pending(fixtures: &Path, name: &str, stream: &[u8]) -> Result<PathBuf> {
-    let path = dir(fixtures, name).join(PENDING_FILE);
+/// When it cannot be written, or the fixture's scenario cannot be read.
+pub fn write_pending(
+    fixtures: &Path,
+    name: &str,
+    scenario: &Scenario,
+    stream: &[u8],
+) -> Result<PathBuf> {
+    let folder = dir(fixtures, name);
+    let path = folder.join(PENDING_FILE);
+    let own = self::scenario(fixtures, name)?;
+    let pending_scenario = folder.join(PENDING_SCENARIO_FILE);
+    if same_scenario(&own, scenario) {
+        remove_if_there(&pending_scenario)?;
+    } else {
+        write_atomic(&pending_scenario, scenario.self_contained().as_bytes())?;
+    }
     write_atomic(&path, stream)?;
     Ok(path)
 }
 
-/// Removes `name`'s pending stream, if any (it matches again).
+/// Whether two scenarios are the same file once self-contained.
+fn same_scenario(a: &Scenario, b: &Scenario) -> bool {
+    a.self_contained() == b.self_contained()
+}
+
+/// Removes `name`'s pending stream when `scenario` (which now matches the
+/// fixture) is what it was made from: a stream left by `verify FILE.toml`
+/// of another scenario stays for `bless --accept`.
 ///
 /// # Errors
 /// When it exists and cannot be removed.
-pub fn drop_pending(fixtures: &Path, name: &str) -> Result<()> {
-    let path = dir(fixtures, name).join(PENDING_FILE);
-    match fs::remove_file(&path) {
+pub fn drop_pending(fixtures: &Path, name: &str, scenario: &Scenario) -> Result<()> {
+    let folder = dir(fixtures, name);
+    let pending_scenario = folder.join(PENDING_SCENARIO_FILE);
+    let made_from = if pending_scenario.is_file() {
+        scenario_file(&pending_scenario)?
+    } else {
+        self::scenario(fixtures, name)?
+    };
+    if !same_scenario(&made_from, scenario) {
+        return Ok(());
+    }
+    remove_if_there(&folder.join(PENDING_FILE))?;
+    remove_if_there(&pending_scenario)
+}
+
+fn remove_if_there(path: &Path) -> Result<()> {
+    match fs::remove_file(path) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
             Err(e).with_context(|| format!("cannot remove {}", path.display()))
         }
         _ => Ok(()),
     }
+}
+
+/// The scenario `name`'s pending stream was made from: the one `verify`
+/// left beside it, else the fixture's own.
+///
+/// # Errors
+/// Either file is unreadable or invalid.
+pub fn pending_scenario(fixtures: &Path, name: &str) -> Result<Scenario> {
+    let path = dir(fixtures, name).join(PENDING_SCENARIO_FILE);
+    if path.is_file() {
+        return scenario_file(&path);
+    }
+    scenario(fixtures, name)
 }
 
 /// The fixtures with a pending stream, sorted.
@@ -136,7 +189,13 @@ pub fn pending_names(fixtures: &Path) -> Result<Vec<String>> {
 /// No pending stream, or one that is corrupt or of another preset.
 pub fn read_pending(fixtures: &Path, name: &str) -> Result<Run> {
     let path = dir(fixtures, name).join(PENDING_FILE);
-    let stream = fs::read(&path).with_context(|| {
+    // verify's runs are capped at the default stream cap.
+    let stream = read_at_most(
+        &path,
+        u64::from(crate::exec::DEFAULT_MAX_STREAM_MB) << 20,
+        "the default --max-stream-mb",
+    )
+    .with_context(|| {
         format!(
             "cannot read {} (`morphogen verify` writes it on a mismatch)",
             path.display()
@@ -191,7 +250,8 @@ pub fn load(fixtures: &Path, name: &str) -> Result<Fixture> {
         );
     }
     let summary_path = dir.join(SUMMARY_FILE);
-    let text = fs::read_to_string(&summary_path)
+    let text = read_at_most(&summary_path, MAX_SUMMARY_BYTES, "MAX_SUMMARY_BYTES")
+        .and_then(|bytes| String::from_utf8(bytes).map_err(|_| anyhow::anyhow!("not UTF-8 text")))
         .with_context(|| format!("cannot read {}", summary_path.display()))?;
     let summary: Summary = toml::from_str(&text).with_context(|| {
         format!(
@@ -206,9 +266,10 @@ pub fn load(fixtures: &Path, name: &str) -> Result<Fixture> {
             summary.preset
         );
     }
+    // Never more than the summary says it holds.
     let stream_path = dir.join(STREAM_FILE);
-    let stream =
-        fs::read(&stream_path).with_context(|| format!("cannot read {}", stream_path.display()))?;
+    let stream = read_at_most(&stream_path, summary.bytes, "the size its summary states")
+        .with_context(|| format!("cannot read {}", stream_path.display()))?;
     let digest = format!("{:016x}", morphogen::stream::StreamDigest::of(&stream));
     if stream.len() as u64 != summary.bytes || digest != summary.stream_digest {
         bail!(
@@ -219,38 +280,92 @@ pub fn load(fixtures: &Path, name: &str) -> Result<Fixture> {
             summary.stream_digest
         );
     }
+    // A header that reads names this fixture (one that does not read is a
+    // difference for `verify` to name).
+    if let Some(Ok(Record::Header(h))) = Decoder::new(&stream).next().map(|d| d.result)
+        && h.preset.as_str() != name
+    {
+        bail!(
+            "fixture corrupt: {} is a stream of '{}', but lives in the folder of '{name}'",
+            stream_path.display(),
+            h.preset.as_str().escape_debug()
+        );
+    }
     Ok(Fixture { summary, stream })
 }
 
 /// The scenario a fixture was made from: its `scenario.toml`, or else the
-/// built-in preset of its name.
+/// built-in preset of its name. A built-in preset's fixture has no
+/// `scenario.toml`, and a `scenario.toml` names its own folder's fixture.
 ///
 /// # Errors
-/// Neither exists, or the scenario file is invalid.
+/// Neither exists, the scenario file is invalid, or either rule is broken.
 pub fn scenario(fixtures: &Path, name: &str) -> Result<Scenario> {
     let path = dir(fixtures, name).join(SCENARIO_FILE);
     if path.is_file() {
-        let text =
-            fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
-        return Ok(Scenario::from_text(&path.display().to_string(), &text)?);
+        if morphogen_scenario::builtin(name).is_some() {
+            bail!(
+                "fixture corrupt: {} replaces the built-in preset '{name}' (a built-in preset's fixture has no {SCENARIO_FILE}; remove it, or give the scenario another name)",
+                path.display()
+            );
+        }
+        let scenario = scenario_file(&path)?;
+        if scenario.name() != name {
+            bail!(
+                "fixture corrupt: {} names '{}', but lives in the folder of '{name}'",
+                path.display(),
+                scenario.name()
+            );
+        }
+        return Ok(scenario);
     }
     morphogen_scenario::builtin(name).ok_or_else(|| {
         anyhow::anyhow!("fixture '{name}' has no {SCENARIO_FILE} and is not a built-in preset")
     })
 }
 
-/// The names of every fixture folder in `fixtures`, sorted.
+fn scenario_file(path: &Path) -> Result<Scenario> {
+    let text = morphogen_scenario::read_limited(path)
+        .and_then(morphogen_scenario::utf8)
+        .map_err(|e| anyhow::anyhow!("cannot read {}: {e}", path.display()))?;
+    Ok(Scenario::from_text(&path.display().to_string(), &text)?)
+}
+
+/// The largest `summary.toml` read (one is about 500 bytes).
+const MAX_SUMMARY_BYTES: u64 = 1 << 16;
+
+/// At most `limit` bytes of the regular file at `path`.
+fn read_at_most(path: &Path, limit: u64, limit_name: &str) -> Result<Vec<u8>> {
+    morphogen_scenario::read_at_most(path, limit, limit_name).map_err(|e| anyhow::anyhow!(e))
+}
+
+/// The names of every fixture folder in `fixtures` (every folder whose
+/// name does not start with a dot: one without a summary is a fixture
+/// that cannot be read, not no fixture), sorted.
 ///
 /// # Errors
-/// When the folder cannot be read.
+/// When the folder cannot be read, or holds a folder whose name is not
+/// UTF-8.
 pub fn names(fixtures: &Path) -> Result<Vec<String>> {
-    let mut names: Vec<String> = fs::read_dir(fixtures)
+    let mut names = Vec::new();
+    for entry in fs::read_dir(fixtures)
         .with_context(|| format!("cannot read the fixtures folder {}", fixtures.display()))?
-        .filter_map(|e| e.ok())
-        .filter(|e| e.path().join(SUMMARY_FILE).is_file())
-        .filter_map(|e| e.file_name().into_string().ok())
-        .filter(|n| !n.starts_with('.'))
-        .collect();
+    {
+        let entry = entry
+            .with_context(|| format!("cannot read the fixtures folder {}", fixtures.display()))?;
+        if !entry.path().is_dir() {
+            continue;
+        }
+        let name = entry.file_name().into_string().map_err(|n| {
+            anyhow::anyhow!(
+                "{}: a folder whose name is not UTF-8 cannot be a fixture",
+                fixtures.join(n).display()
+            )
+        })?;
+        if !name.starts_with('.') {
+            names.push(name);
+        }
+    }
     names.sort();
     Ok(names)
 }
@@ -283,18 +398,30 @@ pub fn summarise(scenario: &Scenario, seed: u64, run: &Run) -> Summary {
     }
 }
 
-/// Writes `scenario`'s fixture from `run`, the folder as a whole; a
-/// scenario that is not a built-in preset goes in as `scenario.toml`.
+/// Writes `scenario`'s fixture from `run`, the folder as a whole (a
+/// pending stream goes with the old one); a scenario that is not a
+/// built-in preset goes in as `scenario.toml`, under a name that is not a
+/// built-in preset's.
 ///
 /// # Errors
-/// When the folder cannot be created or a file cannot be written; nothing
-/// is left half-written.
+/// A scenario other than the built-in preset of its name, or the folder
+/// cannot be created or a file cannot be written; nothing is left
+/// half-written.
 pub fn bless(
     fixtures: &Path,
     scenario: &Scenario,
     summary: &Summary,
     run: &Run,
 ) -> Result<PathBuf> {
+    if !scenario.is_builtin() && morphogen_scenario::builtin(scenario.name()).is_some() {
+        bail!(
+            "{} is not the built-in preset '{}' but has its name: its fixture would take the built-in's place, which then goes unguarded (give it a name of its own: name = \"my-{}\" in the file, or --set name=my-{})",
+            scenario.origin(),
+            scenario.name(),
+            scenario.name(),
+            scenario.name()
+        );
+    }
     let dir = dir(fixtures, &summary.preset);
     fs::create_dir_all(fixtures)
         .with_context(|| format!("cannot create {}", fixtures.display()))?;

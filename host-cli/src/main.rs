@@ -1,6 +1,7 @@
 //! `morphogen`: run, draw, export and verify Morphogen's simulations.
 
 use std::fs;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -114,10 +115,12 @@ enum Command {
         quiet: bool,
     },
     /// Re-run scenarios and compare their streams with the golden fixtures,
-    /// or check a device capture with --stream. Every fixture is checked;
-    /// a mismatch leaves the new stream beside the fixture as
-    /// `stream.bin.pending` (`bless --accept` takes it). Exit 1 on any
-    /// mismatch or missing fixture, 2 when one cannot be checked.
+    /// or check a device capture with --stream. Every fixture folder is
+    /// checked; a mismatch leaves the new stream beside the fixture as
+    /// `stream.bin.pending`, and the scenario file it was made from, when
+    /// that is not the fixture's own, as `scenario.toml.pending`
+    /// (`bless --accept` takes both). Exit 1 on any mismatch or missing
+    /// fixture, 2 when one cannot be checked.
     Verify {
         /// Presets or scenario files to verify (default: every fixture in
         /// the fixtures folder, built-in or not).
@@ -142,8 +145,9 @@ enum Command {
         /// Presets or scenario files to bless.
         #[arg(required_unless_present_any = ["accept", "all"])]
         targets: Vec<String>,
-        /// Take the new streams `verify` left as `stream.bin.pending`
-        /// (all of them, or those of TARGETS).
+        /// Take the new streams `verify` left as `stream.bin.pending`,
+        /// with their `scenario.toml.pending` where there is one (all of
+        /// them, or those of TARGETS).
         #[arg(long, conflicts_with_all = ["all", "sets", "seed"])]
         accept: bool,
         /// Re-bless every fixture in the folder, each from its own scenario
@@ -527,15 +531,20 @@ enum Checked {
 /// line. A mismatch leaves its new stream as `stream.bin.pending`.
 fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<u16>) -> Result<Outcome> {
     use rayon::prelude::*;
-    let scenarios: Vec<Scenario> = if targets.is_empty() {
+    // Every fixture folder: one whose scenario cannot be read is an error
+    // of its own line, never a fixture left out.
+    let scenarios: Vec<(String, Result<Scenario>)> = if targets.is_empty() {
         fixture::names(fixtures)?
-            .iter()
-            .map(|name| fixture::scenario(fixtures, name))
-            .collect::<Result<_>>()?
+            .into_iter()
+            .map(|name| {
+                let scenario = fixture::scenario(fixtures, &name);
+                (name, scenario)
+            })
+            .collect()
     } else {
         targets
             .iter()
-            .map(|t| fixture_target(t, fixtures))
+            .map(|t| fixture_target(t, fixtures).map(|s| (s.name().to_string(), Ok(s))))
             .collect::<Result<_>>()?
     };
     if scenarios.is_empty() {
@@ -545,7 +554,8 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<u16>) -> R
         .num_threads(jobs.map_or(0, usize::from))
         .build()
         .context("cannot start the worker threads")?;
-    let check = |i: usize, scenario: &Scenario| -> Result<Checked> {
+    let check = |i: usize, scenario: &Result<Scenario>| -> Result<Checked> {
+        let scenario = scenario.as_ref().map_err(|e| anyhow::anyhow!("{e:#}"))?;
         let name = scenario.name();
         if !fixture::dir(fixtures, name).is_dir() {
             return Ok(Checked::Missing(format!(
@@ -575,18 +585,23 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<u16>) -> R
         let run = exec::run(scenario, seed, scenarios.len() == 1)?;
         Ok(match verify::compare(&fixture.stream, &run.stream) {
             None => {
-                fixture::drop_pending(fixtures, name)?;
+                fixture::drop_pending(fixtures, name, scenario)?;
                 Checked::Ok(format!(
                     "ok        {name} ({} frames, digest {:016x}){note}",
                     run.frames, run.digest
                 ))
             }
             Some(diff) => {
-                let pending = fixture::write_pending(fixtures, name, &run.stream)?;
-                Checked::Mismatch(format!(
-                    "MISMATCH  {name}: {diff}\n  new stream: {} (take it with `morphogen bless --accept {name}`){note}",
-                    pending.display()
-                ))
+                // A mismatch is a mismatch (exit 1) in a folder that
+                // cannot be written too.
+                let pending = match fixture::write_pending(fixtures, name, scenario, &run.stream) {
+                    Ok(path) => format!(
+                        "new stream: {} (take it with `morphogen bless --accept {name}`)",
+                        path.display()
+                    ),
+                    Err(e) => format!("the new stream could not be left beside it: {e:#}"),
+                };
+                Checked::Mismatch(format!("MISMATCH  {name}: {diff}\n  {pending}{note}"))
             }
         })
     };
@@ -597,7 +612,7 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<u16>) -> R
                 scenarios
                     .par_iter()
                     .enumerate()
-                    .try_for_each_with(done, |done, (i, s)| {
+                    .try_for_each_with(done, |done, (i, (_, s))| {
                         // A failed send: the printer stopped early.
                         done.send((i, check(i, s))).map_err(drop)
                     })
@@ -609,7 +624,7 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<u16>) -> R
         for (i, result) in results {
             waiting.insert(i, result);
             while let Some(result) = waiting.remove(&next) {
-                let name = scenarios[next].name();
+                let name = &scenarios[next].0;
                 next += 1;
                 match result {
                     Ok(Checked::Ok(line)) => {
@@ -651,9 +666,19 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<u16>) -> R
     })
 }
 
+/// A regular file whole (a FIFO or a device, which could block or never
+/// end, is refused by its type).
+fn read_regular(path: &Path) -> Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    morphogen_scenario::open_regular(path)
+        .map_err(|e| anyhow::anyhow!(e))?
+        .read_to_end(&mut bytes)?;
+    Ok(bytes)
+}
+
 fn verify_capture(file: &Path, fixtures: &Path) -> Result<Outcome> {
     let bytes =
-        fs::read(file).with_context(|| format!("cannot read capture {}", file.display()))?;
+        read_regular(file).with_context(|| format!("cannot read capture {}", file.display()))?;
     let parts = capture::split(&bytes);
     if parts.is_empty() {
         bail!("capture {} holds no frames", file.display());
@@ -790,7 +815,7 @@ fn accept(targets: &[String], fixtures: &Path) -> Result<Outcome> {
         return Ok(Outcome::Ok);
     }
     for name in names {
-        let scenario = fixture::scenario(fixtures, &name)?;
+        let scenario = fixture::pending_scenario(fixtures, &name)?;
         let seed = fixture::load(fixtures, &name)?.summary.seed;
         let run = fixture::read_pending(fixtures, &name)?;
         bless_run(fixtures, &scenario, seed, &run)?;

@@ -137,7 +137,8 @@ impl StreamFile {
     /// # Errors
     /// When the file cannot be opened or sought.
     pub fn frames(&self, from: Place) -> Result<FrameReader<BufReader<File>>> {
-        let mut file = File::open(&self.path)
+        let mut file = morphogen_scenario::open_regular(&self.path)
+            .map_err(|e| anyhow::anyhow!(e))
             .with_context(|| format!("cannot read {}", self.path.display()))?;
         if from.0 > 0 {
             file.seek(SeekFrom::Start(from.0))

@@ -2,7 +2,6 @@
 //! it and streams and draws the result without being reflashed
 //! (`morphogen::sent`; docs/stream-format.md, "Sending a scenario").
 
-use std::fs::File;
 use std::io::{self, Write};
 use std::path::Path;
 use std::time::Duration;
@@ -90,7 +89,6 @@ fn write(dest: &str, baud: u32, bytes: &[u8]) -> Result<()> {
             .with_context(|| format!("cannot write to serial port {dest}"))?;
         return Ok(());
     }
-    File::create(path)
-        .and_then(|mut f| f.write_all(bytes))
-        .with_context(|| format!("cannot write {dest}"))
+    // Whole or not at all: a full disk leaves no empty file.
+    crate::atomic::OutputFile::write_with(path, |f| f.write_all(bytes))
 }

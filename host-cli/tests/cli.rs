@@ -698,13 +698,16 @@ fn a_capture_cannot_choose_its_fixture_by_a_path_in_its_name() {
 #[cfg(unix)]
 #[test]
 fn a_run_stopped_by_a_signal_leaves_no_temporary_file() {
-    // amanita-df20 simulates for seconds: it is stopped while its stream
-    // is being written, as soon as the temporary file is there.
+    // amanita-df20 with 10,000 relaxations a day would simulate for hours:
+    // it is still running, however fast the machine, when it is stopped
+    // as soon as its stream's temporary file is there.
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
     let mut child = Command::new(env!("CARGO_BIN_EXE_morphogen"))
         .args(["run", "amanita-df20", "--quiet", "--out"])
         .arg(&out)
+        .args(["--set", "mosaic.initial_relaxations=10000"])
+        .args(["--set", "mosaic.daily_relaxations=10000"])
         .spawn()
         .unwrap();
     let temporary = |dir: &Path| -> Vec<String> {
@@ -717,8 +720,13 @@ fn a_run_stopped_by_a_signal_leaves_no_temporary_file() {
             })
             .unwrap_or_default()
     };
+    // The stream is opened as the run starts: a minute without it is a
+    // run that never opens it.
     let started = std::time::Instant::now();
     while temporary(&out).is_empty() {
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!("the run ended ({status}) before its stream was written");
+        }
         assert!(started.elapsed().as_secs() < 60, "no stream after 60 s");
         std::thread::sleep(std::time::Duration::from_millis(5));
     }
@@ -739,7 +747,9 @@ fn verifying_a_file_whose_seed_is_not_its_fixtures_says_which_ran() {
     let fixtures = tmp.path().join("fixtures");
     let (file_arg, fixtures_arg) = (file.to_str().unwrap(), fixtures.to_str().unwrap());
     let shown = morphogen(&["show", "growth-curve"]);
-    let shown = String::from_utf8(shown.stdout).unwrap();
+    let shown = String::from_utf8(shown.stdout)
+        .unwrap()
+        .replace("name = \"growth-curve\"", "name = \"my-curve\"");
     fs::write(&file, &shown).unwrap();
     let o = morphogen(&["bless", file_arg, "--fixtures", fixtures_arg]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
@@ -751,4 +761,102 @@ fn verifying_a_file_whose_seed_is_not_its_fixtures_says_which_ran() {
     // Verifying the fixtures themselves says nothing of it.
     let o = morphogen(&["verify", "--fixtures", fixtures_arg]);
     assert!(!text(&o).contains("note:"), "{}", text(&o));
+}
+
+#[cfg(unix)]
+#[test]
+fn writers_follow_symlinks_and_write_into_devices_never_replacing_them() {
+    let tmp = tempfile::tempdir().unwrap();
+    let stream = workspace_fixtures().join("growth-curve/stream.bin");
+    let stream = stream.to_str().unwrap();
+    // A device is written to, not replaced by a file.
+    let o = morphogen(&["decode", stream, "--out", "/dev/null"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let null = fs::symlink_metadata("/dev/null").unwrap();
+    assert!(!null.file_type().is_file() && !null.file_type().is_symlink());
+    // A symlink to a full device: the write fails, the link stays.
+    let full = tmp.path().join("full");
+    std::os::unix::fs::symlink("/dev/full", &full).unwrap();
+    let o = morphogen(&["decode", stream, "--out", full.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("cannot write"), "{}", text(&o));
+    assert!(
+        fs::symlink_metadata(&full)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    // A symlink to a file is written through.
+    let real = tmp.path().join("real.jsonl");
+    fs::write(&real, "old").unwrap();
+    let link = tmp.path().join("link.jsonl");
+    std::os::unix::fs::symlink(&real, &link).unwrap();
+    let o = morphogen(&["decode", stream, "--out", link.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(
+        fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert!(
+        fs::read_to_string(&real)
+            .unwrap()
+            .starts_with("{\"kind\":\"header\",")
+    );
+    // A folder is refused by name.
+    let o = morphogen(&["decode", stream, "--out", tmp.path().to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(
+        text(&o).contains("it is a folder, not a file"),
+        "{}",
+        text(&o)
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn a_fifo_or_a_device_as_an_input_file_is_refused_by_its_type() {
+    let tmp = tempfile::tempdir().unwrap();
+    let fifo = tmp.path().join("fifo");
+    assert!(
+        Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let fifo = fifo.to_str().unwrap();
+    let fixtures = workspace_fixtures();
+    for args in [
+        &["run", fifo][..],
+        &["run", "--grammar", fifo],
+        &["run", "croton-mcu", "--mask", fifo],
+        &["decode", fifo],
+        &[
+            "verify",
+            "--stream",
+            fifo,
+            "--fixtures",
+            fixtures.to_str().unwrap(),
+        ],
+        &["decode", "/dev/zero"],
+        &[
+            "verify",
+            "--stream",
+            "/dev/zero",
+            "--fixtures",
+            fixtures.to_str().unwrap(),
+        ],
+    ] {
+        // Opening a FIFO without a writer would block: these return.
+        let o = morphogen(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", text(&o));
+        assert!(
+            text(&o).contains("not a regular file but a FIFO")
+                || text(&o).contains("not a regular file but a device"),
+            "{args:?}: {}",
+            text(&o)
+        );
+    }
 }

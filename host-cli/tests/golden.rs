@@ -105,3 +105,160 @@ fn verify_sums_up_leaves_pending_streams_and_bless_accepts_them() {
     assert_eq!(o.status.code(), Some(2), "{}", both(&o));
     assert!(both(&o).contains("no fixtures folder"), "{}", both(&o));
 }
+
+/// A copy of the workspace's fixture `name` in `fixtures/as_name`.
+fn copy_fixture(name: &str, fixtures: &Path, as_name: &str) {
+    let from = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../fixtures")
+        .join(name);
+    let to = fixtures.join(as_name);
+    fs::create_dir_all(&to).unwrap();
+    for f in ["stream.bin", "summary.toml"] {
+        fs::copy(from.join(f), to.join(f)).unwrap();
+    }
+}
+
+#[test]
+fn every_fixture_folder_is_checked_or_named_as_not_checked() {
+    let tmp = tempfile::tempdir().unwrap();
+    let fixtures = tmp.path().join("fixtures");
+    copy_fixture("growth-curve", &fixtures, "growth-curve");
+    // A folder without its summary.
+    copy_fixture("ram-horn", &fixtures, "ram-horn");
+    fs::remove_file(fixtures.join("ram-horn/summary.toml")).unwrap();
+    // A summary and a scenario that agree with their folder over a stream
+    // of another.
+    let shown = morphogen(&["show", "growth-curve"], tmp.path(), None);
+    let mine = stdout(&shown).replace("name = \"growth-curve\"", "name = \"my-curve\"");
+    copy_fixture("growth-curve", &fixtures, "my-curve");
+    let summary = fixtures.join("my-curve/summary.toml");
+    let text = fs::read_to_string(&summary).unwrap();
+    fs::write(
+        &summary,
+        text.replace("preset = \"growth-curve\"", "preset = \"my-curve\""),
+    )
+    .unwrap();
+    fs::write(fixtures.join("my-curve/scenario.toml"), &mine).unwrap();
+    // A scenario file that names another fixture.
+    copy_fixture("growth-curve", &fixtures, "their-curve");
+    fs::write(fixtures.join("their-curve/scenario.toml"), &mine).unwrap();
+    let o = morphogen(&["verify", "--fixtures", "fixtures"], tmp.path(), None);
+    assert_eq!(o.status.code(), Some(2), "{}", both(&o));
+    let out = stdout(&o);
+    assert!(out.contains("ok        growth-curve"), "{out}");
+    assert!(
+        out.contains("ERROR     ram-horn: cannot read") && out.contains("summary.toml"),
+        "{out}"
+    );
+    assert!(
+        out.contains("ERROR     my-curve: fixture corrupt:")
+            && out.contains("is a stream of 'growth-curve', but lives in the folder of 'my-curve'"),
+        "{out}"
+    );
+    assert!(
+        out.contains("ERROR     their-curve: fixture corrupt:")
+            && out.contains("names 'my-curve', but lives in the folder of 'their-curve'"),
+        "{out}"
+    );
+    assert!(
+        out.ends_with("1 ok, 0 mismatch, 0 missing, 3 not checked\n"),
+        "{out}"
+    );
+}
+
+#[test]
+fn bless_accept_takes_the_scenario_file_that_verify_ran() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let shown = morphogen(&["show", "growth-curve"], dir, None);
+    let mine = stdout(&shown).replace("name = \"growth-curve\"", "name = \"my-curve\"");
+    fs::write(dir.join("my.toml"), &mine).unwrap();
+    let o = morphogen(&["bless", "my.toml", "--fixtures", "fixtures"], dir, None);
+    assert!(o.status.success(), "{}", both(&o));
+    // The file changes: verifying it leaves its stream and itself pending.
+    fs::write(
+        dir.join("my.toml"),
+        mine.replace("width = 22", "width = 25"),
+    )
+    .unwrap();
+    let o = morphogen(&["verify", "my.toml", "--fixtures", "fixtures"], dir, None);
+    assert_eq!(o.status.code(), Some(1), "{}", both(&o));
+    let folder = dir.join("fixtures/my-curve");
+    assert!(folder.join("stream.bin.pending").is_file());
+    assert!(
+        fs::read_to_string(folder.join("scenario.toml.pending"))
+            .unwrap()
+            .contains("width = 25")
+    );
+    // The fixture's own scenario still matches: what is pending stays.
+    let o = morphogen(&["verify", "--fixtures", "fixtures"], dir, None);
+    assert_eq!(o.status.code(), Some(0), "{}", both(&o));
+    assert!(folder.join("stream.bin.pending").is_file());
+    // Accepted, the fixture is the file's: plain verify agrees with it.
+    let o = morphogen(
+        &["bless", "--accept", "my-curve", "--fixtures", "fixtures"],
+        dir,
+        None,
+    );
+    assert!(o.status.success(), "{}", both(&o));
+    assert!(
+        fs::read_to_string(folder.join("scenario.toml"))
+            .unwrap()
+            .contains("width = 25")
+    );
+    assert!(!folder.join("stream.bin.pending").exists());
+    assert!(!folder.join("scenario.toml.pending").exists());
+    let o = morphogen(&["verify", "--fixtures", "fixtures"], dir, None);
+    assert_eq!(o.status.code(), Some(0), "{}", both(&o));
+    let o = morphogen(&["verify", "my.toml", "--fixtures", "fixtures"], dir, None);
+    assert_eq!(o.status.code(), Some(0), "{}", both(&o));
+}
+
+#[test]
+fn a_scenario_with_a_built_in_name_never_takes_the_built_ins_fixture() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let fixtures = dir.join("fixtures");
+    copy_fixture("growth-curve", &fixtures, "growth-curve");
+    let before = fs::read(fixtures.join("growth-curve/stream.bin")).unwrap();
+    let shown = stdout(&morphogen(&["show", "growth-curve"], dir, None));
+    fs::write(
+        dir.join("mine.toml"),
+        shown.replace("width = 22", "width = 25"),
+    )
+    .unwrap();
+    for args in [
+        &["bless", "mine.toml"][..],
+        &["bless", "growth-curve", "--set", "curve.growth.width=25"],
+    ] {
+        let o = morphogen(&[args, &["--fixtures", "fixtures"]].concat(), dir, None);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", both(&o));
+        assert!(
+            both(&o).contains("is not the built-in preset 'growth-curve' but has its name"),
+            "{args:?}: {}",
+            both(&o)
+        );
+    }
+    assert_eq!(
+        fs::read(fixtures.join("growth-curve/stream.bin")).unwrap(),
+        before
+    );
+    assert!(!fixtures.join("growth-curve/scenario.toml").exists());
+    // One put there by hand is refused, not run in the built-in's place.
+    fs::copy(
+        dir.join("mine.toml"),
+        fixtures.join("growth-curve/scenario.toml"),
+    )
+    .unwrap();
+    let o = morphogen(
+        &["verify", "growth-curve", "--fixtures", "fixtures"],
+        dir,
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", both(&o));
+    assert!(
+        both(&o).contains("replaces the built-in preset 'growth-curve'"),
+        "{}",
+        both(&o)
+    );
+}

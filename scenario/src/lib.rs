@@ -132,23 +132,74 @@ impl Files for NoFiles {
     }
 }
 
-/// Reads a file of at most [`MAX_FILE_BYTES`], checking the size first.
+/// Reads a file of at most `limit` bytes (`limit_name` in the error),
+/// never more: a regular file (a symlink to one is followed); a FIFO, a
+/// device or a folder is refused by its type before it is opened, where
+/// opening or reading it would block or never end.
 ///
 /// # Errors
-/// Why it cannot be read, or that it is too big.
-pub fn read_limited(path: &Path) -> Result<Vec<u8>, String> {
+/// Why it cannot be read, that it is not a regular file, or that it is
+/// bigger than `limit`.
+pub fn read_at_most(path: &Path, limit: u64, limit_name: &str) -> Result<Vec<u8>, String> {
     use std::io::Read;
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let file = open_regular(path)?;
     let mut bytes = Vec::new();
-    file.take(MAX_FILE_BYTES + 1)
+    file.take(limit.saturating_add(1))
         .read_to_end(&mut bytes)
         .map_err(|e| e.to_string())?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(format!(
-            "more than {MAX_FILE_BYTES} bytes (scenario::MAX_FILE_BYTES)"
-        ));
+    if bytes.len() as u64 > limit {
+        return Err(format!("more than {limit} bytes ({limit_name})"));
     }
     Ok(bytes)
+}
+
+/// Reads a file of at most [`MAX_FILE_BYTES`], as [`read_at_most`].
+///
+/// # Errors
+/// Why it cannot be read, that it is not a regular file, or that it is
+/// too big.
+pub fn read_limited(path: &Path) -> Result<Vec<u8>, String> {
+    read_at_most(path, MAX_FILE_BYTES, "scenario::MAX_FILE_BYTES")
+}
+
+/// Opens `path` for reading when it is a regular file (or a symlink to
+/// one).
+///
+/// # Errors
+/// Why it cannot be opened, or what it is instead of a regular file.
+pub fn open_regular(path: &Path) -> Result<std::fs::File, String> {
+    let kind = std::fs::metadata(path)
+        .map_err(|e| e.to_string())?
+        .file_type();
+    if !kind.is_file() {
+        return Err(format!("not a regular file but {}", file_kind(kind)));
+    }
+    std::fs::File::open(path).map_err(|e| e.to_string())
+}
+
+/// What a file that is not a regular file is, in words.
+#[must_use]
+pub fn file_kind(kind: std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if kind.is_char_device() || kind.is_block_device() {
+            return "a device";
+        }
+        if kind.is_socket() {
+            return "a socket";
+        }
+    }
+    if kind.is_dir() {
+        "a folder"
+    } else if kind.is_file() {
+        "a regular file"
+    } else {
+        "not a file"
+    }
 }
 
 /// `bytes` as text, or where it stops being UTF-8: `LINE:COLUMN: …`.
