@@ -8,6 +8,7 @@ pub mod body_input;
 pub mod capture;
 pub mod exec;
 pub mod fixture;
+pub mod folder_lock;
 pub mod jsonl;
 pub mod listen;
 pub mod outputs;

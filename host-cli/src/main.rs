@@ -1,12 +1,12 @@
 //! `morphogen`: run, draw, export and verify Morphogen's simulations.
 
-use std::fs;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
+use morphogen_cli::folder_lock::FolderLock;
 use morphogen_cli::outputs::{Kind, Kinds};
 use morphogen_cli::stdout::StdoutError;
 use morphogen_cli::{
@@ -429,8 +429,8 @@ fn run(
     warn_unused_seed(scenario, seed);
     let seed = seed.unwrap_or(scenario.seed());
     let dir = out.unwrap_or_else(|| Path::new("out").join(scenario.name()));
-    fs::create_dir_all(&dir)
-        .with_context(|| format!("cannot create output folder {}", dir.display()))?;
+    let lock = FolderLock::take(&dir)?;
+    say_removed(&lock, &dir, writing.quiet)?;
     let (stream, jsonl) = (dir.join(exec::STREAM_FILE), dir.join(exec::JSONL_FILE));
     let paths = exec::RunPaths {
         stream: &stream,
@@ -473,6 +473,19 @@ fn run(
     Ok(Outcome::Ok)
 }
 
+/// Says which temporary files of a stopped run the folder lock removed.
+fn say_removed(lock: &FolderLock, dir: &Path, quiet: bool) -> Result<()> {
+    let (count, bytes) = lock.removed;
+    if count > 0 && !quiet {
+        say!(
+            "removed {count} temporary file(s) ({}) that a stopped run left in {}",
+            indicatif::DecimalBytes(bytes),
+            dir.display()
+        )?;
+    }
+    Ok(())
+}
+
 fn run_grammar(
     file: &Path,
     seed: Option<u64>,
@@ -489,8 +502,8 @@ fn run_grammar(
         .file_stem()
         .map_or_else(|| "grammar".into(), |s| s.to_string_lossy().into_owned());
     let dir = out.unwrap_or_else(|| Path::new("out").join(&stem));
-    fs::create_dir_all(&dir)
-        .with_context(|| format!("cannot create output folder {}", dir.display()))?;
+    let lock = FolderLock::take(&dir)?;
+    say_removed(&lock, &dir, writing.quiet)?;
     let (stream, jsonl) = (dir.join(exec::STREAM_FILE), dir.join(exec::JSONL_FILE));
     let paths = exec::RunPaths {
         stream: &stream,

@@ -3,7 +3,10 @@
 //! run's row depends only on its parameters, so the table is the same for
 //! any thread count; `--shard I/N` runs every N-th combination (a batch
 //! scheduler's array job) and `--merge` joins the shards' tables into the
-//! table an unsharded sweep writes.
+//! table an unsharded sweep writes. `sweep.toml` beside the table names
+//! the sweep (its scenario's digest and value lists), so that only shards
+//! of one sweep merge, and every merged row is checked against its run's
+//! stream.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -11,14 +14,19 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow, bail};
-use morphogen::stream::{Decoder, Record};
+use morphogen::stream::{Decoder, Record, StreamDigest};
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 use crate::atomic::write_atomic;
 use crate::exec;
+use crate::folder_lock::FolderLock;
 
 /// The table a sweep writes into its folder.
 pub const TABLE: &str = "sweep.csv";
+
+/// What the sweep in a folder is ([`Manifest`]).
+pub const MANIFEST: &str = "sweep.toml";
 
 /// The most runs one sweep may have.
 pub const MAX_RUNS: usize = 100_000;
@@ -49,10 +57,45 @@ pub struct Args {
 }
 
 /// One swept key and its values.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 struct Axis {
     key: String,
     values: Vec<String>,
+}
+
+/// `sweep.toml`: which sweep a folder holds, and which shard of it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct Manifest {
+    /// The scenario's name.
+    scenario: String,
+    /// CRC-64/XZ (hex) of the scenario as one self-contained file.
+    scenario_digest: String,
+    /// Combinations in the whole sweep.
+    runs: usize,
+    /// `I/N`, or `1/1` for a whole sweep (a merged one too).
+    shard: String,
+    /// The keys and their values, the first changing slowest.
+    axes: Vec<Axis>,
+}
+
+impl Manifest {
+    /// Whether `other` is a shard of the same sweep.
+    fn same_sweep(&self, other: &Manifest) -> bool {
+        (&self.scenario_digest, self.runs, &self.axes)
+            == (&other.scenario_digest, other.runs, &other.axes)
+    }
+}
+
+/// The combination `k` of `axes` (the first key changing slowest).
+fn combination(k: usize, axes: &[Axis]) -> Vec<(String, String)> {
+    let mut rest = k;
+    let mut chosen = vec![(String::new(), String::new()); axes.len()];
+    for (slot, axis) in chosen.iter_mut().zip(axes).rev() {
+        let n = axis.values.len();
+        *slot = (axis.key.clone(), axis.values[rest % n].clone());
+        rest /= n;
+    }
+    chosen
 }
 
 /// Splits `a,b,c` at commas outside brackets, braces and quotes;
@@ -136,6 +179,18 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
             })
         })
         .collect::<Result<_>>()?;
+    for (i, axis) in axes.iter().enumerate() {
+        if axes[..i].iter().any(|a| a.key == axis.key) {
+            bail!(
+                "--set {} is given twice: give all its values in one (--set {}=a,b,c)",
+                axis.key,
+                axis.key
+            );
+        }
+        if axis.values.is_empty() {
+            bail!("--set {}: no values", axis.key);
+        }
+    }
     let total = axes
         .iter()
         .try_fold(1usize, |n, a| n.checked_mul(a.values.len()))
@@ -150,16 +205,7 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
     let base = exec::find(target, &[])?;
     let combos: Vec<(usize, Vec<(String, String)>)> = (0..total)
         .filter(|k| k % count == index - 1)
-        .map(|k| {
-            let mut rest = k;
-            let mut chosen = vec![(String::new(), String::new()); axes.len()];
-            for (slot, axis) in chosen.iter_mut().zip(&axes).rev() {
-                let n = axis.values.len();
-                *slot = (axis.key.clone(), axis.values[rest % n].clone());
-                rest /= n;
-            }
-            (k, chosen)
-        })
+        .map(|k| (k, combination(k, &axes)))
         .collect();
     // Check every combination before running any.
     for (_, chosen) in &combos {
@@ -169,8 +215,18 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
                 format!("the combination {}", sets.join(" "))
             })?;
     }
-    fs::create_dir_all(&args.out)
-        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    let _lock = FolderLock::take(&args.out)?;
+    let earlier = listed_runs(&args.out)?;
+    let manifest = Manifest {
+        scenario: base.name().to_string(),
+        scenario_digest: format!(
+            "{:016x}",
+            StreamDigest::of(base.self_contained().as_bytes())
+        ),
+        runs: total,
+        shard: format!("{index}/{count}"),
+        axes: axes.clone(),
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.jobs.map_or(0, usize::from))
         .build()
@@ -185,8 +241,9 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
     for row in rows {
         table.push_str(&row?);
     }
+    write_manifest(&args.out, &manifest)?;
     write_atomic(&args.out.join(TABLE), table.as_bytes())?;
-    let stale = remove_earlier_runs(&args.out, combos.iter().map(|(k, _)| *k))?;
+    let stale = remove_earlier_runs(&args.out, &earlier, combos.iter().map(|(k, _)| *k))?;
     crate::say!(
         "{} of {total} runs (shard {index}/{count}) -> {}",
         combos.len(),
@@ -208,27 +265,94 @@ fn run_folder(k: usize) -> String {
     format!("run-{k:05}")
 }
 
-/// Removes the run folders in `out` that are not those of `runs` (an
-/// earlier sweep's, which this one's table does not list); returns their
-/// names, sorted.
-fn remove_earlier_runs(out: &Path, runs: impl Iterator<Item = usize>) -> Result<Vec<String>> {
-    let ours: std::collections::HashSet<String> = runs.map(run_folder).collect();
-    let is_run = |name: &str| {
-        name.strip_prefix("run-")
-            .is_some_and(|k| k.len() == 5 && k.bytes().all(|b| b.is_ascii_digit()))
-    };
+/// The run numbers the table in `out` lists (none without a table).
+fn listed_runs(out: &Path) -> Result<Vec<usize>> {
+    let path = out.join(TABLE);
+    if !path.exists() {
+        return Ok(Vec::new());
+    }
+    Ok(read_table(&path)?.1.into_iter().map(|(k, _)| k).collect())
+}
+
+/// Removes the run folders of `earlier` (the runs an earlier sweep's table
+/// listed) that are not those of `runs`; returns their names, sorted. A
+/// folder no table listed is not a sweep's, and stays.
+fn remove_earlier_runs(
+    out: &Path,
+    earlier: &[usize],
+    runs: impl Iterator<Item = usize>,
+) -> Result<Vec<String>> {
+    let ours: std::collections::HashSet<usize> = runs.collect();
     let mut stale = Vec::new();
-    for entry in fs::read_dir(out).with_context(|| format!("cannot list {}", out.display()))? {
-        let entry = entry.with_context(|| format!("cannot list {}", out.display()))?;
-        let name = entry.file_name().to_string_lossy().into_owned();
-        if is_run(&name) && !ours.contains(&name) && entry.path().is_dir() {
-            fs::remove_dir_all(entry.path())
-                .with_context(|| format!("cannot remove {}", entry.path().display()))?;
-            stale.push(name);
+    for &k in earlier.iter().filter(|k| !ours.contains(k)) {
+        let dir = out.join(run_folder(k));
+        if dir.is_dir() {
+            fs::remove_dir_all(&dir).with_context(|| format!("cannot remove {}", dir.display()))?;
+            stale.push(run_folder(k));
         }
     }
     stale.sort();
     Ok(stale)
+}
+
+fn write_manifest(out: &Path, manifest: &Manifest) -> Result<()> {
+    let text = format!(
+        "# The sweep in this folder (morphogen sweep; --merge joins only shards of one sweep)\n{}",
+        toml::to_string(manifest).context("cannot render the sweep manifest")?
+    );
+    write_atomic(&out.join(MANIFEST), text.as_bytes())
+}
+
+fn read_manifest(dir: &Path) -> Result<Manifest> {
+    let path = dir.join(MANIFEST);
+    let bytes = morphogen_scenario::read_at_most(&path, 1 << 24, "scenario::MAX_FILE_BYTES")
+        .map_err(|e| {
+            anyhow!(
+                "cannot read {}: {e} (a folder `morphogen sweep` wrote has one)",
+                path.display()
+            )
+        })?;
+    let text =
+        String::from_utf8(bytes).map_err(|_| anyhow!("{}: not UTF-8 text", path.display()))?;
+    let manifest: Manifest = toml::from_str(&text)
+        .with_context(|| format!("{} is not a sweep manifest", path.display()))?;
+    let product = manifest
+        .axes
+        .iter()
+        .try_fold(1usize, |n, a| n.checked_mul(a.values.len()));
+    if product != Some(manifest.runs) || manifest.runs == 0 || manifest.runs > MAX_RUNS {
+        bail!(
+            "{}: its {} runs are not the combinations of its values",
+            path.display(),
+            manifest.runs
+        );
+    }
+    Ok(manifest)
+}
+
+/// A table's header and its rows by run number.
+fn read_table(path: &Path) -> Result<(String, Vec<(usize, String)>)> {
+    let bytes = morphogen_scenario::read_at_most(path, 1 << 30, "1 GiB")
+        .map_err(|e| anyhow!("cannot read {}: {e}", path.display()))?;
+    let text =
+        String::from_utf8(bytes).map_err(|_| anyhow!("{}: not UTF-8 text", path.display()))?;
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .ok_or_else(|| anyhow!("{} is empty", path.display()))?
+        .to_string();
+    let rows = lines
+        .enumerate()
+        .map(|(n, line)| {
+            let k = line
+                .split(',')
+                .next()
+                .and_then(|k| k.parse().ok())
+                .ok_or_else(|| anyhow!("{}:{}: no run number", path.display(), n + 2))?;
+            Ok((k, line.to_string()))
+        })
+        .collect::<Result<_>>()?;
+    Ok((header, rows))
 }
 
 /// The record kinds counted in the table, in column order.
@@ -281,17 +405,31 @@ fn one_run(
     let run = exec::run(&scenario, seed, false)?;
     let dir = out.join(run_folder(k));
     fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    write_atomic(&dir.join("stream.bin"), &run.stream)?;
+    write_atomic(&dir.join(RUN_STREAM), &run.stream)?;
     write_atomic(
         &dir.join("scenario.toml"),
         scenario.self_contained().as_bytes(),
     )?;
+    let mut line = row(k, chosen, &run.stream);
+    line.push('\n');
+    Ok(line)
+}
+
+/// A run folder's stream.
+const RUN_STREAM: &str = "stream.bin";
+
+/// Run `k`'s row of the table (without its line end): its values, then
+/// what its stream holds (the seed from its header).
+fn row(k: usize, chosen: &[(String, String)], stream: &[u8]) -> String {
     let mut counts: BTreeMap<&str, u64> = BTreeMap::new();
     let mut last_cells: BTreeMap<u8, u64> = BTreeMap::new();
-    for d in Decoder::new(&run.stream) {
+    let (mut frames, mut seed) = (0u32, 0u64);
+    for d in Decoder::new(stream) {
         if let Ok(r) = &d.result {
+            frames += 1;
             *counts.entry(r.kind()).or_insert(0) += 1;
             match r {
+                Record::Header(h) => seed = h.seed,
                 Record::FrameStart { .. } => last_cells.clear(),
                 Record::Cell { kind, .. } => *last_cells.entry(*kind).or_insert(0) += 1,
                 _ => {}
@@ -304,34 +442,38 @@ fn one_run(
     }
     let _ = write!(
         row,
-        ",{seed},{},{},{:016x}",
-        run.frames,
-        run.stream.len(),
-        run.digest
+        ",{seed},{frames},{},{:016x}",
+        stream.len(),
+        StreamDigest::of(stream)
     );
     for kind in KINDS {
         let _ = write!(row, ",{}", counts.get(kind).copied().unwrap_or(0));
     }
     let cells: Vec<String> = last_cells.iter().map(|(t, n)| format!("{t}:{n}")).collect();
-    let _ = writeln!(row, ",{}", cells.join(" "));
-    Ok(row)
+    let _ = write!(row, ",{}", cells.join(" "));
+    row
 }
 
-/// Joins shard tables: same header, rows by run number, none twice.
+/// Joins the shards of one sweep: their manifests agree, every row is its
+/// run's (rebuilt from the run folder's stream and compared), no run is
+/// there twice or missing; the run folders are copied into `out`, so that
+/// it holds every run its table lists.
 fn merge(dirs: &[PathBuf], out: &Path) -> Result<crate::Outcome> {
-    let mut header: Option<String> = None;
-    let mut rows: BTreeMap<usize, String> = BTreeMap::new();
+    let _lock = FolderLock::take(out)?;
+    let mut first: Option<(Manifest, String)> = None;
+    let mut rows: BTreeMap<usize, (String, PathBuf)> = BTreeMap::new();
     for dir in dirs {
+        let manifest = read_manifest(dir)?;
         let path = dir.join(TABLE);
-        let text =
-            fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
-        let mut lines = text.lines();
-        let h = lines
-            .next()
-            .ok_or_else(|| anyhow!("{} is empty", path.display()))?;
-        match &header {
-            None => header = Some(h.to_string()),
-            Some(first) if first != h => {
+        let (header, table) = read_table(&path)?;
+        match &first {
+            None => first = Some((manifest.clone(), header.clone())),
+            Some((m, _)) if !m.same_sweep(&manifest) => bail!(
+                "{} is a shard of another sweep than {} (its scenario or its values differ): only shards of one sweep merge",
+                dir.display(),
+                dirs[0].display()
+            ),
+            Some((_, h)) if *h != header => {
                 bail!(
                     "{}: its columns differ from the first table's",
                     path.display()
@@ -339,33 +481,66 @@ fn merge(dirs: &[PathBuf], out: &Path) -> Result<crate::Outcome> {
             }
             Some(_) => {}
         }
-        for (n, line) in lines.enumerate() {
-            let k: usize = line
-                .split(',')
-                .next()
-                .and_then(|k| k.parse().ok())
-                .ok_or_else(|| anyhow!("{}:{}: no run number", path.display(), n + 2))?;
-            if rows.insert(k, line.to_string()).is_some() {
-                bail!("{}: run {k} is in two tables", path.display());
+        for (line_no, (k, line)) in table.into_iter().enumerate() {
+            let at = format!("{}:{}", path.display(), line_no + 2);
+            if k >= manifest.runs {
+                bail!("{at}: run {k} is past the sweep's {} runs", manifest.runs);
+            }
+            let stream_path = dir.join(run_folder(k)).join(RUN_STREAM);
+            let stream = morphogen_scenario::read_at_most(
+                &stream_path,
+                u64::from(exec::DEFAULT_MAX_STREAM_MB) << 20,
+                "the default --max-stream-mb",
+            )
+            .map_err(|e| anyhow!("{at}: run {k}: cannot read {}: {e}", stream_path.display()))?;
+            if row(k, &combination(k, &manifest.axes), &stream) != line {
+                bail!(
+                    "{at}: run {k}'s row is not what its stream {} holds (an edited table, or a run of another sweep)",
+                    stream_path.display()
+                );
+            }
+            if rows.insert(k, (line, dir.clone())).is_some() {
+                bail!("{at}: run {k} is in two tables");
             }
         }
     }
-    let mut table = header.unwrap_or_default();
-    table.push('\n');
-    for row in rows.values() {
-        table.push_str(row);
-        table.push('\n');
-    }
-    if let Some(&last) = rows.keys().last()
-        && last + 1 != rows.len()
-    {
+    let Some((mut manifest, header)) = first else {
+        bail!("nothing to merge");
+    };
+    if rows.len() != manifest.runs {
+        let missing = (0..manifest.runs)
+            .find(|k| !rows.contains_key(k))
+            .unwrap_or(0);
         bail!(
-            "the tables hold {} runs but run numbers go to {last}: a shard is missing",
-            rows.len()
+            "the tables hold {} of the sweep's {} runs (run {missing} is in none): a shard is missing",
+            rows.len(),
+            manifest.runs
         );
     }
-    fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    let here = fs::canonicalize(out).with_context(|| format!("cannot read {}", out.display()))?;
+    for (k, (_, dir)) in &rows {
+        if fs::canonicalize(dir).ok().as_deref() != Some(here.as_path()) {
+            copy_run(&dir.join(run_folder(*k)), &out.join(run_folder(*k)))?;
+        }
+    }
+    let mut table = header;
+    table.push('\n');
+    for (line, _) in rows.values() {
+        table.push_str(line);
+        table.push('\n');
+    }
+    manifest.shard = "1/1".to_string();
+    write_manifest(out, &manifest)?;
     write_atomic(&out.join(TABLE), table.as_bytes())?;
     crate::say!("{} runs -> {}", rows.len(), out.join(TABLE).display())?;
     Ok(crate::Outcome::Ok)
+}
+
+/// Copies a run folder's files (its stream and scenario) to `to`.
+fn copy_run(from: &Path, to: &Path) -> Result<()> {
+    fs::create_dir_all(to).with_context(|| format!("cannot create {}", to.display()))?;
+    for name in [RUN_STREAM, "scenario.toml"] {
+        crate::atomic::copy(&from.join(name), &to.join(name))?;
+    }
+    Ok(())
 }

@@ -860,3 +860,60 @@ fn a_fifo_or_a_device_as_an_input_file_is_refused_by_its_type() {
         );
     }
 }
+
+#[cfg(unix)]
+#[test]
+fn one_run_writes_a_folder_at_a_time_and_the_next_removes_what_a_killed_one_left() {
+    // A run that would last hours holds the folder (as in the signal test).
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let out_arg = out.to_str().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_morphogen"))
+        .args(["run", "amanita-df20", "--quiet", "--out", out_arg])
+        .args(["--set", "mosaic.initial_relaxations=10000"])
+        .args(["--set", "mosaic.daily_relaxations=10000"])
+        .spawn()
+        .unwrap();
+    let temporary = || -> usize {
+        fs::read_dir(&out).map_or(0, |entries| {
+            entries
+                .filter(|e| {
+                    e.as_ref()
+                        .unwrap()
+                        .file_name()
+                        .to_string_lossy()
+                        .starts_with(".morphogen-")
+                })
+                .count()
+        })
+    };
+    let started = std::time::Instant::now();
+    while temporary() == 0 {
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!("the run ended ({status}) before its stream was written");
+        }
+        assert!(started.elapsed().as_secs() < 60, "no stream after 60 s");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let o = morphogen(&["run", "growth-curve", "--out", out_arg]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(
+        text(&o).contains("another morphogen is writing into"),
+        "{}",
+        text(&o)
+    );
+    // Killed outright, it leaves its temporary files; the next run into
+    // the folder removes them.
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let left = temporary();
+    assert!(left > 0);
+    let o = morphogen(&["run", "growth-curve", "--out", out_arg]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(
+        text(&o).contains(&format!("removed {left} temporary file(s)")),
+        "{}",
+        text(&o)
+    );
+    assert_eq!(temporary(), 0);
+}

@@ -534,7 +534,92 @@ fn a_smaller_sweep_into_the_same_folder_removes_the_earlier_runs() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     names.sort();
-    assert_eq!(names, ["run-00000", "run-00001", "sweep.csv"]);
+    assert_eq!(
+        names,
+        [
+            ".morphogen.lock",
+            "run-00000",
+            "run-00001",
+            "sweep.csv",
+            "sweep.toml"
+        ]
+    );
+    // A folder of the user's that no table listed stays.
+    std::fs::create_dir(tmp.path().join("s/run-00005")).unwrap();
+    sweep("seed=1..3");
+    sweep("seed=1..2");
+    assert!(tmp.path().join("s/run-00005").is_dir());
+    assert!(!tmp.path().join("s/run-00002").exists());
+}
+
+#[test]
+fn only_shards_of_one_sweep_merge_and_every_row_is_checked() {
+    let tmp = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| {
+        let o = morphogen(args, tmp.path());
+        let text = format!(
+            "{}{}",
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr)
+        );
+        (o.status.code(), text)
+    };
+    let shard = |days: &str, i: &str, out: &str| {
+        let (code, text) = run(&[
+            "sweep",
+            "growth-curve",
+            "--set",
+            days,
+            "--set",
+            "seed=1..2",
+            "--shard",
+            i,
+            "--out",
+            out,
+        ]);
+        assert_eq!(code, Some(0), "{text}");
+    };
+    shard("curve.days=100,200", "1/2", "a");
+    shard("curve.days=100,200", "2/2", "b");
+    shard("curve.days=100,300", "2/2", "c");
+    let (code, text) = run(&["sweep", "--merge", "a", "c", "--out", "m"]);
+    assert_eq!(code, Some(2), "{text}");
+    assert!(text.contains("is a shard of another sweep"), "{text}");
+    // An edited digest is found against the run's stream.
+    let table = tmp.path().join("b/sweep.csv");
+    let clean = std::fs::read_to_string(&table).unwrap();
+    let row = clean.lines().nth(1).unwrap();
+    let digest = row.split(',').nth(5).unwrap();
+    std::fs::write(&table, clean.replacen(digest, "0123456789abcdef", 1)).unwrap();
+    let (code, text) = run(&["sweep", "--merge", "a", "b", "--out", "m"]);
+    assert_eq!(code, Some(2), "{text}");
+    assert!(text.contains("row is not what its stream"), "{text}");
+    std::fs::write(&table, &clean).unwrap();
+    // Merged into one of the shards: it holds every run its table lists.
+    let (code, text) = run(&["sweep", "--merge", "a", "b", "--out", "a"]);
+    assert_eq!(code, Some(0), "{text}");
+    let merged = std::fs::read_to_string(tmp.path().join("a/sweep.csv")).unwrap();
+    assert_eq!(merged.lines().count(), 5, "{merged}");
+    for k in 0..4 {
+        assert!(
+            tmp.path()
+                .join(format!("a/run-0000{k}/stream.bin"))
+                .is_file()
+        );
+    }
+    // A key set twice is refused, not half-used.
+    let (code, text) = run(&[
+        "sweep",
+        "growth-curve",
+        "--set",
+        "curve.days=10,20",
+        "--set",
+        "curve.days=30",
+        "--out",
+        "d",
+    ]);
+    assert_eq!(code, Some(2), "{text}");
+    assert!(text.contains("--set curve.days is given twice"), "{text}");
 }
 
 /// A combination that cannot run stops the sweep before any runs, named.
