@@ -18,6 +18,7 @@ use morphogen::preset::{Model, Preset};
 use morphogen::sim::Progress;
 use morphogen::stream::{Encoder, Record, Sink, SinkError};
 use morphogen_scenario::Scenario;
+use morphogen_scenario::quoted;
 
 use crate::atomic::OutputFile;
 use crate::jsonl::Lines;
@@ -164,7 +165,7 @@ pub fn with_grammar(scenario: &Scenario, file: &Path) -> Result<Scenario> {
 /// When there is no `=`, or a named file cannot be read.
 pub fn parse_set(text: &str) -> Result<(String, String)> {
     let (key, value) = split_set(text)?;
-    let value = set_value(&key, &value).map_err(|e| anyhow!("--set {text}: {e}"))?;
+    let value = set_value(&key, &value).map_err(|e| anyhow!("--set {}: {e}", quoted(text)))?;
     Ok((key, value))
 }
 
@@ -173,9 +174,12 @@ pub fn parse_set(text: &str) -> Result<(String, String)> {
 /// # Errors
 /// When there is no `=`.
 pub fn split_set(text: &str) -> Result<(String, String)> {
-    let (key, value) = text
-        .split_once('=')
-        .ok_or_else(|| anyhow!("--set {text}: give KEY=VALUE (e.g. mosaic.days=20)"))?;
+    let (key, value) = text.split_once('=').ok_or_else(|| {
+        anyhow!(
+            "--set {}: give KEY=VALUE (e.g. mosaic.days=20)",
+            quoted(text)
+        )
+    })?;
     Ok((key.trim().to_string(), value.trim().to_string()))
 }
 
@@ -320,20 +324,21 @@ pub struct RunPaths<'a> {
 
 /// Runs `scenario` with `seed` straight into its files `paths`, the
 /// stream capped at `max_mb` MiB; shows a progress bar once the run has
-/// taken more than a second and `progress` is set.
+/// taken more than a second and `progress` is set. Errors name `what`
+/// (the scenario, and the user's files it was given).
 ///
 /// # Errors
 /// As [`run_limited`], or when a file cannot be written.
 pub fn run_to_file(
     scenario: &Scenario,
+    what: &str,
     seed: u64,
     progress: bool,
     max_mb: u32,
     paths: RunPaths<'_>,
 ) -> Result<RunFile> {
     let bar = Bar::new(scenario.name(), progress);
-    let run =
-        scenario.with_preset(|p| preset_to_file(p, seed, scenario.name(), &bar, max_mb, paths))?;
+    let run = scenario.with_preset(|p| preset_to_file(p, seed, what, &bar, max_mb, paths))?;
     bar.finish();
     Ok(run)
 }
@@ -747,7 +752,15 @@ mod tests {
                 jsonl: lines.then_some(jsonl.as_path()),
             };
             let scenario = find(preset, &[]).unwrap();
-            let run = run_to_file(&scenario, scenario.seed(), false, 64, paths).unwrap();
+            let run = run_to_file(
+                &scenario,
+                scenario.name(),
+                scenario.seed(),
+                false,
+                64,
+                paths,
+            )
+            .unwrap();
             let read = StreamFile::new(&path).frame_starts().unwrap();
             assert!(read > 1, "{preset}: {read}");
             assert_eq!(run.frame_starts, read, "{preset}");

@@ -205,11 +205,32 @@ fn main() -> ExitCode {
         Err(e) => match e.downcast_ref::<StdoutError>() {
             Some(closed) if closed.is_closed_pipe() => ExitCode::SUCCESS,
             _ => {
-                eprintln!("error: {e:#}");
+                eprintln!("error: {}", clamped(&format!("{e:#}")));
                 ExitCode::from(2)
             }
         },
     }
+}
+
+/// The longest line of an error printed whole.
+const ERROR_LINE_CHARS: usize = 500;
+
+/// `message` with every line past [`ERROR_LINE_CHARS`] cut: messages
+/// quote at most `QUOTED_CHARS` of an input, and this is the bound where
+/// one does not.
+fn clamped(message: &str) -> String {
+    message
+        .lines()
+        .map(|line| match line.char_indices().nth(ERROR_LINE_CHARS) {
+            None => line.to_string(),
+            Some((end, _)) => format!(
+                "{}… ({} more characters)",
+                &line[..end],
+                line[end..].chars().count()
+            ),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 fn parse_kinds(list: &str) -> Result<Kinds> {
@@ -339,6 +360,8 @@ fn dispatch(command: Command) -> Result<Outcome> {
                 Some(file) => exec::with_mask(&scenario, file)?,
                 None => scenario,
             };
+            // What a run's errors name: the user's files too.
+            let mut what = scenario.name().to_string();
             let (scenario, out) = match &grammar {
                 Some(file) => {
                     let stem = file
@@ -347,6 +370,7 @@ fn dispatch(command: Command) -> Result<Outcome> {
                     let out = out.unwrap_or_else(|| {
                         Path::new("out").join(format!("{}-{stem}", scenario.name()))
                     });
+                    what = format!("{what} with the grammar {}", file.display());
                     (exec::with_grammar(&scenario, file)?, Some(out))
                 }
                 None => (scenario, out),
@@ -360,8 +384,10 @@ fn dispatch(command: Command) -> Result<Outcome> {
                     let out = out.unwrap_or_else(|| {
                         Path::new("out").join(format!("{}-{stem}", scenario.name()))
                     });
+                    what = format!("{what} on {} and {}", mesh.display(), cylinders.display());
                     run(
                         &body,
+                        &what,
                         seed,
                         Some(out),
                         rig.as_deref(),
@@ -369,7 +395,15 @@ fn dispatch(command: Command) -> Result<Outcome> {
                         writing,
                     )
                 }
-                _ => run(&scenario, seed, out, rig.as_deref(), max_stream_mb, writing),
+                _ => run(
+                    &scenario,
+                    &what,
+                    seed,
+                    out,
+                    rig.as_deref(),
+                    max_stream_mb,
+                    writing,
+                ),
             }
         }
         Command::Run { target: None, .. } => {
@@ -417,8 +451,10 @@ fn dispatch(command: Command) -> Result<Outcome> {
     }
 }
 
+/// `run`: `scenario` into its folder; its errors name `what`.
 fn run(
     scenario: &Scenario,
+    what: &str,
     seed: Option<u64>,
     out: Option<PathBuf>,
     rig: Option<&str>,
@@ -436,7 +472,7 @@ fn run(
         stream: &stream,
         jsonl: writing.kinds.has(Kind::Jsonl).then_some(jsonl.as_path()),
     };
-    let run = exec::run_to_file(scenario, seed, !writing.quiet, max_stream_mb, paths)?;
+    let run = exec::run_to_file(scenario, what, seed, !writing.quiet, max_stream_mb, paths)?;
     let written = exec::write_outputs(&dir, &run, !writing.quiet, |records, dir| {
         let mut files = outputs::write(scenario, records, dir, writing.kinds)?;
         if let Some(rig) = rig {

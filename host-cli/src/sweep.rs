@@ -21,6 +21,7 @@ use serde::{Deserialize, Serialize};
 use crate::atomic::write_atomic;
 use crate::exec;
 use crate::folder_lock::FolderLock;
+use morphogen_scenario::quoted;
 
 /// The table a sweep writes into its folder.
 pub const TABLE: &str = "sweep.csv";
@@ -105,7 +106,10 @@ fn values(text: &str) -> Result<Vec<String>> {
         && let (Ok(a), Ok(b)) = (a.trim().parse::<u64>(), b.trim().parse::<u64>())
     {
         if b < a || b - a >= MAX_RUNS as u64 {
-            bail!("{text}: a range a..b needs a ≤ b and at most {MAX_RUNS} values");
+            bail!(
+                "{}: a range a..b needs a ≤ b and at most {MAX_RUNS} values",
+                quoted(text)
+            );
         }
         return Ok((a..=b).map(|v| v.to_string()).collect());
     }
@@ -126,7 +130,7 @@ fn values(text: &str) -> Result<Vec<String>> {
     }
     out.push(current.trim().to_string());
     if out.iter().any(String::is_empty) {
-        bail!("{text}: an empty value");
+        bail!("{}: an empty value", quoted(text));
     }
     Ok(out)
 }
@@ -139,7 +143,8 @@ fn scenario_sets(chosen: &[(String, String)]) -> Result<Vec<(String, String)>> {
         .iter()
         .filter(|(k, _)| k != "seed")
         .map(|(k, v)| {
-            let value = exec::set_value(k, v).map_err(|e| anyhow!("--set {k}={v}: {e}"))?;
+            let value = exec::set_value(k, v)
+                .map_err(|e| anyhow!("--set {}: {e}", quoted(&format!("{k}={v}"))))?;
             Ok((k.clone(), value))
         })
         .collect()
@@ -180,15 +185,12 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
         })
         .collect::<Result<_>>()?;
     for (i, axis) in axes.iter().enumerate() {
+        let key = quoted(&axis.key);
         if axes[..i].iter().any(|a| a.key == axis.key) {
-            bail!(
-                "--set {} is given twice: give all its values in one (--set {}=a,b,c)",
-                axis.key,
-                axis.key
-            );
+            bail!("--set {key} is given twice: give all its values in one (--set {key}=a,b,c)");
         }
         if axis.values.is_empty() {
-            bail!("--set {}: no values", axis.key);
+            bail!("--set {key}: no values");
         }
     }
     let total = axes

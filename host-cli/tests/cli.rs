@@ -917,3 +917,72 @@ fn one_run_writes_a_folder_at_a_time_and_the_next_removes_what_a_killed_one_left
     );
     assert_eq!(temporary(), 0);
 }
+
+#[test]
+fn errors_quote_little_of_the_input_and_name_the_users_files() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let out = out.to_str().unwrap();
+    // A megabyte key is a line, not a megabyte.
+    let key = format!("{}=1", "k".repeat(100_000));
+    let o = morphogen(&["run", "growth-curve", "--set", &key, "--out", out]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).len() < 1000, "{} bytes", text(&o).len());
+    assert!(text(&o).contains("more characters)"), "{}", text(&o));
+    let file = tmp.path().join("long.toml");
+    let shown = String::from_utf8(morphogen(&["show", "growth-curve"]).stdout).unwrap();
+    let long = shown.replace(
+        "[curve]\n",
+        &format!("[curve]\n{} = 1\n", "k".repeat(1 << 20)),
+    );
+    fs::write(&file, long).unwrap();
+    let o = morphogen(&["run", file.to_str().unwrap(), "--out", out]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).len() < 1000, "{} bytes", text(&o).len());
+    // A list of lists takes two indices.
+    let o = morphogen(&[
+        "run",
+        "croton-mcu",
+        "--set",
+        "mosaic.adhesion[0][0]=2",
+        "--out",
+        out,
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o).contains("mosaic.adhesion[0][0]: 2 is out of range (allowed: 0 to 1)"),
+        "{}",
+        text(&o)
+    );
+    // A damaged PNG mask in words, not the decoder's debug output.
+    let png = tmp.path().join("bad.png");
+    let mut bytes = b"\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\0\0\x10\0\0\0\x10\x08\0\0\0\0".to_vec();
+    bytes.extend(0xdead_beef_u32.to_be_bytes());
+    fs::write(&png, bytes).unwrap();
+    let o = morphogen(&[
+        "run",
+        "croton-mcu",
+        "--mask",
+        png.to_str().unwrap(),
+        "--out",
+        out,
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o).contains("PNG: damaged or cut short"),
+        "{}",
+        text(&o)
+    );
+    assert!(!text(&o).contains("ChunkType"), "{}", text(&o));
+    // A grammar's run-time error names the grammar's file.
+    let grammar = tmp.path().join("boom.lsys");
+    fs::write(&grammar, "n = 30\naxiom: F\nF -> F F\n").unwrap();
+    let grammar = grammar.to_str().unwrap();
+    let o = morphogen(&["run", "abop-shrub", "--grammar", grammar, "--out", out]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o).contains(&format!("abop-shrub with the grammar {grammar}: ")),
+        "{}",
+        text(&o)
+    );
+}

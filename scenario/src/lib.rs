@@ -47,6 +47,24 @@ mod embedded {
 /// The most bytes a scenario file (or a file it names) may have.
 pub const MAX_FILE_BYTES: u64 = 16 << 20;
 
+/// The most characters of a user's input a message repeats.
+pub const QUOTED_CHARS: usize = 80;
+
+/// `text` as a message repeats it: whole when short, else its first
+/// [`QUOTED_CHARS`] characters and how many more there are (a megabyte key
+/// makes a line, not a megabyte).
+#[must_use]
+pub fn quoted(text: &str) -> String {
+    match text.char_indices().nth(QUOTED_CHARS) {
+        None => text.to_string(),
+        Some((end, _)) => format!(
+            "{}… ({} more characters)",
+            &text[..end],
+            text[end..].chars().count()
+        ),
+    }
+}
+
 /// Why a scenario cannot be used: where, which key, what is wrong.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Error {
@@ -75,11 +93,11 @@ impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match &self.place {
             Place::Line(line) => write!(f, "{}:{line}: ", self.origin)?,
-            Place::Set(set) => write!(f, "--set {set}: ")?,
+            Place::Set(set) => write!(f, "--set {}: ", quoted(set))?,
             Place::File => write!(f, "{}: ", self.origin)?,
         }
         if !self.key.is_empty() {
-            write!(f, "{}: ", self.key)?;
+            write!(f, "{}: ", quoted(&self.key))?;
         }
         f.write_str(&self.message)
     }
@@ -568,21 +586,28 @@ fn set(doc: &mut toml_edit::DocumentMut, key: &str, value: &str) -> Result<(), S
     let mut item = doc.as_item_mut();
     let segments: Vec<&str> = key.split('.').collect();
     for (n, seg) in segments.iter().enumerate() {
-        let (name, index) = match seg.split_once('[') {
+        // `name`, `name[i]`, `name[i][j]`…: a list of lists too.
+        let (name, indices) = match seg.split_once('[') {
             Some((name, rest)) => {
-                let i = rest
+                let indices = rest
                     .strip_suffix(']')
-                    .and_then(|i| i.parse::<usize>().ok())
-                    .ok_or_else(|| format!("{seg}: an index is [N]"))?;
-                (name, Some(i))
+                    .map(|r| r.split("][").map(str::parse::<usize>).collect())
+                    .and_then(Result::ok)
+                    .ok_or_else(|| {
+                        format!(
+                            "{}: an index is [N], or [N][M] in a list of lists",
+                            quoted(seg)
+                        )
+                    })?;
+                (name, indices)
             }
-            None => (*seg, None),
+            None => (*seg, Vec::new()),
         };
         if name.is_empty() {
             return Err("an empty key".into());
         }
-        let last = n + 1 == segments.len() && index.is_none();
-        if last {
+        let last = n + 1 == segments.len();
+        if last && indices.is_empty() {
             let table = item
                 .as_table_like_mut()
                 .ok_or_else(|| format!("{name}: its parent is not a table"))?;
@@ -601,21 +626,23 @@ fn set(doc: &mut toml_edit::DocumentMut, key: &str, value: &str) -> Result<(), S
             .get_mut(name)
             .filter(|i| !i.is_none())
             .ok_or_else(|| format!("no table {name} in the scenario"))?;
-        if let Some(i) = index {
-            if n + 1 == segments.len() {
+        let mut at = name.to_string();
+        for (j, &i) in indices.iter().enumerate() {
+            if last && j + 1 == indices.len() {
                 let array = item
                     .as_array_mut()
-                    .ok_or_else(|| format!("{name} is not a list"))?;
+                    .ok_or_else(|| format!("{at} is not a list"))?;
                 let len = array.len();
                 let slot = array
                     .get_mut(i)
-                    .ok_or_else(|| format!("{name}[{i}]: the list has {len} items"))?;
+                    .ok_or_else(|| format!("{at}[{i}]: the list has {len} items"))?;
                 *slot = parsed;
                 return Ok(());
             }
             item = item
                 .get_mut(i)
-                .ok_or_else(|| format!("{name}[{i}]: no such item"))?;
+                .ok_or_else(|| format!("{at}[{i}]: no such item"))?;
+            at = format!("{at}[{i}]");
         }
     }
     Err("an empty key".into())

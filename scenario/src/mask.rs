@@ -38,6 +38,21 @@ fn size_check(width: u64, height: u64, what: &str) -> Result<(u16, u16), String>
     Ok((width as u16, height as u16))
 }
 
+/// What is wrong with a PNG the decoder refused, in words (its own
+/// messages name chunks by their Rust debug form).
+#[cfg(feature = "png")]
+fn png_error(e: &png::DecodingError) -> String {
+    match e {
+        png::DecodingError::IoError(e) => e.to_string(),
+        png::DecodingError::Format(_) => {
+            "damaged or cut short: its data is not a PNG's (a checksum or a chunk is wrong)".into()
+        }
+        png::DecodingError::Parameter(_) | png::DecodingError::LimitsExceeded => {
+            "cannot decode it".into()
+        }
+    }
+}
+
 /// Reads a PNG mask: a pixel is white (allowed) when its alpha and its
 /// luminance (Rec. 709 weights of the stored R, G, B) are both ≥ 50 %.
 #[cfg(feature = "png")]
@@ -58,7 +73,8 @@ fn read_png(bytes: &[u8]) -> Result<(u16, u16, Vec<u8>), String> {
         }
         _ => return Err("PNG: cannot decode: the first chunk is not a 13-byte IHDR".into()),
     }
-    let pixmap = tiny_skia::Pixmap::decode_png(bytes).map_err(|e| format!("PNG: {e}"))?;
+    let pixmap =
+        tiny_skia::Pixmap::decode_png(bytes).map_err(|e| format!("PNG: {}", png_error(&e)))?;
     let (width, height) = size_check(u64::from(pixmap.width()), u64::from(pixmap.height()), "PNG")?;
     let stride = Mask::stride(width);
     let mut bits = vec![0u8; stride * usize::from(height)];
