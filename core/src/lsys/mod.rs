@@ -55,7 +55,7 @@ pub use derive::{Buffered, Derivation, Next, Streaming, VISITS_PER_CALL, stream_
 pub use grammar::{Grammar, Settings};
 pub use module::{MAX_PARAMS, Module};
 pub(crate) use sim::turtle_params;
-pub use sim::{LSystem, MODULES_PER_STEP};
+pub use sim::{LSystem, MAX_PLANT_MODULES, MODULES_PER_STEP};
 
 use crate::turtle::TurtleError;
 

@@ -30,6 +30,13 @@ use super::{
 /// Modules interpreted per [`Simulation::step`] at most.
 pub const MODULES_PER_STEP: usize = 512;
 
+/// Modules one plant's string may have (a [`Next::Pending`] counts as
+/// one): far above any preset's (abop-shrub draws 14,000 segments), about
+/// as many as the host's default stream cap takes drawn, and the bound on
+/// a grammar that draws nothing while its string grows past billions of
+/// modules.
+pub const MAX_PLANT_MODULES: u32 = 1 << 22;
+
 /// A grammar being derived and drawn.
 #[derive(Debug)]
 pub struct LSystem<D: Derivation = Streaming> {
@@ -43,6 +50,8 @@ pub struct LSystem<D: Derivation = Streaming> {
     frame: u32,
     plant: u8,
     drawing: bool,
+    /// Modules (and pending calls) of the plant being drawn.
+    modules: u32,
     done: u32,
     failed: Deferred,
 }
@@ -90,6 +99,7 @@ impl<D: Derivation> LSystem<D> {
             frame: 0,
             plant: 0,
             drawing: false,
+            modules: 0,
             done: 0,
             failed: Deferred::new(),
         }
@@ -230,11 +240,20 @@ impl<D: Derivation> LSystem<D> {
             self.turtle.reset(Vector3::new(x, Fx::ZERO, Fx::ZERO));
             self.interpreting.clear();
             self.drawing = true;
+            self.modules = 0;
         }
         // Without interpretation rules the turtle draws the derived string
         // itself: no per-module rule lookup (see `next_drawn`).
         let direct = cfg!(target_pointer_width = "64") && !self.grammar.has_interpretation();
         for _ in 0..MODULES_PER_STEP {
+            self.modules += 1;
+            if self.modules > MAX_PLANT_MODULES {
+                return Err(LsysError::Capacity {
+                    limit: "MAX_PLANT_MODULES",
+                    capacity: MAX_PLANT_MODULES,
+                }
+                .into());
+            }
             let next = if direct {
                 self.derivation.next_module(&self.grammar)?
             } else {

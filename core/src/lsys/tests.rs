@@ -830,6 +830,19 @@ fn sim_error(source: &str) -> crate::Error {
 }
 
 #[test]
+fn a_plant_that_draws_nothing_while_its_string_grows_stops_at_its_limit() {
+    // 2^32 modules, none drawn, no stream to cap: the plant's module
+    // count bounds it.
+    assert_eq!(
+        sim_error("n = 32\naxiom: A\nA -> A A"),
+        crate::Error::Lsys(LsysError::Capacity {
+            limit: "MAX_PLANT_MODULES",
+            capacity: super::MAX_PLANT_MODULES
+        })
+    );
+}
+
+#[test]
 fn interpretation_rules_draw_without_changing_the_derivation() {
     // L-Py's `interpretation:` (a homomorphism): A grows B's, the turtle
     // sees A as F and B as [+F]; the derived string keeps A and B.
