@@ -2,14 +2,26 @@
 //! `scripts/web-build.sh` into `web/dist`) over HTTP on 127.0.0.1, with
 //! each file's MIME type (`application/wasm` for the module, which
 //! browsers require to compile it streaming). docs/web.md.
+//!
+//! hyper's HTTP/1 server on a one-thread tokio runtime: a request's body
+//! is never read (a declared length allocates nothing), its headers must
+//! fit [`MAX_HEADER_BYTES`] and arrive within [`HEADER_TIME`], and a slow
+//! client holds its own connection only, of at most [`MAX_CONNECTIONS`].
 
-use std::fs;
+use std::convert::Infallible;
+use std::net::SocketAddr;
 use std::path::{Component, Path, PathBuf};
 use std::sync::Arc;
-use std::thread;
+use std::time::Duration;
 
-use anyhow::{Result, anyhow, bail};
-use tiny_http::{Header, Method, Request, Response, Server};
+use anyhow::{Context, Result, anyhow, bail};
+use http_body_util::Full;
+use hyper::body::{Bytes, Incoming};
+use hyper::header::{CACHE_CONTROL, CONTENT_TYPE};
+use hyper::{Method, Request, Response, StatusCode};
+use hyper_util::rt::{TokioIo, TokioTimer};
+use tokio::net::TcpListener;
+use tokio::sync::Semaphore;
 
 use crate::Outcome;
 
@@ -24,50 +36,70 @@ pub struct Args {
     pub dir: PathBuf,
 }
 
-/// Threads answering requests: the page loads a few files at once.
-const THREADS: usize = 4;
+/// Connections served at once; more wait to be accepted.
+pub const MAX_CONNECTIONS: usize = 64;
+
+/// The most bytes of a request's line and headers (hyper's smallest
+/// buffer).
+pub const MAX_HEADER_BYTES: usize = 8192;
+
+/// How long a client may take to send a request's headers.
+pub const HEADER_TIME: Duration = Duration::from_secs(10);
 
 /// Runs `serve` until the process is stopped.
 ///
 /// # Errors
 /// A folder without the built page, or a port that cannot be bound.
 pub fn run(args: &Args) -> Result<Outcome> {
-    let server = bind(&args.dir, args.port)?;
-    let port = server.server_addr().to_ip().map_or(args.port, |a| a.port());
+    if !args.dir.join("index.html").is_file() {
+        bail!(
+            "{} has no index.html: run bash scripts/web-build.sh first (or give --dir)",
+            args.dir.display()
+        );
+    }
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .context("cannot start the server's runtime")?;
+    runtime.block_on(serve(args))
+}
+
+async fn serve(args: &Args) -> Result<Outcome> {
+    let listener = TcpListener::bind(("127.0.0.1", args.port))
+        .await
+        .map_err(|e| anyhow!("cannot listen on 127.0.0.1:{}: {e}", args.port))?;
+    let port = listener.local_addr().map_or(args.port, |a| a.port());
     eprintln!(
         "serving {} on http://127.0.0.1:{port}/ (Ctrl-C stops)",
         args.dir.display()
     );
-    let workers: Vec<_> = (0..THREADS)
-        .map(|_| {
-            let (server, dir) = (Arc::clone(&server), args.dir.clone());
-            thread::spawn(move || {
-                for request in server.incoming_requests() {
-                    answer(&dir, request);
-                }
-            })
-        })
-        .collect();
-    for w in workers {
-        w.join().map_err(|_| anyhow!("a server thread panicked"))?;
+    let dir = Arc::new(args.dir.clone());
+    let open = Arc::new(Semaphore::new(MAX_CONNECTIONS));
+    loop {
+        let Ok(permit) = Arc::clone(&open).acquire_owned().await else {
+            return Ok(Outcome::Ok); // never closed
+        };
+        let (stream, _): (_, SocketAddr) = match listener.accept().await {
+            Ok(accepted) => accepted,
+            // A connection that failed as it was accepted is its own.
+            Err(_) => continue,
+        };
+        let dir = Arc::clone(&dir);
+        tokio::spawn(async move {
+            let service = hyper::service::service_fn(move |request| {
+                let dir = Arc::clone(&dir);
+                async move { Ok::<_, Infallible>(answer(&dir, &request).await) }
+            });
+            // A client that fails or goes away ends its connection only.
+            let _ = hyper::server::conn::http1::Builder::new()
+                .timer(TokioTimer::new())
+                .header_read_timeout(HEADER_TIME)
+                .max_buf_size(MAX_HEADER_BYTES)
+                .serve_connection(TokioIo::new(stream), service)
+                .await;
+            drop(permit);
+        });
     }
-    Ok(Outcome::Ok)
-}
-
-/// Binds 127.0.0.1:`port` to serve `dir`, which must hold the built page.
-///
-/// # Errors
-/// `dir` has no `index.html`, or the port is taken.
-pub fn bind(dir: &Path, port: u16) -> Result<Arc<Server>> {
-    if !dir.join("index.html").is_file() {
-        bail!(
-            "{} has no index.html: run bash scripts/web-build.sh first (or give --dir)",
-            dir.display()
-        );
-    }
-    Server::http(("127.0.0.1", port))
-        .map(Arc::new)
-        .map_err(|e| anyhow!("cannot listen on 127.0.0.1:{port}: {e}"))
 }
 
 /// The file under `dir` that the request path `url` names (`/` is
@@ -87,28 +119,40 @@ fn file_for(dir: &Path, url: &str) -> Option<PathBuf> {
         .then(|| dir.join(relative))
 }
 
-fn header(name: &str, value: &str) -> Header {
-    Header::from_bytes(name.as_bytes(), value.as_bytes()).expect("ASCII header")
+fn status(code: StatusCode, text: &'static str) -> Response<Full<Bytes>> {
+    let mut response = Response::new(Full::new(Bytes::from_static(text.as_bytes())));
+    *response.status_mut() = code;
+    response
 }
 
 /// Answers one request: the file with its type, 404, or 405.
-fn answer(dir: &Path, request: Request) {
-    let head = *request.method() == Method::Head;
-    if !head && *request.method() != Method::Get {
-        let _ = request.respond(Response::from_string("GET only").with_status_code(405));
-        return;
+async fn answer(dir: &Path, request: &Request<Incoming>) -> Response<Full<Bytes>> {
+    let head = request.method() == Method::HEAD;
+    if !head && request.method() != Method::GET {
+        return status(StatusCode::METHOD_NOT_ALLOWED, "GET only");
     }
-    let found = file_for(dir, request.url()).and_then(|p| Some((fs::read(&p).ok()?, p)));
-    let Some((bytes, path)) = found else {
-        let _ = request.respond(Response::from_string("not found").with_status_code(404));
-        return;
+    let Some(path) = file_for(dir, request.uri().path()) else {
+        return status(StatusCode::NOT_FOUND, "not found");
+    };
+    let Ok(bytes) = tokio::fs::read(&path).await else {
+        return status(StatusCode::NOT_FOUND, "not found");
     };
     let mime = mime_guess::from_path(&path).first_or_octet_stream();
-    let response = Response::from_data(if head { Vec::new() } else { bytes })
-        .with_header(header("Content-Type", mime.essence_str()))
-        // A rebuilt page is seen at once.
-        .with_header(header("Cache-Control", "no-cache"));
-    let _ = request.respond(response);
+    let mut response = Response::new(Full::new(if head {
+        Bytes::new()
+    } else {
+        Bytes::from(bytes)
+    }));
+    let headers = response.headers_mut();
+    if let Ok(value) = mime.essence_str().parse() {
+        headers.insert(CONTENT_TYPE, value);
+    }
+    // A rebuilt page is seen at once.
+    headers.insert(
+        CACHE_CONTROL,
+        hyper::header::HeaderValue::from_static("no-cache"),
+    );
+    response
 }
 
 #[cfg(test)]

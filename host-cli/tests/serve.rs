@@ -70,6 +70,66 @@ fn serves_the_page_with_mime_types() {
     child.wait().expect("reaped");
 }
 
+/// `morphogen serve` on a folder with a page; its port.
+fn start(dir: &std::path::Path) -> (std::process::Child, u16) {
+    std::fs::write(dir.join("index.html"), "<!doctype html>page").expect("index");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_morphogen"))
+        .args(["serve", "--port", "0", "--dir"])
+        .arg(dir)
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("morphogen serve starts");
+    let mut line = String::new();
+    BufReader::new(child.stderr.take().expect("stderr"))
+        .read_line(&mut line)
+        .expect("the address line");
+    let port = line
+        .split("http://127.0.0.1:")
+        .nth(1)
+        .and_then(|rest| rest.split('/').next())
+        .and_then(|p| p.parse().ok())
+        .unwrap_or_else(|| panic!("no port in {line:?}"));
+    (child, port)
+}
+
+#[test]
+fn hostile_requests_neither_crash_nor_block_the_server() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (mut child, port) = start(dir.path());
+    // A body declared at 100 GB and never sent: answered, nothing
+    // allocated for it.
+    let mut s = TcpStream::connect(("127.0.0.1", port)).expect("connect");
+    write!(
+        s,
+        "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 100000000000\r\n\r\nabc"
+    )
+    .expect("request");
+    let mut status = [0u8; 12];
+    s.read_exact(&mut status).expect("a response");
+    assert_eq!(&status, b"HTTP/1.1 200");
+    drop(s);
+    // Headers past the cap: refused, the server goes on.
+    let mut s = TcpStream::connect(("127.0.0.1", port)).expect("connect");
+    let huge = format!("GET / HTTP/1.1\r\nX: {}\r\n\r\n", "x".repeat(100_000));
+    let _ = s.write_all(huge.as_bytes());
+    drop(s);
+    // Clients that never finish their headers hold only themselves.
+    let slow: Vec<TcpStream> = (0..16)
+        .map(|_| {
+            let mut s = TcpStream::connect(("127.0.0.1", port)).expect("connect");
+            write!(s, "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n").expect("a start");
+            s
+        })
+        .collect();
+    let (head, body) = get(port, "/");
+    assert!(head.starts_with("http/1.1 200"), "{head}");
+    assert_eq!(body, b"<!doctype html>page");
+    assert!(child.try_wait().expect("status").is_none(), "serve ended");
+    drop(slow);
+    child.kill().expect("stop the server");
+    child.wait().expect("reaped");
+}
+
 #[test]
 fn a_missing_page_says_how_to_build_it() {
     let dir = tempfile::tempdir().expect("temp dir");
