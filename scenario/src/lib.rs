@@ -47,6 +47,53 @@ mod embedded {
 /// The most bytes a scenario file (or a file it names) may have.
 pub const MAX_FILE_BYTES: u64 = 16 << 20;
 
+/// The most values (counted by the commas between them, outside strings
+/// and comments) a scenario file may hold.
+pub const MAX_VALUES: usize = 1 << 16;
+
+/// The line where `text` passes [`MAX_VALUES`] commas outside its strings
+/// and comments, if it does.
+fn past_max_values(text: &str) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let (mut at, mut commas) = (0, 0);
+    let find = |from: usize, pattern: &[u8]| {
+        bytes
+            .get(from..)
+            .and_then(|rest| rest.windows(pattern.len()).position(|w| w == pattern))
+            .map_or(bytes.len(), |p| from + p)
+    };
+    while let Some(&b) = bytes.get(at) {
+        at = match b {
+            b'#' => find(at, b"\n"),
+            b'\'' if bytes[at..].starts_with(b"\'\'\'") => find(at + 3, b"\'\'\'") + 3,
+            b'\'' => find(at + 1, b"'").min(find(at + 1, b"\n")) + 1,
+            b'"' => {
+                // A basic string ends at a quote no backslash escapes.
+                let multi = bytes[at..].starts_with(b"\"\"\"");
+                let mut i = at + if multi { 3 } else { 1 };
+                while let Some(&c) = bytes.get(i) {
+                    match c {
+                        b'\\' => i += 2,
+                        b'"' if !multi || bytes[i..].starts_with(b"\"\"\"") => break,
+                        b'\n' if !multi => break,
+                        _ => i += 1,
+                    }
+                }
+                i + if multi { 3 } else { 1 }
+            }
+            b',' => {
+                commas += 1;
+                if commas > MAX_VALUES {
+                    return Some(line_of(text, at));
+                }
+                at + 1
+            }
+            _ => at + 1,
+        };
+    }
+    None
+}
+
 /// The most characters of a user's input a message repeats.
 pub const QUOTED_CHARS: usize = 80;
 
@@ -323,6 +370,17 @@ impl Scenario {
             key: key.to_string(),
             message,
         };
+        // Checked before parsing: a parser holds every value, and 8 million
+        // of them in a 16 MB file took 4 GB.
+        if let Some(line) = past_max_values(text) {
+            return Err(err(
+                Place::Line(line),
+                "",
+                format!(
+                    "more than {MAX_VALUES} values (scenario::MAX_VALUES; the presets have at most 160)"
+                ),
+            ));
+        }
         let original = toml_edit::Document::parse(text).map_err(|e| {
             let line = e.span().map_or(1, |s| line_of(text, s.start));
             err(Place::Line(line), "", format!("not TOML: {}", e.message()))
@@ -769,4 +827,32 @@ pub fn closest_builtin(name: &str) -> Option<String> {
         .filter(|(d, _)| *d <= 3)
         .min()
         .map(|(_, n)| n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_file_of_too_many_values_is_refused_before_it_is_parsed() {
+        let many = format!(
+            "name = \"x\"\n[curve]\nz = [{}1]\n",
+            "1,".repeat(MAX_VALUES + 1)
+        );
+        let e = Scenario::from_text("many.toml", &many).unwrap_err();
+        assert_eq!((&e.place, e.key.as_str()), (&Place::Line(3), ""));
+        assert!(e.message.starts_with("more than 65536 values"), "{e}");
+        // Commas in strings and comments are not values.
+        for quoted in [
+            format!("# {}\n", ",".repeat(MAX_VALUES + 1)),
+            format!("a = \"{}\"\n", ",\\\"".repeat(MAX_VALUES + 1)),
+            format!("a = '{}'\n", ",".repeat(MAX_VALUES + 1)),
+            format!("a = '''\n{}'''\n", ",'".repeat(MAX_VALUES + 1)),
+            format!("a = \"\"\"\n{}\"\"\"\n", ",\"".repeat(MAX_VALUES + 1)),
+        ] {
+            assert_eq!(past_max_values(&quoted), None, "{}", &quoted[..20]);
+        }
+        assert_eq!(quoted("short"), "short");
+        assert!(quoted(&"k".repeat(1000)).ends_with("k… (920 more characters)"));
+    }
 }
