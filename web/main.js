@@ -6,10 +6,13 @@ import { View } from "./view.js";
 const $ = (id) => document.getElementById(id);
 
 // One worker at a time; stopping terminates it and starts another.
+// `heard` counts the worker's messages: a run reports progress at least
+// every 100 ms, so a count that stands still is a run that is stuck.
 class Engine {
   constructor() {
     this.next = 1;
     this.pending = new Map();
+    this.heard = 0;
     this.start();
   }
 
@@ -17,6 +20,7 @@ class Engine {
     this.worker = new Worker(new URL("./worker.js", import.meta.url), { type: "module" });
     this.worker.onmessage = (e) => {
       const msg = e.data;
+      this.heard++;
       const p = this.pending.get(msg.id);
       if (!p) return;
       if (msg.type === "done") {
@@ -51,7 +55,7 @@ const engine = new Engine();
 const view = new View($("view"));
 
 // What is loaded: a preset name or TOML text, and the changed parameters.
-const state = { source: null, sets: new Map(), info: null, toml: "", stream: null, running: false };
+const state = { source: null, sets: new Map(), info: null, toml: "", stream: null, running: false, runs: 0 };
 
 function source() {
   return state.source.toml !== undefined ? { toml: state.source.toml } : { preset: state.source.preset };
@@ -94,10 +98,11 @@ function buildControls(controls) {
     number.dataset.key = c.key;
     const slider = document.createElement("input");
     slider.type = "range";
-    // Wide ranges on a log-free slider: at most 1000 steps.
+    // Any whole number (or any number) of the range: a coarser step would
+    // snap the slider away from the value its box holds.
     slider.min = c.min;
     slider.max = c.max;
-    slider.step = c.whole ? Math.max(1, Math.round((c.max - c.min) / 1000)) : (c.max - c.min) / 1000;
+    slider.step = c.whole ? 1 : "any";
     slider.value = c.value;
     const changed = (v) => {
       state.sets.set(c.key, v);
@@ -121,6 +126,7 @@ async function run() {
   if (state.running) engine.stop();
   // A newer run supersedes this one: only the newest updates the page.
   const token = (state.token = (state.token || 0) + 1);
+  state.runs++;
   state.running = true;
   state.stream = null;
   $("stop").disabled = false;
@@ -240,6 +246,10 @@ async function main() {
     },
     // For tests and timing: the run time in the worker, in ms.
     time: async (name, seed) => (await engine.request({ op: "run", preset: name, seed: String(seed) })).ms,
+    // What the page is doing, for tests that wait on it: runs started, the
+    // state of the last (running, done, error, stopped), the worker's
+    // messages so far and whether the page has loaded.
+    activity: () => ({ runs: state.runs, state: document.body.dataset.state, heard: engine.heard, ready: document.body.dataset.ready === "yes" }),
     // The page's own flow: load a preset, set parameters, run and draw.
     show: async (name, sets = {}) => {
       select.value = name;

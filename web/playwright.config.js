@@ -10,9 +10,15 @@ export default defineConfig({
   testDir: "tests",
   // One browser at a time: the machine's cores run the simulations.
   workers: 1,
-  timeout: 10 * 60 * 1000,
+  // The tests wait on the page's worker for as long as it reports progress
+  // (page.spec.js, `until`): no test has a deadline of its own, whatever
+  // the machine's load. A click or a page load that has not happened after
+  // a minute never will.
+  timeout: 0,
   reporter: [["list"]],
   use: {
+    actionTimeout: 60 * 1000,
+    navigationTimeout: 60 * 1000,
     baseURL: `http://127.0.0.1:${port}/`,
     viewport: { width: 1200, height: 800 },
     launchOptions: {
@@ -34,6 +40,6 @@ export default defineConfig({
     command: `${morphogen} serve --port ${port} --dir dist`,
     url: `http://127.0.0.1:${port}/`,
     reuseExistingServer: false,
-    timeout: 30 * 1000,
+    timeout: 60 * 1000,
   },
 });

@@ -60,11 +60,12 @@ self.onmessage = async (event) => {
       }
       const seed = BigInt(msg.seed ?? JSON.parse(s.info()).seed);
       const start = performance.now();
+      // Progress at most every 100 ms, also where nothing is drawn: the
+      // page (and its tests) can tell a long run from a stuck one.
+      const progress = (done, total) => postMessage({ id, type: "progress", done, total });
       const result = msg.live
-        ? s.run(seed, msg.everyMs ?? 100,
-            (f) => frameMessage(id, f),
-            (done, total) => postMessage({ id, type: "progress", done, total }))
-        : s.digest(seed);
+        ? s.run(seed, msg.everyMs ?? 100, (f) => frameMessage(id, f), progress)
+        : s.digest(seed, msg.everyMs ?? 100, progress);
       const ms = performance.now() - start;
       const stream = result.stream;
       const reply = { id, type: "done", digest: result.digest, frames: result.frames, bytes: stream.length, ms };

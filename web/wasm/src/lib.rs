@@ -1,4 +1,4 @@
-//! Morphogen in the browser (issue 20): the scenario crate and its one run
+//! Morphogen in the browser: the scenario crate and its one run
 //! function, [`morphogen_scenario::run::run`] — the same the CLI calls, so a
 //! stream here is the fixtures' bytes — compiled to WebAssembly with
 //! wasm-bindgen. A run's records are turned into flat arrays (lines,
@@ -606,12 +606,20 @@ impl Scenario {
         self.inner.self_contained()
     }
 
-    /// Runs with `seed`, showing nothing: the digest, frames and stream.
+    /// Runs with `seed`, showing nothing: the digest, frames and stream;
+    /// `on_progress(done, total)`, when given, is called at most every
+    /// `every_ms` milliseconds (and at the end), as [`Scenario::run`] does.
     ///
     /// # Errors
     /// The core's error, or the stream's cap.
-    pub fn digest(&self, seed: u64) -> Result<RunResult, JsError> {
-        run(&self.inner, seed, &mut || false, &mut |_| {}, &mut |_| {}).map_err(js_error)
+    pub fn digest(
+        &self,
+        seed: u64,
+        every_ms: Option<f64>,
+        on_progress: Option<js_sys::Function>,
+    ) -> Result<RunResult, JsError> {
+        let mut progress = throttled(every_ms.unwrap_or(0.0), on_progress);
+        run(&self.inner, seed, &mut || false, &mut |_| {}, &mut progress).map_err(js_error)
     }
 
     /// Runs with `seed`, calling `on_frame(frame)` with a whole [`Frame`]
@@ -628,7 +636,6 @@ impl Scenario {
         on_progress: &js_sys::Function,
     ) -> Result<RunResult, JsError> {
         let mut frame_at = f64::NEG_INFINITY;
-        let mut progress_at = f64::NEG_INFINITY;
         let mut due = || {
             let now = js_sys::Date::now();
             let due = now - frame_at >= every_ms;
@@ -641,18 +648,29 @@ impl Scenario {
             // A callback that throws only loses a picture.
             let _ = on_frame.call1(&JsValue::NULL, &JsValue::from(frame));
         };
-        let mut progress = |p: Progress| {
-            let now = js_sys::Date::now();
-            if now - progress_at >= every_ms || p.finished() {
-                progress_at = now;
-                let _ = on_progress.call2(
-                    &JsValue::NULL,
-                    &JsValue::from(p.done),
-                    &JsValue::from(p.total),
-                );
-            }
-        };
+        let mut progress = throttled(every_ms, Some(on_progress.clone()));
         run(&self.inner, seed, &mut due, &mut shown, &mut progress).map_err(js_error)
+    }
+}
+
+/// `on_progress(done, total)` at most every `every_ms` milliseconds and at
+/// the end; nothing without a callback.
+fn throttled(every_ms: f64, on_progress: Option<js_sys::Function>) -> impl FnMut(Progress) {
+    let mut progress_at = f64::NEG_INFINITY;
+    move |p: Progress| {
+        let Some(on_progress) = &on_progress else {
+            return;
+        };
+        let now = js_sys::Date::now();
+        if now - progress_at >= every_ms || p.finished() {
+            progress_at = now;
+            // A callback that throws only loses a report.
+            let _ = on_progress.call2(
+                &JsValue::NULL,
+                &JsValue::from(p.done),
+                &JsValue::from(p.total),
+            );
+        }
     }
 }
 
