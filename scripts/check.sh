@@ -4,7 +4,21 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-step() { printf '\n==> %s\n' "$*"; }
+# Each step's time, printed at the end slowest first (the README's "Checks"
+# lists them).
+timings="$(mktemp)"
+trap 'rm -f "$timings"' EXIT
+step_name=""
+step_started=$SECONDS
+step_done() {
+    [ -z "$step_name" ] || printf '%d\t%s\n' $((SECONDS - step_started)) "$step_name" >>"$timings"
+}
+step() {
+    step_done
+    step_name="${*%%:*}"
+    step_started=$SECONDS
+    printf '\n==> %s\n' "$*"
+}
 
 step "toolchain: rustfmt, clippy and the Cortex-M targets"
 installed_components=$(rustup component list --installed)
@@ -35,10 +49,10 @@ step "documentation: cargo doc without a warning (the core with every feature, a
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 RUSTDOCFLAGS="-D warnings" cargo doc -p morphogen --no-deps --all-features
 
-step "core builds for Cortex-M0+ and Cortex-M3 (no_std, no alloc)"
+step "core checks for Cortex-M0+ and Cortex-M3 (no_std, no alloc; the firmware check builds and runs it)"
 for t in thumbv6m-none-eabi thumbv7m-none-eabi; do
-    cargo build -p morphogen --target "$t"
-    cargo build -p morphogen --target "$t" --features defmt,rig
+    cargo check -p morphogen --target "$t"
+    cargo check -p morphogen --target "$t" --features defmt,rig
 done
 
 step "the Raspberry Pi Pico firmware builds (firmware-rp2040, thumbv6m; no board in CI: flashed by hand, see its README)"
@@ -62,7 +76,7 @@ MORPHOGEN_BIN="$morphogen" bash scripts/python-check.sh
 
 step "every preset's scenario file, shown and run from a file, gives its fixture"
 shown=$(mktemp -d)
-trap 'rm -rf "$shown"' EXIT
+trap 'rm -rf "$shown" "$timings"' EXIT
 for name in $("$morphogen" list | cut -d' ' -f1); do
     "$morphogen" show "$name" >"$shown/$name.toml"
     "$morphogen" run "$shown/$name.toml" --out "$shown/out-$name" >/dev/null
@@ -82,7 +96,9 @@ step "the web page: every preset in Chromium through WebAssembly, bit-exact (Pla
 MORPHOGEN_RELEASE_BIN="$morphogen" bash scripts/web-check.sh
 
 step "firmware in QEMU, bit-exact against the fixtures"
-MORPHOGEN_VERIFY="$morphogen verify --stream" MORPHOGEN_BLESS="$morphogen bless" \
+MORPHOGEN_BIN="$morphogen" MORPHOGEN_VERIFY="$morphogen verify --stream" MORPHOGEN_BLESS="$morphogen bless" \
   MORPHOGEN_LISTEN="$morphogen listen" MORPHOGEN_SEND="$morphogen send" bash scripts/firmware-check.sh
 
-printf '\nall checks passed\n'
+step_done
+printf '\nall checks passed in %d min; the slowest steps:\n' $((SECONDS / 60))
+sort -rn "$timings" | head -n 8 | awk -F '\t' '{ printf "  %4d s  %s\n", $1, $2 }'

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Firmware check (issues 3 and 17): builds firmware-example for thumbv7m,
-# thumbv6m and thumbv7em, runs each in QEMU's lm3s6965evb with `-icount
+# Firmware check: builds firmware-example for thumbv7m, thumbv6m and
+# thumbv7em, runs each in QEMU's lm3s6965evb with `-icount
 # shift=0` (UART0 → capture file, defmt over semihosting → defmt-print),
 # verifies every capture bit for bit with `morphogen verify --stream`, takes
 # the emulated OLED's picture after each preset (QEMU `screendump` through
@@ -17,14 +17,15 @@
 # examples/wagging-tail.toml, verified against fixtures blessed on the host),
 # sends four scenarios to the built-in firmware over UART0 (`morphogen send`,
 # the firmware's `--serve 4`) and checks its capture and OLED,
-# and rewrites firmware-example/REPORT.md (sizes and costs of the built-in
-# presets).
+# and writes the report of the sizes and costs of the built-in presets
+# (firmware-example/REPORT.md's form) into its work folder and prints it.
 #
-# Usage: scripts/firmware-check.sh [--capture FILE] [--flip BYTE[:BIT]] [--no-report]
+# Usage: scripts/firmware-check.sh [--capture FILE] [--flip BYTE[:BIT]] [--write-report]
 #   --capture FILE    only verify FILE (e.g. a capture from real hardware)
 #   --flip BYTE[:BIT] where the negative check flips a bit (default: middle
 #                     of the capture, bit 0)
-#   --no-report       do not rewrite REPORT.md
+#   --write-report    also rewrite firmware-example/REPORT.md (a tracked file:
+#                     CI leaves the tree as it found it)
 # Environment:
 #   MORPHOGEN_VERIFY  the verify command, given the capture as last argument
 #                     (default: cargo run --release -q -p morphogen-cli -- verify --stream;
@@ -35,8 +36,10 @@
 #                     (default: cargo run --release -q -p morphogen-cli -- listen)
 #   MORPHOGEN_SEND    the send command, given `SCENARIO FILE`
 #                     (default: cargo run --release -q -p morphogen-cli -- send)
+#   MORPHOGEN_BIN     the morphogen binary whose `list` names the host-only
+#                     presets in the report (default: cargo run --release)
 #   CARGO_TARGET_DIR  honoured (default: firmware-example/target)
-#   QEMU_TIMEOUT      seconds per QEMU run (default 600)
+#   QEMU_STALL        seconds QEMU may run without a sign of progress (default 300)
 #
 # Installs what is missing, and only that: rustup targets, qemu-system-arm
 # (apt-get), defmt-print (cargo install --locked), binutils' `size`.
@@ -49,12 +52,12 @@ fw="$root/firmware-example"
 . "$root/scripts/fixed-paths.sh"
 capture_only=""
 flip=""
-write_report=1
+write_report=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --capture) capture_only="$2"; shift 2 ;;
     --flip) flip="$2"; shift 2 ;;
-    --no-report) write_report=0; shift ;;
+    --write-report) write_report=1; shift ;;
     -h|--help) sed -n '2,42p' "$0"; exit 0 ;;
     *) echo "firmware-check: unknown argument $1" >&2; exit 2 ;;
   esac
@@ -184,7 +187,7 @@ user_body="$root/examples/wagging-tail.toml"
 say "build thumbv7m-none-eabi with MORPHOGEN_SCENARIOS=$user_toml,$user_body"
 MORPHOGEN_SCENARIOS="$user_toml,$user_body" cargo build --release --target thumbv7m-none-eabi
 cp "$tdir/thumbv7m-none-eabi/release/morphogen-firmware" "$work/user.elf"
-# A mosaic on a surface (issue 16): the feature `surface` puts it in the
+# A mosaic on a surface: the feature `surface` puts it in the
 # runner (cells and mesh inline, no more RAM); built with the one built-in
 # surface preset that fits the MCU.
 say "build thumbv7m-none-eabi with the feature surface, MORPHOGEN_SCENARIOS=scenarios/watermelon-mcu.toml"
@@ -193,13 +196,13 @@ cp "$tdir/thumbv7m-none-eabi/release/morphogen-firmware" "$work/surface.elf"
 
 # The RTT variant (real hardware; it shares the ELF path of the default
 # thumbv7m build, which the loop below then rebuilds) and the stream-only one
-# (no `extent`, `oled` or `serve`, built for size: issue 15's flash figure).
+# (no `extent`, `oled` or `serve`, built for size: the flash figure).
 say "build (rtt feature, thumbv7m-none-eabi)"
 env -u MORPHOGEN_SCENARIOS cargo build --release --no-default-features --features rtt,extent,oled,serve --target thumbv7m-none-eabi
 say "build (stream only: no extent, oled or serve; bitwise frame CRC; profile small, opt-level z; thumbv7m-none-eabi)"
 env -u MORPHOGEN_SCENARIOS cargo build --profile small --no-default-features --features semihosting,bitwise-crc --target thumbv7m-none-eabi
 cp "$tdir/thumbv7m-none-eabi/small/morphogen-firmware" "$work/stream-only.elf"
-# Every MCU preset, streamed, fits a part with 96 KB of flash (issue 15)
+# Every MCU preset, streamed, fits a part with 96 KB of flash
 # when built for size: under 96,000 B, the stricter reading of "96 KB".
 stream_only_flash="$(size -A "$work/stream-only.elf" | awk '$1 ~ /^\.(vector_table|text|rodata|data)$/ {s += $2} END {print s}')"
 [ "$stream_only_flash" -lt 96000 ] \
@@ -224,42 +227,73 @@ trap 'rm -rf "$user_dir" "$sockets"' EXIT
 # (`oled-screens.py feed`); the OLED after each stream's last frame →
 # $work/screens-NAME/, the defmt log → $work/NAME.log. Fails unless the log
 # has the line DONE, every picture was taken and the stack kept its margin.
+# QEMU runs for as long as it makes progress (watch_progress): no deadline.
 boot() {
-  local name="$1" elf="$2" cpu="$3" feed="$4" done="$5" serial0 status capturer feeder="" capture_status feed_status=0 arg
+  local name="$1" elf="$2" cpu="$3" feed="$4" done="$5" serial0 qemu qemu_status capturer feeder="" capture_status feed_status=0 arg
   shift 5
   local semihosting="enable=on,target=native,arg=$(basename "$elf" .elf),arg=--screen-sync"
   for arg in "$@"; do semihosting+=",arg=$arg"; done
   say "QEMU lm3s6965evb -cpu $cpu: $name${feed:+, fed $(basename "$feed") ($(stat -c %s "$feed") bytes)}"
-  rm -f "$sockets"/*
-  python3 "$root/scripts/oled-screens.py" capture "$sockets/sync" "$sockets/qmp" "$work/screens-$name" \
-    >"$work/$name.screens.log" 2>&1 &
-  capturer=$!
+  rm -f "$sockets"/* "$work/$name.bin" "$work/$name.feed.log"
   serial0="file:$work/$name.bin"
-  if [ -n "$feed" ]; then
-    serial0="unix:$sockets/rx,server=on,wait=on"
-    python3 "$root/scripts/oled-screens.py" feed "$sockets/rx" "$feed" "$work/$name.bin" >"$work/$name.feed.log" 2>&1 &
-    feeder=$!
-  fi
+  [ -z "$feed" ] || serial0="unix:$sockets/rx,server=on,wait=on"
   set +e
-  timeout "${QEMU_TIMEOUT:-600}" qemu-system-arm -machine lm3s6965evb -cpu "$cpu" \
+  # defmt over semihosting to a file, decoded once QEMU is done: its size
+  # is one of the signs of progress.
+  qemu-system-arm -machine lm3s6965evb -cpu "$cpu" \
     -display none -monitor none -parallel none \
     -semihosting-config "$semihosting" \
     -icount shift=0 \
     -serial "$serial0" -serial "unix:$sockets/sync,server=on,wait=on" \
     -qmp "unix:$sockets/qmp,server=on,wait=off" \
-    -kernel "$elf" 2>"$work/$name.qemu.err" \
-    | defmt-print -e "$elf" >"$work/$name.log" 2>&1
-  status=("${PIPESTATUS[@]}")
+    -kernel "$elf" >"$work/$name.defmt" 2>"$work/$name.qemu.err" &
+  qemu=$!
+  python3 "$root/scripts/oled-screens.py" capture --while "$qemu" "$sockets/sync" "$sockets/qmp" "$work/screens-$name" \
+    >"$work/$name.screens.log" 2>&1 &
+  capturer=$!
+  if [ -n "$feed" ]; then
+    python3 "$root/scripts/oled-screens.py" feed --while "$qemu" "$sockets/rx" "$feed" "$work/$name.bin" >"$work/$name.feed.log" 2>&1 &
+    feeder=$!
+  fi
+  watch_progress "$name" "$qemu" "$work/$name.defmt" "$work/$name.bin" "$work/$name.feed.log"
+  wait "$qemu"; qemu_status=$?
   wait "$capturer"; capture_status=$?
   [ -z "$feeder" ] || { wait "$feeder"; feed_status=$?; }
+  defmt-print -e "$elf" <"$work/$name.defmt" >"$work/$name.log" 2>&1
   set -e
   cat "$work/$name.log" "$work/$name.screens.log"
-  [ -z "$feeder" ] || cat "$work/$name.feed.log"
-  [ "${status[0]}" -eq 0 ] || { cat "$work/$name.qemu.err" >&2; die "$name: QEMU exited ${status[0]} (panic, fault, failed run or timeout)"; }
+  [ -z "$feeder" ] || tail -n 1 "$work/$name.feed.log"
+  [ ! -e "$work/$name.stalled" ] || die "$name: $(cat "$work/$name.stalled")"
+  [ "$qemu_status" -eq 0 ] || { cat "$work/$name.qemu.err" >&2; die "$name: QEMU exited $qemu_status (panic, fault or failed run)"; }
   grep -q "$done" "$work/$name.log" || die "$name: no \"$done\" in the log"
   [ "$capture_status" -eq 0 ] || die "$name: the OLED pictures could not be taken"
   [ "$feed_status" -eq 0 ] || die "$name: $(basename "$feed") could not be fed"
   stack_check "$name"
+}
+
+# watch_progress NAME PID FILE...: waits while QEMU (PID) runs. Its signs of
+# progress are FILE… growing: the defmt log, the UART capture, the feeder's
+# count of bytes taken. When none has grown for $QEMU_STALL seconds (default
+# 300; the longest silence of a whole check is a few seconds), QEMU is
+# stopped and $work/NAME.stalled says why. Prints how long QEMU ran and its
+# longest silence.
+watch_progress() {
+  local name="$1" pid="$2" stall="${QEMU_STALL:-300}" size last=-1 since=$SECONDS longest=0 started=$SECONDS
+  shift 2
+  rm -f "$work/$name.stalled"
+  while kill -0 "$pid" 2>/dev/null; do
+    size="$(stat -c %s "$@" 2>/dev/null | awk '{s += $1} END {print s + 0}')"
+    if [ "$size" != "$last" ]; then
+      last="$size"; since=$SECONDS
+    elif [ $((SECONDS - since)) -ge "$stall" ]; then
+      echo "no progress for $stall s (no byte of defmt log, UART capture or feed; QEMU_STALL): stopped" >"$work/$name.stalled"
+      kill "$pid" 2>/dev/null
+      break
+    fi
+    [ $((SECONDS - since)) -le "$longest" ] || longest=$((SECONDS - since))
+    sleep 1
+  done
+  echo "QEMU ran $((SECONDS - started)) s, its longest silence $longest s (stopped after $stall s)"
 }
 
 # stack_check NAME: fails when the painted stack of $work/NAME.log came
@@ -447,14 +481,20 @@ PY
 negative_check "$main_capture" "$expected" "$work"
 
 # ---- report ------------------------------------------------------------------
-if [ $write_report -eq 1 ]; then
-  # Every preset the host knows (core, then the host presets of
-  # host-cli/src/host_presets.rs, marked "host only"), to name the
-  # host-only presets.
+# Every preset the host knows (core, then the host presets of
+# host-cli/src/host_presets.rs, marked "host only"), to name the host-only
+# presets: `morphogen list` from the verify command's binary.
+if [ -n "${MORPHOGEN_BIN:-}" ]; then
+  "$MORPHOGEN_BIN" list >"$work/host-presets.txt" 2>/dev/null || rm -f "$work/host-presets.txt"
+else
   (cd "$root" && cargo run --release -q -p morphogen-cli -- list) >"$work/host-presets.txt" 2>/dev/null \
     || rm -f "$work/host-presets.txt"
-  say "writing firmware-example/REPORT.md"
-  VERIFY_COMMAND="${verify_cmd[*]}" python3 "$fw/report.py" "$work" "${targets[@]}" >"$fw/REPORT.md"
-  cat "$fw/REPORT.md"
+fi
+say "the report ($work/REPORT.md)"
+VERIFY_COMMAND="${verify_cmd[*]}" python3 "$fw/report.py" "$work" "${targets[@]}" >"$work/REPORT.md"
+cat "$work/REPORT.md"
+if [ $write_report -eq 1 ]; then
+  cp "$work/REPORT.md" "$fw/REPORT.md"
+  echo "written to firmware-example/REPORT.md"
 fi
 say "firmware check passed"

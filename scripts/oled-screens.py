@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
-"""The emulated OLED's pictures, taken and compared (issue 17).
+"""The emulated OLED's pictures, taken and compared.
 
 Usage:
-  oled-screens.py capture SYNC_SOCKET QMP_SOCKET OUT_DIR
+  oled-screens.py capture --while PID SYNC_SOCKET QMP_SOCKET OUT_DIR
   oled-screens.py compare QEMU_DIR REFERENCE_DIR NAME...
-  oled-screens.py feed UART_SOCKET FILE [CAPTURE]
+  oled-screens.py feed --while PID UART_SOCKET FILE [CAPTURE]
+
+capture and feed wait for QEMU's sockets for as long as the QEMU process PID
+runs (it creates them as it starts), however slowly it starts.
 
 capture: connects to QEMU's UART1 (a `-serial unix:SYNC_SOCKET,server=on` chardev)
 and QMP (`-qmp unix:QMP_SOCKET,server=on,wait=off`). The firmware, started
@@ -29,7 +32,9 @@ background).
 feed: connects to QEMU's UART (a `-serial unix:UART_SOCKET,server=on`
 chardev), writes a zero byte and FILE into it — QEMU takes bytes as the
 UART's receive FIFO empties, so the program reads them all — and reads what
-the program writes until QEMU exits, into CAPTURE if given. Standard library only.
+the program writes until QEMU exits, into CAPTURE if given; prints how much
+it has fed every 256 KiB (the firmware check watches that as progress).
+Standard library only.
 """
 import json
 import os
@@ -44,9 +49,17 @@ from thumbnail import read_png, write_png  # noqa: E402
 MAGNIFY = 4
 
 
-def connect(path, seconds=60):
-    """Connects to a UNIX socket QEMU is about to create."""
-    deadline = time.monotonic() + seconds
+def running(pid):
+    try:
+        os.kill(pid, 0)
+        return True
+    except ProcessLookupError:
+        return False
+
+
+def connect(path, qemu):
+    """Connects to a UNIX socket that QEMU (process `qemu`) creates as it
+    starts."""
     while True:
         try:
             s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
@@ -54,14 +67,14 @@ def connect(path, seconds=60):
             return s
         except OSError:
             s.close()
-            if time.monotonic() > deadline:
-                sys.exit(f"oled-screens: no QEMU socket at {path} after {seconds} s")
+            if not running(qemu):
+                sys.exit(f"oled-screens: QEMU (process {qemu}) ended before it opened {path}")
             time.sleep(0.05)
 
 
 class Qmp:
-    def __init__(self, path):
-        self.sock = connect(path)
+    def __init__(self, path, qemu):
+        self.sock = connect(path, qemu)
         self.file = self.sock.makefile("rwb", buffering=0)
         self.reply()  # the greeting
         self.call("qmp_capabilities")
@@ -119,10 +132,10 @@ def panel_rows(ppm):
     return rows
 
 
-def capture(sync_path, qmp_path, out):
+def capture(qemu, sync_path, qmp_path, out):
     os.makedirs(out, exist_ok=True)
-    sync = connect(sync_path)
-    qmp = Qmp(qmp_path)
+    sync = connect(sync_path, qemu)
+    qmp = Qmp(qmp_path, qemu)
     captured, pending = [], b""
     while True:
         chunk = sync.recv(256)
@@ -184,19 +197,26 @@ def compare(qemu_dir, host_dir, names):
     return 1 if failures or not names else 0
 
 
-def feed(uart_path, path, capture=None):
+FED_EVERY = 256 * 1024
+
+
+def feed(qemu, uart_path, path, capture=None):
     # A zero byte first: QEMU's UART model drops what it holds when the
     # program enables its FIFO, and the first byte can come before that; a
     # zero byte only ends an empty frame.
     data = b"\x00" + open(path, "rb").read()
-    uart = connect(uart_path)
+    uart = connect(uart_path, qemu)
     out = open(capture, "wb") if capture else None
     # Written from a thread: the program answers before it has read all.
     failure = []
 
     def send():
         try:
-            uart.sendall(data)
+            for at in range(0, len(data), 4096):
+                piece = data[at : at + 4096]
+                uart.sendall(piece)
+                if (at + len(piece)) // FED_EVERY > at // FED_EVERY:
+                    print(f"oled-screens: fed {at + len(piece)} of {len(data)} bytes", flush=True)
         except OSError as e:
             failure.append(e)
 
@@ -219,10 +239,11 @@ def feed(uart_path, path, capture=None):
 
 
 def main():
-    if len(sys.argv) == 5 and sys.argv[1] == "capture":
-        capture(*sys.argv[2:])
-    elif len(sys.argv) in (4, 5) and sys.argv[1] == "feed":
-        feed(*sys.argv[2:])
+    watched = len(sys.argv) > 3 and sys.argv[2] == "--while" and sys.argv[3].isdigit()
+    if watched and len(sys.argv) == 7 and sys.argv[1] == "capture":
+        capture(int(sys.argv[3]), *sys.argv[4:])
+    elif watched and len(sys.argv) in (6, 7) and sys.argv[1] == "feed":
+        feed(int(sys.argv[3]), *sys.argv[4:])
     elif len(sys.argv) >= 4 and sys.argv[1] == "compare":
         sys.exit(compare(sys.argv[2], sys.argv[3], sys.argv[4:]))
     else:
