@@ -26,7 +26,8 @@ use morphogen_scenario::quoted;
 /// The table a sweep writes into its folder.
 pub const TABLE: &str = "sweep.csv";
 
-/// What the sweep in a folder is ([`Manifest`]).
+/// What the sweep in a folder is: its scenario's digest, value lists,
+/// runs and shard.
 pub const MANIFEST: &str = "sweep.toml";
 
 /// The most runs one sweep may have.
