@@ -127,10 +127,13 @@ fn check_glb(dir: &Path, frames: usize) {
     }
 }
 
+/// The files a run wrote into `dir` (not the hidden `.morphogen.lock` it
+/// held the folder with).
 fn files(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != morphogen_cli::folder_lock::LOCK_FILE)
         .collect();
     names.sort();
     names
