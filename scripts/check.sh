@@ -16,6 +16,7 @@ step_done() {
 step() {
     step_done
     step_name="${*%%:*}"
+    step_name="${step_name%% (*}"
     step_started=$SECONDS
     printf '\n==> %s\n' "$*"
 }

@@ -262,3 +262,22 @@ fn a_scenario_with_a_built_in_name_never_takes_the_built_ins_fixture() {
         both(&o)
     );
 }
+
+#[cfg(unix)]
+#[test]
+fn a_fixture_file_that_is_a_device_is_refused_not_read() {
+    // A stream that is a symlink to /dev/zero would be read without end.
+    let tmp = tempfile::tempdir().unwrap();
+    let fixtures = tmp.path().join("fixtures");
+    copy_fixture("growth-curve", &fixtures, "growth-curve");
+    let stream = fixtures.join("growth-curve/stream.bin");
+    fs::remove_file(&stream).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", &stream).unwrap();
+    let o = morphogen(&["verify", "--fixtures", "fixtures"], tmp.path(), None);
+    assert_eq!(o.status.code(), Some(2), "{}", both(&o));
+    assert!(
+        stdout(&o).contains("not a regular file but a device"),
+        "{}",
+        both(&o)
+    );
+}

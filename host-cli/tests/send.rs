@@ -119,3 +119,28 @@ fn a_missing_port_is_named_not_created() {
     );
     assert!(!std::path::Path::new(port).exists());
 }
+
+#[cfg(unix)]
+#[test]
+fn a_write_that_fails_leaves_no_file_behind() {
+    // A file size limit of 0 blocks: the first write fails as on a full
+    // disk (SIGXFSZ, then EFBIG), and the destination is never created.
+    let tmp = tempfile::tempdir().unwrap();
+    let dest = tmp.path().join("message.bin");
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "trap '' XFSZ; ulimit -f 0; exec {} send growth-curve {}",
+            env!("CARGO_BIN_EXE_morphogen"),
+            dest.display()
+        ))
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(!dest.exists(), "send left {}", dest.display());
+}
