@@ -695,41 +695,48 @@ fn a_capture_cannot_choose_its_fixture_by_a_path_in_its_name() {
     }
 }
 
+/// The `.morphogen-*` temporary files in `dir`.
+fn temporary(dir: &Path) -> Vec<String> {
+    fs::read_dir(dir)
+        .map(|entries| {
+            entries
+                .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .filter(|n| n.starts_with(".morphogen-"))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// A run into `out` that would last hours (amanita-df20 with 10,000
+/// relaxations a day), once its stream's temporary file is there: it is
+/// still running then however fast the machine is. The stream is opened
+/// as the run starts, so a minute without it is a run that never opens it.
 #[cfg(unix)]
-#[test]
-fn a_run_stopped_by_a_signal_leaves_no_temporary_file() {
-    // amanita-df20 with 10,000 relaxations a day would simulate for hours:
-    // it is still running, however fast the machine, when it is stopped
-    // as soon as its stream's temporary file is there.
-    let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("out");
+fn a_long_run_writing(out: &Path) -> std::process::Child {
     let mut child = Command::new(env!("CARGO_BIN_EXE_morphogen"))
         .args(["run", "amanita-df20", "--quiet", "--out"])
-        .arg(&out)
+        .arg(out)
         .args(["--set", "mosaic.initial_relaxations=10000"])
         .args(["--set", "mosaic.daily_relaxations=10000"])
         .spawn()
         .unwrap();
-    let temporary = |dir: &Path| -> Vec<String> {
-        fs::read_dir(dir)
-            .map(|entries| {
-                entries
-                    .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-                    .filter(|n| n.starts_with(".morphogen-"))
-                    .collect()
-            })
-            .unwrap_or_default()
-    };
-    // The stream is opened as the run starts: a minute without it is a
-    // run that never opens it.
     let started = std::time::Instant::now();
-    while temporary(&out).is_empty() {
+    while temporary(out).is_empty() {
         if let Some(status) = child.try_wait().unwrap() {
             panic!("the run ended ({status}) before its stream was written");
         }
         assert!(started.elapsed().as_secs() < 60, "no stream after 60 s");
         std::thread::sleep(std::time::Duration::from_millis(5));
     }
+    child
+}
+
+#[cfg(unix)]
+#[test]
+fn a_run_stopped_by_a_signal_leaves_no_temporary_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let mut child = a_long_run_writing(&out);
     let kill = Command::new("kill")
         .args(["-TERM", &child.id().to_string()])
         .status()
@@ -864,37 +871,10 @@ fn a_fifo_or_a_device_as_an_input_file_is_refused_by_its_type() {
 #[cfg(unix)]
 #[test]
 fn one_run_writes_a_folder_at_a_time_and_the_next_removes_what_a_killed_one_left() {
-    // A run that would last hours holds the folder (as in the signal test).
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
     let out_arg = out.to_str().unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_morphogen"))
-        .args(["run", "amanita-df20", "--quiet", "--out", out_arg])
-        .args(["--set", "mosaic.initial_relaxations=10000"])
-        .args(["--set", "mosaic.daily_relaxations=10000"])
-        .spawn()
-        .unwrap();
-    let temporary = || -> usize {
-        fs::read_dir(&out).map_or(0, |entries| {
-            entries
-                .filter(|e| {
-                    e.as_ref()
-                        .unwrap()
-                        .file_name()
-                        .to_string_lossy()
-                        .starts_with(".morphogen-")
-                })
-                .count()
-        })
-    };
-    let started = std::time::Instant::now();
-    while temporary() == 0 {
-        if let Some(status) = child.try_wait().unwrap() {
-            panic!("the run ended ({status}) before its stream was written");
-        }
-        assert!(started.elapsed().as_secs() < 60, "no stream after 60 s");
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
+    let mut child = a_long_run_writing(&out);
     let o = morphogen(&["run", "growth-curve", "--out", out_arg]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(
@@ -906,7 +886,7 @@ fn one_run_writes_a_folder_at_a_time_and_the_next_removes_what_a_killed_one_left
     // the folder removes them.
     child.kill().unwrap();
     child.wait().unwrap();
-    let left = temporary();
+    let left = temporary(&out).len();
     assert!(left > 0);
     let o = morphogen(&["run", "growth-curve", "--out", out_arg]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
@@ -915,7 +895,7 @@ fn one_run_writes_a_folder_at_a_time_and_the_next_removes_what_a_killed_one_left
         "{}",
         text(&o)
     );
-    assert_eq!(temporary(), 0);
+    assert_eq!(temporary(&out), Vec::<String>::new());
 }
 
 #[test]

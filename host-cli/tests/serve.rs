@@ -29,26 +29,10 @@ fn get(port: u16, path: &str) -> (String, Vec<u8>) {
 fn serves_the_page_with_mime_types() {
     let dir = tempfile::tempdir().expect("temp dir");
     std::fs::create_dir(dir.path().join("pkg")).expect("pkg");
-    std::fs::write(dir.path().join("index.html"), "<!doctype html>page").expect("index");
     let wasm = b"\0asm\x01\0\0\0";
     std::fs::write(dir.path().join("pkg/m_bg.wasm"), wasm).expect("wasm");
     std::fs::write(dir.path().join("main.js"), "export {};").expect("js");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_morphogen"))
-        .args(["serve", "--port", "0", "--dir"])
-        .arg(dir.path())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("morphogen serve starts");
-    let mut line = String::new();
-    BufReader::new(child.stderr.take().expect("stderr"))
-        .read_line(&mut line)
-        .expect("the address line");
-    let port: u16 = line
-        .split("http://127.0.0.1:")
-        .nth(1)
-        .and_then(|rest| rest.split('/').next())
-        .and_then(|p| p.parse().ok())
-        .unwrap_or_else(|| panic!("no port in {line:?}"));
+    let (mut child, port) = start(dir.path());
     let (head, body) = get(port, "/");
     assert!(head.starts_with("http/1.1 200"), "{head}");
     assert!(head.contains("content-type: text/html"), "{head}");
