@@ -1,6 +1,5 @@
 //! `morphogen`: run, draw, export and verify Morphogen's simulations.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -715,19 +714,20 @@ fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<u16>) -> R
     })
 }
 
-/// A regular file whole (a FIFO or a device, which could block or never
-/// end, is refused by its type).
-fn read_regular(path: &Path) -> Result<Vec<u8>> {
-    let mut bytes = Vec::new();
-    morphogen_scenario::open_regular(path)
-        .map_err(|e| anyhow::anyhow!(e))?
-        .read_to_end(&mut bytes)?;
-    Ok(bytes)
+/// The largest capture `verify --stream` reads (every MCU preset streamed
+/// back to back is 7.3 MB).
+const MAX_CAPTURE_BYTES: u64 = 1 << 30;
+
+/// A capture whole, up to [`MAX_CAPTURE_BYTES`] (a FIFO or a device, which
+/// could block or never end, is refused by its type).
+fn read_capture(path: &Path) -> Result<Vec<u8>> {
+    morphogen_scenario::read_at_most(path, MAX_CAPTURE_BYTES, "MAX_CAPTURE_BYTES")
+        .map_err(|e| anyhow::anyhow!(e))
 }
 
 fn verify_capture(file: &Path, fixtures: &Path) -> Result<Outcome> {
     let bytes =
-        read_regular(file).with_context(|| format!("cannot read capture {}", file.display()))?;
+        read_capture(file).with_context(|| format!("cannot read capture {}", file.display()))?;
     let parts = capture::split(&bytes);
     if parts.is_empty() {
         bail!("capture {} holds no frames", file.display());

@@ -966,3 +966,36 @@ fn errors_quote_little_of_the_input_and_name_the_users_files() {
         text(&o)
     );
 }
+
+#[test]
+fn a_mismatch_is_a_mismatch_where_its_new_stream_cannot_be_left() {
+    // The fixture of other code (a byte changed, its summary agreeing)
+    // in a folder where the pending stream cannot be written.
+    let tmp = tempfile::tempdir().unwrap();
+    let fixtures = fixture_copy(tmp.path());
+    let dir = fixtures.join("growth-curve");
+    let mut stream = fs::read(dir.join(fixture::STREAM_FILE)).unwrap();
+    let middle = stream.len() / 2;
+    stream[middle] ^= 0x80;
+    fs::write(dir.join(fixture::STREAM_FILE), &stream).unwrap();
+    let summary = fs::read_to_string(dir.join(fixture::SUMMARY_FILE)).unwrap();
+    let old = summary
+        .lines()
+        .find(|l| l.starts_with("stream_digest"))
+        .unwrap();
+    let digest = format!("{:016x}", morphogen::stream::StreamDigest::of(&stream));
+    fs::write(
+        dir.join(fixture::SUMMARY_FILE),
+        summary.replace(old, &format!("stream_digest = \"{digest}\"")),
+    )
+    .unwrap();
+    fs::create_dir(dir.join(fixture::PENDING_FILE)).unwrap();
+    let o = morphogen(&["verify", "--fixtures", fixtures.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(
+        text(&o).contains("MISMATCH  growth-curve")
+            && text(&o).contains("the new stream could not be left beside it"),
+        "{}",
+        text(&o)
+    );
+}
