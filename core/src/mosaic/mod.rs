@@ -147,22 +147,12 @@ pub fn validate(params: &Params) -> Result<(), MosaicError> {
 }
 
 /// The repulsion of each pair of types (Q16) for the adhesion `alpha`:
-/// 1 for like pairs, (1 − α_pq)/√((1 − α_pp)(1 − α_qq)) for unlike ones
-/// ([`Params::adhesion`]). Under the pressure of a wide repulsion radius
-/// the thesis's plain 1 − α packs the type with the higher self-adhesion
-/// denser; measured against the like pairs, adhesion only sorts.
+/// 1 − α_pq (thesis Sec. 3.2.1.1, as the original MClone code computes
+/// it). A type with a higher self-adhesion is softer, so a growing clone
+/// of stiffer cells presses its softer neighbours into thin borders
+/// between the clones (docs/mosaics.md).
 fn repulsion(alpha: &[[Fx; MAX_TYPES]; MAX_TYPES]) -> [[i32; MAX_TYPES]; MAX_TYPES] {
-    // 1 − α as Q16, at least 1 − MAX_SELF_ADHESION on the diagonal once
-    // validated (the max keeps the division defined regardless).
-    let free = |a: Fx| i64::from((Fx::ONE - a.clamp(Fx::ZERO, Fx::ONE)).to_bits());
-    core::array::from_fn(|p| {
-        core::array::from_fn(|q| {
-            let like = (free(alpha[p][p]) * free(alpha[q][q])) as u64; // Q32, ≤ 2^32
-            let scale = (like.isqrt() as i64).max(1); // Q16
-            // ≤ 2^16 · 2^16 / (0.05 · 2^16) < 2^21: fits i32.
-            ((free(alpha[p][q]) << 16) / scale) as i32
-        })
-    })
+    alpha.map(|row| row.map(|a| (Fx::ONE - a.clamp(Fx::ZERO, Fx::ONE)).to_bits()))
 }
 
 /// The inline store of the MCU presets: 2 048 cells, 512 grid bins, 24 B

@@ -58,10 +58,8 @@ pub struct Params<'a> {
     /// The cell types (1 to [`MAX_TYPES`]).
     pub types: &'a [CellType],
     /// α for each pair of types (symmetric, in [0, 1]; a type with itself
-    /// at most [`MAX_SELF_ADHESION`]). Like pairs all repel alike; a pair
-    /// p, q repels with (1 − α_pq)/√((1 − α_pp)(1 − α_qq)) of that, so
-    /// adhesion sorts the types without packing one denser than another
-    /// (DESIGN.md "Clonal mosaic"; the thesis scales by 1 − α alone).
+    /// at most [`MAX_SELF_ADHESION`]): a pair p, q repels with 1 − α_pq
+    /// (thesis Sec. 3.2.1.1).
     pub adhesion: [[Fx; MAX_TYPES]; MAX_TYPES],
     /// `mutation[parent][child]`: probability that a child of `parent` is of
     /// type `child` (off the diagonal; the rest of the row keeps the
@@ -101,8 +99,7 @@ fn is_zero(x: &Fx) -> bool {
 }
 
 /// The largest adhesion α of a type with itself: its cells must still
-/// repel each other, since every pair's repulsion is measured against the
-/// like pairs' ([`Params::adhesion`]).
+/// repel each other, or a child would never leave its parent's place.
 pub const MAX_SELF_ADHESION: Fx = Fx::from_ratio(95, 100);
 
 /// The largest momentum β: below 1, so that every move dies out.

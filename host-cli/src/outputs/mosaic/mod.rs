@@ -11,6 +11,7 @@
 //! the types' colours; the control mask, if any, as `mask.pbm`. Days are
 //! written in parallel.
 
+mod pattern;
 mod voronoi;
 
 use std::io::Write as _;
@@ -35,6 +36,7 @@ use super::{
 use crate::atomic::{self, OutputFile, write_atomic};
 use crate::records::{Place, Records};
 
+pub use pattern::{Figures, Raster};
 pub use voronoi::{Indexed, voronoi};
 use voronoi::{palette, picture_size};
 
@@ -123,6 +125,31 @@ pub(super) fn write_shares(
     })
 }
 
+/// Writes `pattern.csv`: per streamed day and type, the figures of its
+/// pattern in the day's Voronoi picture ([`Figures`]).
+fn write_pattern(
+    names: &[&str],
+    counts: &[(i32, Vec<usize>)],
+    figures: &[Option<Vec<Figures>>],
+    path: &Path,
+) -> Result<()> {
+    OutputFile::write_with(path, |file| {
+        file.write_all(b"day,type,name,patches,runs_per_row,width,correlation_u,correlation_v\n")?;
+        for ((day, _), figures) in counts.iter().zip(figures) {
+            for (k, f) in figures.iter().flatten().enumerate() {
+                let name = names.get(k).copied().unwrap_or("");
+                let [cu, cv] = f.correlation;
+                writeln!(
+                    file,
+                    "{day},{k},{name},{},{:.2},{:.3},{cu:.3},{cv:.3}",
+                    f.patches, f.runs_per_row, f.width
+                )?;
+            }
+        }
+        Ok(())
+    })
+}
+
 /// Writes (those of `kinds`) the CSVs, the Voronoi PNGs, the animation,
 /// the cell counts chart (its legend by the types' `names`, where given)
 /// and the mask of `params`' run, a day at a time as the days are read.
@@ -173,7 +200,8 @@ pub fn write<R: Records + ?Sized>(
     let latest: Mutex<Option<(usize, Indexed)>> = Mutex::new(None);
     // Per day: its number and the cells of each type.
     let mut counts: Vec<(i32, Vec<usize>)> = Vec::new();
-    let per_day: Vec<(Vec<PathBuf>, Option<Vec<u64>>)> = pipeline(
+    type Measured = (Vec<PathBuf>, Option<(Vec<u64>, Vec<Figures>)>);
+    let per_day: Vec<Measured> = pipeline(
         |send| {
             let mut current: Option<Day> = None;
             let mut hand_over = |day: Day| {
@@ -230,7 +258,12 @@ pub fn write<R: Records + ?Sized>(
             let mut areas = None;
             if kinds.has(Kind::Png) || kinds.has(Kind::Csv) || animated.is_some() {
                 let picture = voronoi(domain, &colours, &d.cells);
-                areas = kinds.has(Kind::Csv).then(|| picture.areas(colours.len()));
+                areas = kinds.has(Kind::Csv).then(|| {
+                    let figures = (0..colours.len())
+                        .map(|k| picture.raster(domain).figures(k as u8 + 2))
+                        .collect();
+                    (picture.areas(colours.len()), figures)
+                });
                 if kinds.has(Kind::Png) {
                     let png = dir.join(numbering.name(FileSeries::DAYS, d.day));
                     picture.save(&png)?;
@@ -260,11 +293,18 @@ pub fn write<R: Records + ?Sized>(
             Ok((paths, areas))
         },
     )?;
-    let (paths, areas): (Vec<_>, Vec<_>) = per_day.into_iter().unzip();
+    let (paths, measured): (Vec<_>, Vec<_>) = per_day.into_iter().unzip();
     let mut written: Vec<PathBuf> = paths.into_iter().flatten().collect();
     if kinds.has(Kind::Csv) {
+        let (areas, figures): (Vec<_>, Vec<_>) = measured
+            .into_iter()
+            .map(|m| m.map_or((None, None), |(a, f)| (Some(a), Some(f))))
+            .unzip();
         let path = dir.join("types.csv");
         write_shares(names, &counts, &areas, &path)?;
+        written.push(path);
+        let path = dir.join("pattern.csv");
+        write_pattern(names, &counts, &figures, &path)?;
         written.push(path);
     }
     if let Some((apng, _)) = apng {

@@ -18,6 +18,8 @@ use crate::outputs::pack_rgb;
 use crate::outputs::picture::save_indexed;
 use crate::outputs::surface::pattern_pixel;
 
+use super::pattern::Raster;
+
 /// The longest side of the pictures, in pixels.
 const LONG_SIDE: f64 = 900.0;
 
@@ -265,6 +267,18 @@ impl Indexed {
     #[must_use]
     pub fn areas(&self, types: usize) -> Vec<u64> {
         self.counts[2..].iter().take(types).copied().collect()
+    }
+
+    /// The picture as a [`Raster`] of `domain`, for its pattern's figures.
+    #[must_use]
+    pub fn raster(&self, domain: &Domain) -> Raster<'_> {
+        let size = domain.size.map(|s| f64::from(s.to_bits()) / 65_536.0);
+        Raster {
+            pixels: &self.pixels,
+            width: self.width,
+            unit: [size[0] / self.width as f64, size[1] / self.height as f64],
+            periodic: domain.periodic,
+        }
     }
 
     /// The colour at the fractions (`u`, `v`) of its width and height
