@@ -167,7 +167,7 @@ fn at_every_table_age_the_deformed_features_have_the_tables_lengths() {
                             Drive::Measured(col) => {
                                 table.columns[usize::from(col)].values[k].to_f64()
                             }
-                            Drive::Follows(_) => {
+                            Drive::Follows(_) | Drive::Below { .. } => {
                                 let rest = s.rest(c).unwrap();
                                 solve::feature_target(
                                     cyl,
@@ -669,4 +669,85 @@ fn every_body_stands_on_its_hooves() {
         with_body(name, |params| check(name, params));
     }
     assert!(failures.is_empty(), "{failures:?}");
+}
+
+/// The model vertices on top of and under the spine's ring at `x` (the
+/// highest and lowest vertex within `window` of that x; a ring on a slope
+/// leans, its top vertex off the station's x).
+fn spine_ring(model: &BodyModel<'_>, x: f64, window: f64) -> [u32; 2] {
+    let mesh = &model.mesh;
+    let ring: Vec<(u32, Vector3<f64>)> = (0..mesh.vertex_count())
+        .map(|i| (i, mesh.vertex::<f64>(i).unwrap()))
+        .filter(|(_, p)| (p.x - x).abs() < window)
+        .collect();
+    let by_y = |a: &&(u32, Vector3<f64>), b: &&(u32, Vector3<f64>)| a.1.y.total_cmp(&b.1.y);
+    [
+        ring.iter().max_by(by_y).unwrap().0,
+        ring.iter().min_by(by_y).unwrap().0,
+    ]
+}
+
+/// Every feature Table 2 names, measured on the calf and the cow at every
+/// age the table gives: withers and croup heights (the top of the spine
+/// above the withers, x = 42 cm, and above the hips, x = −65 cm, over the
+/// ground), chest depth (withers to sternum, the same ring's lowest
+/// vertex), poll to muzzle and forehead width (the head's features). All
+/// within 3 % of the table.
+#[test]
+fn the_holstein_has_every_table_2_measurement_at_every_table_age() {
+    with_body("cow-growth", |params| {
+        let (model, table) = (params.model, params.table);
+        let [withers, sternum] = spine_ring(model, 42.0, 0.5);
+        let [croup, _] = spine_ring(model, -65.0, 5.0);
+        let head = model
+            .cylinders
+            .iter()
+            .position(|c| c.name == Label::new("head"))
+            .unwrap();
+        let mut worst: f64 = 0.0;
+        let mut failures = Vec::new();
+        for (k, age) in table.ages.iter().enumerate() {
+            let frame = (0..u32::from(params.frames))
+                .find(|&f| params.age(f) == *age)
+                .unwrap();
+            let v = deformed::<f64>(params, frame);
+            let at = |i: u32| v[i as usize];
+            let measured = [
+                ("withers-height", at(withers).y),
+                ("croup-height", at(croup).y),
+                ("chest-depth", at(withers).y - at(sternum).y),
+            ];
+            let s = posed::<f64>(params, frame);
+            let cylinder = &model.cylinders[head];
+            let features = [
+                (
+                    "poll-to-muzzle",
+                    s.feature_length(cylinder, head, 0).unwrap(),
+                ),
+                (
+                    "forehead-width",
+                    s.feature_length(cylinder, head, 1).unwrap(),
+                ),
+            ];
+            for (name, got) in measured.into_iter().chain(features) {
+                let column = table
+                    .columns
+                    .iter()
+                    .find(|c| c.name == Label::new(name))
+                    .unwrap();
+                let want = column.values[k].to_f64();
+                let err = (got - want) / want;
+                println!(
+                    "{age} months: {name} {got:.2} cm, table {want:.1} cm ({:+.2} %)",
+                    err * 100.0
+                );
+                worst = worst.max(err.abs());
+                if err.abs() > 0.03 {
+                    failures.push((name, age.to_f64(), got, want));
+                }
+            }
+        }
+        println!("largest Table 2 error: {:.2} %", worst * 100.0);
+        assert!(failures.is_empty(), "{failures:?}");
+    });
 }
