@@ -4,6 +4,7 @@
 
 use morphogen::body::gait::Channel as CoreChannel;
 use morphogen::body::gait::Gait as CoreGait;
+use morphogen::body::gait::{Footfall, gravity};
 use morphogen::body::table::Column as CoreColumn;
 use morphogen::body::{
     BodyError, BodyModel, BodyParams, Cylinder, GrowthTable, Interpolation, Label, Mesh, Skeleton,
@@ -159,6 +160,8 @@ pub enum Checked {
         columns: Vec<(Label, Vec<Fx>)>,
         /// Gait channels: cylinder, shift, degrees.
         gait: Option<Vec<(Label, u8, Vec<i16>)>>,
+        /// The gait's footfall timing, if any.
+        footfall: Option<Footfall>,
     },
     /// `[bones]`.
     Bones {
@@ -243,6 +246,7 @@ impl Checked {
                 ages,
                 columns,
                 gait,
+                footfall,
             } => {
                 let columns = core_columns(columns);
                 let table = GrowthTable {
@@ -262,6 +266,7 @@ impl Checked {
                     .collect();
                 let core_gait = CoreGait {
                     channels: &channels,
+                    footfall: *footfall,
                 };
                 model.with_model(|model| {
                     let params = BodyParams {
@@ -941,6 +946,30 @@ fn body(b: &schema::Body, files: &dyn Files) -> Result<Checked> {
         })?;
     }
     let frames: u16 = int("body.frames", b.frames, 1, 10000)?;
+    let footfall = match b.gait.as_ref().map(|g| (g.duty_factor, g.stride_seconds)) {
+        None | Some((None, None)) => None,
+        Some((Some(duty), Some(seconds))) => {
+            if gravity(&t.unit).is_none() {
+                return invalid(
+                    "body.gait.duty_factor",
+                    format!(
+                        "a flight needs gravity in the table's unit: in, cm, mm or m (not {:?})",
+                        t.unit
+                    ),
+                );
+            }
+            Some(Footfall {
+                duty_factor: fx("body.gait.duty_factor", duty, 0.05, 0.95)?,
+                stride_seconds: fx("body.gait.stride_seconds", seconds, 0.05, 10.0)?,
+            })
+        }
+        Some((Some(_), None)) => {
+            return invalid("body.gait.stride_seconds", "needed with duty_factor");
+        }
+        Some((None, Some(_))) => {
+            return invalid("body.gait.duty_factor", "needed with stride_seconds");
+        }
+    };
     let (frames_per_stride, gait) = match &b.gait {
         None => (1, None),
         Some(g) => {
@@ -993,6 +1022,7 @@ fn body(b: &schema::Body, files: &dyn Files) -> Result<Checked> {
         ages,
         columns,
         gait,
+        footfall,
     })
 }
 

@@ -327,6 +327,14 @@ pub struct Channel {
 pub struct Gait {
     /// Frames per stride.
     pub frames_per_stride: i64,
+    /// The share of the stride each hoof is on the ground from its
+    /// channel's sample 0 (with `stride_seconds`); without it the lowest
+    /// fore and hind hooves support the body at every phase.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duty_factor: Option<f64>,
+    /// The stride's duration, seconds (the suspension's flight time).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stride_seconds: Option<f64>,
     /// The joints it moves.
     pub channels: Vec<Channel>,
 }
