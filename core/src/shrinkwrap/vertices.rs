@@ -48,16 +48,19 @@ impl Weights {
 /// segments and polygon edges, in the order first met) into `out`.
 ///
 /// # Errors
-/// `Err(())` when there are more than [`MAX_VERTICES`].
+/// [`crate::Error::Capacity`] naming [`MAX_VERTICES`] when there are more.
 pub fn collect_vertices<R: Real>(
     elements: &[Element<R>],
     out: &mut Vec<[R; 3], MAX_VERTICES>,
-) -> Result<(), ()> {
+) -> Result<(), crate::Error> {
     out.clear();
     for e in elements {
         for p in [e.a, e.b] {
             if !out.contains(&p) {
-                out.push(p).map_err(|_| ())?;
+                out.push(p).map_err(|_| crate::Error::Capacity {
+                    limit: "MAX_VERTICES",
+                    capacity: MAX_VERTICES as u32,
+                })?;
             }
         }
     }
@@ -306,7 +309,7 @@ mod tests {
             })
             .collect();
         let mut collected = Vec::new();
-        assert_eq!(collect_vertices(&segments, &mut collected), Ok(()));
+        assert!(collect_vertices(&segments, &mut collected).is_ok());
         assert_eq!(&collected[..], &v[..]);
         assert!(vertices_hold(&segments, &collected));
         assert!(!vertices_hold(&segments[2..], &collected));

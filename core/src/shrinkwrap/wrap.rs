@@ -200,10 +200,7 @@ fn field_of<'f, R: FieldReal>(
         Weights::Constant => SkeletonField::new(elements, prepared),
         Weights::Normalised => {
             if !vertices_hold(elements, vertices) {
-                collect_vertices(elements, vertices).map_err(|()| Error::Capacity {
-                    limit: "MAX_VERTICES",
-                    capacity: MAX_VERTICES as u32,
-                })?;
+                collect_vertices(elements, vertices)?;
             }
             SkeletonField::normalised(elements, vertices)
         }
