@@ -105,6 +105,8 @@ pub struct SentWrap {
     pub max_iterations: u16,
     /// As [`WrapParams::split_tolerance`].
     pub split_tolerance: Fx,
+    /// As [`WrapParams::weights`].
+    pub weights: crate::shrinkwrap::Weights,
 }
 
 impl From<WrapParams> for SentWrap {
@@ -116,6 +118,7 @@ impl From<WrapParams> for SentWrap {
             step: w.step,
             max_iterations: w.max_iterations,
             split_tolerance: w.split_tolerance,
+            weights: w.weights,
         }
     }
 }
@@ -129,6 +132,7 @@ impl From<SentWrap> for WrapParams {
             step: w.step,
             max_iterations: w.max_iterations,
             split_tolerance: w.split_tolerance,
+            weights: w.weights,
         }
     }
 }
@@ -439,6 +443,7 @@ mod tests {
                 step: Fx::from_ratio(1, 4),
                 max_iterations: 40,
                 split_tolerance: crate::shrinkwrap::SPLIT_TOLERANCE,
+                weights: crate::shrinkwrap::Weights::Normalised,
             },
             frames: Frames::Seeds(3),
         };

@@ -11,7 +11,9 @@ use morphogen::bones::{BonesParams, Frames, Grower, MCU_TRIANGLES, MCU_VERTICES,
 use morphogen::fx::{Fx, Real};
 use morphogen::lsys::{Buffered, LsysError, Module, Neighbours};
 use morphogen::preset::{self, Model, Runner};
-use morphogen::shrinkwrap::{Element, Shrinkwrap, ShrinkwrapError, WrapParams, worst_level_error};
+use morphogen::shrinkwrap::{
+    Element, Shrinkwrap, ShrinkwrapError, Weights, WrapParams, worst_level_error,
+};
 use morphogen::stream::{Record, Sink, SinkError};
 use nalgebra::Vector3;
 
@@ -63,6 +65,7 @@ struct Wrapped {
     name: &'static str,
     frame: usize,
     target: Fx,
+    weights: Weights,
     skeleton: Skeleton,
     fx: Box<McuWrap>,
     f64: Box<Shrinkwrap<f64, MCU_VERTICES, MCU_TRIANGLES>>,
@@ -85,6 +88,7 @@ fn wrapped() -> &'static [Wrapped] {
                         name,
                         frame,
                         target: p.wrap.target,
+                        weights: p.wrap.weights,
                         skeleton,
                         fx,
                         f64,
@@ -99,7 +103,7 @@ fn wrapped() -> &'static [Wrapped] {
 #[test]
 fn every_vertex_of_every_preset_frame_is_within_5_percent_of_v0() {
     for w in wrapped() {
-        let worst = worst_level_error(&w.skeleton, w.fx.mesh().vertices(), w.target);
+        let worst = worst_level_error(&w.skeleton, w.weights, w.fx.mesh().vertices(), w.target);
         assert!(
             worst.to_f64() <= 0.05,
             "{} frame {}: {}",
@@ -144,7 +148,12 @@ fn fixed_point_wrap_matches_the_f64_reference() {
         }
         let sf: Vec<Element<f64>> = w.skeleton.iter().map(|e| e.convert(f64::from_fx)).collect();
         let points: Vec<Vector3<f64>> = a.vertices().iter().map(|v| v.map(f64::from_fx)).collect();
-        worst_level = worst_level.max(worst_level_error(&sf, &points, f64::from_fx(w.target)));
+        worst_level = worst_level.max(worst_level_error(
+            &sf,
+            w.weights,
+            &points,
+            f64::from_fx(w.target),
+        ));
     }
     println!(
         "{same} of {compared} frames of segments and points split alike; largest vertex distance {worst_distance:.6}; largest exact |V − V0|/V0 (all {} frames) {worst_level:.6}",

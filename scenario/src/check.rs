@@ -1215,6 +1215,7 @@ fn bones(b: &schema::Bones, files: &dyn Files) -> Result<Checked> {
         step: fx("bones.wrap.step", w.step, 0.0001, 1000.0)?,
         max_iterations: int("bones.wrap.max_iterations", w.max_iterations, 1, 65535)?,
         split_tolerance: fx("bones.wrap.split_tolerance", w.split_tolerance, 0.001, 1.0)?,
+        weights: w.weights,
     };
     Ok(Checked::Bones {
         grammar,

@@ -326,7 +326,7 @@ fn user_body(m: &BodyModel<'_>) -> Result<String, String> {
 fn bones(p: &BonesParams<'_>) -> String {
     let w = &p.wrap;
     format!(
-        "BonesParams {{ grammar: {:?}, wrap: WrapParams {{ meridians: {}, parallels: {}, target: {}, step: {}, max_iterations: {}, split_tolerance: {} }}, frames: {} }}",
+        "BonesParams {{ grammar: {:?}, wrap: WrapParams {{ meridians: {}, parallels: {}, target: {}, step: {}, max_iterations: {}, split_tolerance: {}, weights: morphogen::shrinkwrap::Weights::{:?} }}, frames: {} }}",
         p.grammar,
         w.meridians,
         w.parallels,
@@ -334,6 +334,7 @@ fn bones(p: &BonesParams<'_>) -> String {
         fx(w.step),
         w.max_iterations,
         fx(w.split_tolerance),
+        w.weights,
         match p.frames {
             bones::Frames::Final => "bones::Frames::Final".to_string(),
             bones::Frames::EveryStep { first } => {

@@ -378,6 +378,10 @@ pub struct Wrap {
     pub max_iterations: i64,
     /// |V − V0| / V0 beyond which an edge is split (5 % in the paper).
     pub split_tolerance: f64,
+    /// The terms of V: `"normalised"` (the paper's eqs. 1–2, the
+    /// default) or `"constant"`.
+    #[serde(default)]
+    pub weights: morphogen::shrinkwrap::Weights,
 }
 
 /// Which skeletons are wrapped.

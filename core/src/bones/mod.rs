@@ -1,6 +1,8 @@
 //! Bones (seed `003_…`, Slovak): an L-system skeleton of points and
 //! segments, wrapped by [`crate::shrinkwrap`] in a closed triangle mesh on
-//! the iso-surface V(r) = V0 of V(r) = Σ ρ_i / |r − R_i|.
+//! the iso-surface V(r) = V0 of V(r) = Σ ρ_i / |r − R_i|, with the paper's
+//! normalised ρ_i over the skeleton's vertices (eqs. (1)–(2)) or each
+//! element's own constant ρ ([`crate::shrinkwrap::Weights`]).
 //!
 //! - [`Grower`] derives a bone grammar and draws its skeleton: `F` is a
 //!   segment of weight = the turtle's width, `O(ρ)` a point of weight ρ,

@@ -27,6 +27,16 @@ const WRAP: WrapParams = WrapParams {
     step: Fx::from_ratio(3, 20),
     max_iterations: 64,
     split_tolerance: crate::shrinkwrap::SPLIT_TOLERANCE,
+    weights: crate::shrinkwrap::Weights::Constant,
+};
+
+/// The shrinkwrap of `long-bone` and `bone-growth`: the paper's weights
+/// (eqs. 1–2), V0 = 0.8 reached in steps of 0.05.
+const WRAP_PAPER: WrapParams = WrapParams {
+    target: Fx::from_ratio(4, 5),
+    step: Fx::from_ratio(1, 20),
+    weights: crate::shrinkwrap::Weights::Normalised,
+    ..WRAP
 };
 
 /// The built-in bone scenarios' parameters (`scenarios/long-bone.toml`,
@@ -36,7 +46,7 @@ static PRESETS: [(&str, BonesParams<'static>); 3] = [
         "long-bone",
         BonesParams {
             grammar: LONG_BONE_GRAMMAR,
-            wrap: WRAP,
+            wrap: WRAP_PAPER,
             frames: Frames::Final,
         },
     ),
@@ -52,7 +62,7 @@ static PRESETS: [(&str, BonesParams<'static>); 3] = [
         "bone-growth",
         BonesParams {
             grammar: LONG_BONE_GRAMMAR,
-            wrap: WRAP,
+            wrap: WRAP_PAPER,
             frames: Frames::EveryStep { first: 1 },
         },
     ),

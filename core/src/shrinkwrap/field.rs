@@ -7,6 +7,7 @@ use nalgebra::Vector3;
 
 use super::element::Element;
 use super::polygon;
+use super::vertices::{normalised, normalised_fx};
 use crate::fx::root::rounded_isqrt_u62;
 use crate::fx::{Fx, Real};
 #[cfg(test)]
@@ -27,6 +28,17 @@ pub trait FieldReal: Real {
     /// has one and the element is in its range.
     fn prepare(_element: &Element<Self>) -> Option<PreparedElement> {
         None
+    }
+
+    /// V(r) of eqs. (1)–(2) over `vertices`, and ∇V(r) when `gradient`
+    /// (zero otherwise): [`normalised`] in this type's arithmetic, or an
+    /// integer kernel.
+    fn normalised_of(
+        vertices: &[[Self; 3]],
+        r: &Vector3<Self>,
+        gradient: bool,
+    ) -> (Self, Vector3<Self>) {
+        normalised(vertices, r, gradient)
     }
 
     /// V(r) of `field`'s skeleton, and ∇V(r) when `gradient` (zero
@@ -53,6 +65,10 @@ impl FieldReal for f64 {}
 impl FieldReal for Fx {
     fn prepare(element: &Element<Fx>) -> Option<PreparedElement> {
         PreparedElement::new(element)
+    }
+
+    fn normalised_of(vertices: &[[Fx; 3]], r: &Vector3<Fx>, gradient: bool) -> (Fx, Vector3<Fx>) {
+        normalised_fx(vertices, r, gradient)
     }
 
     /// The kernel on the prepared elements at points within ±8192 units (`NEAR`);
@@ -146,6 +162,10 @@ pub struct SkeletonField<'a, R: Real> {
     elements: &'a [Element<R>],
     /// The elements' integer forms, all of them or none.
     prepared: &'a [PreparedElement],
+    /// With the paper's weights ([`super::Weights::Normalised`]): the
+    /// skeleton's distinct vertices, its elements; `None` for constant
+    /// weights.
+    vertices: Option<&'a [[R; 3]]>,
 }
 
 impl<'a, R: FieldReal> SkeletonField<'a, R> {
@@ -172,6 +192,17 @@ impl<'a, R: FieldReal> SkeletonField<'a, R> {
         SkeletonField {
             elements,
             prepared: storage,
+            vertices: None,
+        }
+    }
+
+    /// The paper's field (eqs. (1)–(2)) of the vertices `vertices`
+    /// ([`super::vertices::collect_vertices`]) of `elements`.
+    pub fn normalised(elements: &'a [Element<R>], vertices: &'a [[R; 3]]) -> SkeletonField<'a, R> {
+        SkeletonField {
+            elements,
+            prepared: &[],
+            vertices: Some(vertices),
         }
     }
 
@@ -195,13 +226,19 @@ impl<'a, R: FieldReal> SkeletonField<'a, R> {
     /// V(r) and ∇V(r), as [`field`] gives them.
     #[must_use]
     pub fn at(&self, r: &Vector3<R>) -> (R, Vector3<R>) {
-        R::field_of(self, r, true)
+        match self.vertices {
+            Some(vertices) => R::normalised_of(vertices, r, true),
+            None => R::field_of(self, r, true),
+        }
     }
 
     /// V(r) alone, as [`potential`] gives it.
     #[must_use]
     pub fn potential_at(&self, r: &Vector3<R>) -> R {
-        R::field_of(self, r, false).0
+        match self.vertices {
+            Some(vertices) => R::normalised_of(vertices, r, false).0,
+            None => R::field_of(self, r, false).0,
+        }
     }
 }
 
@@ -282,7 +319,7 @@ fn q32_to_q16(q32: i64) -> i32 {
 }
 
 /// u·w of Q16 bits within ±2³⁰, exact in Q32 (below 3·2⁶⁰).
-fn dot_near(u: &[i32; 3], w: &[i32; 3]) -> i64 {
+pub(super) fn dot_near(u: &[i32; 3], w: &[i32; 3]) -> i64 {
     let product = |k: usize| (u[k] as i64).wrapping_mul(w[k] as i64);
     product(0).wrapping_add(product(1)).wrapping_add(product(2))
 }
@@ -423,7 +460,7 @@ fn inverse_distance(distance: Fx) -> u32 {
 /// `length_of_squared` does not saturate) in fewer steps: the distance is
 /// held at 2⁻¹² (16 bits) by rooting at least 241, since
 /// √240 + ½ < 16 ≤ √241 + ½.
-fn inverse_of_squared(squared: u64) -> u32 {
+pub(super) fn inverse_of_squared(squared: u64) -> u32 {
     // The max(16) changes nothing; it spares the division a zero check.
     let d = (rounded_isqrt_u62(squared.max(241)) as u32).max(16);
     (0u32.wrapping_sub(d.wrapping_sub(d / 2)) / d).wrapping_add(1)

@@ -115,7 +115,7 @@ fn wrap_steps(skeleton: &[Element<Fx>], params: &WrapParams) -> Result<Vec<WrapS
         WrapStep {
             level,
             vertices: points.len(),
-            worst: worst_level_error(&reference, &points, level),
+            worst: worst_level_error(&reference, params.weights, &points, level),
         }
     };
     wrap.start(skeleton, params)?;
@@ -259,7 +259,7 @@ pub fn write<R: Records + ?Sized>(
             f.vertices.len(),
             f.triangles.len(),
             euler(&f),
-            worst_level_error(&skeleton, &points(&f), level)
+            worst_level_error(&skeleton, params.wrap.weights, &points(&f), level)
         );
         if kinds.has(Kind::Obj) || glb.is_some() {
             let header = format!("{preset} frame {}, {} L-system steps", f.index, f.age);
