@@ -202,7 +202,7 @@ mod tests {
 
     #[test]
     fn a_patch_across_the_seam_is_one_patch() {
-        let pixels = picture(40, 20, |x, y| (x < 3 || x > 36) && (5..9).contains(&y));
+        let pixels = picture(40, 20, |x, y| !(3..=36).contains(&x) && (5..9).contains(&y));
         let wrapped = Raster {
             pixels: &pixels,
             width: 40,
