@@ -125,12 +125,16 @@ pub struct Horn {
     pub modules: Vec<HornModule>,
 }
 
-/// `[lsystem]`: a grammar file (`docs/lsystems.md`).
+/// `[lsystem]`: a grammar file (`docs/lsystems.md`) and any of its
+/// settings and constants set from here.
 #[derive(Debug, Clone, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
 pub struct LSystem {
     /// The grammar.
     pub grammar: Include,
+    /// Every other key: a setting or constant of the grammar and its value
+    /// (`delta = 30`), written into the grammar's text.
+    #[serde(flatten)]
+    pub constants: std::collections::BTreeMap<String, toml::Value>,
 }
 
 /// A mosaic's surface.
