@@ -1,7 +1,8 @@
-//! Every planar MClone preset draws what its thesis figure shows
+//! Every MClone preset of a figure draws what the figure shows
 //! (Ch. 4), measured on its Voronoi pictures as `morphogen run` writes
 //! them (`pattern.csv`, `types.csv`, `cells_dayNN.csv`): the watermelon's
-//! stripes run along the fruit and widen with w_r (Fig. 4.16), a cactus
+//! stripes run along the fruit and widen with w_r (Fig. 4.16), on the
+//! fruit itself too (Figs. 4.17–4.18, unrolled onto the control map), a cactus
 //! clone grows as one spot (Figs. 4.6–4.8), the croton keeps its patches
 //! (Fig. 4.1) and turns yellow with age (Fig. 4.3), the philodendron's
 //! pale centre is solid and grows with the days (Figs. 4.10, 4.12), and
@@ -93,6 +94,32 @@ fn watermelon_stripes_run_along_the_fruit_and_widen_with_the_radius() {
         widths.windows(2).all(|w| w[0] < w[1]),
         "stripe widths at w_r 1, 2, 3: {widths:?}"
     );
+}
+
+#[test]
+#[cfg_attr(
+    not(debug_assertions),
+    ignore = "runs the release binary: run it in a debug build"
+)]
+fn watermelons_grown_on_the_fruit_are_striped_along_it() {
+    // Figs. 4.16–4.18 on the objects themselves, unrolled onto the control
+    // cylinder: the mask's 16 stripes, from pole to pole.
+    let tmp = tempfile::tempdir().unwrap();
+    for preset in ["watermelon-fruit", "watermelon-sphere", "watermelon-square"] {
+        let dir = tmp.path().join(preset);
+        run(preset, &dir);
+        let last = *figures(&dir, "F").last().unwrap();
+        assert!(
+            (12.0..=20.0).contains(&last.runs_per_row),
+            "{preset}: {} dark runs around the fruit, for 16 stripes",
+            last.runs_per_row
+        );
+        let [across, along] = last.correlation;
+        assert!(
+            along >= 3.0 * across,
+            "{preset}: correlated over {along} along the fruit, {across} around it"
+        );
+    }
 }
 
 #[test]

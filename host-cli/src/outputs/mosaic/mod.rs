@@ -126,8 +126,9 @@ pub(super) fn write_shares(
 }
 
 /// Writes `pattern.csv`: per streamed day and type, the figures of its
-/// pattern in the day's Voronoi picture ([`Figures`]).
-fn write_pattern(
+/// pattern in the day's Voronoi picture ([`Figures`]), on the plane or
+/// unrolled from a mesh alike.
+pub(super) fn write_pattern(
     names: &[&str],
     counts: &[(i32, Vec<usize>)],
     figures: &[Option<Vec<Figures>>],

@@ -8,6 +8,7 @@
 //! by sampling every triangle); the cell counts chart and the mask as for
 //! the plane.
 
+mod control;
 mod nearest;
 mod view;
 
@@ -20,13 +21,16 @@ use morphogen::stream::Record;
 use rayon::prelude::*;
 
 use super::mesh::{Mesh, ObjStyle, Rgb, write_obj};
-use super::mosaic::{write_counts_and_mask, write_csv, write_mosaic_obj, write_shares};
+use super::mosaic::{
+    write_counts_and_mask, write_csv, write_mosaic_obj, write_pattern, write_shares,
+};
 use super::numbered::{FileSeries, Numbering};
 use super::picture;
 use super::vector::{cross, dot, sub};
 use super::{Kind, Kinds};
 use crate::atomic;
 use crate::records::{Place, Records};
+use control::Unrolled;
 use nearest::{Along, Nearest};
 
 /// Sample points per triangle side for the area shares (s(s+1)/2 each).
@@ -79,6 +83,18 @@ pub fn read<R: Records + ?Sized>(records: &R) -> Result<(Shell, Vec<Day>)> {
 }
 
 impl Shell {
+    /// The lowest and highest coordinates of its vertices.
+    fn bounds(&self) -> ([f64; 3], [f64; 3]) {
+        self.vertices
+            .iter()
+            .fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), p| {
+                (
+                    [0, 1, 2].map(|c| lo[c].min(p[c])),
+                    [0, 1, 2].map(|c| hi[c].max(p[c])),
+                )
+            })
+    }
+
     fn corners(&self, f: &[u32; 3]) -> [[f64; 3]; 3] {
         f.map(|i| self.vertices.get(i as usize).copied().unwrap_or([0.0; 3]))
     }
@@ -199,6 +215,7 @@ pub fn write<R: Records + ?Sized>(
     let mut written = Vec::new();
     let mut counts = Vec::new();
     let mut areas = Vec::new();
+    let mut figures = Vec::new();
     // The last day and its cells, for `surface.png` (a copy of its
     // picture) and `mosaic.obj`.
     let mut last = None;
@@ -216,8 +233,15 @@ pub fn write<R: Records + ?Sized>(
             write_csv(d.cells.iter().copied(), &path)?;
             written.push(path);
             areas.push(Some(shell.areas(&near, colours.len())));
+            let unrolled = Unrolled::new(&shell, &near, params, colours.len());
+            figures.push(Some(
+                (0..colours.len())
+                    .map(|k| unrolled.raster().figures(k as u8 + 2))
+                    .collect(),
+            ));
         } else {
             areas.push(None);
+            figures.push(None);
         }
         if let Some((view, canvas, half)) = &mut pictures {
             let path = dir.join(numbering.name(FileSeries::SURFACES, d.day));
@@ -231,6 +255,9 @@ pub fn write<R: Records + ?Sized>(
     if kinds.has(Kind::Csv) {
         let path = dir.join("types.csv");
         write_shares(names, &counts, &areas, &path)?;
+        written.push(path);
+        let path = dir.join("pattern.csv");
+        write_pattern(names, &counts, &figures, &path)?;
         written.push(path);
     }
     if kinds.has(Kind::Obj) {

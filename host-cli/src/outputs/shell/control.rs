@@ -1,0 +1,136 @@
+//! A surface mosaic's pattern unrolled onto its control map (thesis Sec.
+//! 3.2.2: the turn around z and the height on the control cylinder, or x
+//! and y on a plane), so that the figures of a pattern on a fruit are
+//! measured as on a cylinder's side ([`Raster`]): every pixel takes the
+//! type most of the surface's sample points that land on it have.
+
+use morphogen::mosaic::Params;
+use morphogen::mosaic::surface::ControlMap;
+
+use super::Shell;
+use super::nearest::{Along, Nearest};
+use crate::outputs::mosaic::Raster;
+
+/// The longest side of the unrolled picture, in pixels.
+const LONG_SIDE: f64 = 400.0;
+
+/// The most samples along a triangle's side.
+const MAX_SAMPLES: usize = 96;
+
+/// Palette indices as the Voronoi pictures number them: no sample, then
+/// the types from 2.
+const EMPTY: u8 = 0;
+
+/// The pattern of a day unrolled onto the control map of `params`.
+#[derive(Debug)]
+pub(super) struct Unrolled {
+    pixels: Vec<u8>,
+    width: usize,
+    unit: [f64; 2],
+    periodic: [bool; 2],
+}
+
+impl Unrolled {
+    /// Samples every triangle of `shell` densely enough that each pixel it
+    /// covers gets points, and lets each pixel's points vote for its type.
+    pub(super) fn new(shell: &Shell, near: &Nearest, params: &Params, types: usize) -> Unrolled {
+        let size = params
+            .domain
+            .size
+            .map(|s| f64::from(s.to_bits()) / 65_536.0);
+        let scale = LONG_SIDE / size[0].max(size[1]);
+        let (w, h) = (
+            ((size[0] * scale).round() as usize).max(1),
+            ((size[1] * scale).round() as usize).max(1),
+        );
+        let cylinder = params.surface.map(|s| s.control) != Some(ControlMap::Plane);
+        let (lo, hi) = shell.bounds();
+        // (u, v) in pixels of a point.
+        let map = |p: &[f64; 3]| -> [f64; 2] {
+            let frac = |x: f64, c: usize| (x - lo[c]) / (hi[c] - lo[c]).max(1e-12);
+            if cylinder {
+                let turn = p[1].atan2(p[0]).rem_euclid(std::f64::consts::TAU);
+                [
+                    turn / std::f64::consts::TAU * w as f64,
+                    frac(p[2], 2) * h as f64,
+                ]
+            } else {
+                [frac(p[0], 0) * w as f64, frac(p[1], 1) * h as f64]
+            }
+        };
+        let kinds = types.min(usize::from(u8::MAX) - 2);
+        let mut votes = vec![0u32; w * h * kinds.max(1)];
+        let mut along = Along::new(near);
+        for f in &shell.faces {
+            let corners = shell.corners(f);
+            let mut uv = corners.map(|c| map(&c));
+            if cylinder {
+                // A triangle across the seam: its corners on one side.
+                let (min, max) = uv
+                    .iter()
+                    .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p[0]), b.max(p[0])));
+                if max - min > w as f64 / 2.0 {
+                    for p in &mut uv {
+                        if p[0] < w as f64 / 2.0 {
+                            p[0] += w as f64;
+                        }
+                    }
+                }
+            }
+            let extent = (0..3)
+                .map(|i| {
+                    let (a, b) = (uv[i], uv[(i + 1) % 3]);
+                    (a[0] - b[0]).abs().max((a[1] - b[1]).abs())
+                })
+                .fold(0.0, f64::max);
+            let s = ((extent * 2.0).ceil() as usize).clamp(2, MAX_SAMPLES);
+            let [a, b, c] = corners;
+            for i in 0..s {
+                for j in 0..s - i {
+                    let (x, y) = (
+                        (i as f64 + 1.0 / 3.0) / s as f64,
+                        (j as f64 + 1.0 / 3.0) / s as f64,
+                    );
+                    let p = [0, 1, 2].map(|k| a[k] + x * (b[k] - a[k]) + y * (c[k] - a[k]));
+                    let q = map(&p);
+                    let (px, py) = (
+                        (q[0].floor() as usize).min(w - 1),
+                        (q[1].floor() as usize).min(h - 1),
+                    );
+                    if let Some(kind) = along.kind_at(&p)
+                        && usize::from(kind) < kinds
+                    {
+                        votes[(py * w + px) * kinds + usize::from(kind)] += 1;
+                    }
+                }
+            }
+        }
+        let pixels = votes
+            .chunks(kinds.max(1))
+            .map(|v| {
+                let (best, n) = v
+                    .iter()
+                    .enumerate()
+                    .max_by_key(|&(k, n)| (*n, usize::MAX - k))
+                    .unwrap_or((0, &0));
+                if *n == 0 { EMPTY } else { best as u8 + 2 }
+            })
+            .collect();
+        Unrolled {
+            pixels,
+            width: w,
+            unit: [size[0] / w as f64, size[1] / h as f64],
+            periodic: [cylinder, false],
+        }
+    }
+
+    /// It as a [`Raster`], for the pattern's figures.
+    pub(super) fn raster(&self) -> Raster<'_> {
+        Raster {
+            pixels: &self.pixels,
+            width: self.width,
+            unit: self.unit,
+            periodic: self.periodic,
+        }
+    }
+}
