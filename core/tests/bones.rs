@@ -116,15 +116,18 @@ fn every_vertex_of_every_preset_frame_is_within_5_percent_of_v0() {
 
 /// The fixed-point wrap follows the f64 wrap of the same skeleton. An edge
 /// whose midpoint is within rounding of the 5 % threshold may be split in
-/// one and not the other, so: vertex counts within 2 %; the topologies
-/// agree in at least two thirds of the frames of segments and points (11
-/// of 16 here), and there every vertex is within 0.1 % of the bone's
-/// length (8.6) of its twin (measured: 0.0004); and every fixed-point
-/// vertex on the exact (f64) iso-surface within 0.5 % of V0 (measured:
-/// 0.18 %). A frame with a polygon element (`bone-plate`) is held to the
-/// vertex count and the level only: the fixed-point polygon distance is
-/// within 10⁻³ of the f64 one (`shrinkwrap::polygon`'s test), far more
-/// than a segment's rounding, and its one frame splits otherwise.
+/// one and not the other, so the meshes need not share their triangles
+/// (7 of 16 frames of segments and points do: the paper's weights give
+/// meshes of up to 827 vertices, each split a chance to differ). Held
+/// instead: vertex counts within 2 %; in every frame of segments and
+/// points every fixed-point vertex has an f64 vertex within 0.1 % of the
+/// bone's length (8.6) (measured: all of them), and where the triangles
+/// agree the twins are within that of each other (measured: 0.0005); and
+/// every fixed-point vertex on the exact (f64) iso-surface within 0.5 % of
+/// V0 (measured: 0.34 %). A frame with a polygon element (`bone-plate`) is
+/// held to the vertex count and the level only: the fixed-point polygon
+/// distance is within 10⁻³ of the f64 one (`shrinkwrap::polygon`'s test),
+/// far more than a segment's rounding.
 #[test]
 fn fixed_point_wrap_matches_the_f64_reference() {
     let (mut same, mut worst_distance, mut worst_level) = (0, 0.0f64, 0.0f64);
@@ -139,7 +142,27 @@ fn fixed_point_wrap_matches_the_f64_reference() {
             w.name,
             w.frame
         );
-        if plain(w) && a.triangles() == b.triangles() {
+        let alike = a.triangles() == b.triangles();
+        if plain(w) {
+            let twins = a
+                .vertices()
+                .iter()
+                .filter(|p| {
+                    let p = p.map(f64::from_fx);
+                    b.vertices()
+                        .iter()
+                        .any(|q| <f64 as Real>::norm(&(p - q)) <= 0.001 * 8.6)
+                })
+                .count();
+            assert_eq!(
+                twins,
+                a.vertices().len(),
+                "{} frame {}: vertices without an f64 twin",
+                w.name,
+                w.frame
+            );
+        }
+        if plain(w) && alike {
             same += 1;
             for (p, q) in a.vertices().iter().zip(b.vertices()) {
                 worst_distance =
@@ -159,7 +182,6 @@ fn fixed_point_wrap_matches_the_f64_reference() {
         "{same} of {compared} frames of segments and points split alike; largest vertex distance {worst_distance:.6}; largest exact |V − V0|/V0 (all {} frames) {worst_level:.6}",
         wrapped().len()
     );
-    assert!(same * 3 >= compared * 2, "{same} of {compared}");
     assert!(worst_distance <= 0.001 * 8.6, "{worst_distance}");
     assert!(worst_level <= 0.005, "{worst_level}");
 }
@@ -168,10 +190,12 @@ fn fixed_point_wrap_matches_the_f64_reference() {
 fn bone_growth_wraps_every_step_and_the_bone_grows() {
     let s = with_bones("bone-growth", |p| skeletons(p, 0));
     assert_eq!(s.len(), 12);
-    // One segment until the growth plates close, then shaft + 2 × 5.
+    // The shaft's 8 segments until the growth plates close, then at each
+    // end two condyles of 2 segments and a point each, and a point:
+    // 8 + 2 × 7.
     assert_eq!(
         s.iter().map(|s| s.len()).collect::<Vec<_>>(),
-        [1, 1, 1, 11, 11, 11, 11, 11, 11, 11, 11, 11]
+        [8, 8, 8, 22, 22, 22, 22, 22, 22, 22, 22, 22]
     );
     let length = |s: &Skeleton| s.iter().map(|e| e.a[1].max(e.b[1])).fold(Fx::MIN, Fx::max);
     assert!(s.windows(2).all(|w| length(&w[1]) > length(&w[0])));
