@@ -107,6 +107,10 @@ pub struct SentWrap {
     pub split_tolerance: Fx,
     /// As [`WrapParams::weights`].
     pub weights: crate::shrinkwrap::Weights,
+    /// As [`WrapParams::target_max`].
+    pub target_max: Option<Fx>,
+    /// As [`WrapParams::step_max`].
+    pub step_max: Option<Fx>,
 }
 
 impl From<WrapParams> for SentWrap {
@@ -119,6 +123,8 @@ impl From<WrapParams> for SentWrap {
             max_iterations: w.max_iterations,
             split_tolerance: w.split_tolerance,
             weights: w.weights,
+            target_max: w.target_max,
+            step_max: w.step_max,
         }
     }
 }
@@ -133,6 +139,8 @@ impl From<SentWrap> for WrapParams {
             max_iterations: w.max_iterations,
             split_tolerance: w.split_tolerance,
             weights: w.weights,
+            target_max: w.target_max,
+            step_max: w.step_max,
         }
     }
 }
@@ -444,6 +452,8 @@ mod tests {
                 max_iterations: 40,
                 split_tolerance: crate::shrinkwrap::SPLIT_TOLERANCE,
                 weights: crate::shrinkwrap::Weights::Normalised,
+                target_max: Some(Fx::from_ratio(5, 4)),
+                step_max: None,
             },
             frames: Frames::Seeds(3),
         };

@@ -34,17 +34,23 @@ fn with_bones<R>(name: &str, f: impl FnOnce(&BonesParams<'_>) -> R) -> R {
     })
 }
 
-/// The skeleton of every frame of `params` (steps, seed) from `seed`.
-fn skeletons(params: &BonesParams, seed: u64) -> Vec<Skeleton> {
+/// The (derivation steps, seed) of every frame of `params` from `seed`.
+fn setups(params: &BonesParams, seed: u64) -> Vec<(u8, u64)> {
     let mut g = Grower::new();
     g.load(params.grammar).unwrap();
     let n = g.grammar().settings().steps;
-    let setups: Vec<(u8, u64)> = match params.frames {
+    match params.frames {
         Frames::Final => vec![(n, seed)],
         Frames::EveryStep { first } => (first..=n).map(|k| (k, seed)).collect(),
         Frames::Seeds(c) => (0..c as u64).map(|k| (n, seed + k)).collect(),
-    };
-    setups
+    }
+}
+
+/// The skeleton of every frame of `params` from `seed`.
+fn skeletons(params: &BonesParams, seed: u64) -> Vec<Skeleton> {
+    let mut g = Grower::new();
+    g.load(params.grammar).unwrap();
+    setups(params, seed)
         .into_iter()
         .map(|(steps, seed)| {
             let mut s = Skeleton::new();
@@ -54,9 +60,17 @@ fn skeletons(params: &BonesParams, seed: u64) -> Vec<Skeleton> {
         .collect()
 }
 
-fn wrap_fx(s: &Skeleton, params: &BonesParams) -> Box<McuWrap> {
+/// The wrap of every frame of `params` from `seed`, V0 and ΔV drawn.
+fn frame_wraps(params: &BonesParams, seed: u64) -> Vec<WrapParams> {
+    setups(params, seed)
+        .into_iter()
+        .map(|(steps, seed)| params.frame_wrap(seed, steps))
+        .collect()
+}
+
+fn wrap_fx(s: &Skeleton, wrap: &WrapParams) -> Box<McuWrap> {
     let mut w = Box::new(McuWrap::new(Fx::ZERO));
-    w.run(s, &params.wrap).unwrap();
+    w.run(s, wrap).unwrap();
     w
 }
 
@@ -78,16 +92,18 @@ fn wrapped() -> &'static [Wrapped] {
         let mut out = Vec::new();
         for name in PRESETS {
             with_bones(name, |p| {
+                let wraps = frame_wraps(p, 1);
                 for (frame, skeleton) in skeletons(p, 1).into_iter().enumerate() {
-                    let fx = wrap_fx(&skeleton, p);
+                    let wrap = &wraps[frame];
+                    let fx = wrap_fx(&skeleton, wrap);
                     let sf: Vec<Element<f64>> =
                         skeleton.iter().map(|e| e.convert(f64::from_fx)).collect();
                     let mut f64 = Box::new(Shrinkwrap::new(0.0));
-                    f64.run(&sf, &p.wrap).unwrap();
+                    f64.run(&sf, wrap).unwrap();
                     out.push(Wrapped {
                         name,
                         frame,
-                        target: p.wrap.target,
+                        target: wrap.target,
                         weights: p.wrap.weights,
                         skeleton,
                         fx,
@@ -273,6 +289,7 @@ fn the_stream_holds_the_skeleton_then_the_mesh_of_each_frame() {
         let mut out = Records::default();
         preset::run(preset, 1, &mut runner, &mut out, &mut |_| {}).unwrap();
         let skeletons = skeletons(params, 1);
+        let wraps = frame_wraps(params, 1);
         let starts: Vec<usize> = out
             .0
             .iter()
@@ -282,7 +299,7 @@ fn the_stream_holds_the_skeleton_then_the_mesh_of_each_frame() {
             .collect();
         assert_eq!(starts.len(), 3);
         for (k, &i) in starts.iter().enumerate() {
-            let w = wrap_fx(&skeletons[k], params);
+            let w = wrap_fx(&skeletons[k], &wraps[k]);
             let (nv, nt) = (w.mesh().vertices().len(), w.mesh().triangles().len());
             let frame = &out.0[i + 1..i + 1 + skeletons[k].len() + nv + nt + 1];
             assert!(

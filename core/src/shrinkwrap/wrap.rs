@@ -57,6 +57,18 @@ pub struct WrapParams {
     /// before it was a parameter.
     #[serde(skip_serializing_if = "Weights::is_constant")]
     pub weights: Weights,
+    /// The top of V0's range, from `target` to this, in which a run of
+    /// several wraps (a bone's frames, [`crate::bones::BonesParams::frame_wrap`])
+    /// draws each wrap's V0 uniformly (bones paper, Summary: "a
+    /// possibility of using random parameters values"; Fig. 3). `None`: V0
+    /// is `target`. [`Shrinkwrap::start`] wraps at `target` whatever this
+    /// is. Left out of the parameter digest when `None`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub target_max: Option<Fx>,
+    /// The top of ΔV's range, from `step` to this, drawn as
+    /// [`target_max`](WrapParams::target_max)'s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step_max: Option<Fx>,
 }
 
 impl WrapParams {
