@@ -1,24 +1,25 @@
 //! Digests: CRC-32 per frame, CRC-64 over the whole stream and over a
 //! preset's parameters.
 
-#[cfg(feature = "bitwise-frame-crc")]
+#[cfg(feature = "bitwise-crc")]
 use crc::NoTable;
-use crc::{CRC_32_ISO_HDLC, CRC_64_XZ, Crc, Table};
+#[cfg(not(feature = "bitwise-crc"))]
+use crc::Table;
+use crc::{CRC_32_ISO_HDLC, CRC_64_XZ, Crc};
 use serde::Serialize;
 
 /// The CRC tables: slice-by-16 on a computer (a 64-bit target; 48 KB of
 /// tables, several times faster), one table of 256 on an MCU or in the
-/// browser, where flash and download size count. The same checksums.
-#[cfg(target_pointer_width = "64")]
+/// browser, where flash and download size count, none with the feature
+/// `bitwise-crc` (bit by bit, for the smallest flash). The same checksums.
+#[cfg(all(target_pointer_width = "64", not(feature = "bitwise-crc")))]
 type Slices = Table<16>;
-#[cfg(not(target_pointer_width = "64"))]
+#[cfg(all(not(target_pointer_width = "64"), not(feature = "bitwise-crc")))]
 type Slices = Table<1>;
+#[cfg(feature = "bitwise-crc")]
+type Slices = NoTable;
 
-/// The per-frame CRC's table: none with the feature `bitwise-frame-crc`
-/// (bit by bit, for the smallest flash), else as the stream digest's.
-#[cfg(feature = "bitwise-frame-crc")]
-type FrameTable = NoTable;
-#[cfg(not(feature = "bitwise-frame-crc"))]
+/// The per-frame CRC's table: the stream digest's.
 type FrameTable = Slices;
 
 /// The per-frame check: CRC-32/ISO-HDLC (the zlib/Ethernet CRC).
@@ -105,7 +106,7 @@ mod tests {
     use super::{FRAME_CRC, StreamDigest};
 
     /// The catalogue's check values (the CRC of "123456789"), whichever
-    /// table the build uses (`bitwise-frame-crc` or not).
+    /// table the build uses (`bitwise-crc` or not).
     #[test]
     fn the_digests_are_the_catalogued_crcs() {
         assert_eq!(FRAME_CRC.checksum(b"123456789"), 0xcbf4_3926);
