@@ -23,7 +23,6 @@
 pub mod body_files;
 pub mod check;
 pub mod codegen;
-mod constants;
 pub mod firmware;
 pub mod mask;
 pub mod run;
