@@ -6,9 +6,9 @@ use heapless::Vec;
 use nalgebra::Vector3;
 
 use super::element::Element;
+use super::kernel::{dot_near, inverse_of_squared};
 use super::polygon;
-use super::vertices::{normalised, normalised_fx};
-use crate::fx::root::rounded_isqrt_u62;
+use super::vertices::{MAX_VERTICES, normalised, normalised_fx};
 use crate::fx::{Fx, Real};
 #[cfg(test)]
 use crate::geom::length_of_squared;
@@ -153,6 +153,9 @@ fn prepared_field(
 /// holds ([`crate::bones::MAX_ELEMENTS`]); a longer skeleton is evaluated
 /// unprepared, by [`summed_field`].
 pub const PREPARED_ELEMENTS: usize = 64;
+
+// The paper's weights take up to two vertices an element.
+const _: () = assert!(MAX_VERTICES == 2 * PREPARED_ELEMENTS);
 
 /// A skeleton's field, ready to be evaluated at many points (the vertices
 /// and edge midpoints of a shrinkwrap pass): for [`Fx`], each element's
@@ -318,12 +321,6 @@ fn q32_to_q16(q32: i64) -> i32 {
     Fx::narrow(q32.wrapping_add(1 << 15) >> 16).to_bits()
 }
 
-/// u·w of Q16 bits within ±2³⁰, exact in Q32 (below 3·2⁶⁰).
-pub(super) fn dot_near(u: &[i32; 3], w: &[i32; 3]) -> i64 {
-    let product = |k: usize| (u[k] as i64).wrapping_mul(w[k] as i64);
-    product(0).wrapping_add(product(1)).wrapping_add(product(2))
-}
-
 /// `a − b` of Q16 bits within ±2³⁰ whose difference is too.
 fn difference(a: &[i32; 3], b: &[i32; 3]) -> [i32; 3] {
     [0, 1, 2].map(|k| a[k].wrapping_sub(b[k]))
@@ -452,17 +449,6 @@ impl PreparedElement {
 #[cfg(test)]
 fn inverse_distance(distance: Fx) -> u32 {
     let d = distance.max(min_distance()).to_bits().unsigned_abs();
-    (0u32.wrapping_sub(d.wrapping_sub(d / 2)) / d).wrapping_add(1)
-}
-
-/// `inverse_distance(length_of_squared(squared))` for the square of an
-/// offset within ±2³⁰ (below 3·2⁶⁰: its rounded root is below 2³¹, where
-/// `length_of_squared` does not saturate) in fewer steps: the distance is
-/// held at 2⁻¹² (16 bits) by rooting at least 241, since
-/// √240 + ½ < 16 ≤ √241 + ½.
-pub(super) fn inverse_of_squared(squared: u64) -> u32 {
-    // The max(16) changes nothing; it spares the division a zero check.
-    let d = (rounded_isqrt_u62(squared.max(241)) as u32).max(16);
     (0u32.wrapping_sub(d.wrapping_sub(d / 2)) / d).wrapping_add(1)
 }
 

@@ -19,6 +19,7 @@
 
 mod element;
 mod field;
+mod kernel;
 mod mesh;
 mod polygon;
 mod vertices;

@@ -9,14 +9,14 @@ use heapless::Vec;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use super::field::{PREPARED_ELEMENTS, dot_near, inverse_of_squared};
+use super::kernel::{dot_near, inverse_of_squared};
 use crate::fx::{Fx, Real};
 
 use super::element::Element;
 
 /// Distinct vertices of a skeleton wrapped with [`Weights::Normalised`]:
 /// both ends of every element of a skeleton that the prepared field holds.
-pub const MAX_VERTICES: usize = 2 * PREPARED_ELEMENTS;
+pub const MAX_VERTICES: usize = 128;
 
 /// The weights ρ_i of the field's terms.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
