@@ -501,9 +501,8 @@ impl Scenario {
     }
 
     /// Whether its stream depends on the seed beyond the header: mosaics
-    /// always, L-systems and bones when a production is stochastic, bones
-    /// also when their wrap's V0 or ΔV is a range; the growth curve, horns
-    /// and bodies draw no random numbers.
+    /// always, L-systems and bones when a production is stochastic; the
+    /// growth curve, horns and bodies draw no random numbers.
     #[must_use]
     pub fn uses_seed(&self) -> bool {
         let stochastic = |text: &str| {
@@ -513,9 +512,7 @@ impl Scenario {
         match &self.checked {
             Checked::Mosaic { .. } => true,
             Checked::LSystem(text) => stochastic(text),
-            Checked::Bones { grammar, wrap, .. } => {
-                stochastic(grammar) || wrap.target_max.is_some() || wrap.step_max.is_some()
-            }
+            Checked::Bones { grammar, .. } => stochastic(grammar),
             Checked::Curve(_) | Checked::Horn { .. } | Checked::Body { .. } => false,
         }
     }

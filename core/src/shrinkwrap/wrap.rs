@@ -28,7 +28,6 @@ use super::ShrinkwrapError;
 use super::element::Element;
 use super::field::{FieldReal, PREPARED_ELEMENTS, PreparedElement, SkeletonField};
 use super::mesh::{Mesh, VertexId};
-use super::vertices::{MAX_VERTICES, Weights, collect_vertices, vertices_hold};
 
 /// The shrinkwrap parameters of a run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -51,24 +50,6 @@ pub struct WrapParams {
     /// parameter stay the same.
     #[serde(skip_serializing_if = "WrapParams::is_paper_split")]
     pub split_tolerance: Fx,
-    /// The terms of V: the paper's normalised weights over the skeleton's
-    /// vertices (eqs. (1)–(2)), or each element's constant ρ (Sec. 6).
-    /// Left out of the parameter digest when constant, the only form
-    /// before it was a parameter.
-    #[serde(skip_serializing_if = "Weights::is_constant")]
-    pub weights: Weights,
-    /// The top of V0's range, from `target` to this, in which a run of
-    /// several wraps (a bone's frames, [`crate::bones::BonesParams::frame_wrap`])
-    /// draws each wrap's V0 uniformly (bones paper, Summary: "a
-    /// possibility of using random parameters values"; Fig. 3). `None`: V0
-    /// is `target`. [`Shrinkwrap::start`] wraps at `target` whatever this
-    /// is. Left out of the parameter digest when `None`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub target_max: Option<Fx>,
-    /// The top of ΔV's range, from `step` to this, drawn as
-    /// [`target_max`](WrapParams::target_max)'s.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub step_max: Option<Fx>,
 }
 
 impl WrapParams {
@@ -123,10 +104,6 @@ pub struct Shrinkwrap<R: Real, const V: usize, const T: usize, const C: usize = 
     on_level: Vec<bool, V>,
     /// The skeleton in the kernel's form, prepared once per pass.
     prepared: Vec<PreparedElement, PREPARED_ELEMENTS>,
-    /// [`WrapParams::weights`].
-    weights: Weights,
-    /// The skeleton's distinct vertices, with [`Weights::Normalised`].
-    vertices: Vec<[R; 3], MAX_VERTICES>,
     /// V and ∇V where the last move left each of the first vertices.
     cache: FieldCache<R, C>,
 }
@@ -197,28 +174,6 @@ fn bounds<R: Real>(elements: &[Element<R>]) -> (Vector3<R>, R) {
     (centre, far)
 }
 
-/// The field of `elements` with `weights`, prepared in `prepared` or
-/// `vertices`.
-///
-/// # Errors
-/// More distinct vertices than [`MAX_VERTICES`].
-fn field_of<'f, R: FieldReal>(
-    elements: &'f [Element<R>],
-    weights: Weights,
-    prepared: &'f mut Vec<PreparedElement, PREPARED_ELEMENTS>,
-    vertices: &'f mut Vec<[R; 3], MAX_VERTICES>,
-) -> Result<SkeletonField<'f, R>, Error> {
-    Ok(match weights {
-        Weights::Constant => SkeletonField::new(elements, prepared),
-        Weights::Normalised => {
-            if !vertices_hold(elements, vertices) {
-                collect_vertices(elements, vertices)?;
-            }
-            SkeletonField::normalised(elements, vertices)
-        }
-    })
-}
-
 /// r moved towards the level `level` along ∇V, by at most `max_move`.
 fn toward<R: FieldReal>(
     field: &SkeletonField<'_, R>,
@@ -277,8 +232,6 @@ impl<R: FieldReal, const V: usize, const T: usize, const C: usize> Shrinkwrap<R,
             phase: Phase::Idle,
             on_level: Vec::new(),
             prepared: Vec::new(),
-            weights: Weights::Normalised,
-            vertices: Vec::new(),
             cache: FieldCache { at: Vec::new() },
         }
     }
@@ -326,11 +279,7 @@ impl<R: FieldReal, const V: usize, const T: usize, const C: usize> Shrinkwrap<R,
         let far = if far > R::zero() {
             far
         } else {
-            let strength = match params.weights {
-                Weights::Normalised => R::one(),
-                Weights::Constant => elements[0].weight,
-            };
-            strength.div(R::from_fx(params.target))
+            elements[0].weight.div(R::from_fx(params.target))
         };
         let radius = far * R::from_ratio(13, 10);
         self.mesh
@@ -341,15 +290,8 @@ impl<R: FieldReal, const V: usize, const T: usize, const C: usize> Shrinkwrap<R,
         self.iterations = 0;
         self.max_iterations = params.max_iterations;
         self.split = R::from_fx(params.split_tolerance);
-        self.weights = params.weights;
         self.cache.at.clear();
-        self.vertices.clear();
-        let field = field_of(
-            elements,
-            self.weights,
-            &mut self.prepared,
-            &mut self.vertices,
-        )?;
+        let field = SkeletonField::new(elements, &mut self.prepared);
         let mut sum = R::Wide::default();
         for r in self.mesh.vertices() {
             sum = R::widen(sum, field.potential_at(r));
@@ -406,19 +348,10 @@ impl<R: FieldReal, const V: usize, const T: usize, const C: usize> Shrinkwrap<R,
         }
         let (level, max_move, tolerance) = (self.level, self.max_move, self.split);
         // The cached field holds for the skeleton it was computed for.
-        let holds = match self.weights {
-            Weights::Constant => SkeletonField::holds(elements, &self.prepared),
-            Weights::Normalised => vertices_hold(elements, &self.vertices),
-        };
-        if C > 0 && !holds {
+        if C > 0 && !SkeletonField::holds(elements, &self.prepared) {
             self.cache.at.clear();
         }
-        let field = field_of(
-            elements,
-            self.weights,
-            &mut self.prepared,
-            &mut self.vertices,
-        )?;
+        let field = SkeletonField::new(elements, &mut self.prepared);
         move_all(
             &mut self.mesh,
             &mut self.on_level,
@@ -492,20 +425,15 @@ fn move_all<R: FieldReal, const V: usize, const T: usize, const C: usize>(
     on_level.iter().filter(|&&on| !on).count()
 }
 
-/// The largest |V(r) − V0| / V0 over `points` (a quality measure), V
-/// with `weights`; zero for a skeleton of more than [`MAX_VERTICES`]
-/// vertices with the paper's weights.
+/// The largest |V(r) − V0| / V0 over `points` (a quality measure).
 #[must_use]
 pub fn worst_level_error<R: FieldReal>(
     elements: &[Element<R>],
-    weights: Weights,
     points: &[Vector3<R>],
     level: R,
 ) -> R {
-    let (mut storage, mut vertices) = (Vec::new(), Vec::new());
-    let Ok(field) = field_of(elements, weights, &mut storage, &mut vertices) else {
-        return R::zero();
-    };
+    let mut storage = Vec::new();
+    let field = SkeletonField::new(elements, &mut storage);
     let mut worst = R::zero();
     for r in points {
         let e = (field.potential_at(r) - level).abs().div(level);
