@@ -21,18 +21,19 @@ fn n(v: Vector3<f64>) -> f64 {
     morphogen::body::cylinder::norm(&v)
 }
 
-fn joints<'a>(params: &'a BodyParams<'a>, frame: u32) -> impl Fn(usize, &Cylinder) -> Joint + 'a {
-    let phase = params.phase(frame);
-    move |_, c: &Cylinder| params.gait.map_or(Joint::REST, |g| g.joint(c.name, phase))
-}
-
 /// Poses a skeleton of scalar `R` at frame `frame` of `params`.
 fn posed<R: Real>(params: &BodyParams<'_>, frame: u32) -> Skeleton<R, MAX_CYLINDERS> {
     let mut s = Skeleton::<R, MAX_CYLINDERS>::new();
     s.load(params.model, params.table).unwrap();
     let age = R::from_fx(params.age(frame));
-    s.pose(params.model, params.table, age, &joints(params, frame))
-        .unwrap();
+    s.pose_in_gait(
+        params.model,
+        params.table,
+        age,
+        params.gait,
+        params.phase(frame),
+    )
+    .unwrap();
     s
 }
 
@@ -167,7 +168,7 @@ fn at_every_table_age_the_deformed_features_have_the_tables_lengths() {
                             Drive::Measured(col) => {
                                 table.columns[usize::from(col)].values[k].to_f64()
                             }
-                            Drive::Follows(_) => {
+                            Drive::Follows(_) | Drive::Below { .. } => {
                                 let rest = s.rest(c).unwrap();
                                 solve::feature_target(
                                     cyl,
@@ -609,9 +610,10 @@ fn hoof_heights(params: &BodyParams<'_>, frame: u32) -> ([[f64; 2]; 2], f64) {
 }
 
 /// Every body of every frame stands on its hooves. Without a
-/// gait all four touch the ground; in a trot the gait lifts one hoof of
-/// each pair, and the lower (supporting) fore and hind hooves touch. No
-/// vertex goes below the ground. Tolerance: 0.25 in (horse), 0.6 cm (cow).
+/// gait all four touch the ground; with footfall timing (the trots) the
+/// hooves it puts on the ground touch it; otherwise (the walk) the lower
+/// fore and hind hooves touch. No vertex goes below the ground.
+/// Tolerance: 0.25 in (horse), 0.6 cm (cow).
 #[test]
 fn every_body_stands_on_its_hooves() {
     let mut failures = Vec::new();
@@ -620,13 +622,21 @@ fn every_body_stands_on_its_hooves() {
         let (mut worst_floating, mut worst_sunk) = ((0.0_f64, 0), (0.0_f64, 0));
         for frame in 0..u32::from(params.frames) {
             let (hooves, lowest) = hoof_heights(params, frame);
-            for pair in hooves {
-                let standing: &[f64] = if params.gait.is_some() {
-                    &[pair[0].min(pair[1])]
-                } else {
-                    &pair
+            let phase = params.phase(frame);
+            for (pair, names) in hooves.iter().zip(HOOVES) {
+                let standing: Vec<f64> = match params.gait {
+                    // The hooves the footfall puts on the ground (none in
+                    // a suspension).
+                    Some(g) if g.footfall.is_some() => pair
+                        .iter()
+                        .zip(names)
+                        .filter(|(_, n)| g.on_ground(Label::new(n), phase))
+                        .map(|(h, _)| *h)
+                        .collect(),
+                    Some(_) => vec![pair[0].min(pair[1])],
+                    None => pair.to_vec(),
                 };
-                for &h in standing {
+                for h in standing {
                     if h.abs() > worst_floating.0.abs() {
                         worst_floating = (h, frame);
                     }
@@ -669,4 +679,154 @@ fn every_body_stands_on_its_hooves() {
         with_body(name, |params| check(name, params));
     }
     assert!(failures.is_empty(), "{failures:?}");
+}
+
+/// The model vertices on top of and under the spine's ring at `x` (the
+/// highest and lowest vertex within `window` of that x; a ring on a slope
+/// leans, its top vertex off the station's x).
+fn spine_ring(model: &BodyModel<'_>, x: f64, window: f64) -> [u32; 2] {
+    let mesh = &model.mesh;
+    let ring: Vec<(u32, Vector3<f64>)> = (0..mesh.vertex_count())
+        .map(|i| (i, mesh.vertex::<f64>(i).unwrap()))
+        .filter(|(_, p)| (p.x - x).abs() < window)
+        .collect();
+    let by_y = |a: &&(u32, Vector3<f64>), b: &&(u32, Vector3<f64>)| a.1.y.total_cmp(&b.1.y);
+    [
+        ring.iter().max_by(by_y).unwrap().0,
+        ring.iter().min_by(by_y).unwrap().0,
+    ]
+}
+
+/// Every feature Table 2 names, measured on the calf and the cow at every
+/// age the table gives: withers and croup heights (the top of the spine
+/// above the withers, x = 42 cm, and above the hips, x = −65 cm, over the
+/// ground), chest depth (withers to sternum, the same ring's lowest
+/// vertex), poll to muzzle and forehead width (the head's features). All
+/// within 3 % of the table.
+#[test]
+fn the_holstein_has_every_table_2_measurement_at_every_table_age() {
+    with_body("cow-growth", |params| {
+        let (model, table) = (params.model, params.table);
+        let [withers, sternum] = spine_ring(model, 42.0, 0.5);
+        let [croup, _] = spine_ring(model, -65.0, 5.0);
+        let head = model
+            .cylinders
+            .iter()
+            .position(|c| c.name == Label::new("head"))
+            .unwrap();
+        let mut worst: f64 = 0.0;
+        let mut failures = Vec::new();
+        for (k, age) in table.ages.iter().enumerate() {
+            let frame = (0..u32::from(params.frames))
+                .find(|&f| params.age(f) == *age)
+                .unwrap();
+            let v = deformed::<f64>(params, frame);
+            let at = |i: u32| v[i as usize];
+            let measured = [
+                ("withers-height", at(withers).y),
+                ("croup-height", at(croup).y),
+                ("chest-depth", at(withers).y - at(sternum).y),
+            ];
+            let s = posed::<f64>(params, frame);
+            let cylinder = &model.cylinders[head];
+            let features = [
+                (
+                    "poll-to-muzzle",
+                    s.feature_length(cylinder, head, 0).unwrap(),
+                ),
+                (
+                    "forehead-width",
+                    s.feature_length(cylinder, head, 1).unwrap(),
+                ),
+            ];
+            for (name, got) in measured.into_iter().chain(features) {
+                let column = table
+                    .columns
+                    .iter()
+                    .find(|c| c.name == Label::new(name))
+                    .unwrap();
+                let want = column.values[k].to_f64();
+                let err = (got - want) / want;
+                println!(
+                    "{age} months: {name} {got:.2} cm, table {want:.1} cm ({:+.2} %)",
+                    err * 100.0
+                );
+                worst = worst.max(err.abs());
+                if err.abs() > 0.03 {
+                    failures.push((name, age.to_f64(), got, want));
+                }
+            }
+        }
+        println!("largest Table 2 error: {:.2} %", worst * 100.0);
+        assert!(failures.is_empty(), "{failures:?}");
+    });
+}
+
+/// Per hoof of [`HOOVES`], whether it touches the ground and its height.
+type Contacts = ([[bool; 2]; 2], [[f64; 2]; 2]);
+
+/// Which hooves of [`HOOVES`] touch the ground (within 0.02 in or 0.05 cm)
+/// at each frame, and their heights.
+fn contacts(params: &BodyParams<'_>) -> Vec<Contacts> {
+    let touch = if params.table.unit == "cm" {
+        0.05
+    } else {
+        0.02
+    };
+    (0..u32::from(params.frames))
+        .map(|frame| {
+            let (h, _) = hoof_heights(params, frame);
+            (h.map(|pair| pair.map(|y| y < touch)), h)
+        })
+        .collect()
+}
+
+/// The trots fly: a suspension (no hoof on the ground, every hoof at
+/// least 0.1 in or 0.25 cm above it) twice in every stride, and between
+/// them the body stands on a diagonal pair (left fore with right hind, or
+/// right fore with left hind), never on a lateral pair or on one hoof.
+#[test]
+fn the_trots_have_two_suspensions_a_stride_and_stand_on_diagonals() {
+    for name in ["horse-trot", "cow-trot"] {
+        with_body(name, |params| {
+            let clear = if params.table.unit == "cm" { 0.25 } else { 0.1 };
+            let per_stride = usize::from(params.frames_per_stride);
+            let frames = contacts(params);
+            let mut counts = Vec::new();
+            for (stride, chunk) in frames.chunks(per_stride).enumerate() {
+                let mut flying = 0;
+                for (k, (down, h)) in chunk.iter().enumerate() {
+                    let frame = stride * per_stride + k;
+                    let [[lf, rf], [lh, rh]] = *down;
+                    let lowest = h.iter().flatten().fold(f64::MAX, |a, &b| a.min(b));
+                    println!(
+                        "{name} frame {frame}: LF {lf} RF {rf} LH {lh} RH {rh}, lowest hoof {lowest:.3} {}",
+                        params.table.unit
+                    );
+                    if lowest > clear {
+                        flying += 1;
+                        continue;
+                    }
+                    let diagonal = (lf && rh && !rf && !lh) || (rf && lh && !lf && !rh);
+                    assert!(
+                        diagonal,
+                        "{name} frame {frame}: on the ground LF {lf} RF {rf} LH {lh} RH {rh}, heights {h:?}"
+                    );
+                }
+                counts.push(flying);
+            }
+            println!("{name}: suspension frames per stride {counts:?}");
+            assert!(counts.iter().all(|&c| c == 2), "{name}: {counts:?}");
+        });
+    }
+}
+
+/// The walk is never airborne: at every frame a hoof touches the ground.
+#[test]
+fn the_walk_is_never_airborne() {
+    with_body("cow-walk", |params| {
+        for (frame, (down, _)) in contacts(params).iter().enumerate() {
+            assert!(down.iter().flatten().any(|&d| d), "frame {frame}");
+        }
+    });
 }

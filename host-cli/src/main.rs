@@ -48,7 +48,8 @@ enum Command {
         #[arg(required_unless_present = "grammar")]
         target: Option<String>,
         /// Change a parameter: a dotted key of the scenario file and a value
-        /// (`--set mosaic.days=20`, `--set horn.modules[0].bend=80`);
+        /// (`--set mosaic.days=20`, `--set horn.modules[0].bend=80`, a
+        /// grammar's setting or constant `--set lsystem.delta=30`);
         /// repeatable. A file (`--set bones.grammar=my.lsys`) is relative
         /// to the current folder.
         #[arg(long = "set", value_name = "KEY=VALUE")]

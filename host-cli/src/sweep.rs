@@ -39,8 +39,8 @@ pub struct Args {
     /// The preset or scenario file to sweep.
     #[arg(required_unless_present = "merge")]
     target: Option<String>,
-    /// A key and its values: `--set mosaic.days=10,20,30`; `--set
-    /// seed=1..8` for seeds 1 to 8. Repeatable: every combination runs,
+    /// A key and its values: `--set mosaic.days=10,20,30`, `--set
+    /// lsystem.delta=20,25,30`; `--set seed=1..8` for seeds 1 to 8. Repeatable: every combination runs,
     /// the first key changing slowest.
     #[arg(long = "set", value_name = "KEY=V1,V2,…")]
     sets: Vec<String>,

@@ -711,3 +711,148 @@ fn a_seed_that_changes_nothing_is_warned_about() {
     assert!(o.status.success());
     assert!(!String::from_utf8_lossy(&o.stderr).contains("warning"));
 }
+
+/// The repository's `grammars/` folder.
+fn grammars() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../grammars")
+}
+
+#[test]
+fn a_grammar_constant_set_from_outside_changes_the_run_as_the_grammar_would() {
+    let tmp = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| {
+        let o = morphogen(args, tmp.path());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    let stream = |out: &str| std::fs::read(tmp.path().join(out).join("stream.bin")).unwrap();
+    run(&["run", "abop-shrub", "--out", "preset"]);
+    run(&[
+        "run",
+        "abop-shrub",
+        "--set",
+        "lsystem.delta=30",
+        "--out",
+        "set",
+    ]);
+    // The same constant in a scenario file, and in the grammar itself.
+    let grammar = grammars().join("abop-shrub.lsys");
+    std::fs::write(
+        tmp.path().join("shrub-30.toml"),
+        format!(
+            "name = \"abop-shrub\"\n[lsystem]\ngrammar = {:?}\ndelta = 30\n",
+            grammar.to_str().unwrap()
+        ),
+    )
+    .unwrap();
+    run(&["run", "shrub-30.toml", "--out", "file"]);
+    let edited = std::fs::read_to_string(&grammar)
+        .unwrap()
+        .replace("delta = 22.5", "delta = 30");
+    std::fs::write(tmp.path().join("shrub-30.lsys"), edited).unwrap();
+    run(&[
+        "run",
+        "abop-shrub",
+        "--grammar",
+        "shrub-30.lsys",
+        "--out",
+        "edited",
+    ]);
+    assert_ne!(stream("set"), stream("preset"));
+    assert_eq!(stream("set"), stream("file"));
+    assert_eq!(stream("set"), stream("edited"));
+
+    // A sweep over a setting: one run per value, each its own digest.
+    run(&[
+        "sweep",
+        "abop-2d-plant",
+        "--set",
+        "lsystem.delta=20,25,30",
+        "--set",
+        "lsystem.n=2",
+        "--out",
+        "sweep",
+    ]);
+    let table = std::fs::read_to_string(tmp.path().join("sweep/sweep.csv")).unwrap();
+    let column = table
+        .lines()
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|c| c == "stream_digest")
+        .unwrap();
+    let digests: std::collections::BTreeSet<&str> = table
+        .lines()
+        .skip(1)
+        .map(|row| row.split(',').nth(column).unwrap())
+        .collect();
+    assert_eq!(digests.len(), 3, "{table}");
+
+    // An unknown name is refused with the closest one.
+    let o = morphogen(
+        &["run", "abop-shrub", "--set", "lsystem.detla=30"],
+        tmp.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains(
+            "--set lsystem.detla=30: lsystem.detla: unknown setting or constant (did you mean `delta`?)"
+        ),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn input_that_would_do_nothing_is_refused_naming_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let refused = |args: &[&str]| {
+        let o = morphogen(args, tmp.path());
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    // A misspelt setting in a grammar file.
+    std::fs::write(
+        tmp.path().join("detla.lsys"),
+        "n = 3\ndetla = 30\naxiom: F\nF -> F[+F]F\n",
+    )
+    .unwrap();
+    let stderr = refused(&["run", "--grammar", "detla.lsys"]);
+    assert!(
+        stderr.contains("detla.lsys:2:1: unknown setting `detla`: did you mean `delta`?"),
+        "{stderr}"
+    );
+    // Plant settings in a skeleton.
+    std::fs::write(
+        tmp.path().join("plants.lsys"),
+        "n = 3\nplants = 3\naxiom: F\nF -> FF\n",
+    )
+    .unwrap();
+    let stderr = refused(&["run", "long-bone", "--grammar", "plants.lsys"]);
+    assert!(
+        stderr.contains("plants.lsys:2: `plants` applies only to L-system plant presets"),
+        "{stderr}"
+    );
+    // Initial probabilities past 1, and a mutation row past 1.
+    let stderr = refused(&[
+        "run",
+        "croton-mcu",
+        "--set",
+        "mosaic.types[0].initial_probability=0.9",
+    ]);
+    assert!(
+        stderr.contains("the initial probabilities sum to"),
+        "{stderr}"
+    );
+    let stderr = refused(&[
+        "run",
+        "croton-mcu",
+        "--set",
+        "mosaic.mutation=[[0, 0.9], [0, 0]]",
+        "--set",
+        "mosaic.mutation[1][1]=0.5",
+    ]);
+    assert!(
+        stderr.contains("mosaic.mutation[1][1]: 0.5 on the diagonal: the diagonal is the probability of not mutating"),
+        "{stderr}"
+    );
+}

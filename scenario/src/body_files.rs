@@ -255,19 +255,34 @@ pub fn parse_cylinders(name: &str, text: &str, table: &GrowthTable<'_>) -> Resul
                     .iter()
                     .position(|c| c.name.as_str() == t[1])
                     .ok_or_else(|| format!("{at}: no cylinder '{}' declared before", t[1]))?;
-                let column = table.column_index(t[3]).ok_or_else(|| {
-                    let known: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).collect();
-                    format!(
-                        "{at}: the growth table has no column '{}' (it has {})",
-                        t[3],
-                        known.join(", ")
-                    )
-                })?;
+                let index = |name: &str| {
+                    table.column_index(name).ok_or_else(|| {
+                        let known: Vec<&str> =
+                            table.columns.iter().map(|c| c.name.as_str()).collect();
+                        format!(
+                            "{at}: the growth table has no column '{name}' (it has {})",
+                            known.join(", ")
+                        )
+                    })
+                };
                 let drive = match t[2] {
-                    "measured" => Drive::Measured(column),
-                    "follows" => Drive::Follows(column),
+                    "measured" => Drive::Measured(index(t[3])?),
+                    "follows" => Drive::Follows(index(t[3])?),
+                    "below" => {
+                        let Some((column, above)) = t[3].split_once('/') else {
+                            return Err(format!(
+                                "{at}: `below` takes COLUMN/ABOVE (the height and the column the part above the feature follows)"
+                            ));
+                        };
+                        Drive::Below {
+                            column: index(column)?,
+                            above: index(above)?,
+                        }
+                    }
                     other => {
-                        return Err(format!("{at}: '{other}' must be `measured` or `follows`"));
+                        return Err(format!(
+                            "{at}: '{other}' must be `measured`, `follows` or `below`"
+                        ));
                     }
                 };
                 let anchor = match t[4] {
@@ -344,14 +359,19 @@ pub fn format_cylinders(model: &BodyModel<'_>, table: &GrowthTable<'_>) -> Strin
         }
         s.push('\n');
         for f in &c.features {
-            let (kind, column) = match f.drive {
-                Drive::Measured(k) => ("measured", k),
-                Drive::Follows(k) => ("follows", k),
+            let name = |k: u8| {
+                table
+                    .columns
+                    .get(usize::from(k))
+                    .map_or("?", |c| c.name.as_str())
             };
-            let column = table
-                .columns
-                .get(usize::from(column))
-                .map_or("?", |c| c.name.as_str());
+            let (kind, column) = match f.drive {
+                Drive::Measured(k) => ("measured", name(k).to_string()),
+                Drive::Follows(k) => ("follows", name(k).to_string()),
+                Drive::Below { column, above } => {
+                    ("below", format!("{}/{}", name(column), name(above)))
+                }
+            };
             let anchor = match f.anchor {
                 Anchor::Model => "model",
                 Anchor::Canonical => "canonical",

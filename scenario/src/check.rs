@@ -4,6 +4,7 @@
 
 use morphogen::body::gait::Channel as CoreChannel;
 use morphogen::body::gait::Gait as CoreGait;
+use morphogen::body::gait::{Footfall, gravity};
 use morphogen::body::table::Column as CoreColumn;
 use morphogen::body::{
     BodyError, BodyModel, BodyParams, Cylinder, GrowthTable, Interpolation, Label, Mesh, Skeleton,
@@ -23,6 +24,7 @@ use morphogen::shrinkwrap::WrapParams;
 use morphogen::stream::PresetName;
 
 use crate::body_files::{self, USER_CYLINDERS};
+use crate::constants;
 use crate::mask;
 use crate::schema::{self, BoneFrames, DayFrames, File, Include};
 use crate::surface::{self, SurfaceSpec};
@@ -159,6 +161,8 @@ pub enum Checked {
         columns: Vec<(Label, Vec<Fx>)>,
         /// Gait channels: cylinder, shift, degrees.
         gait: Option<Vec<(Label, u8, Vec<i16>)>>,
+        /// The gait's footfall timing, if any.
+        footfall: Option<Footfall>,
     },
     /// `[bones]`.
     Bones {
@@ -243,6 +247,7 @@ impl Checked {
                 ages,
                 columns,
                 gait,
+                footfall,
             } => {
                 let columns = core_columns(columns);
                 let table = GrowthTable {
@@ -262,6 +267,7 @@ impl Checked {
                     .collect();
                 let core_gait = CoreGait {
                     channels: &channels,
+                    footfall: *footfall,
                 };
                 model.with_model(|model| {
                     let params = BodyParams {
@@ -364,11 +370,7 @@ pub fn check(file: &File, files: &dyn Files) -> Result<Checked> {
         return horn(h);
     }
     if let Some(l) = &file.lsystem {
-        return Ok(Checked::LSystem(grammar(
-            &l.grammar,
-            "lsystem.grammar",
-            files,
-        )?));
+        return lsystem(l, files);
     }
     if let Some(m) = &file.mosaic {
         return mosaic(m, files);
@@ -428,22 +430,30 @@ fn text(include: &Include, key: &str, files: &dyn Files) -> Result<String> {
     }
 }
 
-/// A grammar's text, parsed once here so that a mistake in it is named by
-/// its own file, line and column.
-fn grammar(include: &Include, key: &str, files: &dyn Files) -> Result<String> {
-    parsed_grammar(include, key, files).map(|(text, _)| text)
-}
-
-/// [`grammar`], with the parsed grammar.
+/// A grammar's text and the grammar parsed from it, so that a mistake in
+/// it is named by its own file, line and column.
 fn parsed_grammar(
     include: &Include,
     key: &str,
     files: &dyn Files,
 ) -> Result<(String, Box<morphogen::lsys::Grammar>)> {
     let text = text(include, key, files)?;
+    let grammar = parse_grammar(&text, include, key, |_, _| {})?;
+    Ok((text, grammar))
+}
+
+/// `text` parsed, its errors named by the file `include` names; `constant`
+/// hears each `name = value` it defines.
+fn parse_grammar(
+    text: &str,
+    include: &Include,
+    key: &str,
+    constant: impl FnMut(&str, Fx),
+) -> Result<Box<morphogen::lsys::Grammar>> {
     let mut grammar = Box::new(morphogen::lsys::Grammar::new());
-    if let Err(e) = grammar.parse(&text) {
-        return invalid(
+    match grammar.parse_with(text, constant) {
+        Ok(()) => Ok(grammar),
+        Err(e) => invalid(
             key,
             format!(
                 "{}:{}:{}: {}",
@@ -452,10 +462,27 @@ fn parsed_grammar(
                 e.column,
                 e.kind
             ),
-        );
+        ),
     }
-    Ok((text, grammar))
 }
+
+/// `[lsystem]`: the grammar with the table's settings and constants
+/// written in; each of its constants is a control.
+fn lsystem(l: &schema::LSystem, files: &dyn Files) -> Result<Checked> {
+    let key = "lsystem.grammar";
+    let given = text(&l.grammar, key, files)?;
+    let text = constants::apply(&given, &l.constants, "lsystem", include_name(&l.grammar))?;
+    let mut defined = Vec::new();
+    parse_grammar(&text, &l.grammar, key, |name, v| {
+        defined.push((name.to_string(), f64::from(v.to_bits()) / 65536.0));
+    })?;
+    constants::note_all("lsystem", &defined);
+    Ok(Checked::LSystem(text))
+}
+
+/// The settings a bone's skeleton grammar may not set: they place and
+/// animate plants, which a skeleton is not.
+const PLANT_ONLY_SETTINGS: [&str; 3] = ["plants", "spacing", "animate"];
 
 /// The file an include names, or "grammar" for unnamed inline text.
 fn include_name(include: &Include) -> &str {
@@ -638,6 +665,92 @@ fn matrix(key: &str, rows: &[Vec<f64>], n: usize) -> Result<[[Fx; MAX_TYPES]; MA
     Ok(t)
 }
 
+/// How far past 1 a sum of probabilities may be: decimals that sum to 1
+/// do not always in binary (`0.1 + 0.2 + 0.7` is 1.0000000000000002).
+const PROBABILITY_SLACK: f64 = 1e-9;
+
+/// A cell type as messages name it: its name, or `type i`.
+fn type_label(types: &[schema::CellType], i: usize) -> String {
+    match types.get(i).map(|t| t.name.as_str()) {
+        Some(name) if !name.is_empty() => name.to_string(),
+        _ => format!("type {i}"),
+    }
+}
+
+/// `label value + label value…` and their sum.
+fn terms(parts: impl Iterator<Item = (String, f64)>) -> (String, f64) {
+    let parts: Vec<(String, f64)> = parts.collect();
+    let sum = parts.iter().map(|(_, v)| v).sum();
+    let text: Vec<String> = parts
+        .iter()
+        .map(|(label, v)| format!("{label} {}", shown(*v)))
+        .collect();
+    (text.join(" + "), sum)
+}
+
+/// The initial probabilities may leave a share to type 0 but not pass 1
+/// (draws past 1 never happen: the last types would lose their share),
+/// and a mutation row is the probabilities of a child of that type
+/// becoming each other type, so its entries off the diagonal sum to at
+/// most 1; the diagonal, keeping the parent's type, is the rest of the
+/// row (thesis Sec. 3.2.1.2) and is implied.
+fn probabilities_sum_to_at_most_one(m: &schema::Mosaic) -> Result<()> {
+    let (text, sum) = terms(
+        m.types
+            .iter()
+            .enumerate()
+            .map(|(i, t)| (type_label(&m.types, i), t.initial_probability)),
+    );
+    if sum > 1.0 + PROBABILITY_SLACK {
+        let mut running = 0.0;
+        let past = m
+            .types
+            .iter()
+            .position(|t| {
+                running += t.initial_probability;
+                running > 1.0 + PROBABILITY_SLACK
+            })
+            .unwrap_or(0);
+        return invalid(
+            format!("mosaic.types[{past}].initial_probability"),
+            format!(
+                "the initial probabilities sum to {} ({text}), past 1 (allowed: a sum of at most 1; what it leaves to 1 starts as type 0, {})",
+                shown(sum),
+                type_label(&m.types, 0)
+            ),
+        );
+    }
+    for (i, row) in m.mutation.iter().flatten().enumerate() {
+        if row.get(i).is_some_and(|&d| d != 0.0) {
+            return invalid(
+                format!("mosaic.mutation[{i}][{i}]"),
+                format!(
+                    "{} on the diagonal: the diagonal is the probability of not mutating (a child of {} keeping its type), 1 minus the rest of the row, and is implied (allowed: 0)",
+                    shown(row[i]),
+                    type_label(&m.types, i)
+                ),
+            );
+        }
+        let (text, sum) = terms(
+            row.iter()
+                .enumerate()
+                .filter(|&(j, _)| j != i)
+                .map(|(j, &v)| (type_label(&m.types, j), v)),
+        );
+        if sum > 1.0 + PROBABILITY_SLACK {
+            return invalid(
+                format!("mosaic.mutation[{i}]"),
+                format!(
+                    "a child of {} mutates with probabilities summing to {} ({text}), past 1 (allowed: at most 1 off the diagonal)",
+                    type_label(&m.types, i),
+                    shown(sum)
+                ),
+            );
+        }
+    }
+    Ok(())
+}
+
 fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
     let size = [
         fx("mosaic.domain.size[0]", m.domain.size[0], 1.0, 16384.0)?,
@@ -684,6 +797,7 @@ fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
         Some(rows) => matrix("mosaic.mutation", rows, n)?,
         None => [[Fx::ZERO; MAX_TYPES]; MAX_TYPES],
     };
+    probabilities_sum_to_at_most_one(m)?;
     let days: u16 = int("mosaic.days", m.days, 0, 4096)?;
     let frame_days = match &m.frames {
         DayFrames::Keyword(k) if k == "every-day" => None,
@@ -941,6 +1055,30 @@ fn body(b: &schema::Body, files: &dyn Files) -> Result<Checked> {
         })?;
     }
     let frames: u16 = int("body.frames", b.frames, 1, 10000)?;
+    let footfall = match b.gait.as_ref().map(|g| (g.duty_factor, g.stride_seconds)) {
+        None | Some((None, None)) => None,
+        Some((Some(duty), Some(seconds))) => {
+            if gravity(&t.unit).is_none() {
+                return invalid(
+                    "body.gait.duty_factor",
+                    format!(
+                        "a flight needs gravity in the table's unit: in, cm, mm or m (not {:?})",
+                        t.unit
+                    ),
+                );
+            }
+            Some(Footfall {
+                duty_factor: fx("body.gait.duty_factor", duty, 0.05, 0.95)?,
+                stride_seconds: fx("body.gait.stride_seconds", seconds, 0.05, 10.0)?,
+            })
+        }
+        Some((Some(_), None)) => {
+            return invalid("body.gait.stride_seconds", "needed with duty_factor");
+        }
+        Some((None, Some(_))) => {
+            return invalid("body.gait.duty_factor", "needed with stride_seconds");
+        }
+    };
     let (frames_per_stride, gait) = match &b.gait {
         None => (1, None),
         Some(g) => {
@@ -993,6 +1131,7 @@ fn body(b: &schema::Body, files: &dyn Files) -> Result<Checked> {
         ages,
         columns,
         gait,
+        footfall,
     })
 }
 
@@ -1111,6 +1250,21 @@ fn cylinder_of(e: &morphogen::Error) -> Option<Label> {
 
 fn bones(b: &schema::Bones, files: &dyn Files) -> Result<Checked> {
     let (grammar, parsed) = parsed_grammar(&b.grammar, "bones.grammar", files)?;
+    if let Some(a) = constants::assignments(&grammar)
+        .into_iter()
+        .find(|a| PLANT_ONLY_SETTINGS.contains(&a.name))
+    {
+        return invalid(
+            "bones.grammar",
+            format!(
+                "{}:{}: `{}` applies only to L-system plant presets ([lsystem]); a bone's \
+                 skeleton is one derivation wrapped once, so remove it",
+                include_name(&b.grammar),
+                a.line,
+                a.name
+            ),
+        );
+    }
     if parsed.has_interpretation() {
         return invalid(
             "bones.grammar",
@@ -1341,5 +1495,154 @@ columns = [
         );
         let between = horn_section(r, Fx::HALF);
         assert!(area(&between) > 0.0);
+    }
+}
+
+#[cfg(test)]
+mod input_tests {
+    use crate::{Checked, Scenario, builtin, inline_value};
+
+    /// The speckled mosaic of `docs/scenarios.md` with `types`' initial
+    /// probabilities and the mutation matrix `mutation`.
+    fn speckled(b: f64, f: f64, mutation: &str) -> Result<Scenario, crate::Error> {
+        Scenario::from_text(
+            "speckled.toml",
+            &format!(
+                r#"name = "speckled"
+seed = 1
+[mosaic]
+domain = {{ size = [20, 20], periodic = [true, true] }}
+initial_cells = 40
+days = 2
+radius_weight = 1
+push_weight = 0.066
+initial_relaxations = 4
+daily_relaxations = 2
+frames = [0, 2]
+adhesion = [[0.8, 0, 0], [0, 0.5, 0], [0, 0, 0.5]]
+mutation = {mutation}
+[[mosaic.types]]
+name = "B"
+colour = [40, 105, 45]
+division_days = 10
+initial_probability = {b}
+[[mosaic.types]]
+name = "F"
+colour = [236, 200, 48]
+division_days = 4
+initial_probability = {f}
+[[mosaic.types]]
+colour = [200, 40, 40]
+division_days = 4
+initial_probability = 0
+"#
+            ),
+        )
+    }
+
+    const NO_MUTATION: &str = "[[0, 0, 0], [0, 0, 0.2], [0, 0, 0]]";
+
+    #[test]
+    fn initial_probabilities_summing_past_one_are_refused_with_their_sum() {
+        let e = speckled(0.9, 0.3, NO_MUTATION).unwrap_err();
+        assert_eq!(e.key, "mosaic.types[1].initial_probability");
+        assert!(
+            e.to_string().starts_with(
+                "speckled.toml:23: mosaic.types[1].initial_probability: the initial probabilities sum to 1.2 (B 0.9 + F 0.3 + type 2 0), past 1"
+            ),
+            "{e}"
+        );
+        // Decimals that sum to 1, and a sum that leaves type 0 a share.
+        speckled(0.7, 0.3, NO_MUTATION).unwrap();
+        speckled(0.1, 0.2, NO_MUTATION).unwrap();
+        speckled(0.3, 0.7, NO_MUTATION).unwrap();
+    }
+
+    #[test]
+    fn a_mutation_row_past_one_or_a_diagonal_is_refused() {
+        let e = speckled(0.7, 0.3, "[[0, 0.9, 0.9], [0, 0, 0], [0, 0, 0]]").unwrap_err();
+        assert_eq!(e.key, "mosaic.mutation[0]");
+        assert!(
+            e.message.starts_with(
+                "a child of B mutates with probabilities summing to 1.8 (F 0.9 + type 2 0.9), past 1"
+            ),
+            "{e}"
+        );
+        let e = speckled(0.7, 0.3, "[[0, 0, 0], [0, 0.8, 0.2], [0, 0, 0]]").unwrap_err();
+        assert_eq!(e.key, "mosaic.mutation[1][1]");
+        assert!(
+            e.message
+                .contains("the diagonal is the probability of not mutating (a child of F keeping its type), 1 minus the rest of the row, and is implied"),
+            "{e}"
+        );
+        speckled(0.7, 0.3, "[[0, 0.5, 0.5], [0, 0, 0.2], [0, 0, 0]]").unwrap();
+    }
+
+    #[test]
+    fn a_bone_grammar_cannot_set_plant_settings() {
+        let bone = builtin("long-bone").expect("preset");
+        for (setting, value) in [("plants", "2"), ("spacing", "10"), ("animate", "1")] {
+            let text = format!("n = 1\n{setting} = {value}\naxiom: F\n");
+            let grammar = inline_value("bones.grammar", "mine.lsys", text.into_bytes()).unwrap();
+            let e = bone
+                .clone_with_sets(&[("bones.grammar".into(), grammar)])
+                .unwrap_err();
+            assert_eq!(e.key, "bones.grammar");
+            assert_eq!(
+                e.message,
+                format!(
+                    "mine.lsys:2: `{setting}` applies only to L-system plant presets ([lsystem]); a bone's skeleton is one derivation wrapped once, so remove it"
+                )
+            );
+        }
+    }
+
+    fn grammar_text(s: &Scenario) -> &str {
+        match s.checked() {
+            Checked::LSystem(text) => text,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn grammar_constants_are_set_as_lsystem_keys() {
+        let shrub = builtin("abop-shrub").expect("preset");
+        let file = include_str!("../../grammars/abop-shrub.lsys");
+        let set = |k: &str, v: &str| shrub.clone_with_sets(&[(k.into(), v.into())]);
+        // The grammar that runs is the file edited by hand.
+        let delta = set("lsystem.delta", "30").unwrap();
+        assert_eq!(
+            grammar_text(&delta),
+            file.replace("delta = 22.5", "delta = 30")
+        );
+        assert_eq!(grammar_text(&shrub), file);
+        let n = set("lsystem.n", "3").unwrap();
+        assert_eq!(grammar_text(&n), file.replace("n = 7", "n = 3"));
+        let e = set("lsystem.detla", "30").unwrap_err();
+        assert_eq!(
+            e.to_string().split(": ../").next().unwrap(),
+            "--set lsystem.detla=30: lsystem.detla: unknown setting or constant (did you mean `delta`?)"
+        );
+        let e = set("lsystem.n", "300").unwrap_err();
+        assert!(e.message.starts_with("300 is out of range"), "{e}");
+        // A scenario file's `[lsystem]` table does the same.
+        let toml = format!(
+            "name = \"shrub-30\"\n[lsystem]\ngrammar = {{ text = {} }}\ndelta = 30\n",
+            toml::Value::String(file.into())
+        );
+        let from_file = Scenario::from_text("shrub-30.toml", &toml).unwrap();
+        assert_eq!(grammar_text(&from_file), grammar_text(&delta));
+        // Every constant of the grammar is a control.
+        let keys: Vec<String> = shrub.ranges().into_iter().map(|r| r.key).collect();
+        assert_eq!(
+            keys,
+            [
+                "lsystem.n",
+                "lsystem.delta",
+                "lsystem.step",
+                "lsystem.width",
+                "lsystem.thin"
+            ]
+        );
     }
 }

@@ -269,7 +269,12 @@ fn body(p: &BodyParams<'_>) -> Result<String, String> {
         fx(p.first_age),
         fx(p.last_age),
         p.gait.map_or("None".into(), |g| format!(
-            "Some(&body::gait::Gait {{ channels: &{} }})",
+            "Some(&body::gait::Gait {{ footfall: {}, channels: &{} }})",
+            g.footfall.map_or("None".into(), |f| format!(
+                "Some(body::gait::Footfall {{ duty_factor: {}, stride_seconds: {} }})",
+                fx(f.duty_factor),
+                fx(f.stride_seconds)
+            )),
             list(g.channels, |c| format!(
                 "body::gait::Channel {{ cylinder: {}, shift: {}, degrees: &{:?} }}",
                 label(&c.cylinder),

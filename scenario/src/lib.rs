@@ -23,6 +23,7 @@
 pub mod body_files;
 pub mod check;
 pub mod codegen;
+mod constants;
 pub mod firmware;
 pub mod mask;
 pub mod run;

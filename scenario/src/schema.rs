@@ -125,12 +125,16 @@ pub struct Horn {
     pub modules: Vec<HornModule>,
 }
 
-/// `[lsystem]`: a grammar file (`docs/lsystems.md`).
+/// `[lsystem]`: a grammar file (`docs/lsystems.md`) and any of its
+/// settings and constants set from here.
 #[derive(Debug, Clone, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
 pub struct LSystem {
     /// The grammar.
     pub grammar: Include,
+    /// Every other key: a setting or constant of the grammar and its value
+    /// (`delta = 30`), written into the grammar's text.
+    #[serde(flatten)]
+    pub constants: std::collections::BTreeMap<String, toml::Value>,
 }
 
 /// A mosaic's surface.
@@ -327,6 +331,14 @@ pub struct Channel {
 pub struct Gait {
     /// Frames per stride.
     pub frames_per_stride: i64,
+    /// The share of the stride each hoof is on the ground from its
+    /// channel's sample 0 (with `stride_seconds`); without it the lowest
+    /// fore and hind hooves support the body at every phase.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duty_factor: Option<f64>,
+    /// The stride's duration, seconds (the suspension's flight time).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stride_seconds: Option<f64>,
     /// The joints it moves.
     pub channels: Vec<Channel>,
 }

@@ -39,6 +39,19 @@ pub enum Drive {
     /// since the model's age: `model × value(age) / value(model age)`
     /// (a part that is not measured grows with a documented neighbour).
     Follows(u8),
+    /// The feature is the lower part of the measured height `column`, and
+    /// the part above it (the column's value at the model's age less the
+    /// feature's model length) follows column `above`:
+    /// `value(age) − (value(model age) − model) × above(age) / above(model
+    /// age)`. Table 2's withers height is the leg below the elbow plus the
+    /// trunk above it, whose depth is the chest depth: so the legs make
+    /// the height the table measures at every age.
+    Below {
+        /// The measured height.
+        column: u8,
+        /// The column the part above the feature follows.
+        above: u8,
+    },
 }
 
 impl Drive {
@@ -46,7 +59,17 @@ impl Drive {
     #[must_use]
     pub const fn column(self) -> u8 {
         match self {
-            Drive::Measured(c) | Drive::Follows(c) => c,
+            Drive::Measured(c) | Drive::Follows(c) | Drive::Below { column: c, .. } => c,
+        }
+    }
+
+    /// Every table column the feature reads (the second is the first when
+    /// it reads one).
+    #[must_use]
+    pub const fn columns(self) -> [u8; 2] {
+        match self {
+            Drive::Measured(c) | Drive::Follows(c) => [c, c],
+            Drive::Below { column, above } => [column, above],
         }
     }
 }

@@ -24,15 +24,72 @@ pub struct Channel<'a> {
     pub degrees: &'a [i16],
 }
 
+/// The footfall timing of a gait (Hildebrand's gait diagram): each hoof
+/// touches down at sample 0 of its channel and stays on the ground for the
+/// duty factor's share of the stride. A trot whose duty factor is below
+/// 0.5 has two suspensions a stride, when no hoof is on the ground and the
+/// body flies; a walk's is above 0.5 and it is never airborne.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Footfall {
+    /// The share of the stride a hoof is on the ground, in (0, 1).
+    pub duty_factor: Fx,
+    /// The stride's duration, seconds: the flight's time, for its
+    /// ballistic path.
+    pub stride_seconds: Fx,
+}
+
 /// A cyclic gait.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Gait<'a> {
     /// The joints it moves.
     pub channels: &'a [Channel<'a>],
+    /// When each hoof is on the ground; `None`: the lowest fore and hind
+    /// hooves support the body at every phase.
+    pub footfall: Option<Footfall>,
+}
+
+/// Gravity in a table's length unit per second squared (`"in"`, `"cm"`,
+/// `"mm"`, `"m"`), or `None` for another unit.
+#[must_use]
+pub fn gravity(unit: &str) -> Option<Fx> {
+    // Standard gravity, 9.80665 m/s².
+    match unit {
+        "in" => Some(Fx::from_ratio(3_860_886, 10_000)),
+        "cm" => Some(Fx::from_ratio(980_665, 1000)),
+        "mm" => Some(Fx::from_ratio(980_665, 100)),
+        "m" => Some(Fx::from_ratio(980_665, 100_000)),
+        _ => None,
+    }
+}
+
+/// `x` wrapped into [0, 1).
+fn turn(x: Fx) -> Fx {
+    Fx::from_bits(x.to_bits() & 0xFFFF)
 }
 
 impl Gait<'_> {
+    /// The phase of the stride at which the hoof of cylinder `name` touches
+    /// down (its channel's sample 0), or `None` without a channel.
+    #[must_use]
+    pub fn touchdown(&self, name: Label) -> Option<Fx> {
+        let ch = self.channels.iter().find(|c| c.cylinder == name)?;
+        let n = i32::try_from(ch.degrees.len()).ok().filter(|&n| n > 0)?;
+        // Sample `shift` is read at phase 0: sample 0 at −shift/n.
+        Some(turn(-Fx::from_ratio(i32::from(ch.shift) % n, n)))
+    }
+
+    /// Whether the hoof of cylinder `name` is on the ground at `phase`
+    /// (always, without footfall timing or a channel).
+    #[must_use]
+    pub fn on_ground(&self, name: Label, phase: Fx) -> bool {
+        match (self.footfall, self.touchdown(name)) {
+            (Some(f), Some(t)) => turn(phase - t) < f.duty_factor,
+            _ => true,
+        }
+    }
+
     /// The joint of the cylinder `name` at `phase` ∈ [0, 1) of the stride.
     #[must_use]
     pub fn joint(&self, name: Label, phase: Fx) -> Joint {
@@ -84,6 +141,10 @@ mod tests {
     /// A trot (the `horse-trot` scenario's gait): left fore with right
     /// hind, then right fore with left hind half a stride (6 samples) later.
     static TROT: Gait<'static> = Gait {
+        footfall: Some(Footfall {
+            duty_factor: Fx::from_ratio(2, 5),
+            stride_seconds: Fx::from_ratio(65, 100),
+        }),
         channels: &[
             channel("l-fore-forearm", 0, &FORE_SWING),
             channel("l-fore-cannon", 0, &FORE_KNEE),
@@ -117,5 +178,31 @@ mod tests {
         let rf = Label::new("r-fore-forearm");
         assert_eq!(TROT.joint(rf, Fx::ZERO), TROT.joint(lf, Fx::HALF));
         assert_eq!(TROT.joint(Label::new("torso"), Fx::HALF), Joint::REST);
+    }
+
+    #[test]
+    fn diagonal_hooves_land_together_and_a_short_duty_factor_flies() {
+        let on = |name: &str, k: i32| TROT.on_ground(Label::new(name), Fx::from_ratio(k, 12));
+        let pairs = [
+            ["l-fore-pastern", "r-hind-pastern"],
+            ["r-fore-pastern", "l-hind-pastern"],
+        ];
+        let mut suspensions = 0;
+        for k in 0..12 {
+            let [a, b] = pairs.map(|[f, h]| {
+                assert_eq!(on(f, k), on(h, k), "phase {k}/12");
+                on(f, k)
+            });
+            assert!(!(a && b), "phase {k}/12: both pairs down");
+            if !a && !b {
+                suspensions += 1;
+            }
+        }
+        // Duty factor 0.4: down for 0–4/12 and 6–10/12, flying at 5 and 11.
+        assert_eq!(suspensions, 2);
+        assert!(on("l-fore-pastern", 0) && on("l-fore-pastern", 4));
+        assert!(!on("l-fore-pastern", 5) && on("r-fore-pastern", 6));
+        // A cylinder without a channel is always on the ground.
+        assert!(on("torso", 5));
     }
 }

@@ -484,10 +484,15 @@ pub static HORSE: BodyModel<'static> = BodyModel {
 
 const fn cow_left_fore() -> [Cylinder; 3] {
     let z = 170;
+    // Elbow 65 cm above the ground: the withers height (Table 2) less the
+    // trunk above the elbow, which grows with the chest depth.
     let elbow_to_ground = feature(
         at(330, 650, z),
         at(330, 0, z),
-        Drive::Follows(cow::WITHERS_HEIGHT),
+        Drive::Below {
+            column: cow::WITHERS_HEIGHT,
+            above: cow::CHEST_DEPTH,
+        },
     );
     let girth = Drive::Follows(cow::CHEST_DEPTH);
     [
@@ -520,10 +525,16 @@ const fn cow_left_fore() -> [Cylinder; 3] {
 
 const fn cow_left_hind() -> [Cylinder; 3] {
     let z = 160;
-    let hock_to_ground = feature(
-        at(-680, 450, z),
+    // The stifle's height, 72 cm, down to the ground below the hock: the
+    // croup height (Table 2) less the trunk above the stifle, which grows
+    // with the chest depth.
+    let stifle_to_ground = feature(
+        at(-680, 720, z),
         at(-680, 0, z),
-        Drive::Follows(cow::CROUP_HEIGHT),
+        Drive::Below {
+            column: cow::CROUP_HEIGHT,
+            above: cow::CHEST_DEPTH,
+        },
     );
     let girth = Drive::Follows(cow::CHEST_DEPTH);
     [
@@ -533,14 +544,7 @@ const fn cow_left_hind() -> [Cylinder; 3] {
             at(-560, 720, z),
             at(-700, 405, z),
             t(110),
-            [
-                feature(
-                    at(-560, 720, z),
-                    at(-680, 450, z),
-                    Drive::Follows(cow::CROUP_HEIGHT),
-                ),
-                lateral(at(-620, 580, z), t(150), girth),
-            ],
+            [stifle_to_ground, lateral(at(-620, 580, z), t(150), girth)],
         ),
         cylinder(
             "l-hind-cannon",
@@ -548,7 +552,7 @@ const fn cow_left_hind() -> [Cylinder; 3] {
             at(-680, 450, z),
             at(-680, 80, z),
             t(65),
-            [hock_to_ground, lateral(at(-680, 250, z), t(70), girth)],
+            [stifle_to_ground, lateral(at(-680, 250, z), t(70), girth)],
         ),
         cylinder(
             "l-hind-pastern",
@@ -556,7 +560,7 @@ const fn cow_left_hind() -> [Cylinder; 3] {
             at(-680, 120, z),
             at(-652, -15, z),
             t(65),
-            [hock_to_ground, lateral(at(-668, 60, z), t(70), girth)],
+            [stifle_to_ground, lateral(at(-668, 60, z), t(70), girth)],
         ),
     ]
 }

@@ -12,7 +12,7 @@ use serde::Serialize;
 
 use super::gait::Gait;
 use super::skeleton::Skeleton;
-use super::{BodyModel, GrowthTable, Joint, MAX_CYLINDERS};
+use super::{BodyModel, GrowthTable, MAX_CYLINDERS};
 use crate::Error;
 use crate::fx::Fx;
 use crate::sim::{Deferred, Progress, Simulation, Start};
@@ -133,12 +133,8 @@ impl<const C: usize> Simulation for Body<'_, C> {
         let (model, frame) = (params.model, self.frame);
         let age = params.age(frame);
         let phase = params.phase(frame);
-        let joint = |_: usize, c: &super::Cylinder| match params.gait {
-            Some(g) => g.joint(c.name, phase),
-            None => Joint::REST,
-        };
         self.skeleton
-            .pose(model, params.table, age, &joint)
+            .pose_in_gait(model, params.table, age, params.gait, phase)
             .map_err(|e| match e {
                 Error::Body(e) => Error::Body(e.at_age(age)),
                 e => e,

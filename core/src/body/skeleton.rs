@@ -15,11 +15,12 @@ use nalgebra::Vector3;
 use super::binding::{Binding, bind};
 use super::chain::{Affine, Joint, deformation, link, root};
 use super::cylinder::{Anchor, Cylinder, Rest, point, validate_hierarchy};
+use super::gait::{Gait, gravity};
 use super::solve::{self, Growth};
 use super::stance::{self, Part};
 use super::{BodyModel, GrowthTable};
 use crate::Error;
-use crate::fx::Real;
+use crate::fx::{Fx, Real};
 
 /// A hierarchy of at most `C` cylinders, sized and posed.
 #[derive(Clone, Debug)]
@@ -98,12 +99,114 @@ impl<R: Real, const C: usize> Skeleton<R, C> {
     }
 
     /// Sizes every cylinder at `age` (months) and poses the joints:
-    /// `joint(i, cylinder)` is cylinder i's motion from its rest pose.
+    /// `joint(i, cylinder)` is cylinder i's motion from its rest pose. The
+    /// lowest fore and hind hooves stand on the ground.
     ///
     /// # Errors
     /// A cylinder's [`super::BodyError::NegativeSize`] (or the errors of
     /// [`Skeleton::load`] if the model changed).
     pub fn pose(
+        &mut self,
+        model: &BodyModel<'_>,
+        table: &GrowthTable<'_>,
+        age: R,
+        joint: &dyn Fn(usize, &Cylinder) -> Joint,
+    ) -> Result<(), Error> {
+        self.chain(model, table, age, joint)?;
+        let lift = self.stand(&|_| true);
+        self.finish(lift);
+        Ok(())
+    }
+
+    /// Poses the body at `age` in `gait` at `phase` ∈ [0, 1) of the stride
+    /// (at rest without a gait). With the gait's footfall timing only the
+    /// hooves on the ground at `phase` support the body; when none is (a
+    /// trot's suspension) the body flies: its root follows the ballistic
+    /// path, under the table unit's gravity, from where it stood at the
+    /// last lift-off to where it stands at the next touchdown, and no
+    /// hoof goes below the ground.
+    ///
+    /// # Errors
+    /// As [`Skeleton::pose`].
+    pub fn pose_in_gait(
+        &mut self,
+        model: &BodyModel<'_>,
+        table: &GrowthTable<'_>,
+        age: R,
+        gait: Option<&Gait<'_>>,
+        phase: Fx,
+    ) -> Result<(), Error> {
+        let joint_at = |phase: Fx| {
+            move |_: usize, c: &Cylinder| gait.map_or(Joint::REST, |g| g.joint(c.name, phase))
+        };
+        let footfall = gait.and_then(|g| g.footfall.map(|f| (g, f)));
+        let Some((gait, footfall)) = footfall.filter(|_| self.ground.is_some()) else {
+            return self.pose(model, table, age, &joint_at(phase));
+        };
+        let name = |i: usize| model.cylinders.get(i).map(|c| c.name);
+        let support = |i: usize| self.parts.get(i).is_some_and(|p| p.end.is_some());
+        // The phase since each hoof's touchdown.
+        let since = |i: usize, at: Fx| {
+            name(i)
+                .and_then(|n| gait.touchdown(n))
+                .map(|t| Fx::from_bits((at - t).to_bits() & 0xFFFF))
+        };
+        let on = |i: usize, at: Fx| name(i).is_some_and(|n| gait.on_ground(n, at));
+        let count = self.parts.len();
+        if (0..count).any(|i| support(i) && on(i, phase)) {
+            self.chain(model, table, age, &joint_at(phase))?;
+            let lift = self.stand(&|i| on(i, phase));
+            self.finish(lift);
+            return Ok(());
+        }
+        // In the air: since the last lift-off and until the next touchdown.
+        let duty = footfall.duty_factor;
+        let (mut flown, mut ahead) = (Fx::ONE, Fx::ONE);
+        for i in (0..count).filter(|&i| support(i)) {
+            if let Some(s) = since(i, phase) {
+                flown = flown.min(s - duty);
+                ahead = ahead.min(Fx::ONE - s);
+            }
+        }
+        let flight = flown + ahead;
+        let eps = Fx::from_ratio(1, 1024);
+        // Where the trunk's centre stood at lift-off (the hooves that left the
+        // ground) and will stand at touchdown (the hooves that land).
+        let mut stood = [R::zero(); 2];
+        for (k, at) in [phase - flown, phase + ahead].into_iter().enumerate() {
+            self.chain(model, table, age, &joint_at(at))?;
+            let lift = self.stand(&|i| {
+                since(i, at).is_some_and(|s| {
+                    let edge = if k == 0 { duty } else { Fx::ZERO };
+                    (s - edge).abs() < eps || (k == 1 && Fx::ONE - s < eps)
+                })
+            });
+            stood[k] = self.root_height() + lift;
+        }
+        self.chain(model, table, age, &joint_at(phase))?;
+        let lowest = self.stand(&|_| true);
+        let share = if flight > Fx::ZERO {
+            R::from_fx(flown.div(flight))
+        } else {
+            R::zero()
+        };
+        // Seconds flown and still to fly; the parabola g/2·τ·(T − τ) above
+        // the chord, g·τ first (a length per second, of order 100).
+        let bump = gravity(table.unit).map_or(R::zero(), |g| {
+            let (tau, rest) = (
+                R::from_fx(flown * footfall.stride_seconds),
+                R::from_fx(ahead * footfall.stride_seconds),
+            );
+            R::from_fx(g) * tau * rest * R::from_ratio(1, 2)
+        });
+        let path = stood[0] + (stood[1] - stood[0]) * share + bump;
+        let lift = path - self.root_height();
+        self.finish(if lift > lowest { lift } else { lowest });
+        Ok(())
+    }
+
+    /// Sizes every cylinder and evaluates the chain (before the stance).
+    fn chain(
         &mut self,
         model: &BodyModel<'_>,
         table: &GrowthTable<'_>,
@@ -129,13 +232,33 @@ impl<R: Real, const C: usize> Skeleton<R, C> {
             self.growth.push(g).map_err(|_| capacity::<C>())?;
             self.maps.push(world).map_err(|_| capacity::<C>())?;
         }
-        let lift = match self.ground {
+        Ok(())
+    }
+
+    /// The height of the trunk's centre (the root's axis midpoint, near
+    /// the centre of mass) before the lift.
+    fn root_height(&self) -> R {
+        match (self.maps.first(), self.rests.first(), self.growth.first()) {
+            (Some(w), Some(rest), Some(g)) => {
+                let half = rest.length * g.length * R::from_ratio(1, 2);
+                w.apply(&Vector3::new(half, R::zero(), R::zero())).y
+            }
+            _ => R::zero(),
+        }
+    }
+
+    /// Pitches the trunk on the supports `on(i)` and returns the lift that
+    /// stands the body (see [`stance::stand`]); a body without fore and
+    /// hind supports keeps its lowest axis end at the model's ground.
+    fn stand(&mut self, on: &dyn Fn(usize) -> bool) -> R {
+        match self.ground {
             Some(ground) => stance::stand(
                 &self.parts,
                 &self.rests,
                 &self.growth,
                 &mut self.maps,
                 ground,
+                on,
             )
             .unwrap_or_else(R::zero),
             None => {
@@ -154,12 +277,15 @@ impl<R: Real, const C: usize> Skeleton<R, C> {
                     _ => R::zero(),
                 }
             }
-        };
+        }
+    }
+
+    /// Lifts the posed chain and applies the growth.
+    fn finish(&mut self, lift: R) {
         for (w, g) in self.maps.iter_mut().zip(&self.growth) {
             w.translation.y += lift;
             *w = deformation(w, g);
         }
-        Ok(())
     }
 
     /// The cylinders a model point follows, with weights.

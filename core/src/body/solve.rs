@@ -88,12 +88,13 @@ pub fn check<R: Real>(
     table: &GrowthTable<'_>,
 ) -> Result<(), BodyError> {
     for f in &cylinder.features {
-        let column = f.drive.column();
-        if usize::from(column) >= table.columns.len() {
-            return Err(BodyError::UnknownColumn {
-                cylinder: cylinder.name,
-                column,
-            });
+        for column in f.drive.columns() {
+            if usize::from(column) >= table.columns.len() {
+                return Err(BodyError::UnknownColumn {
+                    cylinder: cylinder.name,
+                    column,
+                });
+            }
         }
     }
     let s = shapes(cylinder, rest)?;
@@ -126,6 +127,20 @@ fn target<R: Real>(
             let then = table.value(column, model_age).ok_or(missing)?;
             // model_length·(now/then): the ratio first, it is of order 1.
             model_length * now.div(then)
+        }
+        Drive::Below { above, .. } => {
+            let then = table.value(column, model_age).ok_or(missing)?;
+            let missing = BodyError::UnknownColumn {
+                cylinder: cylinder.name,
+                column: above,
+            };
+            let (above_now, above_then) = (
+                table.value(above, age).ok_or(missing)?,
+                table.value(above, model_age).ok_or(missing)?,
+            );
+            // The part above, (then − model)·(above_now/above_then): the
+            // ratio first, of order 1.
+            now - (then - model_length) * above_now.div(above_then)
         }
     })
 }

@@ -22,10 +22,12 @@
 //! least and greatest x), and it is a **fore** or **hind** support by the
 //! side of the supports' mid-x its lower end lies on. At every pose the
 //! lowest sole of each end is found, the trunk pitches until they are
-//! level, and the body is lifted so that they touch the ground. In a trot
-//! the gait lifts one hoof of each pair: the lower one is the support. A
-//! body without both fore and hind supports (a tail, a biped) keeps the
-//! plain lift of [`super::skeleton`].
+//! level, and the body is lifted so that they touch the ground. A gait
+//! with footfall timing ([`super::gait::Footfall`]) names the supports on
+//! the ground at each phase (a trot's diagonal pair) and only they count;
+//! without it the lower hoof of each pair is the support. A body without
+//! both fore and hind supports (a tail, a biped) keeps the plain lift of
+//! [`super::skeleton`].
 
 use heapless::Vec;
 use nalgebra::Vector3;
@@ -203,17 +205,29 @@ pub fn parts<R: Real, const C: usize>(
 }
 
 /// The lowest sole of each end (hind, fore) under the chain maps `maps`
-/// (before growth): its height and its limb.
+/// (before growth): its height and its limb. Only the supports `on(i)`
+/// count, unless an end has none on the ground: then all of that end's.
 fn lowest<R: Real>(
     parts: &[Part<R>],
     rests: &[Rest<R>],
     growth: &[Growth<R>],
     maps: &[Affine<R>],
     ground: R,
+    on: &dyn Fn(usize) -> bool,
 ) -> Option<[(R, usize); 2]> {
     let mut best: [Option<(R, usize)>; 2] = [None, None];
-    for (((part, rest), g), w) in parts.iter().zip(rests).zip(growth).zip(maps) {
+    let down = |end: End| {
+        parts
+            .iter()
+            .enumerate()
+            .any(|(i, p)| p.end == Some(end) && on(i))
+    };
+    let counted = [down(End::Hind), down(End::Fore)];
+    for (i, (((part, rest), g), w)) in parts.iter().zip(rests).zip(growth).zip(maps).enumerate() {
         let Some(end) = part.end else { continue };
+        if counted[end as usize] && !on(i) {
+            continue;
+        }
         let z = lower_end(rest).z;
         for x in part.sole {
             // The sole point's local frame at model size, grown, to the world.
@@ -235,16 +249,20 @@ fn lowest<R: Real>(
 }
 
 /// Pitches the chain maps `maps` (before growth) so that the lowest fore
-/// and hind soles are level, and returns the lift that puts them on
-/// `ground` (`None` when a map is missing).
+/// and hind soles of the supports on the ground (`on(i)` for cylinder i)
+/// are level, and returns the lift that puts the lowest sole of all on
+/// `ground`: the supports on the ground touch it unless a lifted hoof
+/// hangs lower, and no hoof goes below it (`None` when a map is missing).
 pub fn stand<R: Real>(
     parts: &[Part<R>],
     rests: &[Rest<R>],
     growth: &[Growth<R>],
     maps: &mut [Affine<R>],
     ground: R,
+    on: &dyn Fn(usize) -> bool,
 ) -> Option<R> {
-    let [(hind_y, hind_limb), (fore_y, fore_limb)] = lowest(parts, rests, growth, maps, ground)?;
+    let [(hind_y, hind_limb), (fore_y, fore_limb)] =
+        lowest(parts, rests, growth, maps, ground, on)?;
     let pivot = maps.get(hind_limb)?.translation;
     let joint = maps.get(fore_limb)?.translation;
     // The fore joint seen from the hind one, in the side plane: turn it
@@ -283,7 +301,7 @@ pub fn stand<R: Real>(
             }
         }
     }
-    let [(hind, _), (fore, _)] = lowest(parts, rests, growth, maps, ground)?;
+    let [(hind, _), (fore, _)] = lowest(parts, rests, growth, maps, ground, &|_| true)?;
     Some(ground - if fore < hind { fore } else { hind })
 }
 

@@ -1,6 +1,8 @@
 //! The grammar text parser: line by line, alloc-free, every error located.
 //! The format is specified in `docs/lsystems.md`.
 
+use core::cell::Cell;
+
 use heapless::Vec;
 
 use crate::fx::Fx;
@@ -10,13 +12,23 @@ use super::grammar::{Grammar, Pattern, Production, Section, Span, Template};
 use super::{
     MAX_BUFFERED_STEPS, MAX_CODE, MAX_CONSTANTS, MAX_CONTEXT_MODULES, MAX_DECOMPOSITION_DEPTH,
     MAX_EXPR_STACK, MAX_FORMALS, MAX_INTERPRETATION_DEPTH, MAX_LITERALS, MAX_NAME, MAX_NESTING,
-    MAX_PARAMS, MAX_PRODUCTIONS, MAX_SUCCESSOR_MODULES, ParseError, ParseErrorKind,
-    UNSUPPORTED_SYMBOLS,
+    MAX_PARAMS, MAX_PRODUCTIONS, MAX_SUCCESSOR_MODULES, ParseError, ParseErrorKind, SettingName,
+    UNSUPPORTED_SYMBOLS, misspelt_setting,
 };
 use crate::turtle::SURFACES;
 
 type Name = Vec<u8, MAX_NAME>;
-type Constants = Vec<(Name, Fx), MAX_CONSTANTS>;
+type Constants = Vec<Constant, MAX_CONSTANTS>;
+
+/// A `name = value` line: a setting or a user constant, where it is
+/// defined and whether any expression read it.
+struct Constant {
+    name: Name,
+    value: Fx,
+    line: u32,
+    column: u32,
+    used: Cell<bool>,
+}
 type Formals = Vec<Name, MAX_FORMALS>;
 
 const fn capacity(limit: &'static str, capacity: usize) -> ParseErrorKind {
@@ -137,6 +149,14 @@ impl<'t> Cursor<'t> {
     }
 }
 
+/// The error for `name`, a misspelling of the setting `suggestion`.
+fn unknown_setting(name: &[u8], suggestion: &'static str) -> ParseErrorKind {
+    ParseErrorKind::UnknownSetting {
+        name: SettingName::new(name),
+        suggestion,
+    }
+}
+
 /// Finds `needle` in `hay[from..to]`.
 fn find(hay: &[u8], from: usize, to: usize, needle: &[u8]) -> Option<usize> {
     let window = hay.get(from..to)?;
@@ -150,7 +170,7 @@ fn find(hay: &[u8], from: usize, to: usize, needle: &[u8]) -> Option<usize> {
 struct Compiler<'g, 'c> {
     grammar: &'g mut Grammar,
     formals: &'c [Name],
-    constants: &'c [(Name, Fx)],
+    constants: &'c [Constant],
     depth: usize,
     nesting: usize,
 }
@@ -336,9 +356,12 @@ impl Compiler<'_, '_> {
                 match self
                     .constants
                     .iter()
-                    .find(|(n, _)| n.as_slice() == word.as_bytes())
+                    .find(|k| k.name.as_slice() == word.as_bytes())
                 {
-                    Some(&(_, v)) => self.literal(c, start, v),
+                    Some(k) => {
+                        k.used.set(true);
+                        self.literal(c, start, k.value)
+                    }
                     None => Err(c.err_at(start, ParseErrorKind::UnknownName)),
                 }
             }
@@ -394,6 +417,20 @@ impl Grammar {
     /// The first problem, with its line and column; `self` then holds an
     /// unspecified (but safe to drop or re-parse) grammar.
     pub fn parse(&mut self, text: &str) -> Result<(), ParseError> {
+        self.parse_with(text, |_, _| {})
+    }
+
+    /// [`Grammar::parse`], then calls `constant` with each `name = value`
+    /// the text defines (settings but `tropism` included), in the order
+    /// written, with its value.
+    ///
+    /// # Errors
+    /// As [`Grammar::parse`]; `constant` is then not called.
+    pub fn parse_with(
+        &mut self,
+        text: &str,
+        mut constant: impl FnMut(&str, Fx),
+    ) -> Result<(), ParseError> {
         *self = Grammar::new();
         let mut state = State {
             constants: Vec::new(),
@@ -429,6 +466,18 @@ impl Grammar {
             }
             self.statement(&mut c, &mut state)?;
         }
+        // A name no expression reads and that is close to a setting's is
+        // a misspelt setting (`detla = 30` would leave δ at 90°).
+        for k in &state.constants {
+            let word = core::str::from_utf8(&k.name).unwrap_or("");
+            if let (false, Some(setting)) = (k.used.get(), misspelt_setting(word)) {
+                return Err(ParseError {
+                    line: k.line,
+                    column: k.column,
+                    kind: unknown_setting(&k.name, setting),
+                });
+            }
+        }
         let end = ParseError {
             line: lines,
             column: 1,
@@ -442,6 +491,9 @@ impl Grammar {
                 kind: ParseErrorKind::MissingSteps,
                 ..end
             });
+        }
+        for k in &state.constants {
+            constant(core::str::from_utf8(&k.name).unwrap_or(""), k.value);
         }
         Ok(())
     }
@@ -512,7 +564,7 @@ impl Grammar {
         state: &mut State,
     ) -> Result<(), ParseError> {
         let name = c.name(start, word)?;
-        if state.constants.iter().any(|(n, _)| *n == name) {
+        if state.constants.iter().any(|k| k.name == name) {
             return Err(c.err_at(start, ParseErrorKind::DuplicateName));
         }
         if word == "tropism" {
@@ -523,7 +575,13 @@ impl Grammar {
             c.pos
         };
         let value = self.constant(c, state)?;
-        c.expect_end()?;
+        if !c.at_end() {
+            if c.peek() == Some(b',') && misspelt_setting(word) == Some("tropism") {
+                // `tropsim = 0, -1, 0`: only the tropism is a list.
+                return Err(c.err_at(start, unknown_setting(&name, "tropism")));
+            }
+            c.expect_end()?;
+        }
         let invalid = |what| c.err_at(value_at, ParseErrorKind::InvalidValue(what));
         let integer = |lo: i32, hi: i32| {
             let i = value.floor_int();
@@ -553,9 +611,16 @@ impl Grammar {
             }
             _ => {}
         }
+        let column = c.err_at(start, ParseErrorKind::DuplicateName).column;
         state
             .constants
-            .push((name, value))
+            .push(Constant {
+                name,
+                value,
+                line: c.line,
+                column,
+                used: Cell::new(false),
+            })
             .map_err(|_| c.err_at(start, capacity("MAX_CONSTANTS", MAX_CONSTANTS)))
     }
 

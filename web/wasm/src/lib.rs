@@ -841,10 +841,20 @@ mod tests {
         let list: Vec<serde_json::Value> =
             serde_json::from_str(&presets()).expect("presets is JSON");
         assert_eq!(list.len(), morphogen_scenario::builtins().len());
-        // Every model but the L-system, whose numbers are in its grammar.
+        // Every model, the L-system's from its grammar's constants.
         for s in morphogen_scenario::builtins() {
-            let lsystem = s.file().lsystem.is_some();
-            assert_eq!(controls(&s).is_empty(), lsystem, "{}", s.name());
+            assert!(!controls(&s).is_empty(), "{}", s.name());
         }
+        let shrub = morphogen_scenario::builtin("abop-shrub").expect("preset");
+        let c = controls(&shrub);
+        let delta = c.iter().find(|c| c.key == "lsystem.delta").expect("delta");
+        assert_eq!((delta.value, delta.whole), (22.5, false));
+        assert_eq!(delta.doc, "δ: the turn angle");
+        let n = c.iter().find(|c| c.key == "lsystem.n").expect("n");
+        assert_eq!((n.value, n.min, n.max, n.whole), (7.0, 0.0, 255.0, true));
+        let changed = shrub
+            .clone_with_sets(&[("lsystem.delta".into(), "30".into())])
+            .expect("a value in range");
+        assert_ne!(digest(&changed), digest(&shrub));
     }
 }
