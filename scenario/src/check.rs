@@ -27,6 +27,7 @@ use crate::body_files::{self, USER_CYLINDERS};
 use crate::constants;
 use crate::mask;
 use crate::schema::{self, BoneFrames, DayFrames, File, Include};
+use crate::spelling;
 use crate::surface::{self, SurfaceSpec};
 pub use crate::value::Invalid;
 use crate::value::{Result, fx, int, invalid, shown};
@@ -443,26 +444,37 @@ fn parsed_grammar(
 }
 
 /// `text` parsed, its errors named by the file `include` names; `constant`
-/// hears each `name = value` it defines.
+/// hears each `name = value` it defines (name and value). A constant that
+/// no expression reads and is named like a setting is refused as a
+/// misspelt setting ([`spelling`]).
 fn parse_grammar(
     text: &str,
     include: &Include,
     key: &str,
-    constant: impl FnMut(&str, Fx),
+    mut constant: impl FnMut(&str, Fx),
 ) -> Result<Box<morphogen::lsys::Grammar>> {
-    let mut grammar = Box::new(morphogen::lsys::Grammar::new());
-    match grammar.parse_with(text, constant) {
-        Ok(()) => Ok(grammar),
-        Err(e) => invalid(
+    let at = |line: u32, column: u32, what: &dyn std::fmt::Display| {
+        invalid(
             key,
-            format!(
-                "{}:{}:{}: {}",
-                include_name(include),
-                e.line,
-                e.column,
-                e.kind
-            ),
-        ),
+            format!("{}:{line}:{column}: {what}", include_name(include)),
+        )
+    };
+    let mut grammar = Box::new(morphogen::lsys::Grammar::new());
+    let mut misspelt = None;
+    let parsed = grammar.parse_with(text, |d| {
+        if misspelt.is_none() {
+            misspelt = spelling::first_misspelt(&[d]);
+        }
+        constant(d.name, d.value);
+    });
+    // A misspelt setting first: it explains a missing `n` too (`N = 2`).
+    match (parsed, misspelt) {
+        (_, Some((line, column, message))) => at(line, column, &message),
+        (Ok(()), None) => Ok(grammar),
+        (Err(e), None) => match spelling::misspelt_on_line(text, e.line) {
+            Some((column, message)) => at(e.line, column, &message),
+            None => at(e.line, e.column, &e.kind),
+        },
     }
 }
 

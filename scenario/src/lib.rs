@@ -28,6 +28,7 @@ pub mod firmware;
 pub mod mask;
 pub mod run;
 pub mod schema;
+mod spelling;
 pub mod surface;
 mod value;
 

@@ -57,6 +57,7 @@ pub use module::{MAX_PARAMS, Module};
 pub(crate) use sim::turtle_params;
 pub use sim::{LSystem, MAX_PLANT_MODULES, MODULES_PER_STEP};
 
+use crate::fx::Fx;
 use crate::turtle::TurtleError;
 
 /// Productions per grammar.
@@ -143,15 +144,6 @@ pub enum ParseErrorKind {
     /// `~` not followed by the letter of a predefined surface
     /// ([`crate::turtle::SURFACES`]).
     UnknownSurface,
-    /// A `name = value` whose name no expression reads and is close to a
-    /// setting's ([`misspelt_setting`]): a misspelt setting would
-    /// otherwise be a constant that does nothing.
-    UnknownSetting {
-        /// The name as written.
-        name: SettingName,
-        /// The setting it is close to.
-        suggestion: &'static str,
-    },
     /// A module symbol that ABOP or L-Py gives a meaning Morphogen does
     /// not implement: refused rather than silently drawn as nothing.
     UnsupportedSymbol {
@@ -177,102 +169,21 @@ pub const SETTINGS: [&str; 10] = [
     "elasticity",
 ];
 
-/// Names other L-system programs give a setting (cpfg's `angle`
-/// increment, a count of derivation `steps`), with the setting they mean.
-const SETTING_ALIASES: [(&str, &str); 3] =
-    [("angle", "delta"), ("steps", "n"), ("iterations", "n")];
-
-/// The setting `name` is most likely a misspelling of, if it is close to
-/// one (and is not one): its name in another case, a name other programs
-/// give it, or within one edit (two for settings of six letters or more;
-/// a transposition is one edit). A constant no expression reads and that
-/// this finds is refused by the parser as
-/// [`ParseErrorKind::UnknownSetting`].
-#[must_use]
-pub fn misspelt_setting(name: &str) -> Option<&'static str> {
-    if SETTINGS.contains(&name) || name.len() > MAX_NAME {
-        return None;
-    }
-    if let Some(&(_, setting)) = SETTING_ALIASES
-        .iter()
-        .find(|(alias, _)| alias.eq_ignore_ascii_case(name))
-    {
-        return Some(setting);
-    }
-    SETTINGS
-        .iter()
-        .map(|&s| (edit_distance(name.as_bytes(), s.as_bytes()), s))
-        .filter(|&(d, s)| match s.len() {
-            1 => d == 0,
-            2..=5 => d <= 1,
-            _ => d <= 2,
-        })
-        .min_by_key(|&(d, _)| d)
-        .map(|(_, s)| s)
-}
-
-/// Edits (insertions, deletions, substitutions, transpositions of
-/// neighbours; case ignored) from `a` to `b`, for names of at most
-/// [`MAX_NAME`] bytes (longer ones count as far).
-fn edit_distance(a: &[u8], b: &[u8]) -> usize {
-    const W: usize = MAX_NAME + 1;
-    if a.len() > MAX_NAME || b.len() > MAX_NAME {
-        return usize::MAX;
-    }
-    // Three rows of the optimal-string-alignment table.
-    let mut before = [0usize; W];
-    let mut last: [usize; W] = core::array::from_fn(|j| j);
-    let mut row = [0usize; W];
-    for (i, &x) in a.iter().enumerate() {
-        row[0] = i + 1;
-        for (j, &y) in b.iter().enumerate() {
-            let cost = usize::from(!x.eq_ignore_ascii_case(&y));
-            let mut d = (last[j + 1] + 1).min(row[j] + 1).min(last[j] + cost);
-            if i > 0
-                && j > 0
-                && x.eq_ignore_ascii_case(&b[j - 1])
-                && a[i - 1].eq_ignore_ascii_case(&y)
-            {
-                d = d.min(before[j - 1] + 1);
-            }
-            row[j + 1] = d;
-        }
-        before = last;
-        last = row;
-    }
-    last[b.len()]
-}
-
-/// A name as an error holds it (at most [`MAX_NAME`] ASCII bytes, no
-/// allocation).
+/// A `name = value` line of a grammar, as [`Grammar::parse_with`] reports
+/// it: a setting or a user constant.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct SettingName {
-    bytes: [u8; MAX_NAME],
-    len: u8,
-}
-
-impl SettingName {
-    /// `name`, cut at [`MAX_NAME`] bytes.
-    #[must_use]
-    pub fn new(name: &[u8]) -> SettingName {
-        let mut bytes = [0; MAX_NAME];
-        let len = name.len().min(MAX_NAME);
-        bytes[..len].copy_from_slice(&name[..len]);
-        SettingName {
-            bytes,
-            len: len as u8,
-        }
-    }
-
-    /// The name (ASCII: the parser reads nothing else).
-    #[must_use]
-    pub fn as_str(&self) -> &str {
-        self.bytes
-            .get(..usize::from(self.len))
-            .and_then(|b| core::str::from_utf8(b).ok())
-            .unwrap_or("")
-    }
+pub struct Definition<'t> {
+    /// The name as written.
+    pub name: &'t str,
+    /// Its value.
+    pub value: Fx,
+    /// Whether any expression reads it (a setting acts by its name
+    /// whether read or not).
+    pub read: bool,
+    /// The line of its name, from 1.
+    pub line: u32,
+    /// The column of its name, from 1.
+    pub column: u32,
 }
 
 /// Module symbols that ABOP or L-Py give a meaning Morphogen does not
@@ -319,11 +230,6 @@ impl core::fmt::Display for ParseErrorKind {
             ),
             ParseErrorKind::UnknownSurface => f.write_str(
                 "`~` must be followed by a predefined surface: `~L` (leaf) or `~P` (petal), optionally `(scale)`",
-            ),
-            ParseErrorKind::UnknownSetting { name, suggestion } => write!(
-                f,
-                "unknown setting `{}`: did you mean `{suggestion}`? (a name close to a setting's that no rule reads is taken for a misspelling; settings: n, delta, step, width, thin, plants, spacing, animate, tropism, elasticity)",
-                name.as_str()
             ),
             ParseErrorKind::UnsupportedSymbol { symbol, meaning } => write!(
                 f,

@@ -10,10 +10,10 @@ use crate::fx::Fx;
 use super::expr::{self, FUNCTIONS};
 use super::grammar::{Grammar, Pattern, Production, Section, Span, Template};
 use super::{
-    MAX_BUFFERED_STEPS, MAX_CODE, MAX_CONSTANTS, MAX_CONTEXT_MODULES, MAX_DECOMPOSITION_DEPTH,
-    MAX_EXPR_STACK, MAX_FORMALS, MAX_INTERPRETATION_DEPTH, MAX_LITERALS, MAX_NAME, MAX_NESTING,
-    MAX_PARAMS, MAX_PRODUCTIONS, MAX_SUCCESSOR_MODULES, ParseError, ParseErrorKind, SettingName,
-    UNSUPPORTED_SYMBOLS, misspelt_setting,
+    Definition, MAX_BUFFERED_STEPS, MAX_CODE, MAX_CONSTANTS, MAX_CONTEXT_MODULES,
+    MAX_DECOMPOSITION_DEPTH, MAX_EXPR_STACK, MAX_FORMALS, MAX_INTERPRETATION_DEPTH, MAX_LITERALS,
+    MAX_NAME, MAX_NESTING, MAX_PARAMS, MAX_PRODUCTIONS, MAX_SUCCESSOR_MODULES, ParseError,
+    ParseErrorKind, UNSUPPORTED_SYMBOLS,
 };
 use crate::turtle::SURFACES;
 
@@ -27,7 +27,7 @@ struct Constant {
     value: Fx,
     line: u32,
     column: u32,
-    used: Cell<bool>,
+    read: Cell<bool>,
 }
 type Formals = Vec<Name, MAX_FORMALS>;
 
@@ -146,14 +146,6 @@ impl<'t> Cursor<'t> {
             }
             _ => Err(self.err(ParseErrorKind::Expected("a module symbol"))),
         }
-    }
-}
-
-/// The error for `name`, a misspelling of the setting `suggestion`.
-fn unknown_setting(name: &[u8], suggestion: &'static str) -> ParseErrorKind {
-    ParseErrorKind::UnknownSetting {
-        name: SettingName::new(name),
-        suggestion,
     }
 }
 
@@ -359,7 +351,7 @@ impl Compiler<'_, '_> {
                     .find(|k| k.name.as_slice() == word.as_bytes())
                 {
                     Some(k) => {
-                        k.used.set(true);
+                        k.read.set(true);
                         self.literal(c, start, k.value)
                     }
                     None => Err(c.err_at(start, ParseErrorKind::UnknownName)),
@@ -417,19 +409,22 @@ impl Grammar {
     /// The first problem, with its line and column; `self` then holds an
     /// unspecified (but safe to drop or re-parse) grammar.
     pub fn parse(&mut self, text: &str) -> Result<(), ParseError> {
-        self.parse_with(text, |_, _| {})
+        self.parse_with(text, |_| {})
     }
 
-    /// [`Grammar::parse`], then calls `constant` with each `name = value`
-    /// the text defines (settings but `tropism` included), in the order
-    /// written, with its value.
+    /// [`Grammar::parse`], calling `constant` with each `name = value` the
+    /// text defines (settings but `tropism` included), in the order
+    /// written, once every line is read (before the axiom and `n` are
+    /// found missing): what a caller needs to refuse a constant that does nothing
+    /// (the scenario crate's did-you-mean for a misspelt setting).
     ///
     /// # Errors
-    /// As [`Grammar::parse`]; `constant` is then not called.
+    /// As [`Grammar::parse`]; `constant` is not called when a line is
+    /// refused.
     pub fn parse_with(
         &mut self,
         text: &str,
-        mut constant: impl FnMut(&str, Fx),
+        mut constant: impl FnMut(Definition<'_>),
     ) -> Result<(), ParseError> {
         *self = Grammar::new();
         let mut state = State {
@@ -466,17 +461,14 @@ impl Grammar {
             }
             self.statement(&mut c, &mut state)?;
         }
-        // A name no expression reads and that is close to a setting's is
-        // a misspelt setting (`detla = 30` would leave δ at 90°).
         for k in &state.constants {
-            let word = core::str::from_utf8(&k.name).unwrap_or("");
-            if let (false, Some(setting)) = (k.used.get(), misspelt_setting(word)) {
-                return Err(ParseError {
-                    line: k.line,
-                    column: k.column,
-                    kind: unknown_setting(&k.name, setting),
-                });
-            }
+            constant(Definition {
+                name: core::str::from_utf8(&k.name).unwrap_or(""),
+                value: k.value,
+                read: k.read.get(),
+                line: k.line,
+                column: k.column,
+            });
         }
         let end = ParseError {
             line: lines,
@@ -491,9 +483,6 @@ impl Grammar {
                 kind: ParseErrorKind::MissingSteps,
                 ..end
             });
-        }
-        for k in &state.constants {
-            constant(core::str::from_utf8(&k.name).unwrap_or(""), k.value);
         }
         Ok(())
     }
@@ -575,13 +564,7 @@ impl Grammar {
             c.pos
         };
         let value = self.constant(c, state)?;
-        if !c.at_end() {
-            if c.peek() == Some(b',') && misspelt_setting(word) == Some("tropism") {
-                // `tropsim = 0, -1, 0`: only the tropism is a list.
-                return Err(c.err_at(start, unknown_setting(&name, "tropism")));
-            }
-            c.expect_end()?;
-        }
+        c.expect_end()?;
         let invalid = |what| c.err_at(value_at, ParseErrorKind::InvalidValue(what));
         let integer = |lo: i32, hi: i32| {
             let i = value.floor_int();
@@ -619,7 +602,7 @@ impl Grammar {
                 value,
                 line: c.line,
                 column,
-                used: Cell::new(false),
+                read: Cell::new(false),
             })
             .map_err(|_| c.err_at(start, capacity("MAX_CONSTANTS", MAX_CONSTANTS)))
     }

@@ -729,149 +729,22 @@ fn symbols_with_a_meaning_elsewhere_are_located_errors() {
 }
 
 #[test]
-fn a_misspelt_setting_no_rule_reads_is_a_located_error() {
-    let setting = |text: &str| {
-        let e = parse_err(text);
-        match e.kind {
-            ParseErrorKind::UnknownSetting { name, suggestion } => (
-                e.line,
-                e.column,
-                std::format!("{} {suggestion}", name.as_str()),
-            ),
-            other => panic!("{text}: {other:?}"),
-        }
-    };
-    // Each would leave its setting at the default: δ at 90°, no tropism.
-    for (text, line, column, expected) in [
-        (
-            "n = 2
-detla = 30
-axiom: F
-F -> F+F",
-            2,
-            1,
-            "detla delta",
-        ),
-        (
-            "n = 2
-axiom: F
-  elasticty = 0.2
-F -> F+F",
-            3,
-            3,
-            "elasticty elasticity",
-        ),
-        (
-            "n = 2
-Delta = 30
-axiom: F",
-            2,
-            1,
-            "Delta delta",
-        ),
-        (
-            "N = 2
-axiom: F",
-            1,
-            1,
-            "N n",
-        ),
-        (
-            "n = 2
-angle = 30
-axiom: F",
-            2,
-            1,
-            "angle delta",
-        ),
-        (
-            "n = 2
-steps = 4
-axiom: F",
-            2,
-            1,
-            "steps n",
-        ),
-        (
-            "n = 2
-widht = 3
-axiom: F",
-            2,
-            1,
-            "widht width",
-        ),
-        (
-            "n = 2
-plnats = 3
-axiom: F",
-            2,
-            1,
-            "plnats plants",
-        ),
-        (
-            "n = 2
-tropsim = 0, -1, 0
-axiom: F",
-            2,
-            1,
-            "tropsim tropism",
-        ),
-    ] {
-        assert_eq!(setting(text), (line, column, expected.into()), "{text}");
-    }
-    let e = parse_err(
-        "n = 2
-detla = 30
-axiom: F",
-    );
-    assert!(
-        std::format!("{e}").starts_with("2:1: unknown setting `detla`: did you mean `delta`?"),
-        "{e}"
-    );
-    // A constant that a rule, the axiom or another constant reads is a
-    // constant, however close to a setting; far names are constants too.
-    for text in [
-        "n = 2
-detla = 30
-axiom: F
-F -> F+(detla)F",
-        "n = 2
-widht = 3
-axiom: F(widht)",
-        "n = 2
-stem = 3
-r = stem * 2
-axiom: F(r)",
-        "n = 2
-branch_angle = 30
-axiom: F",
-        "n = 2
-r1 = 0.9
-axiom: F",
-    ] {
-        grammar(text);
-    }
-    for (_, text) in ALL {
-        grammar(text);
-    }
+fn every_definition_is_reported_with_whether_it_is_read() {
     let mut defined = Vec::new();
     Grammar::new()
-        .parse_with("n = 2\nr = 0.5\ndelta = r * 60\naxiom: F(r)", |name, v| {
-            defined.push((String::from(name), v));
-        })
+        .parse_with(
+            "n = 2\nr = 0.5\n  delta = r * 60\ndetla = 1\naxiom: F(r)",
+            |d| defined.push((String::from(d.name), d.value, d.read, d.line, d.column)),
+        )
         .unwrap();
     let expected = [
-        ("n", Fx::from_int(2)),
-        ("r", Fx::from_ratio(1, 2)),
-        ("delta", Fx::from_int(30)),
+        ("n", Fx::from_int(2), false, 1, 1),
+        ("r", Fx::from_ratio(1, 2), true, 2, 1),
+        ("delta", Fx::from_int(30), false, 3, 3),
+        ("detla", Fx::ONE, false, 4, 1),
     ]
-    .map(|(n, v)| (String::from(n), v));
+    .map(|(n, v, read, line, column)| (String::from(n), v, read, line, column));
     assert_eq!(defined, expected);
-    assert_eq!(misspelt_setting("delta"), None);
-    assert_eq!(misspelt_setting("deltaa"), Some("delta"));
-    assert_eq!(misspelt_setting("x"), None);
-    assert_eq!(misspelt_setting("elastic"), None);
-    assert_eq!(misspelt_setting("averyveryverylongname"), None);
 }
 
 #[test]
