@@ -563,11 +563,10 @@ pub fn run_grammar(
     paths: RunPaths<'_>,
     progress: bool,
 ) -> Result<RunFile> {
-    let mut probe = Box::new(morphogen::lsys::Grammar::new());
-    probe
-        .parse(text)
-        .map_err(|p| anyhow!("{}:{}:{}: {}", file.display(), p.line, p.column, p.kind))?;
-    drop(probe);
+    drop(
+        morphogen_scenario::check::grammar(text, &file.display().to_string(), |_, _| {})
+            .map_err(|e| anyhow!(e))?,
+    );
     let preset = Preset {
         name: GRAMMAR_PRESET,
         summary: "",

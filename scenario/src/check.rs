@@ -444,20 +444,31 @@ fn parsed_grammar(
 }
 
 /// `text` parsed, its errors named by the file `include` names; `constant`
-/// hears each `name = value` it defines (name and value). A constant that
-/// no expression reads and is named like a setting is refused as a
-/// misspelt setting ([`spelling`]).
+/// hears each `name = value` it defines (name and value).
 fn parse_grammar(
     text: &str,
     include: &Include,
     key: &str,
-    mut constant: impl FnMut(&str, Fx),
+    constant: impl FnMut(&str, Fx),
 ) -> Result<Box<morphogen::lsys::Grammar>> {
+    grammar(text, include_name(include), constant).or_else(|message| invalid(key, message))
+}
+
+/// The grammar `text` (from the file `file`, which errors name) parsed;
+/// `constant` hears each `name = value` it defines (name and value). A
+/// constant that no expression reads and is named like a setting is
+/// refused as a misspelt setting ([`spelling`]), as every grammar is that
+/// a scenario or `morphogen run --grammar` gives.
+///
+/// # Errors
+/// The first problem, as `file:line:column: what`.
+pub fn grammar(
+    text: &str,
+    file: &str,
+    mut constant: impl FnMut(&str, Fx),
+) -> std::result::Result<Box<morphogen::lsys::Grammar>, String> {
     let at = |line: u32, column: u32, what: &dyn std::fmt::Display| {
-        invalid(
-            key,
-            format!("{}:{line}:{column}: {what}", include_name(include)),
-        )
+        Err(format!("{file}:{line}:{column}: {what}"))
     };
     let mut grammar = Box::new(morphogen::lsys::Grammar::new());
     let mut misspelt = None;
