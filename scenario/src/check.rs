@@ -457,7 +457,7 @@ fn parse_grammar(
 /// The grammar `text` (from the file `file`, which errors name) parsed;
 /// `constant` hears each `name = value` it defines (name and value). A
 /// constant that no expression reads and is named like a setting is
-/// refused as a misspelt setting ([`spelling`]), as every grammar is that
+/// refused as a misspelt setting (`scenario/src/spelling.rs`), as every grammar is that
 /// a scenario or `morphogen run --grammar` gives.
 ///
 /// # Errors
