@@ -30,7 +30,7 @@ use crate::schema::{self, BoneFrames, DayFrames, File, Include};
 use crate::spelling;
 use crate::surface::{self, SurfaceSpec};
 pub use crate::value::Invalid;
-use crate::value::{Result, fx, int, invalid, shown};
+use crate::value::{Result, decimal, fx, int, invalid, shown};
 
 /// Reads the file an [`Include`] names.
 pub trait Files {
@@ -497,7 +497,7 @@ fn lsystem(l: &schema::LSystem, files: &dyn Files) -> Result<Checked> {
     let text = constants::apply(&given, &l.constants, "lsystem", include_name(&l.grammar))?;
     let mut defined = Vec::new();
     parse_grammar(&text, &l.grammar, key, |name, v| {
-        defined.push((name.to_string(), f64::from(v.to_bits()) / 65536.0));
+        defined.push((name.to_string(), decimal(v)));
     })?;
     constants::note_all("lsystem", &defined);
     Ok(Checked::LSystem(text))

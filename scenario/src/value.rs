@@ -49,6 +49,20 @@ pub(crate) fn fx(key: &str, v: f64, lo: f64, hi: f64) -> Result<Fx> {
     Ok(Fx::from_bits((v * 65536.0).round() as i32))
 }
 
+/// The shortest decimal (at most 5 places, which always suffice for
+/// 16.16) that [`fx`] rounds to `v`: a grammar's `delta = 25.7` is noted
+/// as 25.7, not as the 25.699996948… its 16.16 value is.
+pub(crate) fn decimal(v: Fx) -> f64 {
+    let exact = f64::from(v.to_bits()) / 65536.0;
+    (0..=5)
+        .map(|places| {
+            let scale = 10f64.powi(places);
+            (exact * scale).round() / scale
+        })
+        .find(|d| (d * 65536.0).round() as i32 == v.to_bits())
+        .unwrap_or(exact)
+}
+
 /// A whole number within `lo..=hi`.
 pub(crate) fn int<T: TryFrom<i64>>(key: &str, v: i64, lo: i64, hi: i64) -> Result<T> {
     #[allow(clippy::cast_precision_loss)] // a control's bounds, not a value
@@ -119,5 +133,19 @@ mod tests {
         assert_eq!(shown(f64::NEG_INFINITY), "-inf");
         let e = fx("horn.length", 1e300, 0.0, 100.0).unwrap_err();
         assert_eq!(e.message, "1e300 is out of range (allowed: 0 to 100)");
+    }
+
+    #[test]
+    fn a_fixed_point_value_is_noted_as_its_shortest_decimal() {
+        for written in [25.7, 22.5, 0.1, -3.14159, 0.0, 1.0 / 3.0, 32767.99998] {
+            let v = fx("k", written, -32768.0, 32768.0).unwrap();
+            let d = decimal(v);
+            assert_eq!(fx("k", d, -32768.0, 32768.0).unwrap(), v, "{written}");
+            assert!(
+                format!("{d}").len() <= format!("{written}").len(),
+                "{written} → {d}"
+            );
+        }
+        assert_eq!(decimal(fx("k", 25.7, 0.0, 100.0).unwrap()), 25.7);
     }
 }
