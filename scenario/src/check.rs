@@ -457,8 +457,8 @@ fn parse_grammar(
 /// The grammar `text` (from the file `file`, which errors name) parsed;
 /// `constant` hears each `name = value` it defines (name and value). A
 /// constant that no expression reads and is named like a setting is
-/// refused as a misspelt setting (`scenario/src/spelling.rs`), as every grammar is that
-/// a scenario or `morphogen run --grammar` gives.
+/// refused as a misspelt setting (`scenario/src/spelling.rs`), in every
+/// grammar a scenario or `morphogen run --grammar` gives.
 ///
 /// # Errors
 /// The first problem, as `file:line:column: what`.
@@ -474,7 +474,7 @@ pub fn grammar(
     let mut misspelt = None;
     let parsed = grammar.parse_with(text, |d| {
         if misspelt.is_none() {
-            misspelt = spelling::first_misspelt(&[d]);
+            misspelt = spelling::misspelt(&d);
         }
         constant(d.name, d.value);
     });

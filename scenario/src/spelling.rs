@@ -48,14 +48,12 @@ fn message(name: &str, setting: &str) -> String {
     )
 }
 
-/// The first definition that no expression reads and that is a misspelt
-/// setting: its line, column and message.
+/// If `d` is a misspelt setting (no expression reads it and its name is
+/// close to a setting's): its line, column and message.
 #[must_use]
-pub fn first_misspelt(defined: &[Definition<'_>]) -> Option<(u32, u32, String)> {
-    defined.iter().find_map(|d| {
-        let setting = misspelt_setting(d.name).filter(|_| !d.read)?;
-        Some((d.line, d.column, message(d.name, setting)))
-    })
+pub fn misspelt(d: &Definition<'_>) -> Option<(u32, u32, String)> {
+    let setting = misspelt_setting(d.name).filter(|_| !d.read)?;
+    Some((d.line, d.column, message(d.name, setting)))
 }
 
 /// For a grammar refused on `line`: the column and message if that line
@@ -81,8 +79,8 @@ mod tests {
     use super::*;
 
     /// `text` parsed, then checked for a misspelt setting: its line,
-    /// column, name and the setting meant.
-    fn misspelt(text: &str) -> Option<(u32, u32, String)> {
+    /// column and message.
+    fn checked(text: &str) -> Option<(u32, u32, String)> {
         let mut defined = Vec::new();
         let mut grammar = Box::new(morphogen::lsys::Grammar::new());
         let parsed = grammar.parse_with(text, |d| {
@@ -92,7 +90,7 @@ mod tests {
             .iter()
             .map(|(name, d)| Definition { name, ..*d })
             .collect();
-        first_misspelt(&defined).or_else(|| {
+        defined.iter().find_map(misspelt).or_else(|| {
             let e = parsed.err()?;
             misspelt_on_line(text, e.line).map(|(c, m)| (e.line, c, m))
         })
@@ -130,7 +128,7 @@ mod tests {
                 "tropism",
             ),
         ] {
-            let (l, c, m) = misspelt(text).unwrap_or_else(|| panic!("{text}: accepted"));
+            let (l, c, m) = checked(text).unwrap_or_else(|| panic!("{text}: accepted"));
             assert_eq!((l, c), (line, column), "{text}");
             assert!(
                 m.starts_with(&format!(
@@ -150,7 +148,7 @@ mod tests {
             "n = 2\nbranch_angle = 30\naxiom: F",
             "n = 2\nr1 = 0.9\naxiom: F",
         ] {
-            assert_eq!(misspelt(text), None, "{text}");
+            assert_eq!(checked(text), None, "{text}");
         }
         assert_eq!(misspelt_setting("delta"), None);
         assert_eq!(misspelt_setting("deltaa"), Some("delta"));
