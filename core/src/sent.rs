@@ -105,6 +105,12 @@ pub struct SentWrap {
     pub max_iterations: u16,
     /// As [`WrapParams::split_tolerance`].
     pub split_tolerance: Fx,
+    /// As [`WrapParams::weights`].
+    pub weights: crate::shrinkwrap::Weights,
+    /// As [`WrapParams::target_max`].
+    pub target_max: Option<Fx>,
+    /// As [`WrapParams::step_max`].
+    pub step_max: Option<Fx>,
 }
 
 impl From<WrapParams> for SentWrap {
@@ -116,6 +122,9 @@ impl From<WrapParams> for SentWrap {
             step: w.step,
             max_iterations: w.max_iterations,
             split_tolerance: w.split_tolerance,
+            weights: w.weights,
+            target_max: w.target_max,
+            step_max: w.step_max,
         }
     }
 }
@@ -129,6 +138,9 @@ impl From<SentWrap> for WrapParams {
             step: w.step,
             max_iterations: w.max_iterations,
             split_tolerance: w.split_tolerance,
+            weights: w.weights,
+            target_max: w.target_max,
+            step_max: w.step_max,
         }
     }
 }
@@ -439,6 +451,9 @@ mod tests {
                 step: Fx::from_ratio(1, 4),
                 max_iterations: 40,
                 split_tolerance: crate::shrinkwrap::SPLIT_TOLERANCE,
+                weights: crate::shrinkwrap::Weights::Normalised,
+                target_max: Some(Fx::from_ratio(5, 4)),
+                step_max: None,
             },
             frames: Frames::Seeds(3),
         };

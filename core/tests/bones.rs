@@ -11,7 +11,9 @@ use morphogen::bones::{BonesParams, Frames, Grower, MCU_TRIANGLES, MCU_VERTICES,
 use morphogen::fx::{Fx, Real};
 use morphogen::lsys::{Buffered, LsysError, Module, Neighbours};
 use morphogen::preset::{self, Model, Runner};
-use morphogen::shrinkwrap::{Element, Shrinkwrap, ShrinkwrapError, WrapParams, worst_level_error};
+use morphogen::shrinkwrap::{
+    Element, Shrinkwrap, ShrinkwrapError, Weights, WrapParams, worst_level_error,
+};
 use morphogen::stream::{Record, Sink, SinkError};
 use nalgebra::Vector3;
 
@@ -32,17 +34,23 @@ fn with_bones<R>(name: &str, f: impl FnOnce(&BonesParams<'_>) -> R) -> R {
     })
 }
 
-/// The skeleton of every frame of `params` (steps, seed) from `seed`.
-fn skeletons(params: &BonesParams, seed: u64) -> Vec<Skeleton> {
+/// The (derivation steps, seed) of every frame of `params` from `seed`.
+fn setups(params: &BonesParams, seed: u64) -> Vec<(u8, u64)> {
     let mut g = Grower::new();
     g.load(params.grammar).unwrap();
     let n = g.grammar().settings().steps;
-    let setups: Vec<(u8, u64)> = match params.frames {
+    match params.frames {
         Frames::Final => vec![(n, seed)],
         Frames::EveryStep { first } => (first..=n).map(|k| (k, seed)).collect(),
         Frames::Seeds(c) => (0..c as u64).map(|k| (n, seed + k)).collect(),
-    };
-    setups
+    }
+}
+
+/// The skeleton of every frame of `params` from `seed`.
+fn skeletons(params: &BonesParams, seed: u64) -> Vec<Skeleton> {
+    let mut g = Grower::new();
+    g.load(params.grammar).unwrap();
+    setups(params, seed)
         .into_iter()
         .map(|(steps, seed)| {
             let mut s = Skeleton::new();
@@ -52,9 +60,17 @@ fn skeletons(params: &BonesParams, seed: u64) -> Vec<Skeleton> {
         .collect()
 }
 
-fn wrap_fx(s: &Skeleton, params: &BonesParams) -> Box<McuWrap> {
+/// The wrap of every frame of `params` from `seed`, V0 and ΔV drawn.
+fn frame_wraps(params: &BonesParams, seed: u64) -> Vec<WrapParams> {
+    setups(params, seed)
+        .into_iter()
+        .map(|(steps, seed)| params.frame_wrap(seed, steps))
+        .collect()
+}
+
+fn wrap_fx(s: &Skeleton, wrap: &WrapParams) -> Box<McuWrap> {
     let mut w = Box::new(McuWrap::new(Fx::ZERO));
-    w.run(s, &params.wrap).unwrap();
+    w.run(s, wrap).unwrap();
     w
 }
 
@@ -63,6 +79,7 @@ struct Wrapped {
     name: &'static str,
     frame: usize,
     target: Fx,
+    weights: Weights,
     skeleton: Skeleton,
     fx: Box<McuWrap>,
     f64: Box<Shrinkwrap<f64, MCU_VERTICES, MCU_TRIANGLES>>,
@@ -75,16 +92,19 @@ fn wrapped() -> &'static [Wrapped] {
         let mut out = Vec::new();
         for name in PRESETS {
             with_bones(name, |p| {
+                let wraps = frame_wraps(p, 1);
                 for (frame, skeleton) in skeletons(p, 1).into_iter().enumerate() {
-                    let fx = wrap_fx(&skeleton, p);
+                    let wrap = &wraps[frame];
+                    let fx = wrap_fx(&skeleton, wrap);
                     let sf: Vec<Element<f64>> =
                         skeleton.iter().map(|e| e.convert(f64::from_fx)).collect();
                     let mut f64 = Box::new(Shrinkwrap::new(0.0));
-                    f64.run(&sf, &p.wrap).unwrap();
+                    f64.run(&sf, wrap).unwrap();
                     out.push(Wrapped {
                         name,
                         frame,
-                        target: p.wrap.target,
+                        target: wrap.target,
+                        weights: p.wrap.weights,
                         skeleton,
                         fx,
                         f64,
@@ -99,7 +119,7 @@ fn wrapped() -> &'static [Wrapped] {
 #[test]
 fn every_vertex_of_every_preset_frame_is_within_5_percent_of_v0() {
     for w in wrapped() {
-        let worst = worst_level_error(&w.skeleton, w.fx.mesh().vertices(), w.target);
+        let worst = worst_level_error(&w.skeleton, w.weights, w.fx.mesh().vertices(), w.target);
         assert!(
             worst.to_f64() <= 0.05,
             "{} frame {}: {}",
@@ -112,15 +132,18 @@ fn every_vertex_of_every_preset_frame_is_within_5_percent_of_v0() {
 
 /// The fixed-point wrap follows the f64 wrap of the same skeleton. An edge
 /// whose midpoint is within rounding of the 5 % threshold may be split in
-/// one and not the other, so: vertex counts within 2 %; the topologies
-/// agree in at least two thirds of the frames of segments and points (11
-/// of 16 here), and there every vertex is within 0.1 % of the bone's
-/// length (8.6) of its twin (measured: 0.0004); and every fixed-point
-/// vertex on the exact (f64) iso-surface within 0.5 % of V0 (measured:
-/// 0.18 %). A frame with a polygon element (`bone-plate`) is held to the
-/// vertex count and the level only: the fixed-point polygon distance is
-/// within 10⁻³ of the f64 one (`shrinkwrap::polygon`'s test), far more
-/// than a segment's rounding, and its one frame splits otherwise.
+/// one and not the other, so the meshes need not share their triangles
+/// (7 of 16 frames of segments and points do: the paper's weights give
+/// meshes of up to 827 vertices, each split a chance to differ). Held
+/// instead: vertex counts within 2 %; in every frame of segments and
+/// points every fixed-point vertex has an f64 vertex within 0.1 % of the
+/// bone's length (8.6) (measured: all of them), and where the triangles
+/// agree the twins are within that of each other (measured: 0.0005); and
+/// every fixed-point vertex on the exact (f64) iso-surface within 0.5 % of
+/// V0 (measured: 0.34 %). A frame with a polygon element (`bone-plate`) is
+/// held to the vertex count and the level only: the fixed-point polygon
+/// distance is within 10⁻³ of the f64 one (`shrinkwrap::polygon`'s test),
+/// far more than a segment's rounding.
 #[test]
 fn fixed_point_wrap_matches_the_f64_reference() {
     let (mut same, mut worst_distance, mut worst_level) = (0, 0.0f64, 0.0f64);
@@ -135,7 +158,27 @@ fn fixed_point_wrap_matches_the_f64_reference() {
             w.name,
             w.frame
         );
-        if plain(w) && a.triangles() == b.triangles() {
+        let alike = a.triangles() == b.triangles();
+        if plain(w) {
+            let twins = a
+                .vertices()
+                .iter()
+                .filter(|p| {
+                    let p = p.map(f64::from_fx);
+                    b.vertices()
+                        .iter()
+                        .any(|q| <f64 as Real>::norm(&(p - q)) <= 0.001 * 8.6)
+                })
+                .count();
+            assert_eq!(
+                twins,
+                a.vertices().len(),
+                "{} frame {}: vertices without an f64 twin",
+                w.name,
+                w.frame
+            );
+        }
+        if plain(w) && alike {
             same += 1;
             for (p, q) in a.vertices().iter().zip(b.vertices()) {
                 worst_distance =
@@ -144,13 +187,17 @@ fn fixed_point_wrap_matches_the_f64_reference() {
         }
         let sf: Vec<Element<f64>> = w.skeleton.iter().map(|e| e.convert(f64::from_fx)).collect();
         let points: Vec<Vector3<f64>> = a.vertices().iter().map(|v| v.map(f64::from_fx)).collect();
-        worst_level = worst_level.max(worst_level_error(&sf, &points, f64::from_fx(w.target)));
+        worst_level = worst_level.max(worst_level_error(
+            &sf,
+            w.weights,
+            &points,
+            f64::from_fx(w.target),
+        ));
     }
     println!(
         "{same} of {compared} frames of segments and points split alike; largest vertex distance {worst_distance:.6}; largest exact |V − V0|/V0 (all {} frames) {worst_level:.6}",
         wrapped().len()
     );
-    assert!(same * 3 >= compared * 2, "{same} of {compared}");
     assert!(worst_distance <= 0.001 * 8.6, "{worst_distance}");
     assert!(worst_level <= 0.005, "{worst_level}");
 }
@@ -240,6 +287,7 @@ fn the_stream_holds_the_skeleton_then_the_mesh_of_each_frame() {
         let mut out = Records::default();
         preset::run(preset, 1, &mut runner, &mut out, &mut |_| {}).unwrap();
         let skeletons = skeletons(params, 1);
+        let wraps = frame_wraps(params, 1);
         let starts: Vec<usize> = out
             .0
             .iter()
@@ -249,7 +297,7 @@ fn the_stream_holds_the_skeleton_then_the_mesh_of_each_frame() {
             .collect();
         assert_eq!(starts.len(), 3);
         for (k, &i) in starts.iter().enumerate() {
-            let w = wrap_fx(&skeletons[k], params);
+            let w = wrap_fx(&skeletons[k], &wraps[k]);
             let (nv, nt) = (w.mesh().vertices().len(), w.mesh().triangles().len());
             let frame = &out.0[i + 1..i + 1 + skeletons[k].len() + nv + nt + 1];
             assert!(

@@ -1355,19 +1355,60 @@ fn bones(b: &schema::Bones, files: &dyn Files) -> Result<Checked> {
             format!("{parallels} is even (allowed: odd, 1 to 255)"),
         );
     }
+    let (target, target_max) = drawn("bones.wrap.target", &w.target, 0.01, 1000.0)?;
+    let (step, step_max) = drawn("bones.wrap.step", &w.step, 0.0001, 1000.0)?;
     let wrap = WrapParams {
         meridians,
         parallels,
-        target: fx("bones.wrap.target", w.target, 0.01, 1000.0)?,
-        step: fx("bones.wrap.step", w.step, 0.0001, 1000.0)?,
+        target,
+        step,
         max_iterations: int("bones.wrap.max_iterations", w.max_iterations, 1, 65535)?,
         split_tolerance: fx("bones.wrap.split_tolerance", w.split_tolerance, 0.001, 1.0)?,
+        weights: w.weights,
+        target_max,
+        step_max,
     };
     Ok(Checked::Bones {
         grammar,
         wrap,
         frames,
     })
+}
+
+/// A number within `lo..=hi`, or a range `[a, b]` of them with a ≤ b (the
+/// bones paper's random parameter values, Summary and Fig. 3): the number
+/// or a, and b when it is a range wider than 0 (a range of width 0 is the
+/// number).
+fn drawn(key: &str, v: &schema::Drawn, lo: f64, hi: f64) -> Result<(Fx, Option<Fx>)> {
+    match v {
+        schema::Drawn::Number(v) => Ok((fx(key, *v, lo, hi)?, None)),
+        schema::Drawn::Range(ends) => {
+            let [a, b] = ends[..] else {
+                return invalid(
+                    key,
+                    format!(
+                        "a range has 2 numbers [lo, hi], this one {} (allowed: a number from {lo} to {hi}, or [lo, hi] within it)",
+                        ends.len()
+                    ),
+                );
+            };
+            let (a_fx, b_fx) = (
+                fx(&format!("{key}[0]"), a, lo, hi)?,
+                fx(&format!("{key}[1]"), b, lo, hi)?,
+            );
+            if a > b {
+                return invalid(
+                    key,
+                    format!(
+                        "[{}, {}]: the low end is above the high end (allowed: [lo, hi] with lo <= hi, within {lo} to {hi})",
+                        shown(a),
+                        shown(b)
+                    ),
+                );
+            }
+            Ok((a_fx, (b_fx != a_fx).then_some(b_fx)))
+        }
+    }
 }
 
 #[cfg(test)]
@@ -1667,5 +1708,98 @@ initial_probability = 0
                 "lsystem.thin"
             ]
         );
+    }
+}
+
+#[cfg(test)]
+mod wrap_range_tests {
+    use crate::Scenario;
+
+    /// `long-bone-random` with `key` set to `value`.
+    fn random_bone(key: &str, value: &str) -> std::result::Result<Scenario, String> {
+        crate::builtin("long-bone-random")
+            .unwrap()
+            .clone_with_sets(&[(key.into(), value.into())])
+            .map_err(|e| e.to_string())
+    }
+
+    /// The parameter digest and the records after the header of a
+    /// scenario's stream (seed 1).
+    fn digest_and_stream(s: &Scenario) -> (u64, Vec<u8>) {
+        let mut encoder = morphogen::stream::Encoder::new(Vec::new());
+        s.with_preset(|p| crate::run::run(p, 1, &mut encoder, &mut |_| {}))
+            .unwrap();
+        let bytes = encoder.into_writer();
+        let header = morphogen::stream::Decoder::new(&bytes).next().unwrap();
+        let records = bytes[header.offset + header.len..].to_vec();
+        (s.with_preset(|p| p.model.params_digest()), records)
+    }
+
+    /// A range for V0 or ΔV is checked at the door: two numbers, low end
+    /// first, both within the key's own range; the errors name the key
+    /// and the limit.
+    #[test]
+    fn wrap_ranges_are_checked() {
+        let err = random_bone("bones.wrap.target", "[3.7, 3.1]").unwrap_err();
+        assert!(
+            err.ends_with(
+                "bones.wrap.target: [3.7, 3.1]: the low end is above the high end \
+                 (allowed: [lo, hi] with lo <= hi, within 0.01 to 1000)"
+            ),
+            "{err}"
+        );
+        let err = random_bone("bones.wrap.target", "[3, 2000]").unwrap_err();
+        assert!(
+            err.ends_with("bones.wrap.target[1]: 2000 is out of range (allowed: 0.01 to 1000)"),
+            "{err}"
+        );
+        let err = random_bone("bones.wrap.step", "[0, 0.2]").unwrap_err();
+        assert!(
+            err.ends_with("bones.wrap.step[0]: 0 is out of range (allowed: 0.0001 to 1000)"),
+            "{err}"
+        );
+        let err = random_bone("bones.wrap.step", "[0.1, 0.2, 0.3]").unwrap_err();
+        assert!(
+            err.ends_with(
+                "bones.wrap.step: a range has 2 numbers [lo, hi], this one 3 \
+                 (allowed: a number from 0.0001 to 1000, or [lo, hi] within it)"
+            ),
+            "{err}"
+        );
+        let ranged = random_bone("bones.wrap.step", "[0.1, 0.2]").unwrap();
+        ranged.with_preset(|p| {
+            let morphogen::preset::Model::Bones(b) = p.model else {
+                unreachable!("a bone")
+            };
+            assert_eq!(
+                (b.wrap.step, b.wrap.step_max),
+                (
+                    morphogen::fx::Fx::from_bits(6554),
+                    Some(morphogen::fx::Fx::from_bits(13107))
+                )
+            );
+        });
+    }
+
+    /// A number keeps the digest and the stream of before ranges existed
+    /// (`long-bone` is pinned by its fixture; here its digest is the one
+    /// the number's encoding alone gives), and a range of width 0 is that
+    /// number: the same digest and the same bytes.
+    #[test]
+    fn a_wrap_range_of_width_0_is_the_number() {
+        let plain = random_bone("bones.wrap.target", "3.4").unwrap();
+        let narrow = random_bone("bones.wrap.target", "[3.4, 3.4]").unwrap();
+        let wide = random_bone("bones.wrap.target", "[3.3, 3.5]").unwrap();
+        let (plain, narrow, wide) = (
+            digest_and_stream(&plain),
+            digest_and_stream(&narrow),
+            digest_and_stream(&wide),
+        );
+        assert_eq!(plain, narrow);
+        assert_ne!(plain.0, wide.0);
+        assert_ne!(plain.1, wide.1);
+        // The digest of a plain wrap is the one before ranges: the fixture
+        // long-bone-random had with V0 = 3.4.
+        assert_eq!(plain.0, 0x29a6_a476_1bc0_6b94);
     }
 }

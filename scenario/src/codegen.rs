@@ -88,6 +88,10 @@ fn fx(v: Fx) -> String {
     format!("Fx::from_bits({})", v.to_bits())
 }
 
+fn optional_fx(v: Option<Fx>) -> String {
+    v.map_or_else(|| "None".to_string(), |v| format!("Some({})", fx(v)))
+}
+
 fn angle(a: Angle) -> String {
     format!("Angle({})", a.0)
 }
@@ -326,7 +330,7 @@ fn user_body(m: &BodyModel<'_>) -> Result<String, String> {
 fn bones(p: &BonesParams<'_>) -> String {
     let w = &p.wrap;
     format!(
-        "BonesParams {{ grammar: {:?}, wrap: WrapParams {{ meridians: {}, parallels: {}, target: {}, step: {}, max_iterations: {}, split_tolerance: {} }}, frames: {} }}",
+        "BonesParams {{ grammar: {:?}, wrap: WrapParams {{ meridians: {}, parallels: {}, target: {}, step: {}, max_iterations: {}, split_tolerance: {}, weights: morphogen::shrinkwrap::Weights::{:?}, target_max: {}, step_max: {} }}, frames: {} }}",
         p.grammar,
         w.meridians,
         w.parallels,
@@ -334,6 +338,9 @@ fn bones(p: &BonesParams<'_>) -> String {
         fx(w.step),
         w.max_iterations,
         fx(w.split_tolerance),
+        w.weights,
+        optional_fx(w.target_max),
+        optional_fx(w.step_max),
         match p.frames {
             bones::Frames::Final => "bones::Frames::Final".to_string(),
             bones::Frames::EveryStep { first } => {

@@ -503,8 +503,9 @@ impl Scenario {
     }
 
     /// Whether its stream depends on the seed beyond the header: mosaics
-    /// always, L-systems and bones when a production is stochastic; the
-    /// growth curve, horns and bodies draw no random numbers.
+    /// always, L-systems and bones when a production is stochastic, bones
+    /// also when their wrap's V0 or ΔV is a range; the growth curve, horns
+    /// and bodies draw no random numbers.
     #[must_use]
     pub fn uses_seed(&self) -> bool {
         let stochastic = |text: &str| {
@@ -514,7 +515,9 @@ impl Scenario {
         match &self.checked {
             Checked::Mosaic { .. } => true,
             Checked::LSystem(text) => stochastic(text),
-            Checked::Bones { grammar, .. } => stochastic(grammar),
+            Checked::Bones { grammar, wrap, .. } => {
+                stochastic(grammar) || wrap.target_max.is_some() || wrap.step_max.is_some()
+            }
             Checked::Curve(_) | Checked::Horn { .. } | Checked::Body { .. } => false,
         }
     }

@@ -374,14 +374,29 @@ pub struct Wrap {
     pub meridians: i64,
     /// p: parallels, odd.
     pub parallels: i64,
-    /// V0.
-    pub target: f64,
-    /// ΔV.
-    pub step: f64,
+    /// V0, or a range it is drawn from per frame.
+    pub target: Drawn,
+    /// ΔV, or a range it is drawn from per frame.
+    pub step: Drawn,
     /// The iteration cap.
     pub max_iterations: i64,
     /// |V − V0| / V0 beyond which an edge is split (5 % in the paper).
     pub split_tolerance: f64,
+    /// The terms of V: `"normalised"` (the paper's eqs. 1–2, the
+    /// default) or `"constant"`.
+    #[serde(default)]
+    pub weights: morphogen::shrinkwrap::Weights,
+}
+
+/// A number, or a range `[lo, hi]` a run draws it from uniformly (the
+/// bones paper's random parameter values, Summary and Fig. 3).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(untagged)]
+pub enum Drawn {
+    /// The number itself.
+    Number(f64),
+    /// `[lo, hi]`.
+    Range(Vec<f64>),
 }
 
 /// Which skeletons are wrapped.

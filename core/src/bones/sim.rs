@@ -113,10 +113,15 @@ impl<'a, const V: usize, const T: usize, const C: usize, D: Derivation> Bones<'a
     /// Derivation steps and seed of frame `k`.
     fn frame_setup(&self, k: u32) -> (u8, u64) {
         let n = self.grower.grammar().settings().steps;
-        match self.params.map(|p| p.frames) {
-            Some(Frames::EveryStep { first }) => (first.saturating_add(k as u8), self.seed),
-            Some(Frames::Seeds(_)) => (n, self.seed.wrapping_add(k as u64)),
-            _ => (n, self.seed),
+        match self.params {
+            Some(p) => {
+                let steps = match p.frames {
+                    Frames::EveryStep { first } => first.saturating_add(k as u8),
+                    Frames::Final | Frames::Seeds(_) => n,
+                };
+                (steps, p.frame_seed(self.seed, k))
+            }
+            None => (n, self.seed),
         }
     }
 
@@ -124,7 +129,8 @@ impl<'a, const V: usize, const T: usize, const C: usize, D: Derivation> Bones<'a
         if !self.wrapping {
             let (steps, seed) = self.frame_setup(self.frame);
             self.grower.grow(steps, seed, &mut self.skeleton)?;
-            self.wrap.start(&self.skeleton, &params.wrap)?;
+            let wrap = params.frame_wrap(seed, steps);
+            self.wrap.start(&self.skeleton, &wrap)?;
             self.wrapping = true;
             return Ok(());
         }

@@ -27,6 +27,18 @@ const WRAP: WrapParams = WrapParams {
     step: Fx::from_ratio(3, 20),
     max_iterations: 64,
     split_tolerance: crate::shrinkwrap::SPLIT_TOLERANCE,
+    weights: crate::shrinkwrap::Weights::Constant,
+    target_max: None,
+    step_max: None,
+};
+
+/// The shrinkwrap of `long-bone` and `bone-growth`: the paper's weights
+/// (eqs. 1–2), V0 = 0.8 reached in steps of 0.05.
+const WRAP_PAPER: WrapParams = WrapParams {
+    target: Fx::from_ratio(4, 5),
+    step: Fx::from_ratio(1, 20),
+    weights: crate::shrinkwrap::Weights::Normalised,
+    ..WRAP
 };
 
 /// The built-in bone scenarios' parameters (`scenarios/long-bone.toml`,
@@ -36,7 +48,7 @@ static PRESETS: [(&str, BonesParams<'static>); 3] = [
         "long-bone",
         BonesParams {
             grammar: LONG_BONE_GRAMMAR,
-            wrap: WRAP,
+            wrap: WRAP_PAPER,
             frames: Frames::Final,
         },
     ),
@@ -52,7 +64,7 @@ static PRESETS: [(&str, BonesParams<'static>); 3] = [
         "bone-growth",
         BonesParams {
             grammar: LONG_BONE_GRAMMAR,
-            wrap: WRAP,
+            wrap: WRAP_PAPER,
             frames: Frames::EveryStep { first: 1 },
         },
     ),
@@ -319,4 +331,113 @@ fn bad_polygons_are_errors() {
             crate::turtle::TurtleError::TooManyVertices
         ))
     );
+}
+
+/// Collects records.
+#[derive(Default)]
+struct Records(std::vec::Vec<crate::stream::Record>);
+
+impl crate::stream::Sink for Records {
+    fn record(&mut self, r: &crate::stream::Record) -> Result<(), crate::stream::SinkError> {
+        self.0.push(r.clone());
+        Ok(())
+    }
+}
+
+/// Every record of a bone run of `params` from `seed`.
+fn run_records(params: &BonesParams<'_>, seed: u64) -> std::vec::Vec<crate::stream::Record> {
+    use crate::sim::Simulation;
+    let mut bones = Box::new(Bones::<MCU_VERTICES, MCU_TRIANGLES>::new());
+    bones.start(params, seed).unwrap();
+    let mut out = Records::default();
+    while !bones.step(&mut out).unwrap().finished() {}
+    out.0
+}
+
+/// One point O(1) with constant weights, wrapped on a small sphere: it
+/// wraps to a sphere of radius 1/V0, drawn in [2, 4] per frame.
+const POINT: BonesParams<'static> = BonesParams {
+    grammar: "n = 0\naxiom: O(1)\n",
+    wrap: WrapParams {
+        meridians: 8,
+        parallels: 5,
+        target: Fx::from_int(2),
+        step: Fx::from_ratio(1, 4),
+        max_iterations: 64,
+        split_tolerance: crate::shrinkwrap::SPLIT_TOLERANCE,
+        weights: crate::shrinkwrap::Weights::Constant,
+        target_max: Some(Fx::from_int(4)),
+        step_max: Some(Fx::from_ratio(1, 2)),
+    },
+    frames: Frames::Seeds(4),
+};
+
+/// The paper's random parameter values (Summary; Fig. 3): each frame's V0
+/// and ΔV are drawn in their ranges, differ from seed to seed, repeat
+/// with the seed, and the frame's mesh lies on the drawn level (a point's
+/// sphere of radius 1/V0).
+#[test]
+fn a_wrap_range_draws_each_frames_level_and_repeats_with_the_seed() {
+    let drawn: std::vec::Vec<WrapParams> = (0..4).map(|k| POINT.frame_wrap(5 + k, 0)).collect();
+    for w in &drawn {
+        assert!(Fx::from_int(2) <= w.target && w.target <= Fx::from_int(4));
+        assert!(Fx::from_ratio(1, 4) <= w.step && w.step <= Fx::from_ratio(1, 2));
+        assert_eq!((w.target_max, w.step_max), (None, None));
+    }
+    for pair in drawn.windows(2) {
+        assert_ne!(pair[0].target, pair[1].target);
+        assert_ne!(pair[0].step, pair[1].step);
+    }
+    // Not the derivation's streams: V0 and ΔV are not the same draw.
+    assert_ne!(
+        (drawn[0].target - Fx::from_int(2)) / Fx::from_int(2),
+        (drawn[0].step - Fx::from_ratio(1, 4)) * Fx::from_int(4)
+    );
+    let run = run_records(&POINT, 5);
+    assert_eq!(run, run_records(&POINT, 5));
+    assert_ne!(run, run_records(&POINT, 6));
+    // Frame k is seed 5 + k's: its vertices at 1/V0 of that draw.
+    let mut frame = 0usize;
+    for r in &run {
+        match r {
+            crate::stream::Record::FrameStart { frame: k, .. } => frame = *k as usize,
+            crate::stream::Record::MeshVertex { p, .. } => {
+                let radius = p
+                    .iter()
+                    .map(|c| c.to_f64() * c.to_f64())
+                    .sum::<f64>()
+                    .sqrt();
+                let expected = 1.0 / drawn[frame].target.to_f64();
+                assert!(
+                    (radius - expected).abs() < 0.05 * expected,
+                    "frame {frame}: {radius} against {expected}"
+                );
+            }
+            _ => {}
+        }
+    }
+    assert_eq!(frame, 3);
+}
+
+/// A range of width 0 is the plain number: the same records, bit for bit.
+#[test]
+fn a_wrap_range_of_width_0_is_the_plain_number() {
+    let plain = BonesParams {
+        wrap: WrapParams {
+            target: Fx::from_ratio(5, 2),
+            target_max: None,
+            step_max: None,
+            ..POINT.wrap
+        },
+        ..POINT
+    };
+    let narrow = BonesParams {
+        wrap: WrapParams {
+            target_max: Some(plain.wrap.target),
+            step_max: Some(plain.wrap.step),
+            ..plain.wrap
+        },
+        ..plain
+    };
+    assert_eq!(run_records(&narrow, 5), run_records(&plain, 5));
 }

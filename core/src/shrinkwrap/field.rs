@@ -6,8 +6,9 @@ use heapless::Vec;
 use nalgebra::Vector3;
 
 use super::element::Element;
+use super::kernel::{dot_near, inverse_of_squared};
 use super::polygon;
-use crate::fx::root::rounded_isqrt_u62;
+use super::vertices::{MAX_VERTICES, normalised, normalised_fx};
 use crate::fx::{Fx, Real};
 #[cfg(test)]
 use crate::geom::length_of_squared;
@@ -27,6 +28,17 @@ pub trait FieldReal: Real {
     /// has one and the element is in its range.
     fn prepare(_element: &Element<Self>) -> Option<PreparedElement> {
         None
+    }
+
+    /// V(r) of eqs. (1)–(2) over `vertices`, and ∇V(r) when `gradient`
+    /// (zero otherwise): [`normalised`] in this type's arithmetic, or an
+    /// integer kernel.
+    fn normalised_of(
+        vertices: &[[Self; 3]],
+        r: &Vector3<Self>,
+        gradient: bool,
+    ) -> (Self, Vector3<Self>) {
+        normalised(vertices, r, gradient)
     }
 
     /// V(r) of `field`'s skeleton, and ∇V(r) when `gradient` (zero
@@ -53,6 +65,10 @@ impl FieldReal for f64 {}
 impl FieldReal for Fx {
     fn prepare(element: &Element<Fx>) -> Option<PreparedElement> {
         PreparedElement::new(element)
+    }
+
+    fn normalised_of(vertices: &[[Fx; 3]], r: &Vector3<Fx>, gradient: bool) -> (Fx, Vector3<Fx>) {
+        normalised_fx(vertices, r, gradient)
     }
 
     /// The kernel on the prepared elements at points within ±8192 units (`NEAR`);
@@ -138,6 +154,9 @@ fn prepared_field(
 /// unprepared, by [`summed_field`].
 pub const PREPARED_ELEMENTS: usize = 64;
 
+// The paper's weights take up to two vertices an element.
+const _: () = assert!(MAX_VERTICES == 2 * PREPARED_ELEMENTS);
+
 /// A skeleton's field, ready to be evaluated at many points (the vertices
 /// and edge midpoints of a shrinkwrap pass): for [`Fx`], each element's
 /// integer form is computed once here rather than at every point.
@@ -146,6 +165,10 @@ pub struct SkeletonField<'a, R: Real> {
     elements: &'a [Element<R>],
     /// The elements' integer forms, all of them or none.
     prepared: &'a [PreparedElement],
+    /// With the paper's weights ([`super::Weights::Normalised`]): the
+    /// skeleton's distinct vertices, its elements; `None` for constant
+    /// weights.
+    vertices: Option<&'a [[R; 3]]>,
 }
 
 impl<'a, R: FieldReal> SkeletonField<'a, R> {
@@ -172,6 +195,17 @@ impl<'a, R: FieldReal> SkeletonField<'a, R> {
         SkeletonField {
             elements,
             prepared: storage,
+            vertices: None,
+        }
+    }
+
+    /// The paper's field (eqs. (1)–(2)) of the vertices `vertices`
+    /// ([`super::vertices::collect_vertices`]) of `elements`.
+    pub fn normalised(elements: &'a [Element<R>], vertices: &'a [[R; 3]]) -> SkeletonField<'a, R> {
+        SkeletonField {
+            elements,
+            prepared: &[],
+            vertices: Some(vertices),
         }
     }
 
@@ -195,13 +229,19 @@ impl<'a, R: FieldReal> SkeletonField<'a, R> {
     /// V(r) and ∇V(r), as [`field`] gives them.
     #[must_use]
     pub fn at(&self, r: &Vector3<R>) -> (R, Vector3<R>) {
-        R::field_of(self, r, true)
+        match self.vertices {
+            Some(vertices) => R::normalised_of(vertices, r, true),
+            None => R::field_of(self, r, true),
+        }
     }
 
     /// V(r) alone, as [`potential`] gives it.
     #[must_use]
     pub fn potential_at(&self, r: &Vector3<R>) -> R {
-        R::field_of(self, r, false).0
+        match self.vertices {
+            Some(vertices) => R::normalised_of(vertices, r, false).0,
+            None => R::field_of(self, r, false).0,
+        }
     }
 }
 
@@ -279,12 +319,6 @@ fn spread(c: &[i32; 3]) -> u32 {
 /// Q16, saturated.
 fn q32_to_q16(q32: i64) -> i32 {
     Fx::narrow(q32.wrapping_add(1 << 15) >> 16).to_bits()
-}
-
-/// u·w of Q16 bits within ±2³⁰, exact in Q32 (below 3·2⁶⁰).
-fn dot_near(u: &[i32; 3], w: &[i32; 3]) -> i64 {
-    let product = |k: usize| (u[k] as i64).wrapping_mul(w[k] as i64);
-    product(0).wrapping_add(product(1)).wrapping_add(product(2))
 }
 
 /// `a − b` of Q16 bits within ±2³⁰ whose difference is too.
@@ -415,17 +449,6 @@ impl PreparedElement {
 #[cfg(test)]
 fn inverse_distance(distance: Fx) -> u32 {
     let d = distance.max(min_distance()).to_bits().unsigned_abs();
-    (0u32.wrapping_sub(d.wrapping_sub(d / 2)) / d).wrapping_add(1)
-}
-
-/// `inverse_distance(length_of_squared(squared))` for the square of an
-/// offset within ±2³⁰ (below 3·2⁶⁰: its rounded root is below 2³¹, where
-/// `length_of_squared` does not saturate) in fewer steps: the distance is
-/// held at 2⁻¹² (16 bits) by rooting at least 241, since
-/// √240 + ½ < 16 ≤ √241 + ½.
-fn inverse_of_squared(squared: u64) -> u32 {
-    // The max(16) changes nothing; it spares the division a zero check.
-    let d = (rounded_isqrt_u62(squared.max(241)) as u32).max(16);
     (0u32.wrapping_sub(d.wrapping_sub(d / 2)) / d).wrapping_add(1)
 }
 

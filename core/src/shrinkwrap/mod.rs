@@ -1,7 +1,13 @@
 //! Shrinkwrap (seed `003_…`, Sec. 5–6): an adaptive triangle mesh pulled
 //! onto the iso-surface V(r) = V0 of a skeleton's field
-//! V(r) = Σ ρ_i / |r − R_i|, from a sphere around the skeleton inwards.
+//! V(r) = Σ ρ_i / |r − R_i| (eq. (6)), from a sphere around the skeleton
+//! inwards.
 //!
+//! - [`Weights`] says what the terms are: the paper's own (eqs. (1)–(2),
+//!   the default): the skeleton's vertices, weighted by the normalised,
+//!   point-dependent ρ_i(r) = (1/|r − R_i|) / Σ_j 1/|r − R_j|
+//!   ([`normalised`]); or Sec. 6's points, segments and convex polygons,
+//!   each with its own constant ρ ([`field`](fn@field));
 //! - [`field`](fn@field) evaluates V and ∇V (wide accumulators in fixed point);
 //! - [`Mesh`] is the closed triangle mesh: a UV sphere, refined by edge
 //!   splits only, so it stays a genus-0 2-manifold by construction;
@@ -13,8 +19,10 @@
 
 mod element;
 mod field;
+mod kernel;
 mod mesh;
 mod polygon;
+mod vertices;
 mod wrap;
 
 pub use element::Element;
@@ -23,6 +31,9 @@ pub use field::{
 };
 pub use mesh::{Mesh, VertexId};
 pub use polygon::{MAX_POLYGON_EDGES, POLYGON_TOLERANCE, polygon_edges};
+pub use vertices::{
+    MAX_VERTICES, Weights, collect_vertices, normalised, normalised_fx, vertices_hold,
+};
 pub use wrap::{Phase, SPLIT_TOLERANCE, Shrinkwrap, WrapParams, worst_level_error};
 
 #[cfg(test)]

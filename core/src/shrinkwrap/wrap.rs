@@ -28,6 +28,7 @@ use super::ShrinkwrapError;
 use super::element::Element;
 use super::field::{FieldReal, PREPARED_ELEMENTS, PreparedElement, SkeletonField};
 use super::mesh::{Mesh, VertexId};
+use super::vertices::{MAX_VERTICES, Weights, collect_vertices, vertices_hold};
 
 /// The shrinkwrap parameters of a run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -50,6 +51,24 @@ pub struct WrapParams {
     /// parameter stay the same.
     #[serde(skip_serializing_if = "WrapParams::is_paper_split")]
     pub split_tolerance: Fx,
+    /// The terms of V: the paper's normalised weights over the skeleton's
+    /// vertices (eqs. (1)–(2)), or each element's constant ρ (Sec. 6).
+    /// Left out of the parameter digest when constant, the only form
+    /// before it was a parameter.
+    #[serde(skip_serializing_if = "Weights::is_constant")]
+    pub weights: Weights,
+    /// The top of V0's range, from `target` to this, in which a run of
+    /// several wraps (a bone's frames, [`crate::bones::BonesParams::frame_wrap`])
+    /// draws each wrap's V0 uniformly (bones paper, Summary: "a
+    /// possibility of using random parameters values"; Fig. 3). `None`: V0
+    /// is `target`. [`Shrinkwrap::start`] wraps at `target` whatever this
+    /// is. Left out of the parameter digest when `None`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub target_max: Option<Fx>,
+    /// The top of ΔV's range, from `step` to this, drawn as
+    /// [`target_max`](WrapParams::target_max)'s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step_max: Option<Fx>,
 }
 
 impl WrapParams {
@@ -104,6 +123,10 @@ pub struct Shrinkwrap<R: Real, const V: usize, const T: usize, const C: usize = 
     on_level: Vec<bool, V>,
     /// The skeleton in the kernel's form, prepared once per pass.
     prepared: Vec<PreparedElement, PREPARED_ELEMENTS>,
+    /// [`WrapParams::weights`].
+    weights: Weights,
+    /// The skeleton's distinct vertices, with [`Weights::Normalised`].
+    vertices: Vec<[R; 3], MAX_VERTICES>,
     /// V and ∇V where the last move left each of the first vertices.
     cache: FieldCache<R, C>,
 }
@@ -174,6 +197,28 @@ fn bounds<R: Real>(elements: &[Element<R>]) -> (Vector3<R>, R) {
     (centre, far)
 }
 
+/// The field of `elements` with `weights`, prepared in `prepared` or
+/// `vertices`.
+///
+/// # Errors
+/// More distinct vertices than [`MAX_VERTICES`].
+fn field_of<'f, R: FieldReal>(
+    elements: &'f [Element<R>],
+    weights: Weights,
+    prepared: &'f mut Vec<PreparedElement, PREPARED_ELEMENTS>,
+    vertices: &'f mut Vec<[R; 3], MAX_VERTICES>,
+) -> Result<SkeletonField<'f, R>, Error> {
+    Ok(match weights {
+        Weights::Constant => SkeletonField::new(elements, prepared),
+        Weights::Normalised => {
+            if !vertices_hold(elements, vertices) {
+                collect_vertices(elements, vertices)?;
+            }
+            SkeletonField::normalised(elements, vertices)
+        }
+    })
+}
+
 /// r moved towards the level `level` along ∇V, by at most `max_move`.
 fn toward<R: FieldReal>(
     field: &SkeletonField<'_, R>,
@@ -232,6 +277,8 @@ impl<R: FieldReal, const V: usize, const T: usize, const C: usize> Shrinkwrap<R,
             phase: Phase::Idle,
             on_level: Vec::new(),
             prepared: Vec::new(),
+            weights: Weights::Normalised,
+            vertices: Vec::new(),
             cache: FieldCache { at: Vec::new() },
         }
     }
@@ -279,7 +326,11 @@ impl<R: FieldReal, const V: usize, const T: usize, const C: usize> Shrinkwrap<R,
         let far = if far > R::zero() {
             far
         } else {
-            elements[0].weight.div(R::from_fx(params.target))
+            let strength = match params.weights {
+                Weights::Normalised => R::one(),
+                Weights::Constant => elements[0].weight,
+            };
+            strength.div(R::from_fx(params.target))
         };
         let radius = far * R::from_ratio(13, 10);
         self.mesh
@@ -290,8 +341,15 @@ impl<R: FieldReal, const V: usize, const T: usize, const C: usize> Shrinkwrap<R,
         self.iterations = 0;
         self.max_iterations = params.max_iterations;
         self.split = R::from_fx(params.split_tolerance);
+        self.weights = params.weights;
         self.cache.at.clear();
-        let field = SkeletonField::new(elements, &mut self.prepared);
+        self.vertices.clear();
+        let field = field_of(
+            elements,
+            self.weights,
+            &mut self.prepared,
+            &mut self.vertices,
+        )?;
         let mut sum = R::Wide::default();
         for r in self.mesh.vertices() {
             sum = R::widen(sum, field.potential_at(r));
@@ -348,10 +406,19 @@ impl<R: FieldReal, const V: usize, const T: usize, const C: usize> Shrinkwrap<R,
         }
         let (level, max_move, tolerance) = (self.level, self.max_move, self.split);
         // The cached field holds for the skeleton it was computed for.
-        if C > 0 && !SkeletonField::holds(elements, &self.prepared) {
+        let holds = match self.weights {
+            Weights::Constant => SkeletonField::holds(elements, &self.prepared),
+            Weights::Normalised => vertices_hold(elements, &self.vertices),
+        };
+        if C > 0 && !holds {
             self.cache.at.clear();
         }
-        let field = SkeletonField::new(elements, &mut self.prepared);
+        let field = field_of(
+            elements,
+            self.weights,
+            &mut self.prepared,
+            &mut self.vertices,
+        )?;
         move_all(
             &mut self.mesh,
             &mut self.on_level,
@@ -425,15 +492,20 @@ fn move_all<R: FieldReal, const V: usize, const T: usize, const C: usize>(
     on_level.iter().filter(|&&on| !on).count()
 }
 
-/// The largest |V(r) − V0| / V0 over `points` (a quality measure).
+/// The largest |V(r) − V0| / V0 over `points` (a quality measure), V
+/// with `weights`; zero for a skeleton of more than [`MAX_VERTICES`]
+/// vertices with the paper's weights.
 #[must_use]
 pub fn worst_level_error<R: FieldReal>(
     elements: &[Element<R>],
+    weights: Weights,
     points: &[Vector3<R>],
     level: R,
 ) -> R {
-    let mut storage = Vec::new();
-    let field = SkeletonField::new(elements, &mut storage);
+    let (mut storage, mut vertices) = (Vec::new(), Vec::new());
+    let Ok(field) = field_of(elements, weights, &mut storage, &mut vertices) else {
+        return R::zero();
+    };
     let mut worst = R::zero();
     for r in points {
         let e = (field.potential_at(r) - level).abs().div(level);

@@ -115,7 +115,7 @@ fn wrap_steps(skeleton: &[Element<Fx>], params: &WrapParams) -> Result<Vec<WrapS
         WrapStep {
             level,
             vertices: points.len(),
-            worst: worst_level_error(&reference, &points, level),
+            worst: worst_level_error(&reference, params.weights, &points, level),
         }
     };
     wrap.start(skeleton, params)?;
@@ -196,7 +196,11 @@ pub fn write<R: Records + ?Sized>(
     let mut count = 0usize;
     let mut extent = Extent::new();
     let mut frames = body::Framer::default();
+    let mut seed = 0;
     records.visit(Place::START, |_, r| {
+        if let Record::Header(h) = r {
+            seed = h.seed;
+        }
         if let Some(f) = frames.push(r) {
             extent.include(&f);
             count += 1;
@@ -206,8 +210,15 @@ pub fn write<R: Records + ?Sized>(
     let b = extent.bounds();
     let numbering = Numbering::frames(count);
     let level = f64::from_fx(params.wrap.target);
+    let levels = match params.wrap.target_max {
+        None => format!("{level}"),
+        Some(top) => format!("{level} to {} (drawn per frame)", f64::from_fx(top)),
+    };
+    // Frame k's wrap, its V0 and ΔV drawn as the run drew them.
+    let frame_wrap =
+        |k: u32, steps: f64| params.frame_wrap(params.frame_seed(seed, k), steps as u8);
     let mut summary = format!(
-        "{preset}: {count} frames, V0 = {level}\nframe  steps  elements  vertices  triangles  V-E+F  worst |V-V0|/V0\n",
+        "{preset}: {count} frames, V0 = {levels}\nframe  steps  elements  vertices  triangles  V-E+F  worst |V-V0|/V0\n",
     );
     let width = 360u32;
     let s = f64::from(width) / (b.1 - b.0);
@@ -259,7 +270,12 @@ pub fn write<R: Records + ?Sized>(
             f.vertices.len(),
             f.triangles.len(),
             euler(&f),
-            worst_level_error(&skeleton, &points(&f), level)
+            worst_level_error(
+                &skeleton,
+                params.wrap.weights,
+                &points(&f),
+                f64::from_fx(frame_wrap(f.index, f.age).target)
+            )
         );
         if kinds.has(Kind::Obj) || glb.is_some() {
             let header = format!("{preset} frame {}, {} L-system steps", f.index, f.age);
@@ -300,13 +316,13 @@ pub fn write<R: Records + ?Sized>(
         }
         steps.push(f.age);
         k += 1;
-        last = Some((f.index, f.vertices.len(), fixed));
+        last = Some((f.index, f.vertices.len(), fixed, frame_wrap(f.index, f.age)));
         Ok(())
     })?;
-    if let Some((frame, vertices, skeleton)) = last
+    if let Some((frame, vertices, skeleton, wrap)) = last
         && (kinds.has(Kind::Png) || kinds.has(Kind::Svg))
     {
-        let run = wrap_steps(&skeleton, &params.wrap)?;
+        let run = wrap_steps(&skeleton, &wrap)?;
         // The run done again is the one streamed.
         anyhow::ensure!(
             run.last().map(|s| s.vertices) == Some(vertices),
