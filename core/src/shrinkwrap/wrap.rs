@@ -121,12 +121,8 @@ pub struct Shrinkwrap<R: Real, const V: usize, const T: usize, const C: usize = 
     /// Per vertex: whether it is on the current level (within
     /// the split tolerance) after the last move.
     on_level: Vec<bool, V>,
-    /// The skeleton in the kernel's form, prepared once per pass.
-    prepared: Vec<PreparedElement, PREPARED_ELEMENTS>,
-    /// [`WrapParams::weights`].
-    weights: Weights,
-    /// The skeleton's distinct vertices, with [`Weights::Normalised`].
-    vertices: Vec<[R; 3], MAX_VERTICES>,
+    /// The skeleton in the form [`WrapParams::weights`] evaluates it in.
+    kernel: Kernel<R>,
     /// V and ∇V where the last move left each of the first vertices.
     cache: FieldCache<R, C>,
 }
@@ -197,26 +193,53 @@ fn bounds<R: Real>(elements: &[Element<R>]) -> (Vector3<R>, R) {
     (centre, far)
 }
 
-/// The field of `elements` with `weights`, prepared in `prepared` or
-/// `vertices`.
-///
-/// # Errors
-/// More distinct vertices than [`MAX_VERTICES`].
-fn field_of<'f, R: FieldReal>(
-    elements: &'f [Element<R>],
-    weights: Weights,
-    prepared: &'f mut Vec<PreparedElement, PREPARED_ELEMENTS>,
-    vertices: &'f mut Vec<[R; 3], MAX_VERTICES>,
-) -> Result<SkeletonField<'f, R>, Error> {
-    Ok(match weights {
-        Weights::Constant => SkeletonField::new(elements, prepared),
-        Weights::Normalised => {
-            if !vertices_hold(elements, vertices) {
-                collect_vertices(elements, vertices)?;
-            }
-            SkeletonField::normalised(elements, vertices)
+/// The skeleton in the kernel's form, made once per pass: its elements
+/// prepared (constant weights, Sec. 6) or its distinct vertices (the
+/// paper's weights, eqs. (1)–(2)). One or the other, so that a bone's
+/// runner holds the larger of the two and not both (on a Cortex-M0+ both
+/// left the stack too little RAM).
+#[derive(Debug)]
+enum Kernel<R> {
+    /// With [`Weights::Constant`].
+    Prepared(Vec<PreparedElement, PREPARED_ELEMENTS>),
+    /// With [`Weights::Normalised`].
+    Vertices(Vec<[R; 3], MAX_VERTICES>),
+}
+
+impl<R: FieldReal> Kernel<R> {
+    /// Empty, for `weights`, reusing `self` when it is of that form.
+    fn reset(&mut self, weights: Weights) {
+        match (weights, &mut *self) {
+            (Weights::Constant, Kernel::Prepared(prepared)) => prepared.clear(),
+            (Weights::Normalised, Kernel::Vertices(vertices)) => vertices.clear(),
+            (Weights::Constant, kernel) => *kernel = Kernel::Prepared(Vec::new()),
+            (Weights::Normalised, kernel) => *kernel = Kernel::Vertices(Vec::new()),
         }
-    })
+    }
+
+    /// Whether this holds the skeleton `elements` as it is.
+    fn holds(&self, elements: &[Element<R>]) -> bool {
+        match self {
+            Kernel::Prepared(prepared) => SkeletonField::holds(elements, prepared),
+            Kernel::Vertices(vertices) => vertices_hold(elements, vertices),
+        }
+    }
+
+    /// The field of `elements`, made in this kernel's form.
+    ///
+    /// # Errors
+    /// More distinct vertices than [`MAX_VERTICES`].
+    fn field<'f>(&'f mut self, elements: &'f [Element<R>]) -> Result<SkeletonField<'f, R>, Error> {
+        Ok(match self {
+            Kernel::Prepared(prepared) => SkeletonField::new(elements, prepared),
+            Kernel::Vertices(vertices) => {
+                if !vertices_hold(elements, vertices) {
+                    collect_vertices(elements, vertices)?;
+                }
+                SkeletonField::normalised(elements, vertices)
+            }
+        })
+    }
 }
 
 /// r moved towards the level `level` along ∇V, by at most `max_move`.
@@ -276,9 +299,7 @@ impl<R: FieldReal, const V: usize, const T: usize, const C: usize> Shrinkwrap<R,
             split: zero,
             phase: Phase::Idle,
             on_level: Vec::new(),
-            prepared: Vec::new(),
-            weights: Weights::Normalised,
-            vertices: Vec::new(),
+            kernel: Kernel::Prepared(Vec::new()),
             cache: FieldCache { at: Vec::new() },
         }
     }
@@ -341,15 +362,9 @@ impl<R: FieldReal, const V: usize, const T: usize, const C: usize> Shrinkwrap<R,
         self.iterations = 0;
         self.max_iterations = params.max_iterations;
         self.split = R::from_fx(params.split_tolerance);
-        self.weights = params.weights;
         self.cache.at.clear();
-        self.vertices.clear();
-        let field = field_of(
-            elements,
-            self.weights,
-            &mut self.prepared,
-            &mut self.vertices,
-        )?;
+        self.kernel.reset(params.weights);
+        let field = self.kernel.field(elements)?;
         let mut sum = R::Wide::default();
         for r in self.mesh.vertices() {
             sum = R::widen(sum, field.potential_at(r));
@@ -406,19 +421,10 @@ impl<R: FieldReal, const V: usize, const T: usize, const C: usize> Shrinkwrap<R,
         }
         let (level, max_move, tolerance) = (self.level, self.max_move, self.split);
         // The cached field holds for the skeleton it was computed for.
-        let holds = match self.weights {
-            Weights::Constant => SkeletonField::holds(elements, &self.prepared),
-            Weights::Normalised => vertices_hold(elements, &self.vertices),
-        };
-        if C > 0 && !holds {
+        if C > 0 && !self.kernel.holds(elements) {
             self.cache.at.clear();
         }
-        let field = field_of(
-            elements,
-            self.weights,
-            &mut self.prepared,
-            &mut self.vertices,
-        )?;
+        let field = self.kernel.field(elements)?;
         move_all(
             &mut self.mesh,
             &mut self.on_level,
@@ -502,8 +508,9 @@ pub fn worst_level_error<R: FieldReal>(
     points: &[Vector3<R>],
     level: R,
 ) -> R {
-    let (mut storage, mut vertices) = (Vec::new(), Vec::new());
-    let Ok(field) = field_of(elements, weights, &mut storage, &mut vertices) else {
+    let mut kernel = Kernel::Prepared(Vec::new());
+    kernel.reset(weights);
+    let Ok(field) = kernel.field(elements) else {
         return R::zero();
     };
     let mut worst = R::zero();
