@@ -10,6 +10,7 @@
 //! seen from outside: a fan at each end and two per quad.
 
 use nalgebra::Vector3;
+use serde::ser::{SerializeStruct, Serializer};
 use serde::Serialize;
 
 use super::BodyError;
@@ -29,11 +30,14 @@ pub struct Station {
 }
 
 /// A closed generalised cylinder.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Tube<'a> {
     /// Rings from one end to the other (at least 2).
     pub stations: &'a [Station],
+    /// Added to every station's z: one list of rings makes a leg or an
+    /// ear on either side.
+    pub z: Fx,
     /// Vertices per ring (at least 3).
     pub sides: u8,
     /// Whether the end caps bulge out by half the smaller half-size (a
@@ -41,7 +45,34 @@ pub struct Tube<'a> {
     pub rounded: bool,
 }
 
+/// Serialised as the rings it makes, `z` added: a tube's parameters are
+/// its shape, however its rings are shared.
+impl Serialize for Tube<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        struct Placed<'t>(&'t Tube<'t>);
+        impl Serialize for Placed<'_> {
+            fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+                serializer.collect_seq(self.0.stations.iter().map(|s| self.0.placed(s)))
+            }
+        }
+        let mut tube = serializer.serialize_struct("Tube", 3)?;
+        tube.serialize_field("stations", &Placed(self))?;
+        tube.serialize_field("sides", &self.sides)?;
+        tube.serialize_field("rounded", &self.rounded)?;
+        tube.end()
+    }
+}
+
 impl Tube<'_> {
+    /// `station` in model space: its centre moved by [`Tube::z`].
+    fn placed(&self, station: &Station) -> Station {
+        let [x, y, z] = station.centre;
+        Station {
+            centre: [x, y, z + self.z],
+            ..*station
+        }
+    }
+
     fn vertex_count(&self) -> u32 {
         self.stations.len() as u32 * u32::from(self.sides) + 2
     }
@@ -73,7 +104,7 @@ impl Tube<'_> {
             } else {
                 (last_station, R::one())
             };
-            let st = &self.stations[s];
+            let st = self.placed(&self.stations[s]);
             let c = point::<R>(st.centre);
             if !self.rounded {
                 return c;
@@ -82,7 +113,7 @@ impl Tube<'_> {
             return c + self.tangent::<R>(s) * (bulge * sign);
         }
         let (s, k) = (((j - 1) / sides) as usize, (j - 1) % sides);
-        let st = &self.stations[s.min(last_station)];
+        let st = self.placed(&self.stations[s.min(last_station)]);
         let t = self.tangent::<R>(s);
         let up = Vector3::new(-t.y, t.x, R::zero());
         let phi = Angle::from_turn_ratio(i64::from(k), i64::from(sides));
@@ -252,6 +283,7 @@ mod tests {
     fn a_tube_is_closed_and_its_triangles_face_outwards() {
         let tubes = [Tube {
             stations: &STATIONS,
+            z: Fx::ZERO,
             sides: 6,
             rounded: true,
         }];
@@ -281,6 +313,7 @@ mod tests {
     fn bad_meshes_are_refused() {
         let tubes = [Tube {
             stations: &STATIONS[..1],
+            z: Fx::ZERO,
             sides: 6,
             rounded: false,
         }];

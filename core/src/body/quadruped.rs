@@ -102,16 +102,27 @@ const fn station(x: i32, y: i32, z: i32, height: i32, width: i32) -> Station {
     }
 }
 
-/// The same rings at `z` (a leg or an ear on one side).
-const fn at_z<const N: usize>(stations: [(i32, i32, i32, i32); N], z: i32) -> [Station; N] {
+/// Rings in the midplane, z = 0 (a tube's own `z` moves a leg or an ear
+/// to its side).
+const fn rings<const N: usize>(stations: [(i32, i32, i32, i32); N]) -> [Station; N] {
     let mut out = [station(0, 0, 0, 0, 0); N];
     let mut i = 0;
     while i < N {
         let (x, y, h, w) = stations[i];
-        out[i] = station(x, y, z, h, w);
+        out[i] = station(x, y, 0, h, w);
         i += 1;
     }
     out
+}
+
+/// A tube of `stations` moved to `z`.
+const fn tube(stations: &'static [Station], z: i32, sides: u8, rounded: bool) -> Tube<'static> {
+    Tube {
+        stations,
+        z: t(z),
+        sides,
+        rounded,
+    }
 }
 
 // ---------------------------------------------------------------- horse --
@@ -359,7 +370,7 @@ pub static HORSE_CYLINDERS: [Cylinder; 18] = [
 ];
 
 /// Rump to muzzle: (x, y, half height, half width), tenths of an inch.
-static HORSE_SPINE: [Station; 16] = at_z(
+static HORSE_SPINE: [Station; 16] = rings(
     [
         (-305, 490, 70, 55),
         (-285, 500, 110, 85),
@@ -378,7 +389,6 @@ static HORSE_SPINE: [Station; 16] = at_z(
         (540, 590, 30, 28),
         (560, 548, 26, 24),
     ],
-    0,
 );
 
 /// Elbow or stifle to sole; the last two rings one above the other: a
@@ -421,56 +431,21 @@ const HORSE_TAIL: [(i32, i32, i32, i32); 5] = [
 const HORSE_EAR: [(i32, i32, i32, i32); 3] =
     [(430, 750, 14, 10), (424, 795, 12, 8), (416, 838, 5, 4)];
 
-static HORSE_LEFT_FORE: [Station; 11] = at_z(HORSE_FORE, 60);
-static HORSE_RIGHT_FORE: [Station; 11] = at_z(HORSE_FORE, -60);
-static HORSE_LEFT_HIND: [Station; 11] = at_z(HORSE_HIND, 55);
-static HORSE_RIGHT_HIND: [Station; 11] = at_z(HORSE_HIND, -55);
-static HORSE_TAIL_RINGS: [Station; 5] = at_z(HORSE_TAIL, 0);
-static HORSE_LEFT_EAR: [Station; 3] = at_z(HORSE_EAR, 25);
-static HORSE_RIGHT_EAR: [Station; 3] = at_z(HORSE_EAR, -25);
+static HORSE_FORE_RINGS: [Station; 11] = rings(HORSE_FORE);
+static HORSE_HIND_RINGS: [Station; 11] = rings(HORSE_HIND);
+static HORSE_TAIL_RINGS: [Station; 5] = rings(HORSE_TAIL);
+static HORSE_EAR_RINGS: [Station; 3] = rings(HORSE_EAR);
 
 /// The horse's tubes: far side first, so a painter draws the near side last.
 static HORSE_TUBES: [Tube<'static>; 8] = [
-    Tube {
-        stations: &HORSE_RIGHT_HIND,
-        sides: 8,
-        rounded: false,
-    },
-    Tube {
-        stations: &HORSE_RIGHT_FORE,
-        sides: 8,
-        rounded: false,
-    },
-    Tube {
-        stations: &HORSE_RIGHT_EAR,
-        sides: 4,
-        rounded: true,
-    },
-    Tube {
-        stations: &HORSE_SPINE,
-        sides: 10,
-        rounded: true,
-    },
-    Tube {
-        stations: &HORSE_TAIL_RINGS,
-        sides: 6,
-        rounded: true,
-    },
-    Tube {
-        stations: &HORSE_LEFT_EAR,
-        sides: 4,
-        rounded: true,
-    },
-    Tube {
-        stations: &HORSE_LEFT_HIND,
-        sides: 8,
-        rounded: false,
-    },
-    Tube {
-        stations: &HORSE_LEFT_FORE,
-        sides: 8,
-        rounded: false,
-    },
+    tube(&HORSE_HIND_RINGS, -55, 8, false),
+    tube(&HORSE_FORE_RINGS, -60, 8, false),
+    tube(&HORSE_EAR_RINGS, -25, 4, true),
+    tube(&HORSE_SPINE, 0, 10, true),
+    tube(&HORSE_TAIL_RINGS, 0, 6, true),
+    tube(&HORSE_EAR_RINGS, 25, 4, true),
+    tube(&HORSE_HIND_RINGS, 55, 8, false),
+    tube(&HORSE_FORE_RINGS, 60, 8, false),
 ];
 
 /// The built-in quarter horse: inches, modelled at 60 months.
@@ -694,7 +669,7 @@ pub static COW_CYLINDERS: [Cylinder; 18] = [
 ];
 
 /// Rump to muzzle, tenths of a centimetre.
-static COW_SPINE: [Station; 15] = at_z(
+static COW_SPINE: [Station; 15] = rings(
     [
         (-830, 1030, 200, 170),
         (-790, 1010, 300, 250),
@@ -712,7 +687,6 @@ static COW_SPINE: [Station; 15] = at_z(
         (1080, 730, 80, 70),
         (1140, 640, 70, 65),
     ],
-    0,
 );
 
 /// Elbow or stifle to sole; the last two rings one above the other: a
@@ -755,55 +729,20 @@ const COW_TAIL: [(i32, i32, i32, i32); 5] = [
 const COW_EAR: [(i32, i32, i32, i32); 3] =
     [(830, 1020, 35, 20), (815, 1055, 25, 15), (795, 1090, 10, 6)];
 
-static COW_LEFT_FORE: [Station; 11] = at_z(COW_FORE, 170);
-static COW_RIGHT_FORE: [Station; 11] = at_z(COW_FORE, -170);
-static COW_LEFT_HIND: [Station; 11] = at_z(COW_HIND, 160);
-static COW_RIGHT_HIND: [Station; 11] = at_z(COW_HIND, -160);
-static COW_TAIL_RINGS: [Station; 5] = at_z(COW_TAIL, 0);
-static COW_LEFT_EAR: [Station; 3] = at_z(COW_EAR, 90);
-static COW_RIGHT_EAR: [Station; 3] = at_z(COW_EAR, -90);
+static COW_FORE_RINGS: [Station; 11] = rings(COW_FORE);
+static COW_HIND_RINGS: [Station; 11] = rings(COW_HIND);
+static COW_TAIL_RINGS: [Station; 5] = rings(COW_TAIL);
+static COW_EAR_RINGS: [Station; 3] = rings(COW_EAR);
 
 static COW_TUBES: [Tube<'static>; 8] = [
-    Tube {
-        stations: &COW_RIGHT_HIND,
-        sides: 8,
-        rounded: false,
-    },
-    Tube {
-        stations: &COW_RIGHT_FORE,
-        sides: 8,
-        rounded: false,
-    },
-    Tube {
-        stations: &COW_RIGHT_EAR,
-        sides: 4,
-        rounded: true,
-    },
-    Tube {
-        stations: &COW_SPINE,
-        sides: 10,
-        rounded: true,
-    },
-    Tube {
-        stations: &COW_TAIL_RINGS,
-        sides: 6,
-        rounded: true,
-    },
-    Tube {
-        stations: &COW_LEFT_EAR,
-        sides: 4,
-        rounded: true,
-    },
-    Tube {
-        stations: &COW_LEFT_HIND,
-        sides: 8,
-        rounded: false,
-    },
-    Tube {
-        stations: &COW_LEFT_FORE,
-        sides: 8,
-        rounded: false,
-    },
+    tube(&COW_HIND_RINGS, -160, 8, false),
+    tube(&COW_FORE_RINGS, -170, 8, false),
+    tube(&COW_EAR_RINGS, -90, 4, true),
+    tube(&COW_SPINE, 0, 10, true),
+    tube(&COW_TAIL_RINGS, 0, 6, true),
+    tube(&COW_EAR_RINGS, 90, 4, true),
+    tube(&COW_HIND_RINGS, 160, 8, false),
+    tube(&COW_FORE_RINGS, 170, 8, false),
 ];
 
 /// The built-in Holstein: centimetres, modelled at 36 months.
