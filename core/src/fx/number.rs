@@ -89,6 +89,15 @@ impl Fx {
         Fx::from_bits(div_bits((num as i64) << FRAC, den as i64))
     }
 
+    /// `num / den` of two sums of raw bits at any scale (`num` in the
+    /// scale of `den` times 2¹⁶), rounded to nearest and saturated as
+    /// [`Fx::from_ratio`]: a mean or a quotient taken once from exact
+    /// sums.
+    #[must_use]
+    pub(crate) const fn from_wide_ratio(num: i64, den: i64) -> Fx {
+        Fx::from_bits(div_bits(num, den))
+    }
+
     /// The non-negative decimal number `int.frac` (ASCII digits; either
     /// part may be empty) as `fixed`'s `I16F16::from_str` (1.29) parses it,
     /// computed with a few integer operations (that general parser is some

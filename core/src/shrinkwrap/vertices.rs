@@ -151,9 +151,9 @@ pub fn normalised_fx(vertices: &[[Fx; 3]], r: &Vector3<Fx>, gradient: bool) -> (
     if d == 0 {
         return (Fx::ZERO, Vector3::zeros());
     }
-    // A weighted mean of the u_i: at most 2²⁸ (Q16 bits), no overflow.
-    let v = n.saturating_add(d / 2) / d;
-    let v = Fx::from_bits(v.min(i32::MAX as u64) as i32);
+    // A weighted mean of the u_i: at most 2²⁸ (Q16 bits).
+    let d = d as i64;
+    let v = Fx::from_wide_ratio(n as i64, d);
     if !gradient {
         return (v, Vector3::zeros());
     }
@@ -172,16 +172,7 @@ pub fn normalised_fx(vertices: &[[Fx; 3]], r: &Vector3<Fx>, gradient: bool) -> (
         }
     }
     // Each sum below 2⁷ · 2³¹; shifted, below 2⁵⁴. d ≥ 1.
-    let d = d as i64;
-    let quotient = |gk: i64| {
-        let n = gk << 16;
-        Fx::narrow(if n >= 0 {
-            (n + d / 2) / d
-        } else {
-            (n - d / 2) / d
-        })
-    };
-    (v, Vector3::from(g.map(quotient)))
+    (v, Vector3::from(g.map(|gk| Fx::from_wide_ratio(gk << 16, d))))
 }
 
 #[cfg(test)]

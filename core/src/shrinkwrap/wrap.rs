@@ -233,9 +233,7 @@ impl<R: FieldReal> Kernel<R> {
         Ok(match self {
             Kernel::Prepared(prepared) => SkeletonField::new(elements, prepared),
             Kernel::Vertices(vertices) => {
-                if !vertices_hold(elements, vertices) {
-                    collect_vertices(elements, vertices)?;
-                }
+                collect_vertices(elements, vertices)?;
                 SkeletonField::normalised(elements, vertices)
             }
         })
