@@ -206,10 +206,12 @@ fn fixed_point_wrap_matches_the_f64_reference() {
 fn bone_growth_wraps_every_step_and_the_bone_grows() {
     let s = with_bones("bone-growth", |p| skeletons(p, 0));
     assert_eq!(s.len(), 12);
-    // One segment until the growth plates close, then shaft + 2 × 5.
+    // The shaft's 8 segments until the growth plates close, then at each
+    // end two condyles of 2 segments and a point each, and a point:
+    // 8 + 2 × 7.
     assert_eq!(
         s.iter().map(|s| s.len()).collect::<Vec<_>>(),
-        [1, 1, 1, 11, 11, 11, 11, 11, 11, 11, 11, 11]
+        [8, 8, 8, 22, 22, 22, 22, 22, 22, 22, 22, 22]
     );
     let length = |s: &Skeleton| s.iter().map(|e| e.a[1].max(e.b[1])).fold(Fx::MIN, Fx::max);
     assert!(s.windows(2).all(|w| length(&w[1]) > length(&w[0])));
