@@ -10,8 +10,8 @@
 //! seen from outside: a fan at each end and two per quad.
 
 use nalgebra::Vector3;
-use serde::ser::{SerializeStruct, Serializer};
 use serde::Serialize;
+use serde::ser::{SerializeStruct, Serializer};
 
 use super::BodyError;
 use super::cylinder::{norm, point};

@@ -172,7 +172,10 @@ pub fn normalised_fx(vertices: &[[Fx; 3]], r: &Vector3<Fx>, gradient: bool) -> (
         }
     }
     // Each sum below 2⁷ · 2³¹; shifted, below 2⁵⁴. d ≥ 1.
-    (v, Vector3::from(g.map(|gk| Fx::from_wide_ratio(gk << 16, d))))
+    (
+        v,
+        Vector3::from(g.map(|gk| Fx::from_wide_ratio(gk << 16, d))),
+    )
 }
 
 #[cfg(test)]
