@@ -431,18 +431,6 @@ fn text(include: &Include, key: &str, files: &dyn Files) -> Result<String> {
     }
 }
 
-/// A grammar's text and the grammar parsed from it, so that a mistake in
-/// it is named by its own file, line and column.
-fn parsed_grammar(
-    include: &Include,
-    key: &str,
-    files: &dyn Files,
-) -> Result<(String, Box<morphogen::lsys::Grammar>)> {
-    let text = text(include, key, files)?;
-    let grammar = parse_grammar(&text, include, key, |_, _| {})?;
-    Ok((text, grammar))
-}
-
 /// `text` parsed, its errors named by the file `include` names; `constant`
 /// hears each `name = value` it defines (name and value).
 fn parse_grammar(
@@ -1272,7 +1260,23 @@ fn cylinder_of(e: &morphogen::Error) -> Option<Label> {
 }
 
 fn bones(b: &schema::Bones, files: &dyn Files) -> Result<Checked> {
-    let (grammar, parsed) = parsed_grammar(&b.grammar, "bones.grammar", files)?;
+    let key = "bones.grammar";
+    if let Some(name) = b.constants.keys().find(|n| PLANT_ONLY_SETTINGS.contains(&n.as_str())) {
+        return invalid(
+            format!("bones.{name}"),
+            format!(
+                "`{name}` applies only to L-system plant presets ([lsystem]); a bone's skeleton \
+                 is one derivation wrapped once"
+            ),
+        );
+    }
+    let given = text(&b.grammar, key, files)?;
+    let grammar = constants::apply(&given, &b.constants, "bones", include_name(&b.grammar))?;
+    let mut defined = Vec::new();
+    let parsed = parse_grammar(&grammar, &b.grammar, key, |name, v| {
+        defined.push((name.to_string(), decimal(v)));
+    })?;
+    constants::note_all("bones", &defined);
     if let Some(a) = constants::assignments(&grammar)
         .into_iter()
         .find(|a| PLANT_ONLY_SETTINGS.contains(&a.name))
@@ -1708,6 +1712,29 @@ initial_probability = 0
                 "lsystem.thin"
             ]
         );
+    }
+
+    #[test]
+    fn grammar_constants_are_set_as_bones_keys() {
+        let bone = builtin("long-bone").expect("preset");
+        let file = include_str!("../../grammars/long-bone.lsys");
+        let set = |k: &str, v: &str| bone.clone_with_sets(&[(k.into(), v.into())]);
+        let skeleton = |s: &Scenario| match s.checked() {
+            Checked::Bones { grammar, .. } => grammar.clone(),
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(skeleton(&set("bones.n", "6").unwrap()), file.replace("n = 12", "n = 6"));
+        let e = set("bones.m", "6").unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("--set bones.m=6: bones.m: unknown setting or constant (did you mean `n`?)"),
+            "{e}"
+        );
+        let e = set("bones.plants", "2").unwrap_err();
+        assert_eq!(e.key, "bones.plants");
+        assert!(e.message.starts_with("`plants` applies only to L-system plant presets"), "{e}");
+        let keys: Vec<String> = bone.ranges().into_iter().map(|r| r.key).collect();
+        assert!(keys.contains(&"bones.n".to_string()), "{keys:?}");
     }
 }
 

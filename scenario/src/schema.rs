@@ -421,7 +421,6 @@ pub struct BoneFrameTable {
 
 /// `[bones]`.
 #[derive(Debug, Clone, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
 pub struct Bones {
     /// The skeleton's grammar.
     pub grammar: Include,
@@ -429,4 +428,9 @@ pub struct Bones {
     pub frames: BoneFrames,
     /// The shrinkwrap.
     pub wrap: Wrap,
+    /// Every other key: a setting or constant of the skeleton's grammar
+    /// and its value (`n = 8`), written into the grammar's text as
+    /// `[lsystem]`'s are.
+    #[serde(flatten)]
+    pub constants: std::collections::BTreeMap<String, toml::Value>,
 }

@@ -185,7 +185,7 @@ test("a scenario, a grammar, a skeleton and PBM and PNG masks opened as files ru
   await ran(page, "long-bone", () => page.selectOption("#preset", "long-bone"));
   await expect(digest).toHaveText(summary("long-bone").digest);
   await opened("wishbone.lsys", `${root}examples/wishbone.lsys`);
-  await expect(digest).toHaveText("4d01edef2d3d96f4");
+  await expect(digest).toHaveText("da2e0f76063327c3");
   await opened("long-bone.lsys", `${root}grammars/long-bone.lsys`);
   await expect(digest).toHaveText(summary("long-bone").digest);
   await expect(page.locator("#status")).not.toHaveClass(/error/);
