@@ -199,11 +199,8 @@ cp "$tdir/thumbv7m-none-eabi/release/morphogen-firmware" "$work/surface.elf"
 # (no `extent`, `oled` or `serve`, built for size: the flash figure).
 say "build (rtt feature, thumbv7m-none-eabi)"
 env -u MORPHOGEN_SCENARIOS cargo build --release --no-default-features --features rtt,extent,oled,serve --target thumbv7m-none-eabi
-# Source paths remapped (the panic locations' file names are in flash), so
-# that the figure does not depend on where the checkout or the registry is.
 say "build (stream only: no extent, oled or serve; bitwise frame CRC; profile small, opt-level z; thumbv7m-none-eabi)"
-CARGO_TARGET_THUMBV7M_NONE_EABI_RUSTFLAGS="--remap-path-prefix=$root=. --remap-path-prefix=${CARGO_HOME:-$HOME/.cargo}/registry/src=cargo" \
-  env -u MORPHOGEN_SCENARIOS cargo build --profile small --no-default-features --features semihosting,bitwise-crc --target thumbv7m-none-eabi
+env -u MORPHOGEN_SCENARIOS cargo build --profile small --no-default-features --features semihosting,bitwise-crc --target thumbv7m-none-eabi
 cp "$tdir/thumbv7m-none-eabi/small/morphogen-firmware" "$work/stream-only.elf"
 # Every MCU preset, streamed, fits a part with 96 KB of flash
 # when built for size: under 96,000 B, the stricter reading of "96 KB".
