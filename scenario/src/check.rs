@@ -29,6 +29,7 @@ use crate::mask;
 use crate::schema::{self, BoneFrames, DayFrames, File, Include};
 use crate::spelling;
 use crate::surface::{self, SurfaceSpec};
+use crate::unsupported;
 pub use crate::value::Invalid;
 use crate::value::{Result, decimal, fx, int, invalid, shown};
 
@@ -472,7 +473,7 @@ pub fn grammar(
         (Ok(()), None) => Ok(grammar),
         (Err(e), None) => match spelling::misspelt_on_line(text, e.line) {
             Some((column, message)) => at(e.line, column, &message),
-            None => at(e.line, e.column, &e.kind),
+            None => at(e.line, e.column, &unsupported::explained(&e.kind)),
         },
     }
 }
@@ -1261,7 +1262,11 @@ fn cylinder_of(e: &morphogen::Error) -> Option<Label> {
 
 fn bones(b: &schema::Bones, files: &dyn Files) -> Result<Checked> {
     let key = "bones.grammar";
-    if let Some(name) = b.constants.keys().find(|n| PLANT_ONLY_SETTINGS.contains(&n.as_str())) {
+    if let Some(name) = b
+        .constants
+        .keys()
+        .find(|n| PLANT_ONLY_SETTINGS.contains(&n.as_str()))
+    {
         return invalid(
             format!("bones.{name}"),
             format!(
@@ -1723,16 +1728,24 @@ initial_probability = 0
             Checked::Bones { grammar, .. } => grammar.clone(),
             other => panic!("{other:?}"),
         };
-        assert_eq!(skeleton(&set("bones.n", "6").unwrap()), file.replace("n = 12", "n = 6"));
+        assert_eq!(
+            skeleton(&set("bones.n", "6").unwrap()),
+            file.replace("n = 12", "n = 6")
+        );
         let e = set("bones.m", "6").unwrap_err();
         assert!(
-            e.to_string()
-                .starts_with("--set bones.m=6: bones.m: unknown setting or constant (did you mean `n`?)"),
+            e.to_string().starts_with(
+                "--set bones.m=6: bones.m: unknown setting or constant (did you mean `n`?)"
+            ),
             "{e}"
         );
         let e = set("bones.plants", "2").unwrap_err();
         assert_eq!(e.key, "bones.plants");
-        assert!(e.message.starts_with("`plants` applies only to L-system plant presets"), "{e}");
+        assert!(
+            e.message
+                .starts_with("`plants` applies only to L-system plant presets"),
+            "{e}"
+        );
         let keys: Vec<String> = bone.ranges().into_iter().map(|r| r.key).collect();
         assert!(keys.contains(&"bones.n".to_string()), "{keys:?}");
     }

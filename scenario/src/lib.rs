@@ -30,6 +30,7 @@ pub mod run;
 pub mod schema;
 mod spelling;
 pub mod surface;
+mod unsupported;
 mod value;
 
 use std::fmt;

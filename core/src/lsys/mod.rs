@@ -149,8 +149,6 @@ pub enum ParseErrorKind {
     UnsupportedSymbol {
         /// The symbol.
         symbol: u8,
-        /// Its meaning elsewhere, and what to use instead.
-        meaning: &'static str,
     },
 }
 
@@ -187,20 +185,11 @@ pub struct Definition<'t> {
 }
 
 /// Module symbols that ABOP or L-Py give a meaning Morphogen does not
-/// implement, with that meaning: a grammar using one is a located
-/// [`ParseErrorKind::UnsupportedSymbol`] error.
-pub const UNSUPPORTED_SYMBOLS: [(u8, &str); 4] = [
-    (
-        b'@',
-        "L-Py/cpfg multi-letter turtle commands (@O sphere, @o circle, @M move to, @Tp tropism, ...)",
-    ),
-    (
-        b'?',
-        "L-Py/cpfg query modules (?P position, ?H heading, ...) that read the turtle back",
-    ),
-    (b'_', "L-Py: increase the width (use `!(w)` to set it)"),
-    (b';', "L-Py: next colour index (use `'` or `'(c)`)"),
-];
+/// implement: a grammar using one is a located
+/// [`ParseErrorKind::UnsupportedSymbol`] error. What each means there is
+/// told where grammars come in (`scenario/src/unsupported.rs`), not in a
+/// device's flash.
+pub const UNSUPPORTED_SYMBOLS: [u8; 4] = *b"@?_;";
 
 impl core::fmt::Display for ParseErrorKind {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
@@ -231,9 +220,9 @@ impl core::fmt::Display for ParseErrorKind {
             ParseErrorKind::UnknownSurface => f.write_str(
                 "`~` must be followed by a predefined surface: `~L` (leaf) or `~P` (petal), optionally `(scale)`",
             ),
-            ParseErrorKind::UnsupportedSymbol { symbol, meaning } => write!(
+            ParseErrorKind::UnsupportedSymbol { symbol } => write!(
                 f,
-                "the symbol `{}` is not supported (its meaning elsewhere: {meaning})",
+                "the symbol `{}` is not supported (ABOP or L-Py give it a meaning Morphogen does not implement)",
                 char::from(*symbol)
             ),
         }

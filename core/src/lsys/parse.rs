@@ -48,11 +48,10 @@ pub(crate) fn is_symbol(b: u8) -> bool {
 /// The located error for a symbol that ABOP or L-Py gives a meaning
 /// Morphogen does not implement.
 fn unsupported(c: &Cursor<'_>, at: usize, symbol: u8) -> Result<(), ParseError> {
-    match UNSUPPORTED_SYMBOLS.iter().find(|(s, _)| *s == symbol) {
-        Some(&(symbol, meaning)) => {
-            Err(c.err_at(at, ParseErrorKind::UnsupportedSymbol { symbol, meaning }))
-        }
-        None => Ok(()),
+    if UNSUPPORTED_SYMBOLS.contains(&symbol) {
+        Err(c.err_at(at, ParseErrorKind::UnsupportedSymbol { symbol }))
+    } else {
+        Ok(())
     }
 }
 

@@ -713,9 +713,9 @@ fn symbols_with_a_meaning_elsewhere_are_located_errors() {
     // Each symbol of the table, in the axiom, a successor and a
     // predecessor: an error at its column naming it, never drawn as
     // nothing.
-    for (symbol, meaning) in UNSUPPORTED_SYMBOLS {
+    for symbol in UNSUPPORTED_SYMBOLS {
         let s = char::from(symbol);
-        let kind = ParseErrorKind::UnsupportedSymbol { symbol, meaning };
+        let kind = ParseErrorKind::UnsupportedSymbol { symbol };
         for (text, line, column) in [
             (format!("n = 1\naxiom: F {s}F"), 2, 10),
             (format!("n = 1\naxiom: F\nF -> F[+F]{s}(2)"), 3, 11),
