@@ -199,6 +199,10 @@ fn bounds<R: Real>(elements: &[Element<R>]) -> (Vector3<R>, R) {
 /// runner holds the larger of the two and not both (on a Cortex-M0+ both
 /// left the stack too little RAM).
 #[derive(Debug)]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "the variants share their storage on purpose: boxing needs an allocator"
+)]
 enum Kernel<R> {
     /// With [`Weights::Constant`].
     Prepared(Vec<PreparedElement, PREPARED_ELEMENTS>),
