@@ -56,6 +56,22 @@ pub struct Fixture {
 /// built-in preset (self-contained: `verify` re-runs it from there).
 pub const SCENARIO_FILE: &str = "scenario.toml";
 
+/// The scenario `target` names for `verify` and `bless --accept`: a
+/// scenario file, else the fixture of that name (from its own
+/// `scenario.toml` when it has one), else a built-in preset.
+///
+/// # Errors
+/// When it names none of these, or its scenario cannot be read.
+pub fn target(target: &str, fixtures: &Path) -> Result<Scenario> {
+    if !crate::exec::is_file(target)
+        && morphogen_scenario::check::name(target).is_ok()
+        && dir(fixtures, target).is_dir()
+    {
+        return scenario(fixtures, target);
+    }
+    crate::exec::find(target, &[])
+}
+
 /// The new stream `verify` leaves beside a fixture it does not match.
 pub const PENDING_FILE: &str = "stream.bin.pending";
 

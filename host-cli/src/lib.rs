@@ -6,9 +6,11 @@
 pub mod atomic;
 pub mod body_input;
 pub mod capture;
+pub mod ci_report;
 pub mod exec;
 pub mod fixture;
 pub mod folder_lock;
+pub mod golden;
 pub mod jsonl;
 pub mod listen;
 pub mod outputs;
@@ -19,6 +21,7 @@ pub mod serial;
 pub mod serve;
 pub mod stdout;
 pub mod sweep;
+pub mod verdict;
 pub mod verify;
 pub mod written;
 

@@ -9,8 +9,8 @@ use morphogen_cli::folder_lock::FolderLock;
 use morphogen_cli::outputs::{Kind, Kinds};
 use morphogen_cli::stdout::StdoutError;
 use morphogen_cli::{
-    Outcome, atomic, body_input, capture, exec, fixture, jsonl, listen, outputs, say, send, serve,
-    sweep, verify, written,
+    Outcome, atomic, body_input, capture, exec, fixture, golden, jsonl, listen, outputs, say, send,
+    serve, sweep, verify, written,
 };
 use morphogen_scenario::Scenario;
 
@@ -137,6 +137,23 @@ enum Command {
         /// all cores).
         #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
         jobs: Option<u16>,
+        /// Also write a JUnit XML report to FILE: a test case per fixture,
+        /// a failure for a mismatch or a missing fixture, an error for one
+        /// that cannot be checked (what GitLab, Jenkins and GitHub's test
+        /// reporters read).
+        #[arg(long, value_name = "FILE", conflicts_with = "stream")]
+        junit: Option<PathBuf>,
+        /// Print a line per fixture (text) or a JSON object per fixture and
+        /// one with the counts (json).
+        #[arg(long, value_enum, default_value_t, conflicts_with = "stream")]
+        format: golden::Format,
+        /// Leave a mismatch's new stream beside its fixture even when CI is
+        /// set (under CI nothing is written into the fixtures folder
+        /// otherwise). With GITHUB_ACTIONS=true each failing fixture is
+        /// also an `::error` annotation and the counts a table in the job
+        /// summary.
+        #[arg(long, conflicts_with = "stream")]
+        pending: bool,
     },
     /// Write the golden fixtures of presets or scenario files (the only
     /// writer of fixtures). A scenario file's fixture keeps a
@@ -419,7 +436,17 @@ fn dispatch(command: Command) -> Result<Outcome> {
             fixtures,
             stream: None,
             jobs,
-        } => verify_targets(targets, &fixture::locate(fixtures, false)?, jobs),
+            junit,
+            format,
+            pending,
+        } => golden::run(&golden::Options {
+            targets,
+            fixtures: fixture::locate(fixtures, false)?,
+            jobs,
+            junit,
+            format,
+            pending,
+        }),
         Command::Bless {
             targets,
             accept: true,
@@ -564,157 +591,6 @@ fn run_grammar(
     Ok(Outcome::Ok)
 }
 
-/// What `verify` found for one fixture.
-enum Checked {
-    /// The stream equals the fixture.
-    Ok(String),
-    /// It differs; the line names the first difference.
-    Mismatch(String),
-    /// There is no fixture to compare with.
-    Missing(String),
-}
-
-/// Re-runs `targets` (default: every fixture in `fixtures`) on `jobs`
-/// threads and compares each stream with its fixture; a line per fixture,
-/// in order, as soon as it and those before it are done, then one summary
-/// line. A mismatch leaves its new stream as `stream.bin.pending`.
-fn verify_targets(targets: Vec<String>, fixtures: &Path, jobs: Option<u16>) -> Result<Outcome> {
-    use rayon::prelude::*;
-    // Every fixture folder: one whose scenario cannot be read is an error
-    // of its own line, never a fixture left out.
-    let scenarios: Vec<(String, Result<Scenario>)> = if targets.is_empty() {
-        fixture::names(fixtures)?
-            .into_iter()
-            .map(|name| {
-                let scenario = fixture::scenario(fixtures, &name);
-                (name, scenario)
-            })
-            .collect()
-    } else {
-        targets
-            .iter()
-            .map(|t| fixture_target(t, fixtures).map(|s| (s.name().to_string(), Ok(s))))
-            .collect::<Result<_>>()?
-    };
-    if scenarios.is_empty() {
-        bail!("no fixtures in {}", fixtures.display());
-    }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(jobs.map_or(0, usize::from))
-        .build()
-        .context("cannot start the worker threads")?;
-    let check = |i: usize, scenario: &Result<Scenario>| -> Result<Checked> {
-        let scenario = scenario.as_ref().map_err(|e| anyhow::anyhow!("{e:#}"))?;
-        let name = scenario.name();
-        if !fixture::dir(fixtures, name).is_dir() {
-            return Ok(Checked::Missing(format!(
-                "MISSING   {name}: no fixture in {} (create it with `morphogen bless {}`)",
-                fixtures.display(),
-                if scenario.is_builtin() {
-                    name
-                } else {
-                    scenario.origin()
-                }
-            )));
-        }
-        let fixture = fixture::load(fixtures, name)?;
-        let seed = fixture.summary.seed;
-        // A file named on the command line whose own seed is not the
-        // fixture's: its edited seed is not what was checked.
-        let note = if targets.get(i).is_some_and(|t| exec::is_file(t)) && scenario.seed() != seed {
-            format!(
-                "\n  note: run with the fixture's seed {seed}; {} says seed = {} (bless it to take that seed)",
-                scenario.origin(),
-                scenario.seed()
-            )
-        } else {
-            String::new()
-        };
-        // A bar for a lone run; side by side, the lines show progress.
-        let run = exec::run(scenario, seed, scenarios.len() == 1)?;
-        Ok(match verify::compare(&fixture.stream, &run.stream) {
-            None => {
-                fixture::drop_pending(fixtures, name, scenario)?;
-                Checked::Ok(format!(
-                    "ok        {name} ({} frames, digest {:016x}){note}",
-                    run.frames, run.digest
-                ))
-            }
-            Some(diff) => {
-                // A mismatch is a mismatch (exit 1) in a folder that
-                // cannot be written too.
-                let pending = match fixture::write_pending(fixtures, name, scenario, &run.stream) {
-                    Ok(path) => format!(
-                        "new stream: {} (take it with `morphogen bless --accept {name}`)",
-                        path.display()
-                    ),
-                    Err(e) => format!("the new stream could not be left beside it: {e:#}"),
-                };
-                Checked::Mismatch(format!("MISMATCH  {name}: {diff}\n  {pending}{note}"))
-            }
-        })
-    };
-    let (done, results) = std::sync::mpsc::channel();
-    std::thread::scope(|scope| {
-        scope.spawn(|| {
-            pool.install(|| {
-                scenarios
-                    .par_iter()
-                    .enumerate()
-                    .try_for_each_with(done, |done, (i, (_, s))| {
-                        // A failed send: the printer stopped early.
-                        done.send((i, check(i, s))).map_err(drop)
-                    })
-            })
-        });
-        let (mut ok, mut mismatch, mut missing, mut errors) = (0, 0, 0, Vec::new());
-        let mut waiting = std::collections::BTreeMap::new();
-        let mut next = 0;
-        for (i, result) in results {
-            waiting.insert(i, result);
-            while let Some(result) = waiting.remove(&next) {
-                let name = &scenarios[next].0;
-                next += 1;
-                match result {
-                    Ok(Checked::Ok(line)) => {
-                        ok += 1;
-                        say!("{line}")?;
-                    }
-                    Ok(Checked::Mismatch(line)) => {
-                        mismatch += 1;
-                        say!("{line}")?;
-                    }
-                    Ok(Checked::Missing(line)) => {
-                        missing += 1;
-                        say!("{line}")?;
-                    }
-                    Err(e) => {
-                        say!("ERROR     {name}: {e:#}")?;
-                        errors.push(format!("{name}: {e:#}"));
-                    }
-                }
-            }
-        }
-        let unchecked = if errors.is_empty() {
-            String::new()
-        } else {
-            format!(", {} not checked", errors.len())
-        };
-        say!("{ok} ok, {mismatch} mismatch, {missing} missing{unchecked}")?;
-        if let Some(first) = errors.first() {
-            bail!(
-                "{} fixture(s) could not be checked; first: {first}",
-                errors.len()
-            );
-        }
-        Ok(if mismatch + missing > 0 {
-            Outcome::Mismatch
-        } else {
-            Outcome::Ok
-        })
-    })
-}
-
 /// The largest capture `verify --stream` reads (every MCU preset streamed
 /// back to back is 7.3 MB).
 const MAX_CAPTURE_BYTES: u64 = 1 << 30;
@@ -820,19 +696,6 @@ fn bless_run(fixtures: &Path, scenario: &Scenario, seed: u64, run: &exec::Run) -
     Ok(())
 }
 
-/// The scenario `target` names for `verify` and `bless --accept`: a
-/// scenario file, else the fixture of that name (from its own
-/// `scenario.toml` when it has one), else a built-in preset.
-fn fixture_target(target: &str, fixtures: &Path) -> Result<Scenario> {
-    if !exec::is_file(target)
-        && morphogen_scenario::check::name(target).is_ok()
-        && fixture::dir(fixtures, target).is_dir()
-    {
-        return fixture::scenario(fixtures, target);
-    }
-    exec::find(target, &[])
-}
-
 /// `bless --all`: every fixture in `fixtures` re-run from its own scenario
 /// and seed, and re-blessed.
 fn bless_all(fixtures: &Path) -> Result<Outcome> {
@@ -857,7 +720,7 @@ fn accept(targets: &[String], fixtures: &Path) -> Result<Outcome> {
     } else {
         targets
             .iter()
-            .map(|t| fixture_target(t, fixtures).map(|s| s.name().to_string()))
+            .map(|t| fixture::target(t, fixtures).map(|s| s.name().to_string()))
             .collect::<Result<_>>()?
     };
     if names.is_empty() {

@@ -7,11 +7,23 @@ use std::fs;
 use std::path::Path;
 use std::process::{Command, Output};
 
+/// `morphogen ARGS` in `dir`, with `MORPHOGEN_FIXTURES` set to `env`, and
+/// outside CI (whose variables change what `verify` writes and prints).
 fn morphogen(args: &[&str], dir: &Path, env: Option<&Path>) -> Output {
+    morphogen_in_ci(args, dir, env, &[])
+}
+
+/// As [`morphogen`], with the CI variables `ci` set.
+fn morphogen_in_ci(args: &[&str], dir: &Path, env: Option<&Path>, ci: &[(&str, &Path)]) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_morphogen"));
     c.args(args)
         .current_dir(dir)
-        .env_remove("MORPHOGEN_FIXTURES");
+        .env_remove("MORPHOGEN_FIXTURES")
+        .env_remove("CI")
+        .env_remove("GITHUB_ACTIONS")
+        .env_remove("GITHUB_STEP_SUMMARY")
+        .env_remove("GITHUB_WORKSPACE")
+        .envs(ci.iter().copied());
     if let Some(fixtures) = env {
         c.env("MORPHOGEN_FIXTURES", fixtures);
     }
@@ -280,4 +292,188 @@ fn a_fixture_file_that_is_a_device_is_refused_not_read() {
         "{}",
         both(&o)
     );
+}
+
+/// A project with two fixtures, `growth-curve` and a scenario file's
+/// `my-curve`, whose fixture's scenario then changes: verifying it is a
+/// mismatch.
+fn project_with_a_mismatch(tmp: &Path) -> std::path::PathBuf {
+    let project = tmp.join("project");
+    fs::create_dir_all(&project).unwrap();
+    let shown = morphogen(&["show", "growth-curve"], &project, None);
+    let text = stdout(&shown).replace("name = \"growth-curve\"", "name = \"my-curve\"");
+    fs::write(project.join("my.toml"), &text).unwrap();
+    let o = morphogen(&["bless", "my.toml", "growth-curve"], &project, None);
+    assert!(o.status.success(), "{}", both(&o));
+    let fixture_toml = project.join("fixtures/my-curve/scenario.toml");
+    let changed = fs::read_to_string(&fixture_toml)
+        .unwrap()
+        .replace("width = 22", "width = 25");
+    fs::write(&fixture_toml, changed).unwrap();
+    project
+}
+
+/// `verify --junit` writes a report CI servers read: a test case per
+/// fixture with its time, a failure with the first difference and the
+/// counts for a mismatch and for a missing fixture.
+#[test]
+fn verify_writes_a_junit_report() {
+    let tmp = tempfile::tempdir().unwrap();
+    let project = project_with_a_mismatch(tmp.path());
+    let o = morphogen(
+        &[
+            "verify",
+            "my-curve",
+            "growth-curve",
+            "ram-horn",
+            "--junit",
+            "report.xml",
+        ],
+        &project,
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", both(&o));
+    let xml = fs::read_to_string(project.join("report.xml")).unwrap();
+    let report = quick_junit::Report::deserialize_from_str(&xml).expect("a JUnit report");
+    assert_eq!(
+        (report.tests, report.failures, report.errors),
+        (3, 2, 0),
+        "{xml}"
+    );
+    let suite = &report.test_suites[0];
+    let cases: Vec<(&str, bool)> = suite
+        .test_cases
+        .iter()
+        .map(|c| {
+            (
+                c.name.as_str(),
+                matches!(c.status, quick_junit::TestCaseStatus::Success { .. }),
+            )
+        })
+        .collect();
+    assert_eq!(
+        cases,
+        [
+            ("my-curve", false),
+            ("growth-curve", true),
+            ("ram-horn", false)
+        ]
+    );
+    let mismatch = &suite.test_cases[0];
+    let quick_junit::TestCaseStatus::NonSuccess {
+        message,
+        ty,
+        description,
+        ..
+    } = &mismatch.status
+    else {
+        panic!("{xml}")
+    };
+    assert_eq!(ty.as_ref().map(|t| t.as_str()), Some("mismatch"));
+    let message = message.as_ref().unwrap().as_str();
+    assert!(
+        message.contains("records differ (header 1")
+            && message.contains("first in the header, record 0"),
+        "{message}"
+    );
+    assert!(
+        description
+            .as_ref()
+            .unwrap()
+            .as_str()
+            .contains("expected: {\"kind\":\"header\""),
+        "{xml}"
+    );
+    assert!(mismatch.time.is_some(), "{xml}");
+    // The elements and attributes CI servers' JUnit schema asks for.
+    for needed in [
+        "<testsuites ",
+        "<testsuite name=",
+        "<testcase name=\"my-curve\" classname=",
+        "time=",
+        "<failure ",
+    ] {
+        assert!(xml.contains(needed), "{needed} in {xml}");
+    }
+}
+
+/// `verify --format json` prints a JSON object per fixture and one with
+/// the counts.
+#[test]
+fn verify_prints_json_lines() {
+    let tmp = tempfile::tempdir().unwrap();
+    let project = project_with_a_mismatch(tmp.path());
+    let o = morphogen(&["verify", "--format", "json"], &project, None);
+    assert_eq!(o.status.code(), Some(1), "{}", both(&o));
+    let lines: Vec<serde_json::Value> = stdout(&o)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON line"))
+        .collect();
+    assert_eq!(lines.len(), 3, "{}", stdout(&o));
+    assert_eq!(lines[0]["name"], "growth-curve");
+    assert_eq!(lines[0]["verdict"], "ok");
+    assert_eq!(lines[1]["name"], "my-curve");
+    assert_eq!(lines[1]["verdict"], "mismatch");
+    assert_eq!(lines[1]["first"]["record"], 0);
+    assert!(lines[1]["records_differing"].as_u64().unwrap() >= 1);
+    assert_eq!(lines[1]["kinds"]["header"], 1);
+    assert!(
+        lines[1]["pending"]
+            .as_str()
+            .unwrap()
+            .ends_with("stream.bin.pending")
+    );
+    assert_eq!(lines[2]["summary"]["mismatch"], 1);
+    assert_eq!(lines[2]["summary"]["ok"], 1);
+}
+
+/// Under CI, `verify` writes nothing into the fixtures folder unless
+/// `--pending` asks, and says so; on GitHub Actions a failing fixture is an
+/// `::error` annotation naming its stream, and the counts a table in the
+/// job summary.
+#[test]
+fn under_ci_verify_writes_no_pending_stream_and_annotates() {
+    let tmp = tempfile::tempdir().unwrap();
+    let project = project_with_a_mismatch(tmp.path());
+    let pending = project.join("fixtures/my-curve/stream.bin.pending");
+    let summary = tmp.path().join("step-summary.md");
+    let ci = [
+        ("CI", Path::new("true")),
+        ("GITHUB_ACTIONS", Path::new("true")),
+        ("GITHUB_STEP_SUMMARY", summary.as_path()),
+        ("GITHUB_WORKSPACE", project.as_path()),
+    ];
+    let o = morphogen_in_ci(&["verify"], &project, None, &ci);
+    assert_eq!(o.status.code(), Some(1), "{}", both(&o));
+    assert!(!pending.exists(), "{}", both(&o));
+    let out = stdout(&o);
+    assert!(out.contains("new stream not written: CI is set"), "{out}");
+    assert!(
+        out.contains("CI is set: no new stream was written into"),
+        "{out}"
+    );
+    let annotation = out
+        .lines()
+        .find(|l| l.starts_with("::error "))
+        .unwrap_or_else(|| panic!("no annotation in {out}"));
+    assert!(
+        annotation.starts_with("::error file=fixtures/my-curve/stream.bin,title=my-curve%3A the stream differs from its fixture::"),
+        "{annotation}"
+    );
+    assert!(
+        annotation.contains("%0A") && !annotation.contains('\n'),
+        "{annotation}"
+    );
+    assert_eq!(out.matches("::error ").count(), 1, "{out}");
+    let table = fs::read_to_string(&summary).unwrap();
+    assert!(
+        table.contains("1 ok, 1 mismatch, 0 missing, 0 not checked"),
+        "{table}"
+    );
+    assert!(table.contains("| `my-curve` | mismatch |"), "{table}");
+    // --pending leaves it, CI or not.
+    let o = morphogen_in_ci(&["verify", "--pending"], &project, None, &ci[..1]);
+    assert_eq!(o.status.code(), Some(1), "{}", both(&o));
+    assert!(pending.is_file(), "{}", both(&o));
+    assert!(!stdout(&o).contains("::error"), "{}", stdout(&o));
 }

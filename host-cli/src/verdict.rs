@@ -1,0 +1,123 @@
+//! What `verify` found for one fixture, and its line in a terminal.
+
+use std::path::PathBuf;
+
+use crate::verify::{Difference, Tally};
+
+/// One fixture checked.
+#[derive(Debug, Clone)]
+pub struct Case {
+    /// The fixture's name.
+    pub name: String,
+    /// Its folder.
+    pub folder: PathBuf,
+    /// Seconds spent re-running and comparing it.
+    pub seconds: f64,
+    /// What was found.
+    pub verdict: Verdict,
+    /// A note for the reader (a scenario file run with the fixture's seed).
+    pub note: Option<String>,
+}
+
+/// The new stream of a mismatch, and whether it was left for `bless
+/// --accept`.
+#[derive(Debug, Clone)]
+pub enum Pending {
+    /// Written beside the fixture.
+    Written(PathBuf),
+    /// Not written: CI is set and `--pending` was not given.
+    HeldBack,
+    /// Could not be written (the reason).
+    Failed(String),
+}
+
+/// What `verify` found.
+#[derive(Debug, Clone)]
+pub enum Verdict {
+    /// The stream equals the fixture.
+    Ok {
+        /// Frames streamed.
+        frames: u32,
+        /// The stream's digest.
+        digest: u64,
+    },
+    /// It differs.
+    Mismatch {
+        /// The first differing record.
+        first: Difference,
+        /// Every differing record.
+        tally: Tally,
+        /// The new stream.
+        pending: Pending,
+    },
+    /// There is no fixture (how to make one).
+    Missing(String),
+    /// The fixture could not be checked (why).
+    Error(String),
+}
+
+impl Case {
+    /// The verdict's word: `ok`, `mismatch`, `missing` or `error`.
+    #[must_use]
+    pub fn word(&self) -> &'static str {
+        match self.verdict {
+            Verdict::Ok { .. } => "ok",
+            Verdict::Mismatch { .. } => "mismatch",
+            Verdict::Missing(_) => "missing",
+            Verdict::Error(_) => "error",
+        }
+    }
+
+    /// What is wrong, in one line (none for ok).
+    #[must_use]
+    pub fn problem(&self) -> Option<String> {
+        match &self.verdict {
+            Verdict::Ok { .. } => None,
+            Verdict::Mismatch { first, tally, .. } => Some(format!(
+                "{tally}; first in {}, record {}",
+                first
+                    .frame
+                    .map_or("the header".to_string(), |f| format!("frame {f}")),
+                first.record
+            )),
+            Verdict::Missing(why) | Verdict::Error(why) => Some(why.clone()),
+        }
+    }
+
+    /// The case as `verify` prints it in a terminal (a line, and for a
+    /// mismatch the records and the new stream).
+    #[must_use]
+    pub fn text(&self) -> String {
+        let name = &self.name;
+        let note = self
+            .note
+            .as_ref()
+            .map_or(String::new(), |n| format!("\n  note: {n}"));
+        match &self.verdict {
+            Verdict::Ok { frames, digest } => {
+                format!("ok        {name} ({frames} frames, digest {digest:016x}){note}")
+            }
+            Verdict::Mismatch {
+                first,
+                tally,
+                pending,
+            } => {
+                let pending = match pending {
+                    Pending::Written(path) => format!(
+                        "new stream: {} (take it with `morphogen bless --accept {name}`)",
+                        path.display()
+                    ),
+                    Pending::HeldBack => "new stream not written: CI is set (give --pending to \
+                                          leave it beside the fixture)"
+                        .to_string(),
+                    Pending::Failed(e) => {
+                        format!("the new stream could not be left beside it: {e}")
+                    }
+                };
+                format!("MISMATCH  {name}: {first}\n  {tally}\n  {pending}{note}")
+            }
+            Verdict::Missing(why) => format!("MISSING   {name}: {why}"),
+            Verdict::Error(why) => format!("ERROR     {name}: {why}"),
+        }
+    }
+}
