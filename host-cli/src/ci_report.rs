@@ -80,6 +80,7 @@ pub fn json(case: &Case) -> serde_json::Value {
         Verdict::Mismatch {
             first,
             tally,
+            changed,
             pending,
         } => {
             o["first"] = serde_json::json!({
@@ -92,6 +93,7 @@ pub fn json(case: &Case) -> serde_json::Value {
             o["records_differing"] = tally.records.into();
             o["kinds"] = serde_json::json!(tally.kinds);
             o["frames_differing"] = serde_json::json!(tally.frames);
+            o["changed_keys"] = serde_json::json!(changed);
             o["pending"] = match pending {
                 Pending::Written(path) => serde_json::json!(path),
                 Pending::HeldBack | Pending::Failed(_) => serde_json::Value::Null,

@@ -144,6 +144,64 @@ fn same_scenario(a: &Scenario, b: &Scenario) -> bool {
     a.self_contained() == b.self_contained()
 }
 
+/// The keys whose values differ between the scenario a fixture was blessed
+/// from and `run`, each as `key: blessed -> now` (a key one side lacks
+/// reads `(none)`), in the files' order; dotted as `--set` takes them.
+#[must_use]
+pub fn changed_keys(blessed: &Scenario, run: &Scenario) -> Vec<String> {
+    fn flatten(prefix: &str, v: &toml::Value, out: &mut Vec<(String, String)>) {
+        match v {
+            toml::Value::Table(t) => {
+                for (k, v) in t {
+                    let key = if prefix.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{prefix}.{k}")
+                    };
+                    flatten(&key, v, out);
+                }
+            }
+            toml::Value::Array(a) if a.iter().any(toml::Value::is_table) => {
+                for (i, v) in a.iter().enumerate() {
+                    flatten(&format!("{prefix}[{i}]"), v, out);
+                }
+            }
+            other => {
+                // An inline grammar or mask reads as its length.
+                let text = other.to_string();
+                let shown = if text.chars().count() > 60 {
+                    format!("({} characters)", text.chars().count())
+                } else {
+                    text
+                };
+                out.push((prefix.to_string(), shown));
+            }
+        }
+    }
+    let keys = |s: &Scenario| {
+        let mut out = Vec::new();
+        if let Ok(v) = s.self_contained().parse::<toml::Table>() {
+            flatten("", &toml::Value::Table(v), &mut out);
+        }
+        out
+    };
+    let (before, now) = (keys(blessed), keys(run));
+    let find = |list: &[(String, String)], key: &str| {
+        list.iter()
+            .find(|(k, _)| k == key)
+            .map_or("(none)".to_string(), |(_, v)| v.clone())
+    };
+    let mut changed = Vec::new();
+    for (key, _) in before.iter().chain(&now) {
+        let (a, b) = (find(&before, key), find(&now, key));
+        let line = format!("{key}: {a} -> {b}");
+        if a != b && !changed.contains(&line) {
+            changed.push(line);
+        }
+    }
+    changed
+}
+
 /// Removes `name`'s pending stream when `scenario` (which now matches the
 /// fixture) is what it was made from: a stream left by `verify FILE.toml`
 /// of another scenario stays for `bless --accept`.

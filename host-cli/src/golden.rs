@@ -110,6 +110,7 @@ fn check(
         }
         Some(first) => {
             let tally = verify::tally(&fixture.stream, &run.stream);
+            let changed = fixture::changed_keys(&fixture::scenario(fixtures, name)?, scenario);
             // A mismatch is a mismatch (exit 1) in a folder that cannot be
             // written too.
             let pending = if writes {
@@ -123,6 +124,7 @@ fn check(
             Verdict::Mismatch {
                 first,
                 tally,
+                changed,
                 pending,
             }
         }

@@ -119,8 +119,8 @@ enum Command {
     /// checked; a mismatch leaves the new stream beside the fixture as
     /// `stream.bin.pending`, and the scenario file it was made from, when
     /// that is not the fixture's own, as `scenario.toml.pending`
-    /// (`bless --accept` takes both). Exit 1 on any mismatch or missing
-    /// fixture, 2 when one cannot be checked.
+    /// (`bless --accept` takes both; under CI only with --pending). Exit 1
+    /// on any mismatch or missing fixture, 2 when one cannot be checked.
     Verify {
         /// Presets or scenario files to verify (default: every fixture in
         /// the fixtures folder, built-in or not).

@@ -47,6 +47,9 @@ pub enum Verdict {
         first: Difference,
         /// Every differing record.
         tally: Tally,
+        /// The scenario keys whose values are not those the fixture was
+        /// blessed with (`key: blessed -> now`).
+        changed: Vec<String>,
         /// The new stream.
         pending: Pending,
     },
@@ -73,12 +76,22 @@ impl Case {
     pub fn problem(&self) -> Option<String> {
         match &self.verdict {
             Verdict::Ok { .. } => None,
-            Verdict::Mismatch { first, tally, .. } => Some(format!(
-                "{tally}; first in {}, record {}",
+            Verdict::Mismatch {
+                first,
+                tally,
+                changed,
+                ..
+            } => Some(format!(
+                "{tally}; first in {}, record {}{}",
                 first
                     .frame
                     .map_or("the header".to_string(), |f| format!("frame {f}")),
-                first.record
+                first.record,
+                if changed.is_empty() {
+                    String::new()
+                } else {
+                    format!("; changed since the bless: {}", changed.join("; "))
+                }
             )),
             Verdict::Missing(why) | Verdict::Error(why) => Some(why.clone()),
         }
@@ -100,8 +113,14 @@ impl Case {
             Verdict::Mismatch {
                 first,
                 tally,
+                changed,
                 pending,
             } => {
+                let changed = if changed.is_empty() {
+                    String::new()
+                } else {
+                    format!("\n  changed since the bless: {}", changed.join("; "))
+                };
                 let pending = match pending {
                     Pending::Written(path) => format!(
                         "new stream: {} (take it with `morphogen bless --accept {name}`)",
@@ -114,7 +133,7 @@ impl Case {
                         format!("the new stream could not be left beside it: {e}")
                     }
                 };
-                format!("MISMATCH  {name}: {first}\n  {tally}\n  {pending}{note}")
+                format!("MISMATCH  {name}: {first}\n  {tally}{changed}\n  {pending}{note}")
             }
             Verdict::Missing(why) => format!("MISSING   {name}: {why}"),
             Verdict::Error(why) => format!("ERROR     {name}: {why}"),

@@ -477,3 +477,31 @@ fn under_ci_verify_writes_no_pending_stream_and_annotates() {
     assert!(pending.is_file(), "{}", both(&o));
     assert!(!stdout(&o).contains("::error"), "{}", stdout(&o));
 }
+
+/// A scenario file verified against its fixture names the keys whose
+/// values are not those it was blessed with.
+#[test]
+fn a_mismatch_names_the_keys_changed_since_the_bless() {
+    let tmp = tempfile::tempdir().unwrap();
+    let project = tmp.path().join("project");
+    fs::create_dir_all(&project).unwrap();
+    let shown = morphogen(&["show", "growth-curve"], &project, None);
+    let text = stdout(&shown).replace("name = \"growth-curve\"", "name = \"my-curve\"");
+    fs::write(project.join("my.toml"), &text).unwrap();
+    let o = morphogen(&["bless", "my.toml"], &project, None);
+    assert!(o.status.success(), "{}", both(&o));
+    fs::write(
+        project.join("my.toml"),
+        text.replace("width = 22", "width = 25"),
+    )
+    .unwrap();
+    let o = morphogen(&["verify", "my.toml"], &project, None);
+    assert_eq!(o.status.code(), Some(1), "{}", both(&o));
+    let out = stdout(&o);
+    let line = out
+        .lines()
+        .find(|l| l.contains("changed since the bless: "))
+        .unwrap_or_else(|| panic!("no changed keys in {out}"));
+    assert!(line.ends_with("width: 22 -> 25"), "{line}");
+    assert_eq!(line.matches(" -> ").count(), 1, "{line}");
+}
