@@ -187,7 +187,7 @@ fn the_trotting_horse_animates_its_side_views_and_charts_its_table() {
     let (dir, _) = run(tmp.path(), "horse-trot", &["--only", "anim,glb,svg"]);
     // The run's extent at one scale, with every hoof on the ground (none
     // floating above or sunk below it).
-    let side = (640, 556);
+    let side = (640, 552);
     check_animation(&dir, 36, side);
     check_glb(&dir, 36);
     let svg = std::fs::read_to_string(dir.join("growth.svg")).unwrap();
