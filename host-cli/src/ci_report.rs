@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};
 
-use crate::verdict::{Case, Pending, Verdict};
+use crate::verdict::{Case, Counts, Pending, Verdict};
 
 /// Whether this runs under CI: `CI` set to anything but empty, `0` or
 /// `false` (as GitHub Actions, GitLab CI, Buildkite, CircleCI and Travis set
@@ -109,14 +109,8 @@ pub fn json(case: &Case) -> serde_json::Value {
 
 /// The last line of `verify --format json`: the counts.
 #[must_use]
-pub fn json_summary(cases: &[Case]) -> serde_json::Value {
-    let count = |word: &str| cases.iter().filter(|c| c.word() == word).count();
-    serde_json::json!({ "summary": {
-        "ok": count("ok"),
-        "mismatch": count("mismatch"),
-        "missing": count("missing"),
-        "error": count("error"),
-    }})
+pub fn json_summary(counts: Counts) -> serde_json::Value {
+    serde_json::json!({ "summary": counts })
 }
 
 /// GitHub's escaping of a workflow command's message.
@@ -170,12 +164,11 @@ pub fn annotation(case: &Case) -> Option<String> {
 /// A Markdown table of `cases` for the job summary (`GITHUB_STEP_SUMMARY`).
 #[must_use]
 pub fn step_summary(cases: &[Case]) -> String {
-    let counts = json_summary(cases);
-    let s = &counts["summary"];
+    let c = Counts::of(cases);
     let mut out = format!(
         "### morphogen verify: {} ok, {} mismatch, {} missing, {} not checked\n\n\
          | fixture | verdict | seconds | what differs |\n|---|---|---:|---|\n",
-        s["ok"], s["mismatch"], s["missing"], s["error"]
+        c.ok, c.mismatch, c.missing, c.error
     );
     for case in cases {
         let what = case

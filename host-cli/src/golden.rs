@@ -8,7 +8,7 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use morphogen_scenario::Scenario;
 
-use crate::verdict::{Case, Pending, Verdict};
+use crate::verdict::{Case, Counts, Pending, Verdict};
 use crate::{Outcome, ci_report, exec, fixture, say, verify};
 
 /// How `verify` prints its cases.
@@ -193,27 +193,18 @@ pub fn run(options: &Options) -> Result<Outcome> {
         }
         Ok(cases)
     })?;
-    let count = |word: &str| cases.iter().filter(|c| c.word() == word).count();
-    let (mismatch, missing, errors) = (count("mismatch"), count("missing"), count("error"));
+    let counts = Counts::of(&cases);
     match options.format {
         Format::Text => {
-            let unchecked = if errors == 0 {
-                String::new()
-            } else {
-                format!(", {errors} not checked")
-            };
-            say!(
-                "{} ok, {mismatch} mismatch, {missing} missing{unchecked}",
-                count("ok")
-            )?;
-            if !writes && mismatch > 0 {
+            say!("{counts}")?;
+            if !writes && counts.mismatch > 0 {
                 say!(
                     "CI is set: no new stream was written into {} (give --pending to leave them for `bless --accept`)",
                     fixtures.display()
                 )?;
             }
         }
-        Format::Json => say!("{}", ci_report::json_summary(&cases))?,
+        Format::Json => say!("{}", ci_report::json_summary(counts))?,
     }
     if let Some(path) = &options.junit {
         let xml = ci_report::junit(&cases, fixtures)?;
@@ -226,14 +217,18 @@ pub fn run(options: &Options) -> Result<Outcome> {
         }
         ci_report::append_step_summary(&ci_report::step_summary(&cases))?;
     }
-    if let Some(first) = cases.iter().find(|c| c.word() == "error") {
+    if let Some(first) = cases
+        .iter()
+        .find(|c| matches!(c.verdict, Verdict::Error(_)))
+    {
         bail!(
-            "{errors} fixture(s) could not be checked; first: {}: {}",
+            "{} fixture(s) could not be checked; first: {}: {}",
+            counts.error,
             first.name,
             first.problem().unwrap_or_default()
         );
     }
-    Ok(if mismatch + missing > 0 {
+    Ok(if counts.mismatch + counts.missing > 0 {
         Outcome::Mismatch
     } else {
         Outcome::Ok

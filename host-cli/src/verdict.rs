@@ -140,3 +140,49 @@ impl Case {
         }
     }
 }
+
+/// How many cases of each verdict.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Counts {
+    /// Streams equal to their fixtures.
+    pub ok: usize,
+    /// Streams that differ.
+    pub mismatch: usize,
+    /// Cases without a fixture.
+    pub missing: usize,
+    /// Fixtures that could not be checked.
+    pub error: usize,
+}
+
+impl Counts {
+    /// The counts of `cases`.
+    #[must_use]
+    pub fn of(cases: &[Case]) -> Counts {
+        let mut counts = Counts::default();
+        for case in cases {
+            *match case.verdict {
+                Verdict::Ok { .. } => &mut counts.ok,
+                Verdict::Mismatch { .. } => &mut counts.mismatch,
+                Verdict::Missing(_) => &mut counts.missing,
+                Verdict::Error(_) => &mut counts.error,
+            } += 1;
+        }
+        counts
+    }
+}
+
+impl std::fmt::Display for Counts {
+    /// `verify`'s last line: `1 ok, 1 mismatch, 0 missing` (and `, N not
+    /// checked` when any could not be).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} ok, {} mismatch, {} missing",
+            self.ok, self.mismatch, self.missing
+        )?;
+        if self.error > 0 {
+            write!(f, ", {} not checked", self.error)?;
+        }
+        Ok(())
+    }
+}
