@@ -77,12 +77,8 @@ pub fn json(case: &Case) -> serde_json::Value {
             o["frames"] = (*frames).into();
             o["digest"] = format!("{digest:016x}").into();
         }
-        Verdict::Mismatch {
-            first,
-            tally,
-            changed,
-            pending,
-        } => {
+        Verdict::Mismatch(m) => {
+            let (first, tally) = (&m.first, &m.tally);
             o["first"] = serde_json::json!({
                 "frame": first.frame,
                 "record": first.record,
@@ -93,10 +89,22 @@ pub fn json(case: &Case) -> serde_json::Value {
             o["records_differing"] = tally.records.into();
             o["kinds"] = serde_json::json!(tally.kinds);
             o["frames_differing"] = serde_json::json!(tally.frames);
-            o["changed_keys"] = serde_json::json!(changed);
-            o["pending"] = match pending {
+            o["changed_keys"] = serde_json::json!(m.changed);
+            o["pending"] = match &m.pending {
                 Pending::Written(path) => serde_json::json!(path),
                 Pending::HeldBack | Pending::Failed(_) => serde_json::Value::Null,
+            };
+            o["pictures"] = match &m.pictures {
+                Ok(p) => serde_json::json!({
+                    "frame": p.frame,
+                    "dir": p.dir,
+                    "differing": p.differing.iter().map(|d| serde_json::json!({
+                        "name": d.name,
+                        "pixels": d.pixels,
+                        "difference": p.difference(d),
+                    })).collect::<Vec<_>>(),
+                }),
+                Err(_) => serde_json::Value::Null,
             };
         }
         Verdict::Missing(why) | Verdict::Error(why) => o["message"] = why.as_str().into(),

@@ -220,7 +220,8 @@ pub fn drop_pending(fixtures: &Path, name: &str, scenario: &Scenario) -> Result<
         return Ok(());
     }
     remove_if_there(&folder.join(PENDING_FILE))?;
-    remove_if_there(&pending_scenario)
+    remove_if_there(&pending_scenario)?;
+    crate::report::clear(&folder.join(crate::report::REPORT_DIR))
 }
 
 fn remove_if_there(path: &Path) -> Result<()> {

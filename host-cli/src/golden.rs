@@ -8,8 +8,8 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use morphogen_scenario::Scenario;
 
-use crate::verdict::{Case, Counts, Pending, Verdict};
-use crate::{Outcome, ci_report, exec, fixture, say, verify};
+use crate::verdict::{Case, Counts, Mismatch, Pending, Verdict};
+use crate::{Outcome, ci_report, exec, fixture, report, say, verify};
 
 /// How `verify` prints its cases.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -37,6 +37,9 @@ pub struct Options {
     /// Whether to leave a mismatch's new stream beside its fixture even
     /// under CI.
     pub pending: bool,
+    /// The folder for the pictures of mismatches (none: beside each
+    /// pending stream).
+    pub report: Option<PathBuf>,
 }
 
 /// The fixture folder's scenarios to check: every one in the folder, or
@@ -65,13 +68,14 @@ fn scenarios(targets: &[String], fixtures: &Path) -> Result<Vec<(String, Result<
 
 /// Re-runs `scenario` with its fixture's seed and compares; `target` is
 /// the command line's name for it, if it named one. Writes (or removes) the
-/// pending stream when `writes`. With the verdict, a note when `target` is
-/// a scenario file whose own seed is not its fixture's: its edited seed is
-/// not what was checked.
+/// pending stream when `writes`, and draws a mismatch's pictures into
+/// `report` or else, when `writes`, beside the pending stream. With the
+/// verdict, a note when `target` is a scenario file whose own seed is not
+/// its fixture's: its edited seed is not what was checked.
 fn check(
     scenario: &Scenario,
     target: Option<&str>,
-    fixtures: &Path,
+    (fixtures, report): (&Path, Option<&Path>),
     alone: bool,
     writes: bool,
 ) -> Result<(Verdict, Option<String>)> {
@@ -110,7 +114,17 @@ fn check(
         }
         Some(first) => {
             let tally = verify::tally(&fixture.stream, &run.stream);
-            let changed = fixture::changed_keys(&fixture::scenario(fixtures, name)?, scenario);
+            let blessed = fixture::scenario(fixtures, name)?;
+            let changed = fixture::changed_keys(&blessed, scenario);
+            let pictures = match report {
+                Some(dir) => Some(dir.join(name)),
+                None => writes.then(|| fixture::dir(fixtures, name).join(report::REPORT_DIR)),
+            }
+            .ok_or_else(|| "not drawn: CI is set (give --report DIR for the pictures)".to_string())
+            .and_then(|dir| {
+                report::draw((&blessed, &fixture.stream), (scenario, &run.stream), &dir)
+                    .map_err(|e| format!("could not be drawn: {e:#}"))
+            });
             // A mismatch is a mismatch (exit 1) in a folder that cannot be
             // written too.
             let pending = if writes {
@@ -121,12 +135,13 @@ fn check(
             } else {
                 Pending::HeldBack
             };
-            Verdict::Mismatch {
+            Verdict::Mismatch(Box::new(Mismatch {
                 first,
                 tally,
                 changed,
                 pending,
-            }
+                pictures,
+            }))
         }
     };
     Ok((verdict, note))
@@ -150,13 +165,14 @@ pub fn run(options: &Options) -> Result<Outcome> {
         .build()
         .context("cannot start the worker threads")?;
     let alone = scenarios.len() == 1;
+    let report = options.report.as_deref();
     let case = |i: usize, name: &str, scenario: &Result<Scenario>| -> Case {
         let start = Instant::now();
         let target = options.targets.get(i).map(String::as_str);
         let (verdict, note) = scenario
             .as_ref()
             .map_err(|e| anyhow::anyhow!("{e:#}"))
-            .and_then(|s| check(s, target, fixtures, alone, writes))
+            .and_then(|s| check(s, target, (fixtures, report), alone, writes))
             .unwrap_or_else(|e| (Verdict::Error(format!("{e:#}")), None));
         Case {
             name: name.to_string(),

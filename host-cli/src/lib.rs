@@ -15,6 +15,7 @@ pub mod jsonl;
 pub mod listen;
 pub mod outputs;
 pub mod records;
+pub mod report;
 pub mod rig;
 pub mod send;
 pub mod serial;

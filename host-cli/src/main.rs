@@ -154,6 +154,14 @@ enum Command {
         /// summary.
         #[arg(long, conflicts_with = "stream")]
         pending: bool,
+        /// Draw each mismatch's pictures into DIR/NAME/ (default: beside
+        /// its pending stream, in the fixture's report/; under CI only
+        /// with this): the model's pictures of the expected and the actual
+        /// stream up to the end of the first frame that differs, in
+        /// expected/ and actual/, and their difference in difference/
+        /// (changed pixels red), for each picture that is not the same.
+        #[arg(long, value_name = "DIR", conflicts_with = "stream")]
+        report: Option<PathBuf>,
     },
     /// Write the golden fixtures of presets or scenario files (the only
     /// writer of fixtures). A scenario file's fixture keeps a
@@ -439,6 +447,7 @@ fn dispatch(command: Command) -> Result<Outcome> {
             junit,
             format,
             pending,
+            report,
         } => golden::run(&golden::Options {
             targets,
             fixtures: fixture::locate(fixtures, false)?,
@@ -446,6 +455,7 @@ fn dispatch(command: Command) -> Result<Outcome> {
             junit,
             format,
             pending,
+            report,
         }),
         Command::Bless {
             targets,

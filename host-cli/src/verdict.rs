@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use crate::report::Pictures;
 use crate::verify::{Difference, Tally};
 
 /// One fixture checked.
@@ -31,6 +32,41 @@ pub enum Pending {
     Failed(String),
 }
 
+/// How a stream differs from its fixture.
+#[derive(Debug, Clone)]
+pub struct Mismatch {
+    /// The first differing record.
+    pub first: Difference,
+    /// Every differing record.
+    pub tally: Tally,
+    /// The scenario keys whose values are not those the fixture was
+    /// blessed with (`key: blessed -> now`).
+    pub changed: Vec<String>,
+    /// The new stream.
+    pub pending: Pending,
+    /// The pictures of the first frame that differs, or why there are
+    /// none.
+    pub pictures: Result<Pictures, String>,
+}
+
+impl Mismatch {
+    /// The first difference, the tally, the changed keys and the
+    /// pictures, a line each (the first difference on three).
+    #[must_use]
+    pub fn text(&self) -> String {
+        let pictures = match &self.pictures {
+            Ok(p) => p.line(4),
+            Err(why) => format!("pictures {why}"),
+        };
+        let changed = if self.changed.is_empty() {
+            String::new()
+        } else {
+            format!("\n  changed since the bless: {}", self.changed.join("; "))
+        };
+        format!("{}\n  {}{changed}\n  {pictures}", self.first, self.tally)
+    }
+}
+
 /// What `verify` found.
 #[derive(Debug, Clone)]
 pub enum Verdict {
@@ -42,17 +78,7 @@ pub enum Verdict {
         digest: u64,
     },
     /// It differs.
-    Mismatch {
-        /// The first differing record.
-        first: Difference,
-        /// Every differing record.
-        tally: Tally,
-        /// The scenario keys whose values are not those the fixture was
-        /// blessed with (`key: blessed -> now`).
-        changed: Vec<String>,
-        /// The new stream.
-        pending: Pending,
-    },
+    Mismatch(Box<Mismatch>),
     /// There is no fixture (how to make one).
     Missing(String),
     /// The fixture could not be checked (why).
@@ -65,7 +91,7 @@ impl Case {
     pub fn word(&self) -> &'static str {
         match self.verdict {
             Verdict::Ok { .. } => "ok",
-            Verdict::Mismatch { .. } => "mismatch",
+            Verdict::Mismatch(_) => "mismatch",
             Verdict::Missing(_) => "missing",
             Verdict::Error(_) => "error",
         }
@@ -76,21 +102,17 @@ impl Case {
     pub fn problem(&self) -> Option<String> {
         match &self.verdict {
             Verdict::Ok { .. } => None,
-            Verdict::Mismatch {
-                first,
-                tally,
-                changed,
-                ..
-            } => Some(format!(
-                "{tally}; first in {}, record {}{}",
-                first
+            Verdict::Mismatch(m) => Some(format!(
+                "{}; first in {}, record {}{}",
+                m.tally,
+                m.first
                     .frame
                     .map_or("the header".to_string(), |f| format!("frame {f}")),
-                first.record,
-                if changed.is_empty() {
+                m.first.record,
+                if m.changed.is_empty() {
                     String::new()
                 } else {
-                    format!("; changed since the bless: {}", changed.join("; "))
+                    format!("; changed since the bless: {}", m.changed.join("; "))
                 }
             )),
             Verdict::Missing(why) | Verdict::Error(why) => Some(why.clone()),
@@ -110,18 +132,8 @@ impl Case {
             Verdict::Ok { frames, digest } => {
                 format!("ok        {name} ({frames} frames, digest {digest:016x}){note}")
             }
-            Verdict::Mismatch {
-                first,
-                tally,
-                changed,
-                pending,
-            } => {
-                let changed = if changed.is_empty() {
-                    String::new()
-                } else {
-                    format!("\n  changed since the bless: {}", changed.join("; "))
-                };
-                let pending = match pending {
+            Verdict::Mismatch(m) => {
+                let pending = match &m.pending {
                     Pending::Written(path) => format!(
                         "new stream: {} (take it with `morphogen bless --accept {name}`)",
                         path.display()
@@ -133,7 +145,7 @@ impl Case {
                         format!("the new stream could not be left beside it: {e}")
                     }
                 };
-                format!("MISMATCH  {name}: {first}\n  {tally}{changed}\n  {pending}{note}")
+                format!("MISMATCH  {name}: {}\n  {pending}{note}", m.text())
             }
             Verdict::Missing(why) => format!("MISSING   {name}: {why}"),
             Verdict::Error(why) => format!("ERROR     {name}: {why}"),
@@ -162,7 +174,7 @@ impl Counts {
         for case in cases {
             *match case.verdict {
                 Verdict::Ok { .. } => &mut counts.ok,
-                Verdict::Mismatch { .. } => &mut counts.mismatch,
+                Verdict::Mismatch(_) => &mut counts.mismatch,
                 Verdict::Missing(_) => &mut counts.missing,
                 Verdict::Error(_) => &mut counts.error,
             } += 1;

@@ -505,3 +505,112 @@ fn a_mismatch_names_the_keys_changed_since_the_bless() {
     assert!(line.ends_with("width: 22 -> 25"), "{line}");
     assert_eq!(line.matches(" -> ").count(), 1, "{line}");
 }
+
+/// The red pixels of the PNG at `path`, and its size.
+fn red_pixels(path: &Path) -> (u64, (u32, u32)) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgb, "{}", path.display());
+    let red = buf[..info.buffer_size()]
+        .chunks_exact(3)
+        .filter(|p| p == &[230, 0, 0])
+        .count();
+    (red as u64, (info.width, info.height))
+}
+
+/// A mismatch draws the model's picture of the first frame that differs
+/// from the fixture and from the new stream, and their difference, beside
+/// the pending stream (or into `--report DIR`, the only place under CI),
+/// and names them; an accepted fixture loses them.
+#[test]
+fn a_mismatch_draws_the_expected_actual_and_difference_pictures() {
+    let tmp = tempfile::tempdir().unwrap();
+    let project = tmp.path().join("project");
+    fs::create_dir_all(&project).unwrap();
+    let shown = morphogen(&["show", "ram-horn"], &project, None);
+    let text = stdout(&shown).replace("name = \"ram-horn\"", "name = \"my-horn\"");
+    fs::write(project.join("horn.toml"), &text).unwrap();
+    let o = morphogen(&["bless", "horn.toml"], &project, None);
+    assert!(o.status.success(), "{}", both(&o));
+    let wider = text.replace("width = 22", "width = 30");
+    assert_ne!(wider, text);
+    fs::write(project.join("horn.toml"), &wider).unwrap();
+
+    let o = morphogen(&["verify", "horn.toml"], &project, None);
+    assert_eq!(o.status.code(), Some(1), "{}", both(&o));
+    let out = stdout(&o);
+    let report = project.join("fixtures/my-horn/report");
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("  pictures of frame 0 differ: ") && l.contains(" horn.png ("))
+        .unwrap_or_else(|| panic!("no pictures named in {out}"));
+    assert!(
+        line.ends_with(&format!("in {}", report.display())),
+        "{line}"
+    );
+    for side in ["expected", "actual", "difference"] {
+        assert!(
+            report.join(side).join("horn.png").is_file(),
+            "{side}: {out}"
+        );
+    }
+    // The count it prints is that of the red pixels it drew, and the
+    // horns differ in a part of the picture only.
+    let (red, (w, h)) = red_pixels(&report.join("difference/horn.png"));
+    assert!(
+        line.contains(&format!(" horn.png ({red} pixels)")),
+        "{line}"
+    );
+    assert!(red > 100 && red < u64::from(w * h) / 2, "{red} of {w}x{h}");
+    // Pictures the same on both sides are not kept.
+    assert!(!report.join("expected/bend.png").exists(), "{out}");
+
+    // Accepted, the fixture is the new one, without the pictures.
+    let o = morphogen(&["bless", "--accept", "my-horn"], &project, None);
+    assert!(o.status.success(), "{}", both(&o));
+    assert!(
+        !report.exists(),
+        "an accepted fixture keeps the old pictures"
+    );
+
+    // Under CI: nothing in the fixtures folder; --report puts them there.
+    fs::write(project.join("horn.toml"), &text).unwrap();
+    let ci = [("CI", Path::new("true"))];
+    let o = morphogen_in_ci(&["verify", "horn.toml"], &project, None, &ci);
+    assert_eq!(o.status.code(), Some(1), "{}", both(&o));
+    assert!(
+        stdout(&o).contains("pictures not drawn: CI is set (give --report DIR"),
+        "{}",
+        both(&o)
+    );
+    assert!(!report.exists());
+    let o = morphogen_in_ci(
+        &[
+            "verify",
+            "horn.toml",
+            "--report",
+            "pictures",
+            "--format",
+            "json",
+        ],
+        &project,
+        None,
+        &ci,
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", both(&o));
+    let case: serde_json::Value = serde_json::from_str(stdout(&o).lines().next().unwrap()).unwrap();
+    let difference = project.join("pictures/my-horn/difference/horn.png");
+    assert_eq!(case["pictures"]["frame"], 0, "{case}");
+    assert!(
+        case["pictures"]["differing"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|p| p["difference"] == "pictures/my-horn/difference/horn.png"),
+        "{case}"
+    );
+    assert!(difference.is_file());
+    assert!(!report.exists());
+}

@@ -108,6 +108,12 @@ impl Kinds {
     /// Every kind: a run without `--only`.
     pub const ALL: Kinds = Kinds(0x7f);
 
+    /// Files of `kind` only.
+    #[must_use]
+    pub const fn only(kind: Kind) -> Kinds {
+        Kinds(kind.bit())
+    }
+
     /// The kinds of a comma-separated list (`png,obj`).
     ///
     /// # Errors
