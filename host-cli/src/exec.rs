@@ -643,6 +643,17 @@ impl Drop for Spinner {
     }
 }
 
+/// Warns on standard error when `--seed` was given to a scenario whose
+/// stream does not depend on it (only its header records the seed).
+pub fn warn_unused_seed(scenario: &Scenario, seed: Option<u64>) {
+    if seed.is_some() && !scenario.uses_seed() {
+        eprintln!(
+            "warning: --seed has no effect on {}: its model draws no random numbers (only the stream header records the seed)",
+            scenario.name()
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use morphogen::stream::Record;

@@ -224,6 +224,18 @@ pub fn drop_pending(fixtures: &Path, name: &str, scenario: &Scenario) -> Result<
     crate::report::clear(&folder.join(crate::report::REPORT_DIR))
 }
 
+/// Removes `name`'s pending stream, the scenario it was made from and its
+/// pictures (`review`'s reject).
+///
+/// # Errors
+/// When one exists and cannot be removed.
+pub fn reject_pending(fixtures: &Path, name: &str) -> Result<()> {
+    let folder = dir(fixtures, name);
+    remove_if_there(&folder.join(PENDING_FILE))?;
+    remove_if_there(&folder.join(PENDING_SCENARIO_FILE))?;
+    crate::report::clear(&folder.join(crate::report::REPORT_DIR))
+}
+
 fn remove_if_there(path: &Path) -> Result<()> {
     match fs::remove_file(path) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => {

@@ -113,18 +113,11 @@ fn check(
             }
         }
         Some(first) => {
-            let tally = verify::tally(&fixture.stream, &run.stream);
-            let blessed = fixture::scenario(fixtures, name)?;
-            let changed = fixture::changed_keys(&blessed, scenario);
             let pictures = match report {
                 Some(dir) => Some(dir.join(name)),
                 None => writes.then(|| fixture::dir(fixtures, name).join(report::REPORT_DIR)),
             }
-            .ok_or_else(|| "not drawn: CI is set (give --report DIR for the pictures)".to_string())
-            .and_then(|dir| {
-                report::draw((&blessed, &fixture.stream), (scenario, &run.stream), &dir)
-                    .map_err(|e| format!("could not be drawn: {e:#}"))
-            });
+            .ok_or_else(|| "not drawn: CI is set (give --report DIR for the pictures)".to_string());
             // A mismatch is a mismatch (exit 1) in a folder that cannot be
             // written too.
             let pending = if writes {
@@ -135,13 +128,14 @@ fn check(
             } else {
                 Pending::HeldBack
             };
-            Verdict::Mismatch(Box::new(Mismatch {
+            let blessed = fixture::scenario(fixtures, name)?;
+            Verdict::Mismatch(Box::new(Mismatch::new(
                 first,
-                tally,
-                changed,
-                pending,
+                (&blessed, &fixture.stream),
+                (scenario, &run.stream),
                 pictures,
-            }))
+                pending,
+            )))
         }
     };
     Ok((verdict, note))

@@ -4,6 +4,7 @@
 #![deny(missing_docs)]
 
 pub mod atomic;
+pub mod bless;
 pub mod body_input;
 pub mod capture;
 pub mod ci_report;
@@ -16,6 +17,7 @@ pub mod listen;
 pub mod outputs;
 pub mod records;
 pub mod report;
+pub mod review;
 pub mod rig;
 pub mod send;
 pub mod serial;

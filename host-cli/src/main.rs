@@ -9,8 +9,8 @@ use morphogen_cli::folder_lock::FolderLock;
 use morphogen_cli::outputs::{Kind, Kinds};
 use morphogen_cli::stdout::StdoutError;
 use morphogen_cli::{
-    Outcome, atomic, body_input, capture, exec, fixture, golden, jsonl, listen, outputs, say, send,
-    serve, sweep, verify, written,
+    Outcome, atomic, bless, body_input, capture, exec, fixture, golden, jsonl, listen, outputs,
+    review, say, send, serve, sweep, verify, written,
 };
 use morphogen_scenario::Scenario;
 
@@ -190,6 +190,18 @@ enum Command {
         /// The seed (default: the scenario's own).
         #[arg(long)]
         seed: Option<u64>,
+    },
+    /// Go through the pending streams `verify` left (all, or those of
+    /// TARGETS), one fixture at a time: what differs, the changed keys and
+    /// the pictures, then accept (bless it), reject (remove it), skip, or
+    /// accept all. Asks at a terminal; scripts use `bless --accept`.
+    Review {
+        /// Presets or scenario files whose pending streams to review.
+        targets: Vec<String>,
+        /// The fixtures folder (default: $MORPHOGEN_FIXTURES, else
+        /// `fixtures/` in this folder or the nearest parent that has one).
+        #[arg(long)]
+        fixtures: Option<PathBuf>,
     },
     /// Run every combination of parameter values (on all cores) and
     /// tabulate the results in DIR/sweep.csv, one folder per run.
@@ -462,24 +474,27 @@ fn dispatch(command: Command) -> Result<Outcome> {
             accept: true,
             fixtures,
             ..
-        } => accept(&targets, &fixture::locate(fixtures, false)?),
+        } => bless::accept(&targets, &fixture::locate(fixtures, false)?),
         Command::Bless {
             all: true,
             fixtures,
             ..
-        } => bless_all(&fixture::locate(fixtures, false)?),
+        } => bless::all(&fixture::locate(fixtures, false)?),
         Command::Bless {
             targets,
             sets: set_args,
             fixtures,
             seed,
             ..
-        } => bless(
+        } => bless::targets(
             &targets,
             &sets(&set_args)?,
             &fixture::locate(fixtures, true)?,
             seed,
         ),
+        Command::Review { targets, fixtures } => {
+            review::run(&targets, &fixture::locate(fixtures, false)?)
+        }
         Command::Sweep(args) => sweep::run(&args),
         Command::Listen(args) => listen::run(&args),
         Command::Send(args) => send::run(&args),
@@ -499,7 +514,7 @@ fn run(
     writing: Writing,
 ) -> Result<Outcome> {
     let rig = rig.map(morphogen_cli::rig::parse_rig).transpose()?;
-    warn_unused_seed(scenario, seed);
+    exec::warn_unused_seed(scenario, seed);
     let seed = seed.unwrap_or(scenario.seed());
     let dir = out.unwrap_or_else(|| Path::new("out").join(scenario.name()));
     let lock = FolderLock::take(&dir)?;
@@ -663,87 +678,6 @@ fn verify_capture(file: &Path, fixtures: &Path) -> Result<Outcome> {
         );
     }
     Ok(outcome)
-}
-
-fn bless(
-    targets: &[String],
-    sets: &[(String, String)],
-    fixtures: &Path,
-    seed: Option<u64>,
-) -> Result<Outcome> {
-    for target in targets {
-        let scenario = exec::find(target, sets)?;
-        warn_unused_seed(&scenario, seed);
-        let seed = seed.unwrap_or(scenario.seed());
-        let run = exec::run(&scenario, seed, true)?;
-        bless_run(fixtures, &scenario, seed, &run)?;
-    }
-    Ok(Outcome::Ok)
-}
-
-/// Warns on standard error when `--seed` was given to a scenario whose
-/// stream does not depend on it (only its header records the seed).
-fn warn_unused_seed(scenario: &Scenario, seed: Option<u64>) {
-    if seed.is_some() && !scenario.uses_seed() {
-        eprintln!(
-            "warning: --seed has no effect on {}: its model draws no random numbers (only the stream header records the seed)",
-            scenario.name()
-        );
-    }
-}
-
-/// Writes `run` as `scenario`'s fixture and says so.
-fn bless_run(fixtures: &Path, scenario: &Scenario, seed: u64, run: &exec::Run) -> Result<()> {
-    let summary = fixture::summarise(scenario, seed, run);
-    let dir = fixture::bless(fixtures, scenario, &summary, run)?;
-    say!(
-        "blessed   {} seed {seed}: {} frames, digest {:016x} -> {}",
-        scenario.name(),
-        run.frames,
-        run.digest,
-        dir.display()
-    )?;
-    Ok(())
-}
-
-/// `bless --all`: every fixture in `fixtures` re-run from its own scenario
-/// and seed, and re-blessed.
-fn bless_all(fixtures: &Path) -> Result<Outcome> {
-    let names = fixture::names(fixtures)?;
-    if names.is_empty() {
-        bail!("no fixtures in {}", fixtures.display());
-    }
-    for name in names {
-        let scenario = fixture::scenario(fixtures, &name)?;
-        let seed = fixture::load(fixtures, &name)?.summary.seed;
-        let run = exec::run(&scenario, seed, true)?;
-        bless_run(fixtures, &scenario, seed, &run)?;
-    }
-    Ok(Outcome::Ok)
-}
-
-/// `bless --accept`: the pending streams `verify` left (all, or those of
-/// `targets`) become the fixtures.
-fn accept(targets: &[String], fixtures: &Path) -> Result<Outcome> {
-    let names: Vec<String> = if targets.is_empty() {
-        fixture::pending_names(fixtures)?
-    } else {
-        targets
-            .iter()
-            .map(|t| fixture::target(t, fixtures).map(|s| s.name().to_string()))
-            .collect::<Result<_>>()?
-    };
-    if names.is_empty() {
-        say!("nothing pending in {}", fixtures.display())?;
-        return Ok(Outcome::Ok);
-    }
-    for name in names {
-        let scenario = fixture::pending_scenario(fixtures, &name)?;
-        let seed = fixture::load(fixtures, &name)?.summary.seed;
-        let run = fixture::read_pending(fixtures, &name)?;
-        bless_run(fixtures, &scenario, seed, &run)?;
-    }
-    Ok(Outcome::Ok)
 }
 
 /// `decode`: the stream file read frame by frame, twice (the format

@@ -2,8 +2,11 @@
 
 use std::path::PathBuf;
 
-use crate::report::Pictures;
-use crate::verify::{Difference, Tally};
+use morphogen_scenario::Scenario;
+
+use crate::fixture;
+use crate::report::{self, Pictures};
+use crate::verify::{self, Difference, Tally};
 
 /// One fixture checked.
 #[derive(Debug, Clone)]
@@ -50,6 +53,31 @@ pub struct Mismatch {
 }
 
 impl Mismatch {
+    /// How the stream of `run` differs from `blessed`'s (the fixture's
+    /// scenario and stream), `first` its first difference: every record
+    /// tallied, the changed keys named and the pictures drawn into their
+    /// folder (or why not); `pending` is where the new stream went.
+    #[must_use]
+    pub fn new(
+        first: Difference,
+        (blessed, expected): (&Scenario, &[u8]),
+        (run, actual): (&Scenario, &[u8]),
+        pictures: Result<PathBuf, String>,
+        pending: Pending,
+    ) -> Mismatch {
+        let pictures = pictures.and_then(|dir| {
+            report::draw((blessed, expected), (run, actual), &dir)
+                .map_err(|e| format!("could not be drawn: {e:#}"))
+        });
+        Mismatch {
+            first,
+            tally: verify::tally(expected, actual),
+            changed: fixture::changed_keys(blessed, run),
+            pending,
+            pictures,
+        }
+    }
+
     /// The first difference, the tally, the changed keys and the
     /// pictures, a line each (the first difference on three).
     #[must_use]
