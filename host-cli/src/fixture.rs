@@ -39,6 +39,10 @@ pub struct Summary {
     pub bytes: u64,
     /// Number of frames (records).
     pub frames: u32,
+    /// The Morphogen that blessed it ([`crate::provenance::maker`]; none
+    /// in a fixture blessed before summaries named it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub blessed_by: Option<String>,
     /// Records per kind.
     pub records: BTreeMap<String, u64>,
 }
@@ -481,6 +485,7 @@ pub fn summarise(scenario: &Scenario, seed: u64, run: &Run) -> Summary {
         stream_digest: format!("{:016x}", run.digest),
         bytes: run.stream.len() as u64,
         frames: run.frames,
+        blessed_by: Some(crate::provenance::maker()),
         records,
     }
 }

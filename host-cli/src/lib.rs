@@ -15,6 +15,7 @@ pub mod golden;
 pub mod jsonl;
 pub mod listen;
 pub mod outputs;
+pub mod provenance;
 pub mod records;
 pub mod report;
 pub mod review;

@@ -4,13 +4,13 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use morphogen_cli::folder_lock::FolderLock;
 use morphogen_cli::outputs::{Kind, Kinds};
 use morphogen_cli::stdout::StdoutError;
 use morphogen_cli::{
     Outcome, atomic, bless, body_input, capture, exec, fixture, golden, jsonl, listen, outputs,
-    review, say, send, serve, sweep, verify, written,
+    provenance, review, say, send, serve, sweep, verify, written,
 };
 use morphogen_scenario::Scenario;
 
@@ -231,7 +231,9 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // The version with the commit of a checkout's build.
+    let matches = Cli::command().version(provenance::version()).get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     if let Err(e) = atomic::remove_unfinished_when_stopped() {
         eprintln!("error: {e:#}");
         return ExitCode::from(2);

@@ -380,7 +380,7 @@ fn header(axes: &[Axis]) -> String {
     for k in KINDS {
         let _ = write!(h, ",n_{k}");
     }
-    h.push_str(",last_frame_cells_by_type\n");
+    h.push_str(",last_frame_cells_by_type,morphogen\n");
     h
 }
 
@@ -414,7 +414,7 @@ fn one_run(
         scenario.self_contained().as_bytes(),
     )?;
     let mut line = row(k, chosen, &run.stream);
-    line.push('\n');
+    let _ = writeln!(line, ",{}", csv(&crate::provenance::maker()));
     Ok(line)
 }
 
@@ -496,7 +496,9 @@ fn merge(dirs: &[PathBuf], out: &Path) -> Result<crate::Outcome> {
                 "the default --max-stream-mb",
             )
             .map_err(|e| anyhow!("{at}: run {k}: cannot read {}: {e}", stream_path.display()))?;
-            if row(k, &combination(k, &manifest.axes), &stream) != line {
+            // The last column names the Morphogen that ran it.
+            let values = line.rsplit_once(',').map_or(line.as_str(), |(v, _)| v);
+            if row(k, &combination(k, &manifest.axes), &stream) != values {
                 bail!(
                     "{at}: run {k}'s row is not what its stream {} holds (an edited table, or a run of another sweep)",
                     stream_path.display()

@@ -614,3 +614,34 @@ fn a_mismatch_draws_the_expected_actual_and_difference_pictures() {
     assert!(difference.is_file());
     assert!(!report.exists());
 }
+
+/// A blessed fixture names the Morphogen that blessed it, as `morphogen
+/// --version` names itself (with the commit of a checkout's build); a
+/// fixture from before summaries named it still verifies.
+#[test]
+fn a_fixture_names_the_morphogen_that_blessed_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = morphogen(&["--version"], tmp.path(), None);
+    let version = stdout(&o).trim().to_string();
+    assert!(version.starts_with("morphogen 0."), "{version}");
+    let o = morphogen(&["bless", "growth-curve"], tmp.path(), None);
+    assert!(o.status.success(), "{}", both(&o));
+    let summary = tmp.path().join("fixtures/growth-curve/summary.toml");
+    let text = fs::read_to_string(&summary).unwrap();
+    assert!(
+        text.contains(&format!("\nblessed_by = \"{version}\"\n")),
+        "{text}"
+    );
+    // The workspace's fixture has none, and verifies.
+    let old = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/growth-curve/summary.toml");
+    let old_text = fs::read_to_string(old).unwrap();
+    assert!(!old_text.contains("blessed_by"));
+    let stream = fs::read(tmp.path().join("fixtures/growth-curve/stream.bin")).unwrap();
+    let workspace_stream =
+        fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/growth-curve/stream.bin"))
+            .unwrap();
+    assert_eq!(stream, workspace_stream);
+    fs::write(&summary, old_text).unwrap();
+    let o = morphogen(&["verify"], tmp.path(), None);
+    assert_eq!(o.status.code(), Some(0), "{}", both(&o));
+}

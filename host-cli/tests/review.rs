@@ -3,9 +3,12 @@
 //! accepted, rejected or skipped as answered.
 
 use std::fs;
-use std::io::{Read, Write};
+use std::io::Write;
 use std::path::Path;
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Command, Output, Stdio};
+
+mod terminal;
+use terminal::{read_to_end, read_until, review_on_a_terminal};
 
 /// `morphogen ARGS` in `dir`, outside CI.
 fn morphogen(args: &[&str], dir: &Path) -> Output {
@@ -45,54 +48,6 @@ fn project_with_three_pending(tmp: &Path) -> std::path::PathBuf {
     let o = morphogen(&["verify", "a.toml", "b.toml", "c.toml"], &project);
     assert_eq!(o.status.code(), Some(1), "{}", both(&o));
     project
-}
-
-/// `morphogen review ARGS` in `dir` on a new pseudo-terminal, and its
-/// master side.
-fn review_on_a_terminal(args: &[&str], dir: &Path) -> (Child, fs::File) {
-    let pty = nix::pty::openpty(None, None).unwrap();
-    let slave = fs::File::from(pty.slave);
-    let child = Command::new(env!("CARGO_BIN_EXE_morphogen"))
-        .arg("review")
-        .args(args)
-        .current_dir(dir)
-        .env_remove("MORPHOGEN_FIXTURES")
-        .env_remove("CI")
-        .stdin(Stdio::from(slave.try_clone().unwrap()))
-        .stdout(Stdio::from(slave.try_clone().unwrap()))
-        .stderr(Stdio::from(slave))
-        .spawn()
-        .unwrap();
-    // Our copies of the slave side are closed: the master reads the end
-    // of output once the child has ended.
-    (child, fs::File::from(pty.master))
-}
-
-/// Reads the terminal until it has shown `text` `times` times in all
-/// (blocking: the question comes when the fixture before it is done),
-/// and returns all it has shown.
-fn read_until(master: &mut fs::File, shown: &mut String, text: &str, times: usize) -> String {
-    let mut buf = [0u8; 4096];
-    while shown.matches(text).count() < times {
-        match master.read(&mut buf) {
-            Ok(0) | Err(_) => panic!("review ended before asking ({times}): {shown}"),
-            Ok(n) => shown.push_str(&String::from_utf8_lossy(&buf[..n])),
-        }
-    }
-    shown.clone()
-}
-
-/// The rest of what the terminal shows, to the child's end.
-fn read_to_end(master: &mut fs::File, shown: &mut String) -> String {
-    let mut buf = [0u8; 4096];
-    // Linux answers EIO once every slave side is closed.
-    while let Ok(n) = master.read(&mut buf) {
-        if n == 0 {
-            break;
-        }
-        shown.push_str(&String::from_utf8_lossy(&buf[..n]));
-    }
-    shown.replace("\r\n", "\n")
 }
 
 const QUESTION: &str = "[a/r/s/A/q] ";

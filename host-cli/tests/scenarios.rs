@@ -786,6 +786,17 @@ fn a_grammar_constant_set_from_outside_changes_the_run_as_the_grammar_would() {
         .map(|row| row.split(',').nth(column).unwrap())
         .collect();
     assert_eq!(digests.len(), 3, "{table}");
+    // Each row names the Morphogen that ran it.
+    let version = String::from_utf8(morphogen(&["--version"], tmp.path()).stdout).unwrap();
+    let version = version.trim();
+    assert!(table.starts_with("run,") && table.lines().next().unwrap().ends_with(",morphogen"));
+    assert!(
+        table
+            .lines()
+            .skip(1)
+            .all(|row| row.ends_with(&format!(",{version}"))),
+        "{table}"
+    );
 
     // An unknown name is refused with the closest one.
     let o = morphogen(
