@@ -3,12 +3,63 @@
 //! (`--all`), or from the pending streams `verify` left (`--accept`, and
 //! [`crate::review`]).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Result, bail};
 use morphogen_scenario::Scenario;
 
 use crate::{Outcome, exec, fixture, say};
+
+/// `morphogen bless`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Presets or scenario files to bless.
+    #[arg(required_unless_present_any = ["accept", "all"])]
+    pub targets: Vec<String>,
+    /// Take the new streams `verify` left as `stream.bin.pending`,
+    /// with their `scenario.toml.pending` where there is one (all of
+    /// them, or those of TARGETS).
+    #[arg(long, conflicts_with_all = ["all", "sets", "seed"])]
+    pub accept: bool,
+    /// Re-bless every fixture in the folder, each from its own scenario
+    /// and seed.
+    #[arg(long, conflicts_with_all = ["targets", "sets", "seed"])]
+    pub all: bool,
+    /// Change a parameter (as `run --set`); repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+    /// The fixtures folder (default: $MORPHOGEN_FIXTURES, else
+    /// `fixtures/` in this folder or the nearest parent that has one,
+    /// else a new `fixtures/` here).
+    #[arg(long)]
+    pub fixtures: Option<PathBuf>,
+    /// The seed (default: the scenario's own).
+    #[arg(long)]
+    pub seed: Option<u64>,
+}
+
+/// `morphogen bless`: the targets, every fixture (`--all`) or the pending
+/// streams (`--accept`).
+///
+/// # Errors
+/// As [`targets`], [`all`] and [`accept`].
+pub fn command(args: &Args) -> Result<Outcome> {
+    if args.accept {
+        accept(
+            &args.targets,
+            &fixture::locate(args.fixtures.clone(), false)?,
+        )
+    } else if args.all {
+        all(&fixture::locate(args.fixtures.clone(), false)?)
+    } else {
+        targets(
+            &args.targets,
+            &exec::parse_sets(&args.sets)?,
+            &fixture::locate(args.fixtures.clone(), true)?,
+            args.seed,
+        )
+    }
+}
 
 /// `bless TARGETS`: each preset or scenario file (with `sets`) run with
 /// `seed` or its own, and blessed.

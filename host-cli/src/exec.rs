@@ -643,6 +643,14 @@ impl Drop for Spinner {
     }
 }
 
+/// Every `--set KEY=VALUE` of `sets`, parsed ([`parse_set`]).
+///
+/// # Errors
+/// The first that is not `KEY=VALUE`.
+pub fn parse_sets(sets: &[String]) -> Result<Vec<(String, String)>> {
+    sets.iter().map(|s| parse_set(s)).collect()
+}
+
 /// Warns on standard error when `--seed` was given to a scenario whose
 /// stream does not depend on it (only its header records the seed).
 pub fn warn_unused_seed(scenario: &Scenario, seed: Option<u64>) {

@@ -21,6 +21,71 @@ pub enum Format {
     Json,
 }
 
+/// `morphogen verify`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Presets or scenario files to verify (default: every fixture in
+    /// the fixtures folder, built-in or not).
+    pub targets: Vec<String>,
+    /// The fixtures folder (default: $MORPHOGEN_FIXTURES, else
+    /// `fixtures/` in this folder or the nearest parent that has one).
+    #[arg(long)]
+    pub fixtures: Option<PathBuf>,
+    /// A capture from a device (one or more streams back to back, each
+    /// starting with its header) to check instead of re-running.
+    #[arg(long, conflicts_with = "targets")]
+    pub stream: Option<PathBuf>,
+    /// Threads re-running fixtures side by side, 1 to 256 (default:
+    /// all cores).
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
+    pub jobs: Option<u16>,
+    /// Also write a JUnit XML report to FILE: a test case per fixture,
+    /// a failure for a mismatch or a missing fixture, an error for one
+    /// that cannot be checked (what GitLab, Jenkins and GitHub's test
+    /// reporters read).
+    #[arg(long, value_name = "FILE", conflicts_with = "stream")]
+    pub junit: Option<PathBuf>,
+    /// Print a line per fixture (text) or a JSON object per fixture and
+    /// one with the counts (json).
+    #[arg(long, value_enum, default_value_t, conflicts_with = "stream")]
+    pub format: Format,
+    /// Leave a mismatch's new stream beside its fixture even when CI is
+    /// set (under CI nothing is written into the fixtures folder
+    /// otherwise). With GITHUB_ACTIONS=true each failing fixture is
+    /// also an `::error` annotation and the counts a table in the job
+    /// summary.
+    #[arg(long, conflicts_with = "stream")]
+    pub pending: bool,
+    /// Draw each mismatch's pictures into DIR/NAME/ (default: beside
+    /// its pending stream, in the fixture's report/; under CI only
+    /// with this): the model's pictures of the expected and the actual
+    /// stream up to the end of the first frame that differs, in
+    /// expected/ and actual/, and their difference in difference/
+    /// (changed pixels red), for each picture that is not the same.
+    #[arg(long, value_name = "DIR", conflicts_with = "stream")]
+    pub report: Option<PathBuf>,
+}
+
+/// `morphogen verify`: a device capture (`--stream`) or the fixtures.
+///
+/// # Errors
+/// As [`run`] and [`crate::capture::verify`].
+pub fn command(args: Args) -> Result<Outcome> {
+    let fixtures = fixture::locate(args.fixtures, false)?;
+    if let Some(file) = &args.stream {
+        return crate::capture::verify(file, &fixtures);
+    }
+    run(&Options {
+        targets: args.targets,
+        fixtures,
+        jobs: args.jobs,
+        junit: args.junit,
+        format: args.format,
+        pending: args.pending,
+        report: args.report,
+    })
+}
+
 /// What to verify and how to report it.
 #[derive(Debug, Clone)]
 pub struct Options {
@@ -203,7 +268,15 @@ pub fn run(options: &Options) -> Result<Outcome> {
         }
         Ok(cases)
     })?;
-    let counts = Counts::of(&cases);
+    conclude(options, &cases, writes)
+}
+
+/// After the cases: the counts, the JUnit report and, on GitHub Actions,
+/// the annotations and the job summary; then the outcome (`writes`: the
+/// pending streams were written).
+fn conclude(options: &Options, cases: &[Case], writes: bool) -> Result<Outcome> {
+    let fixtures = &options.fixtures;
+    let counts = Counts::of(cases);
     match options.format {
         Format::Text => {
             say!("{counts}")?;
@@ -217,7 +290,7 @@ pub fn run(options: &Options) -> Result<Outcome> {
         Format::Json => say!("{}", ci_report::json_summary(counts))?,
     }
     if let Some(path) = &options.junit {
-        let xml = ci_report::junit(&cases, fixtures)?;
+        let xml = ci_report::junit(cases, fixtures)?;
         crate::atomic::write_atomic(path, xml.as_bytes())
             .with_context(|| format!("cannot write the JUnit report {}", path.display()))?;
     }
@@ -225,7 +298,7 @@ pub fn run(options: &Options) -> Result<Outcome> {
         for annotation in cases.iter().filter_map(ci_report::annotation) {
             say!("{annotation}")?;
         }
-        ci_report::append_step_summary(&ci_report::step_summary(&cases))?;
+        ci_report::append_step_summary(&ci_report::step_summary(cases))?;
     }
     if let Some(first) = cases
         .iter()

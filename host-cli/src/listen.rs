@@ -29,8 +29,8 @@ pub struct Args {
     /// to the stream's records), into
     /// `OUT/PRESET/rig-WxH.png` (`WxH:grey4`: as a 4-bit grey OLED, into
     /// `rig-WxH-grey4.png`).
-    #[arg(long, value_name = "WxH[:grey4]")]
-    rig: Option<String>,
+    #[arg(long, value_name = "WxH[:grey4]", value_parser = crate::rig::parse_rig)]
+    rig: Option<crate::rig::RigSpec>,
     /// The folder of the rig pictures.
     #[arg(long, default_value = "out/listen")]
     out: PathBuf,
@@ -51,10 +51,10 @@ const PORT_TIMEOUT: Duration = Duration::from_millis(200);
 /// Runs `listen`.
 ///
 /// # Errors
-/// A source that cannot be opened or read, a bad `--rig`, a picture that
+/// A source that cannot be opened or read, a picture that
 /// cannot be written, or a source without any stream.
 pub fn run(args: &Args) -> Result<Outcome> {
-    let rig = args.rig.as_deref().map(crate::rig::parse_rig).transpose()?;
+    let rig = args.rig;
     let fixtures = fixture::locate(args.fixtures.clone(), false)?;
     let (mut source, port) = open(&args.source, args.baud)?;
     eprintln!(

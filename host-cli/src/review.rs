@@ -4,12 +4,23 @@
 //! skipped. `bless --accept` does the same without asking, for scripts.
 
 use std::io::{BufRead, IsTerminal, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 
 use crate::verdict::{Mismatch, Pending};
 use crate::{Outcome, bless, fixture, report, say, verify};
+
+/// `morphogen review`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Presets or scenario files whose pending streams to review.
+    pub targets: Vec<String>,
+    /// The fixtures folder (default: $MORPHOGEN_FIXTURES, else
+    /// `fixtures/` in this folder or the nearest parent that has one).
+    #[arg(long)]
+    pub fixtures: Option<PathBuf>,
+}
 
 /// What to do with one pending stream.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -210,9 +210,9 @@ pub fn parse_rig(text: &str) -> Result<RigSpec> {
     let (size, palette) = match text.split_once(':') {
         None => (text, RigPalette::Rgb),
         Some((size, p)) if p.trim().eq_ignore_ascii_case("grey4") => (size, RigPalette::Grey4),
-        Some((_, p)) => bail!(
-            "--rig {text:?}: unknown palette {p:?}; the one there is is grey4 (e.g. 128x64:grey4)"
-        ),
+        Some((_, p)) => {
+            bail!("unknown palette {p:?}; the one there is is grey4 (e.g. 128x64:grey4)")
+        }
     };
     let parsed = size
         .split_once(['x', 'X'])
@@ -228,7 +228,7 @@ pub fn parse_rig(text: &str) -> Result<RigSpec> {
             })
         }
         _ => bail!(
-            "--rig {text:?}: expected WIDTHxHEIGHT in pixels, each 1..={MAX_RIG_SIDE} (e.g. 64x64, or 128x64:grey4)"
+            "expected WIDTHxHEIGHT in pixels, each 1..={MAX_RIG_SIDE} (e.g. 64x64, or 128x64:grey4)"
         ),
     }
 }

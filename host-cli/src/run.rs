@@ -1,0 +1,281 @@
+//! `morphogen run`: a preset, a scenario file or a grammar into its
+//! folder: the stream, its records as JSON Lines, the model's own files
+//! ([`crate::outputs`]) and, with `--rig`, the picture a display rig shows.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Result, bail};
+use morphogen_scenario::Scenario;
+
+use crate::folder_lock::FolderLock;
+use crate::outputs::{self, Kind, Kinds};
+use crate::rig::{self, RigSpec};
+use crate::{Outcome, body_input, exec, say, written};
+
+/// `morphogen run`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// A preset's name (see `morphogen list`) or a scenario file
+    /// (`*.toml`); may be omitted with --grammar.
+    #[arg(required_unless_present = "grammar")]
+    pub target: Option<String>,
+    /// Change a parameter: a dotted key of the scenario file and a value
+    /// (`--set mosaic.days=20`, `--set horn.modules[0].bend=80`, a
+    /// grammar's setting or constant `--set lsystem.delta=30`);
+    /// repeatable. A file (`--set bones.grammar=my.lsys`) is relative
+    /// to the current folder.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+    /// An L-system grammar file (format: docs/lsystems.md). Alone, it
+    /// runs as a plant (plant.png, plant.obj, segments.csv); with an
+    /// L-system or bone preset or scenario, it replaces that one's
+    /// grammar (a bone preset wraps your skeleton).
+    #[arg(long, value_name = "FILE")]
+    pub grammar: Option<PathBuf>,
+    /// The seed (default: the scenario's own, the one fixtures use).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// The output folder (default: `out/NAME`).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// With a body scenario: grow this OBJ mesh instead of the built-in
+    /// body (needs --cylinders; format: docs/body.md).
+    #[arg(
+        long,
+        value_name = "FILE",
+        requires = "cylinders",
+        conflicts_with = "grammar"
+    )]
+    pub mesh: Option<PathBuf>,
+    /// The cylinder file for --mesh (docs/body.md).
+    #[arg(long, value_name = "FILE", requires = "mesh")]
+    pub cylinders: Option<PathBuf>,
+    /// Also write rig-WxH.png: the last frame as a W×H display rig
+    /// (LED matrix, OLED) shows it, drawn by the core's rig renderer;
+    /// `WxH:grey4` draws the 16 greys of a 4-bit OLED, as the firmware
+    /// draws its SSD0323 (rig-WxH-grey4.png). In colour, mosaics and
+    /// plants take the colours of their main pictures. Also writes
+    /// rig-WxH[-grey4]-preview.png, enlarged as the LEDs or the OLED
+    /// look lit.
+    #[arg(long, value_name = "WxH[:grey4]", value_parser = rig::parse_rig)]
+    pub rig: Option<RigSpec>,
+    /// With a mosaic: where F cells may start instead of the scenario's
+    /// mask, a PBM (P1/P4) or PNG stretched over the whole domain; white
+    /// allows F (in a PNG: luminance and alpha both ≥ 50 %).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["grammar", "mesh"])]
+    pub mask: Option<PathBuf>,
+    /// Stop a run whose stream grows past this many MiB (a runaway
+    /// grammar, a huge mosaic).
+    #[arg(
+        long,
+        value_name = "MB",
+        default_value_t = exec::DEFAULT_MAX_STREAM_MB,
+        value_parser = clap::value_parser!(u32).range(1..)
+    )]
+    pub max_stream_mb: u32,
+    /// Write only these kinds of file, a comma list of png (pictures
+    /// and chart bitmaps), obj (meshes and their .mtl), glb
+    /// (model.glb), anim (animation.png), svg (charts), csv (tables),
+    /// jsonl (records.jsonl); stream.bin and summary.txt are always
+    /// written. Default: all of them.
+    #[arg(long, value_name = "KINDS", value_parser = Kinds::parse)]
+    pub only: Option<Kinds>,
+    /// Print nothing on standard output (no summary, no "wrote"
+    /// lines) and show no progress bar; errors still go to standard
+    /// error.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// What `run` writes and says: the kinds of file, and whether it is quiet.
+#[derive(Debug, Clone, Copy)]
+struct Writing {
+    kinds: Kinds,
+    quiet: bool,
+}
+
+/// Runs what `args` names, writes its files and says what it wrote.
+///
+/// # Errors
+/// A target that is not one, a bad input file, a run that fails or a
+/// file that cannot be written.
+pub fn run(args: Args) -> Result<Outcome> {
+    let writing = Writing {
+        kinds: args.only.unwrap_or(Kinds::ALL),
+        quiet: args.quiet,
+    };
+    match (&args.target, &args.grammar) {
+        (target, Some(file)) if target.as_deref().is_none_or(|t| t == "custom") => {
+            if let Some(set) = args.sets.first() {
+                bail!(
+                    "--set {set}: a grammar run on its own has no scenario to change (name a preset or a scenario file, whose grammar --grammar then replaces)"
+                );
+            }
+            run_grammar(
+                file,
+                args.seed,
+                args.out.clone(),
+                args.max_stream_mb,
+                writing,
+            )
+        }
+        (Some(target), _) => run_target(target, &args, writing),
+        (None, _) => {
+            bail!("give a preset name (see `morphogen list`), a scenario file, or --grammar FILE")
+        }
+    }
+}
+
+/// `target` with the mask, grammar or body files of `args` in place of
+/// its own.
+fn run_target(target: &str, args: &Args, writing: Writing) -> Result<Outcome> {
+    let scenario = exec::find(target, &exec::parse_sets(&args.sets)?)?;
+    let scenario = match &args.mask {
+        Some(file) => exec::with_mask(&scenario, file)?,
+        None => scenario,
+    };
+    // What a run's errors name: the user's files too, and its folder is
+    // named after them.
+    let mut what = scenario.name().to_string();
+    let mut out = args.out.clone();
+    let name = scenario.name().to_string();
+    let beside = |file: &Path, default: &str| {
+        let stem = file
+            .file_stem()
+            .map_or_else(|| default.into(), |s| s.to_string_lossy().into_owned());
+        Path::new("out").join(format!("{name}-{stem}"))
+    };
+    let scenario = match &args.grammar {
+        Some(file) => {
+            out = out.or_else(|| Some(beside(file, "grammar")));
+            what = format!("{what} with the grammar {}", file.display());
+            exec::with_grammar(&scenario, file)?
+        }
+        None => scenario,
+    };
+    let scenario = match (&args.mesh, &args.cylinders) {
+        (Some(mesh), Some(cylinders)) => {
+            out = out.or_else(|| Some(beside(mesh, "mesh")));
+            what = format!("{what} on {} and {}", mesh.display(), cylinders.display());
+            body_input::with_body_files(&scenario, mesh, cylinders)?
+        }
+        _ => scenario,
+    };
+    let rig = args.rig;
+    run_scenario(
+        &scenario,
+        &what,
+        args.seed,
+        out,
+        rig,
+        args.max_stream_mb,
+        writing,
+    )
+}
+
+/// `scenario` into its folder; its errors name `what`.
+fn run_scenario(
+    scenario: &Scenario,
+    what: &str,
+    seed: Option<u64>,
+    out: Option<PathBuf>,
+    rig: Option<RigSpec>,
+    max_stream_mb: u32,
+    writing: Writing,
+) -> Result<Outcome> {
+    exec::warn_unused_seed(scenario, seed);
+    let seed = seed.unwrap_or(scenario.seed());
+    let dir = out.unwrap_or_else(|| Path::new("out").join(scenario.name()));
+    let lock = FolderLock::take(&dir)?;
+    say_removed(&lock, &dir, writing.quiet)?;
+    let (stream, jsonl) = (dir.join(exec::STREAM_FILE), dir.join(exec::JSONL_FILE));
+    let paths = exec::RunPaths {
+        stream: &stream,
+        jsonl: writing.kinds.has(Kind::Jsonl).then_some(jsonl.as_path()),
+    };
+    let run = exec::run_to_file(scenario, what, seed, !writing.quiet, max_stream_mb, paths)?;
+    let written = exec::write_outputs(&dir, &run, !writing.quiet, |records, dir| {
+        let mut files = outputs::write(scenario, records, dir, writing.kinds)?;
+        if let Some(rig) = rig {
+            let inks = outputs::rig_inks(scenario);
+            files.extend(rig::render_rig_png(records, rig, inks.as_deref(), dir)?);
+        }
+        Ok(files)
+    })?;
+    // An earlier run's files of the series this run wrote anew, as they
+    // were (their sizes), then gone.
+    let stale = outputs::numbered::stale(&dir, &written)?;
+    let stale_lines = written::lines(&stale);
+    outputs::numbered::remove(&stale)?;
+    if writing.quiet {
+        return Ok(Outcome::Ok);
+    }
+    say!(
+        "{} seed {}: {} frames, {} bytes, digest {:016x}",
+        scenario.name(),
+        seed,
+        run.frames,
+        run.bytes,
+        run.digest
+    )?;
+    written::say_wrote(&written)?;
+    for line in stale_lines {
+        say!("  removed an earlier run's {line}")?;
+    }
+    Ok(Outcome::Ok)
+}
+
+/// Says which temporary files of a stopped run the folder lock removed.
+fn say_removed(lock: &FolderLock, dir: &Path, quiet: bool) -> Result<()> {
+    let (count, bytes) = lock.removed;
+    if count > 0 && !quiet {
+        say!(
+            "removed {count} temporary file(s) ({}) that a stopped run left in {}",
+            indicatif::DecimalBytes(bytes),
+            dir.display()
+        )?;
+    }
+    Ok(())
+}
+
+fn run_grammar(
+    file: &Path,
+    seed: Option<u64>,
+    out: Option<PathBuf>,
+    max_stream_mb: u32,
+    writing: Writing,
+) -> Result<Outcome> {
+    let bytes = morphogen_scenario::read_limited(file)
+        .map_err(|e| anyhow::anyhow!("cannot read grammar {}: {e}", file.display()))?;
+    let text =
+        morphogen_scenario::utf8(bytes).map_err(|e| anyhow::anyhow!("{}:{e}", file.display()))?;
+    let seed = seed.unwrap_or(0);
+    let stem = file
+        .file_stem()
+        .map_or_else(|| "grammar".into(), |s| s.to_string_lossy().into_owned());
+    let dir = out.unwrap_or_else(|| Path::new("out").join(&stem));
+    let lock = FolderLock::take(&dir)?;
+    say_removed(&lock, &dir, writing.quiet)?;
+    let (stream, jsonl) = (dir.join(exec::STREAM_FILE), dir.join(exec::JSONL_FILE));
+    let paths = exec::RunPaths {
+        stream: &stream,
+        jsonl: writing.kinds.has(Kind::Jsonl).then_some(jsonl.as_path()),
+    };
+    let run = exec::run_grammar(file, &text, seed, max_stream_mb, paths, !writing.quiet)?;
+    let written = exec::write_outputs(&dir, &run, !writing.quiet, |records, dir| {
+        outputs::plant::write(records, dir, writing.kinds)
+    })?;
+    if writing.quiet {
+        return Ok(Outcome::Ok);
+    }
+    say!(
+        "{} seed {}: {} frames, {} bytes, digest {:016x}",
+        file.display(),
+        seed,
+        run.frames,
+        run.bytes,
+        run.digest
+    )?;
+    written::say_wrote(&written)?;
+    Ok(Outcome::Ok)
+}
