@@ -21,8 +21,9 @@ use crate::sim::{Progress, Simulation, Start};
 use crate::stream::{FORMAT_VERSION, Header, PresetName, Record, Sink, params_digest};
 
 /// A model and its parameters: what a scenario file describes, checked.
+/// Exhaustive: a new model fails to compile wherever one is matched
+/// without it.
 #[derive(Clone, Copy, Debug)]
-#[non_exhaustive]
 pub enum Model<'a> {
     /// The seasonal growth curve (horn paper, Sec. 2).
     GrowthCurve(growth_curve::Params),

@@ -154,7 +154,9 @@ pub fn sent(scenario: &Scenario, seed: u64) -> Result<SentScenario, SentError> {
                 };
                 SentScenario::new(&preset, seed, params)
             }
-            _ => SentScenario::new(p, seed, params),
+            Model::GrowthCurve(_) | Model::Horn(_) | Model::Mosaic(_) | Model::Body(_) => {
+                SentScenario::new(p, seed, params)
+            }
         }
     })
 }

@@ -424,7 +424,7 @@ pub fn rig_inks(scenario: &Scenario) -> Option<Vec<[u8; 3]>> {
     scenario.with_preset(|preset| match preset.model {
         Model::Mosaic(p) => Some(p.types.iter().map(|t| t.colour).collect()),
         Model::LSystem(_) => Some((0..=plant::LAST_COLOUR).map(plant::palette).collect()),
-        _ => None,
+        Model::GrowthCurve(_) | Model::Horn(_) | Model::Body(_) | Model::Bones(_) => None,
     })
 }
 
@@ -450,7 +450,6 @@ fn write_preset<R: Records + ?Sized>(
         Model::Bones(p) => bones::write(preset.name, p, records, dir, kinds),
         Model::Mosaic(p) if p.surface.is_some() => shell::write(p, names, records, dir, kinds),
         Model::Mosaic(p) => mosaic::write(p, names, records, dir, kinds),
-        _ => Ok(Vec::new()),
     }
 }
 
