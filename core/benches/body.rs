@@ -6,7 +6,7 @@
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use morphogen::body::Body;
 use morphogen::preset::Model;
-use morphogen::sim::Simulation;
+use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError};
 
 /// Counts records, keeps nothing.
@@ -31,7 +31,7 @@ fn frames(c: &mut Criterion) {
             group.bench_function(format!("{name} run (vertices/s)"), |b| {
                 b.iter(|| {
                     let mut body: Body = Body::new();
-                    body.start(params).expect("the preset is valid");
+                    body.start(params, 0).expect("the preset is valid");
                     let mut sink = Count(0);
                     while !body.step(&mut sink).map(|p| p.finished()).unwrap_or(true) {}
                     sink.0

@@ -14,7 +14,7 @@ use morphogen::bones::{
 use morphogen::fx::{Fx, Real};
 use morphogen::preset::Model;
 use morphogen::shrinkwrap::{Element, Shrinkwrap};
-use morphogen::sim::Simulation;
+use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError};
 
 type McuBones<'a> = Bones<'a, MCU_VERTICES, MCU_TRIANGLES>;

@@ -12,7 +12,7 @@ use morphogen::lsys::{
     Buffered, Derivation, Grammar, LSystem, Module, Neighbours, Next, Streaming,
 };
 use morphogen::preset::Model;
-use morphogen::sim::Simulation;
+use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError};
 
 struct Count(u64);
@@ -80,7 +80,7 @@ fn draw(c: &mut Criterion) {
     group.bench_function("segments_streaming", |b| {
         let mut sim = Box::new(LSystem::new());
         b.iter(|| {
-            sim.load(&shrub, 0).expect("load");
+            sim.start(&shrub, 0).expect("load");
             let mut sink = Count(0);
             while !sim.step(&mut sink).expect("step").finished() {}
             sink.0

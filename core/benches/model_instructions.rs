@@ -31,7 +31,7 @@ use morphogen::mosaic::surface::store::SurfaceStore;
 use morphogen::mosaic::surface::{MeshBuffers, Surface, SurfaceMesh, SurfaceMosaic, build_mesh};
 use morphogen::mosaic::{MAX_TYPES, Mosaic, Params};
 use morphogen::preset::Model;
-use morphogen::sim::Simulation;
+use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError};
 use morphogen_scenario::run::{MeshVecs, VecStore, VecSurfaceStore};
 
@@ -236,7 +236,7 @@ fn shrub_grammar() -> String {
 #[bench::n7(setup = shrub_grammar)]
 fn shrub(text: String) -> u32 {
     let mut sim = Box::new(LSystem::new());
-    sim.load(&text, 0).expect("the shrub loads");
+    sim.start(&text, 0).expect("the shrub loads");
     let mut steps = 0;
     while !sim.step(&mut Null).expect("runs").finished() {
         steps += 1;

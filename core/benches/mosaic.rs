@@ -20,7 +20,7 @@ use morphogen::mosaic::relaxation::{self, Forces};
 use morphogen::mosaic::store::{self, CellStore};
 use morphogen::mosaic::{MAX_TYPES, McuStore, Mosaic, Params, host_capacity};
 use morphogen::preset::{Model, Preset};
-use morphogen::sim::Simulation;
+use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Encoder, Record, Sink, SinkError};
 use morphogen_scenario::run::VecStore;
 

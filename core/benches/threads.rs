@@ -12,7 +12,7 @@ use morphogen::mosaic::relaxation::{Forces, Relax};
 use morphogen::mosaic::store::{CellSlices, CellStore};
 use morphogen::mosaic::{Mosaic, host_capacity};
 use morphogen::preset::Model;
-use morphogen::sim::Simulation;
+use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError};
 use morphogen_scenario::run::VecStore;
 

@@ -11,7 +11,7 @@ use morphogen::body::{
 };
 use morphogen::fx::{Angle, Fx, Real};
 use morphogen::preset::Model;
-use morphogen::sim::Simulation;
+use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError};
 use nalgebra::Vector3;
 
@@ -444,7 +444,7 @@ impl Sink for Collect {
 fn a_frame_is_the_deformed_mesh_at_its_age() {
     with_body("cow-growth", |params| {
         let mut body: Body = Body::new();
-        body.start(params).unwrap();
+        body.start(params, 0).unwrap();
         let mut sink = Collect::default();
         while !body.step(&mut sink).unwrap().finished() {}
         let starts: Vec<Fx> = sink
@@ -508,7 +508,7 @@ fn singular_features_fail_the_run_naming_the_cylinder() {
             ..*horse
         };
         let mut body: Body = Body::new();
-        let started = body.start(&params);
+        let started = body.start(&params, 0);
         let e = body.step(&mut Collect::default()).unwrap_err();
         assert_eq!(
             e,
@@ -544,7 +544,7 @@ fn too_many_cylinders_is_an_error_naming_the_limit() {
             ..*horse
         };
         let mut body: Body<'_, 8> = Body::new();
-        let started = body.start(&params);
+        let started = body.start(&params, 0);
         let stepped = body.step(&mut Collect::default());
         assert_eq!(
             stepped,

@@ -13,7 +13,7 @@ use morphogen::mosaic::params::{MAX_TYPES, NO_MUTATION};
 use morphogen::mosaic::store::ArrayStore;
 use morphogen::mosaic::{CELL_LIMIT, CellType, Domain, Frames, McuStore, Mosaic, Params};
 use morphogen::preset::Model;
-use morphogen::sim::Simulation;
+use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError, StreamDigest};
 
 /// Calls `f` with the parameters of the built-in mosaic scenario `name`.

@@ -23,7 +23,7 @@ use morphogen::mosaic::surface::store::{SurfaceSlices, SurfaceStore};
 use morphogen::mosaic::surface::{MeshBuffers, SurfaceMosaic};
 use morphogen::mosaic::{Mosaic, MosaicError, Params as MosaicParams, host_capacity};
 use morphogen::preset::{self, Model, Preset, Runner};
-use morphogen::sim::Progress;
+use morphogen::sim::{Progress, Start};
 use morphogen::stream::Sink;
 use std::ops::Range;
 
@@ -708,7 +708,7 @@ pub fn run(
                 let mut sim = Box::new(LSystem::with_derivation(Buffered::new(
                     &mut a, &mut b, &mut links,
                 )));
-                sim.load(text, seed)?;
+                sim.start(text, seed)?;
                 preset::drive(sim.as_mut(), &header, sink, progress)
             } else {
                 let mut runner = Box::new(Runner::new());
@@ -746,7 +746,7 @@ pub fn run(
         }
         Model::Body(params) => {
             let mut body = Box::new(Body::<'_, USER_CYLINDERS>::new());
-            body.start(params)?;
+            body.start(params, seed)?;
             preset::drive(body.as_mut(), &header, sink, progress)
         }
         model => {

@@ -121,7 +121,7 @@ fn a_days_steps_in_bucket_order_move_cells_on_a_mesh_as_the_per_cell_step_does()
     use morphogen::mosaic::surface::{MeshBuffers, SurfaceMosaic, build_mesh};
     use morphogen::mosaic::{Frames, Params};
     use morphogen::preset::Model;
-    use morphogen::sim::Simulation;
+    use morphogen::sim::{Simulation, Start};
     use morphogen::stream::{Record, Sink, SinkError};
     use morphogen_scenario::run::{MeshVecs, VecSurfaceStore};
 

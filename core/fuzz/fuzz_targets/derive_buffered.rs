@@ -12,7 +12,7 @@
 use libfuzzer_sys::fuzz_target;
 use morphogen::Error;
 use morphogen::lsys::{Buffered, LSystem, LsysError, Module, Neighbours};
-use morphogen::sim::Simulation;
+use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError};
 
 /// Modules per buffer: a few thousand, so that capacity errors are reached.
@@ -71,8 +71,8 @@ fuzz_target!(|data: &[u8]| {
     let mut b = vec![Module::default(); BUFFER_MODULES];
     let mut links = vec![Neighbours::default(); BUFFER_MODULES];
     let mut buffered = Box::new(LSystem::with_derivation(Buffered::new(&mut a, &mut b, &mut links)));
-    match buffered.load(text, 1) {
-        Err(LsysError::Parse(e)) => {
+    match buffered.start(text, 1) {
+        Err(Error::Lsys(LsysError::Parse(e))) => {
             assert!(e.line >= 1 && e.column >= 1);
             assert!(e.line as usize <= text.split('\n').count());
             return;
@@ -98,7 +98,7 @@ fuzz_target!(|data: &[u8]| {
     }
     let mut streaming = Box::new(LSystem::new());
     streaming
-        .load(text, 1)
+        .start(text, 1)
         .expect("the buffered simulation parsed it");
     let (streamed, streamed_end) = drive(streaming.as_mut());
     if is_capacity(&end) || is_capacity(&streamed_end) {

@@ -6,8 +6,9 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
+use morphogen::Error;
 use morphogen::lsys::{LSystem, LsysError};
-use morphogen::sim::Simulation;
+use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError};
 
 /// Accepts a bounded number of records.
@@ -28,8 +29,8 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let mut sim = Box::new(LSystem::new());
-    match sim.load(text, 1) {
-        Err(LsysError::Parse(e)) => {
+    match sim.start(text, 1) {
+        Err(Error::Lsys(LsysError::Parse(e))) => {
             assert!(e.line >= 1 && e.column >= 1);
             assert!(e.line as usize <= text.split('\n').count());
         }

@@ -22,7 +22,7 @@
 //! ```
 //! use morphogen::body::Body;
 //! use morphogen::preset::Model;
-//! use morphogen::sim::Simulation;
+//! use morphogen::sim::{Simulation, Start};
 //! use morphogen::stream::{Record, Sink, SinkError};
 //!
 //! struct Count(u32);
@@ -38,7 +38,7 @@
 //! scenario.with_preset(|preset| {
 //!     let Model::Body(params) = preset.model else { unreachable!() };
 //!     let mut body: Body = Body::new();
-//!     body.start(params).unwrap();
+//!     body.start(params, 0).unwrap();
 //!     let mut sink = Count(0);
 //!     body.step(&mut sink).unwrap(); // the newborn foal
 //!     assert_eq!(sink.0, params.model.mesh.vertex_count());

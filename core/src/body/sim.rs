@@ -86,24 +86,6 @@ impl<'a, const C: usize> Body<'a, C> {
         }
     }
 
-    /// Loads `params` in place.
-    ///
-    /// # Errors
-    /// An invalid model or table; the first [`Simulation::step`] fails with
-    /// it too.
-    pub fn start(&mut self, params: &'a BodyParams<'a>) -> Result<(), Error> {
-        self.params = Some(params);
-        self.frame = 0;
-        self.unbound = 0;
-        let result =
-            if params.frames == 0 || (params.gait.is_some() && params.frames_per_stride == 0) {
-                Err(super::BodyError::ZeroCount.into())
-            } else {
-                self.skeleton.load(params.model, params.table)
-            };
-        self.failure.keep(result)
-    }
-
     /// Vertices in no cylinder, following the nearest (counted in frame 0).
     #[must_use]
     pub fn unbound_vertices(&self) -> u32 {
@@ -114,9 +96,20 @@ impl<'a, const C: usize> Body<'a, C> {
 impl<'a, const C: usize> Start<'a> for Body<'a, C> {
     type Params = BodyParams<'a>;
 
-    /// A body grows deterministically: `seed` is not used.
+    /// Loads `params` in place; a body grows deterministically, so
+    /// `seed` is not used. An invalid model or table is also the first
+    /// step's error.
     fn start(&mut self, params: &'a BodyParams<'a>, _seed: u64) -> Result<(), Error> {
-        Body::start(self, params)
+        self.params = Some(params);
+        self.frame = 0;
+        self.unbound = 0;
+        let result =
+            if params.frames == 0 || (params.gait.is_some() && params.frames_per_stride == 0) {
+                Err(super::BodyError::ZeroCount.into())
+            } else {
+                self.skeleton.load(params.model, params.table)
+            };
+        self.failure.keep(result)
     }
 }
 

@@ -64,29 +64,6 @@ impl<'a, const V: usize, const T: usize, const C: usize, D: Derivation> Bones<'a
         }
     }
 
-    /// Starts `params` with `seed`; an error is also returned by the first
-    /// step.
-    ///
-    /// # Errors
-    /// The grammar's parse error, or [`BonesError::FirstStepPastEnd`].
-    pub fn start(&mut self, params: &'a BonesParams<'a>, seed: u64) -> Result<(), Error> {
-        self.params = Some(params);
-        self.seed = seed;
-        self.frame = 0;
-        self.wrapping = false;
-        let loaded = self.grower.load(params.grammar).map_err(Error::from);
-        let checked = loaded.and_then(|()| {
-            let steps = self.grower.grammar().settings().steps;
-            match params.frames {
-                Frames::EveryStep { first } if first > steps => {
-                    Err(BonesError::FirstStepPastEnd { first, steps }.into())
-                }
-                _ => Ok(()),
-            }
-        });
-        self.failed.keep(checked)
-    }
-
     /// The current skeleton.
     #[must_use]
     pub fn skeleton(&self) -> &Skeleton {
@@ -195,8 +172,27 @@ impl<'a, const V: usize, const T: usize, const C: usize, D: Derivation> Start<'a
 {
     type Params = BonesParams<'a>;
 
+    /// Starts `params` with `seed`; an error is also returned by the first
+    /// step.
+    ///
+    /// # Errors
+    /// The grammar's parse error, or [`BonesError::FirstStepPastEnd`].
     fn start(&mut self, params: &'a BonesParams<'a>, seed: u64) -> Result<(), Error> {
-        Bones::start(self, params, seed)
+        self.params = Some(params);
+        self.seed = seed;
+        self.frame = 0;
+        self.wrapping = false;
+        let loaded = self.grower.load(params.grammar).map_err(Error::from);
+        let checked = loaded.and_then(|()| {
+            let steps = self.grower.grammar().settings().steps;
+            match params.frames {
+                Frames::EveryStep { first } if first > steps => {
+                    Err(BonesError::FirstStepPastEnd { first, steps }.into())
+                }
+                _ => Ok(()),
+            }
+        });
+        self.failed.keep(checked)
     }
 }
 

@@ -9,6 +9,7 @@ use super::*;
 use crate::Error;
 use crate::fx::{Fx, Real};
 use crate::shrinkwrap::{Element, Shrinkwrap, assert_closed_genus_0, signed_volume};
+use crate::sim::Start;
 
 type McuWrap = Shrinkwrap<Fx, MCU_VERTICES, MCU_TRIANGLES>;
 

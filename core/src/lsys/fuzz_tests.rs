@@ -10,8 +10,9 @@ use std::vec::Vec;
 
 use super::tests::ALL;
 use super::*;
+use crate::Error;
 use crate::rng::KeyedRng;
-use crate::sim::Simulation;
+use crate::sim::{Simulation, Start};
 use crate::stream::{Record, Sink, SinkError};
 
 /// Bytes the mutator inserts: the format's punctuation, digits, letters.
@@ -59,8 +60,8 @@ fn mutate(rng: &mut KeyedRng, seed: &[u8]) -> Vec<u8> {
 pub(crate) fn exercise(bytes: &[u8]) {
     let text = String::from_utf8_lossy(bytes);
     let mut sim = LSystem::new();
-    match sim.load(&text, 1) {
-        Err(LsysError::Parse(e)) => {
+    match sim.start(&text, 1) {
+        Err(Error::Lsys(LsysError::Parse(e))) => {
             let lines = text.split('\n').count() as u32;
             assert!(e.line >= 1 && e.line <= lines.max(1), "{e} in {text:?}");
             assert!(e.column >= 1, "{e}");

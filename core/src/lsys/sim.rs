@@ -70,7 +70,7 @@ pub(crate) fn turtle_params(g: &Grammar) -> Params<Fx> {
 
 impl LSystem<Streaming> {
     /// An empty simulation with streaming derivation (`const`, for a
-    /// `static`); [`LSystem::load`] a grammar before stepping it (until
+    /// `static`); [`Start::start`] it with a grammar before stepping it (until
     /// then it has no steps).
     #[must_use]
     pub const fn new() -> LSystem<Streaming> {
@@ -103,24 +103,6 @@ impl<D: Derivation> LSystem<D> {
             done: 0,
             failed: Deferred::new(),
         }
-    }
-
-    /// Parses `text` in place and rewinds to its first frame.
-    ///
-    /// # Errors
-    /// The parse error; stepping then returns it too.
-    pub fn load(&mut self, text: &str, seed: u64) -> Result<(), LsysError> {
-        self.seed = seed;
-        self.frame = 0;
-        self.plant = 0;
-        self.drawing = false;
-        self.done = 0;
-        let parsed = self.grammar.parse(text).map_err(LsysError::from);
-        if parsed.is_ok() {
-            self.turtle = Turtle::new(turtle_params(&self.grammar));
-        }
-        let _ = self.failed.keep(parsed.map_err(Error::Lsys));
-        parsed
     }
 
     /// The parsed grammar.
@@ -285,8 +267,19 @@ impl<D: Derivation> Start<'_> for LSystem<D> {
     /// The grammar's text (docs/lsystems.md).
     type Params = str;
 
+    /// Parses `grammar` in place and rewinds to its first frame; a parse
+    /// error ([`Error::Lsys`]) is also every step's.
     fn start(&mut self, grammar: &str, seed: u64) -> Result<(), Error> {
-        self.load(grammar, seed).map_err(Error::from)
+        self.seed = seed;
+        self.frame = 0;
+        self.plant = 0;
+        self.drawing = false;
+        self.done = 0;
+        let parsed = self.grammar.parse(grammar).map_err(LsysError::from);
+        if parsed.is_ok() {
+            self.turtle = Turtle::new(turtle_params(&self.grammar));
+        }
+        self.failed.keep(parsed.map_err(Error::Lsys))
     }
 }
 

@@ -8,7 +8,7 @@ use std::vec::Vec;
 
 use super::*;
 use crate::fx::{Fx, Real};
-use crate::sim::Simulation;
+use crate::sim::{Simulation, Start};
 use crate::stream::{Record, Sink, SinkError};
 use crate::turtle::{Drawn, Params, Turtle};
 
@@ -158,13 +158,13 @@ fn streaming_and_buffered_simulations_emit_identical_streams() {
     for (name, source) in ALL {
         for seed in [0, 5] {
             let mut streaming = LSystem::new();
-            streaming.load(source, seed).unwrap();
+            streaming.start(source, seed).unwrap();
             let s = run_sim(&mut streaming);
             let mut a = vec![Module::default(); 100_000];
             let mut b = vec![Module::default(); 100_000];
             let mut links = vec![Neighbours::default(); 100_000];
             let mut buffered = LSystem::with_derivation(Buffered::new(&mut a, &mut b, &mut links));
-            buffered.load(source, seed).unwrap();
+            buffered.start(source, seed).unwrap();
             let b = run_sim(&mut buffered);
             assert!(s.len() > 100, "{name}");
             assert!(s == b, "{name} seed {seed}: streams differ");
@@ -284,7 +284,7 @@ fn buffer_capacity_is_an_error_naming_the_limit() {
 
 fn segments(source: &str, seed: u64) -> Vec<([Fx; 3], [Fx; 3])> {
     let mut sim = LSystem::new();
-    sim.load(source, seed).unwrap();
+    sim.start(source, seed).unwrap();
     run_sim(&mut sim)
         .into_iter()
         .filter_map(|r| match r {
@@ -541,7 +541,7 @@ fn a_negative_width_or_an_out_of_range_colour_is_an_error() {
         ("n = 0\naxiom: '(-1)F", TurtleError::ColourOutOfRange),
     ] {
         let mut sim = LSystem::new();
-        sim.load(text, 0).unwrap();
+        sim.start(text, 0).unwrap();
         let mut sink = Records::default();
         let e = loop {
             match sim.step(&mut sink) {
@@ -647,7 +647,7 @@ fn erasing_billions_of_modules_is_pending_not_a_hang() {
         let text = format!(
             "n = 28\naxiom: F A(0)\nA(x) : x < 27 -> A(x + 1) A(x + 1)\nA(x) : x >= 27 -> {erase}"
         );
-        sim.load(&text, 0).unwrap();
+        sim.start(&text, 0).unwrap();
         let mut sink = Records::default();
         for _ in 0..3 {
             assert!(!sim.step(&mut sink).unwrap().finished());
@@ -668,7 +668,7 @@ fn interpretation_rules_erasing_millions_are_pending_too() {
     }
     let text = format!("n = 0\naxiom: F A F\ninterpretation:\nmaximum depth: 8\n{rules}J ->");
     let mut sim = LSystem::new();
-    sim.load(&text, 0).unwrap();
+    sim.start(&text, 0).unwrap();
     let mut sink = Records::default();
     let mut steps = 0;
     while !sim.step(&mut sink).unwrap().finished() {
@@ -837,7 +837,7 @@ fn abop_fig_2_8a_tracks_an_f64_turtle_and_droops() {
 
 fn sim_error(source: &str) -> crate::Error {
     let mut sim = LSystem::new();
-    sim.load(source, 0).unwrap();
+    sim.start(source, 0).unwrap();
     let mut sink = Records::default();
     loop {
         match sim.step(&mut sink) {
@@ -992,7 +992,7 @@ fn section_rules_are_checked_where_they_are_written() {
 
 fn polygons(source: &str) -> Vec<Vec<[Fx; 3]>> {
     let mut sim = LSystem::new();
-    sim.load(source, 0).unwrap();
+    sim.start(source, 0).unwrap();
     let mut out: Vec<Vec<[Fx; 3]>> = Vec::new();
     for r in run_sim(&mut sim) {
         match r {
@@ -1093,7 +1093,7 @@ fn buffered_segments(source: &str) -> Vec<([Fx; 3], [Fx; 3])> {
     let mut b = vec![Module::default(); 1000];
     let mut links = vec![Neighbours::default(); 1000];
     let mut sim = LSystem::with_derivation(Buffered::new(&mut a, &mut b, &mut links));
-    sim.load(source, 0).unwrap();
+    sim.start(source, 0).unwrap();
     run_sim(&mut sim)
         .into_iter()
         .filter_map(|r| match r {

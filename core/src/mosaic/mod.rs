@@ -14,7 +14,7 @@
 //! ```
 //! use morphogen::mosaic::{Mosaic, store::ArrayStore};
 //! use morphogen::preset::Model;
-//! use morphogen::sim::Simulation;
+//! use morphogen::sim::{Simulation, Start};
 //! use morphogen::stream::{Record, Sink, SinkError};
 //!
 //! /// Counts cell records.
@@ -239,15 +239,6 @@ impl<'a, S: Relax> Mosaic<'a, S> {
         }
     }
 
-    /// (Re)starts a run of `params` with `seed`, in place.
-    ///
-    /// # Errors
-    /// Invalid parameters, or more initial cells than the store holds; the
-    /// error is also kept and returned by the next [`Simulation::step`].
-    pub fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
-        self.start_run(params, seed)
-    }
-
     /// Number of cells.
     #[must_use]
     pub fn len(&self) -> usize {
@@ -426,8 +417,13 @@ impl<'a, S: Relax> Day<'a> for Mosaic<'a, S> {
 impl<'a, S: Relax> Start<'a> for Mosaic<'a, S> {
     type Params = Params<'a>;
 
+    /// (Re)starts a run of `params` with `seed`, in place.
+    ///
+    /// # Errors
+    /// Invalid parameters, or more initial cells than the store holds; the
+    /// error is also kept and returned by the next [`Simulation::step`].
     fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
-        Mosaic::start(self, params, seed)
+        self.start_run(params, seed)
     }
 }
 

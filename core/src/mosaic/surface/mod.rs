@@ -132,15 +132,6 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
         }
     }
 
-    /// (Re)starts a run of `params` with `seed`, in place.
-    ///
-    /// # Errors
-    /// Invalid parameters, a run without a surface, or more initial cells
-    /// than the store holds; also returned by the next step.
-    pub fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
-        self.start_run(params, seed)
-    }
-
     /// The mesh (empty before a start).
     #[must_use]
     pub fn mesh(&self) -> Mesh<'_> {
@@ -420,8 +411,13 @@ impl<'a, S: SurfaceRelax, M: MeshStore> Day<'a> for SurfaceMosaic<'a, S, M> {
 impl<'a, S: SurfaceRelax, M: MeshStore> Start<'a> for SurfaceMosaic<'a, S, M> {
     type Params = Params<'a>;
 
+    /// (Re)starts a run of `params` with `seed`, in place.
+    ///
+    /// # Errors
+    /// Invalid parameters, a run without a surface, or more initial cells
+    /// than the store holds; also returned by the next step.
     fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
-        SurfaceMosaic::start(self, params, seed)
+        self.start_run(params, seed)
     }
 }
 
