@@ -1,6 +1,11 @@
 //! Embeds the built-in scenarios (`scenarios/*.toml`) and the files they
 //! name (grammars, masks, body meshes and cylinders) so that the host needs no files at run time.
 
+#![allow(
+    clippy::expect_used,
+    reason = "a build script reports a failure by panicking"
+)]
+
 use std::env;
 use std::fmt::Write as _;
 use std::fs;

@@ -3,6 +3,14 @@
 //!
 //! `CARGO_TARGET_DIR=… cargo bench -p morphogen --bench body`
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    missing_docs,
+    reason = "a benchmark stops on a setup that is not as it expects; its harness macros generate undocumented items"
+)]
+
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use morphogen::body::Body;
 use morphogen::preset::Model;

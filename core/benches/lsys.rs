@@ -5,6 +5,14 @@
 //!
 //! `CARGO_TARGET_DIR=… cargo bench -p morphogen --bench lsys`
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    missing_docs,
+    reason = "a benchmark stops on a setup that is not as it expects; its harness macros generate undocumented items"
+)]
+
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};

@@ -1,6 +1,13 @@
 //! Built-in scenarios through `morphogen::sent`: what a device reads is
 //! the preset the host runs.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    reason = "a test stops at the first thing that is not as it expects"
+)]
+
 use morphogen::sent::{MAX_SENT, SentModel, SentReader, SentScenario};
 
 /// `sent` framed and read back as the firmware reads it.

@@ -9,6 +9,14 @@
 //! and 51,765 cells on 900 × 576, the pattern its cylinder shows) and
 //! croton-mcu (36 days of at most 2,048 cells: big tiles, few cells).
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    missing_docs,
+    reason = "a benchmark stops on a setup that is not as it expects; its harness macros generate undocumented items"
+)]
+
 use std::hint::black_box;
 use std::path::Path;
 

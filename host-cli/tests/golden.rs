@@ -3,6 +3,13 @@
 //! `bless --all` re-blesses; the fixtures folder is found from
 //! `--fixtures`, `MORPHOGEN_FIXTURES` or the nearest `fixtures/`.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    reason = "a test stops at the first thing that is not as it expects"
+)]
+
 use std::fs;
 use std::path::Path;
 use std::process::{Command, Output};

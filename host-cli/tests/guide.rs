@@ -4,6 +4,13 @@
 //! comment says), and each CI job's `morphogen verify` run with that CI
 //! system's variables.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    reason = "a test stops at the first thing that is not as it expects"
+)]
+
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};

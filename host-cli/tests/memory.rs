@@ -5,6 +5,14 @@
 //! the compressed bytes), the peak heap stays far below the stream and
 //! does not grow with it.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    reason = "a test stops at the first thing that is not as it expects"
+)]
+#![allow(unsafe_code, reason = "a global allocator that counts the heap")]
+
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};

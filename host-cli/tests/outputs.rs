@@ -3,6 +3,13 @@
 //! one `model.glb` per run with vertex colours and every frame, and the
 //! `--only` and `--quiet` options.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    reason = "a test stops at the first thing that is not as it expects"
+)]
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

@@ -2,6 +2,13 @@
 //! pending stream shown with what differs and its pictures, then
 //! accepted, rejected or skipped as answered.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    reason = "a test stops at the first thing that is not as it expects"
+)]
+
 use std::fs;
 use std::io::Write;
 use std::path::Path;

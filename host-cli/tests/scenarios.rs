@@ -3,6 +3,13 @@
 //! scenario is blessed and verified, and sweeps do not depend on the thread
 //! count or on sharding.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    reason = "a test stops at the first thing that is not as it expects"
+)]
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

@@ -1,6 +1,13 @@
 //! `morphogen send`: the message a device reads, and the scenarios it
 //! refuses.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    reason = "a test stops at the first thing that is not as it expects"
+)]
+
 use std::process::{Command, Output};
 
 use morphogen::sent::{MAX_SENT, SentModel, SentReader, SentScenario};

@@ -1,6 +1,13 @@
 //! `morphogen serve`: the page's files over HTTP with their MIME types, and
 //! a clear error when the page is not built.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    reason = "a test stops at the first thing that is not as it expects"
+)]
+
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
 use std::process::{Command, Stdio};

@@ -1,6 +1,13 @@
 //! `Scenario::uses_seed` says the truth: with two seeds, a built-in's
 //! stream differs beyond the header exactly when it says it uses the seed.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    reason = "a test stops at the first thing that is not as it expects"
+)]
+
 use morphogen::preset::Model;
 use morphogen::stream::Encoder;
 

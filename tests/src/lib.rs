@@ -1,6 +1,12 @@
 //! End-to-end tests across Morphogen's crates live in `tests/`; this is
 //! what several of them share.
 
+#![allow(
+    clippy::expect_used,
+    clippy::panic,
+    reason = "test support: a failure stops the test that asked"
+)]
+
 use std::path::Path;
 use std::process::Command;
 

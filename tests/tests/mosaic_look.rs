@@ -9,6 +9,13 @@
 //! pale centre is solid and grows with the days (Figs. 4.10, 4.12), and
 //! the amanita's red stays on the cap the mask gives it (Fig. 4.15).
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    reason = "a test stops at the first thing that is not as it expects"
+)]
+
 use std::path::Path;
 use std::process::Command;
 

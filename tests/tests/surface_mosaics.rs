@@ -7,6 +7,13 @@
 //!   Clark–Evans index (mean nearest-neighbour distance by 3D distance over
 //!   0.5/√density, 1 for random points) is at least 1.4.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    reason = "a test stops at the first thing that is not as it expects"
+)]
+
 use std::path::Path;
 use std::process::Command;
 

@@ -204,12 +204,14 @@ pub fn mesh(frame: &Frame, rings_per_year: u32) -> Mesh {
         if w[0].module != w[1].module || w[0].points.len() != w[1].points.len() {
             continue;
         }
+        let month = u32::from(w[0].ring) * 12 / rings_per_year.max(1);
+        let (a, b, n) = (starts[k], starts[k + 1], w[0].points.len());
         if m.groups.last().is_none_or(|g| g.0 != w[0].module) {
             m.groups.push((w[0].module, Vec::new()));
         }
-        let month = u32::from(w[0].ring) * 12 / rings_per_year.max(1);
-        let (a, b, n) = (starts[k], starts[k + 1], w[0].points.len());
-        let group = &mut m.groups.last_mut().expect("pushed above").1;
+        let Some((_, group)) = m.groups.last_mut() else {
+            continue;
+        };
         for i in 0..n {
             let j = (i + 1) % n;
             let (t1, t2) = if outward {
