@@ -3,20 +3,34 @@
 //! workstation and on a Cortex-M.
 //!
 //! ```
-//! use morphogen::preset::{self, Runner};
+//! use morphogen::fx::Fx;
+//! use morphogen::growth::Sigmoid;
+//! use morphogen::growth_curve::{GrowthCurve, Params};
+//! use morphogen::preset::{self, Model};
+//! use morphogen::sim::Start;
 //! use morphogen::stream::Encoder;
 //!
-//! // A built-in scenario (`scenarios/growth-curve.toml`), read by the std
-//! // crate `morphogen-scenario`; the firmware compiles its presets in.
-//! let scenario = morphogen_scenario::builtin("growth-curve").unwrap();
-//! scenario.with_preset(|preset| {
-//!     // Any `embedded_io::Write`: a `Vec<u8>` (the `std` feature), a
-//!     // UART on a device.
-//!     let mut encoder = Encoder::new(Vec::new());
-//!     preset::run(preset, 0, &mut Runner::new(), &mut encoder, &mut |_| {}).unwrap();
-//!     assert!(encoder.frames() > 700);
-//!     println!("digest {:016x}", encoder.digest());
-//! });
+//! // The horn paper's seasonal sigmoid (Sec. 2): fastest on day 151.5,
+//! // 22 days wide, over a year of 365 days, sampled daily.
+//! let params = Params {
+//!     growth: Sigmoid {
+//!         centre: Fx::from_ratio(303, 2),
+//!         width: Fx::from_int(22),
+//!         span: Fx::from_int(365),
+//!     },
+//!     days: 365,
+//! };
+//! let mut curve = GrowthCurve::IDLE;
+//! curve.start(&params, 0).unwrap();
+//! // Any `embedded_io::Write`: a `Vec<u8>` (the `std` feature), a UART on
+//! // a device.
+//! let mut encoder = Encoder::new(Vec::new());
+//! let digest = Model::GrowthCurve(params).params_digest();
+//! let header = preset::header("growth-curve", 0, digest);
+//! preset::drive(&mut curve, &header, &mut encoder, &mut |_| {}).unwrap();
+//! // The same bytes as the built-in preset's golden fixture
+//! // (fixtures/growth-curve/summary.toml), on any target.
+//! assert_eq!(encoder.digest(), 0x3796_d9cd_8193_fce1);
 //! ```
 #![cfg_attr(not(test), no_std)]
 #![forbid(unsafe_code)]
