@@ -1,5 +1,5 @@
-//! Deterministic randomness: keyed Xoshiro128++ streams (DESIGN.md,
-//! "Determinism contract"). Each consumer (a cell, a production occurrence)
+//! Deterministic randomness: keyed Xoshiro128++ streams (README.md,
+//! "How it is built"). Each consumer (a cell, a production occurrence)
 //! draws from its own stream, named by a 64-bit stream id, so results do
 //! not depend on traversal order or on how many other consumers exist.
 

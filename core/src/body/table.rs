@@ -1,5 +1,5 @@
 //! Growth tables: feature lengths measured at a few ages, interpolated in
-//! between (growth paper, Sec. 4 and Tables 1–2; DESIGN.md has the values).
+//! between (growth paper, Sec. 4 and Tables 1–2; docs/body.md has the values).
 //!
 //! Ages are months. Between two ages a column is interpolated linearly or by
 //! a monotone cubic (Fritsch–Butland tangents, so the curve never overshoots

@@ -1,5 +1,5 @@
 //! Dense sweeps of every elementary function against `libm` f64, asserting
-//! the error budgets of DESIGN.md ("Numbers").
+//! the error budgets README.md gives ("How it is built", Numbers).
 
 #![allow(clippy::float_arithmetic)]
 

@@ -1,5 +1,5 @@
 //! Binary angles: a `u32` where 2³² is one full turn, so wrap-around is free
-//! and exact (DESIGN.md, "Numbers").
+//! and exact (README.md, "How it is built").
 
 use core::ops::{Add, AddAssign, Neg, Sub, SubAssign};
 

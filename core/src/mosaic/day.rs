@@ -1,5 +1,4 @@
-//! The day of a clonal mosaic (thesis Sec. 3.2; DESIGN.md "Clonal
-//! mosaic"), the same on the plane ([`super::Mosaic`]) and on a mesh
+//! The day of a clonal mosaic (thesis Sec. 3.2; docs/mosaics.md), the same on the plane ([`super::Mosaic`]) and on a mesh
 //! ([`super::surface::SurfaceMosaic`]): day 0 spreads the initial cells and
 //! relaxes them ρ_i times without adhesion; each following day divides the
 //! cells whose division day has come, works out the repulsion radius again

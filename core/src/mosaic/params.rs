@@ -75,8 +75,8 @@ pub struct Params<'a> {
     pub daily_relaxations: u16,
     /// β of the heavy-ball relaxation, 0 to [`MAX_MOMENTUM`]: each step
     /// also moves a cell β times its last move, so pressure crosses a
-    /// clone in fewer steps to the same equilibrium (DESIGN.md "Clonal
-    /// mosaic"). 0 is the thesis's plain step and needs no velocities
+    /// clone in fewer steps to the same equilibrium (docs/mosaics.md,
+    /// "Departures from the thesis"). 0 is the thesis's plain step and needs no velocities
     /// (and leaves the parameter digest as it was before β existed).
     #[serde(skip_serializing_if = "is_zero")]
     pub momentum: Fx,
@@ -105,7 +105,7 @@ pub const MAX_SELF_ADHESION: Fx = Fx::from_ratio(95, 100);
 /// The largest momentum β: below 1, so that every move dies out.
 pub const MAX_MOMENTUM: Fx = Fx::from_ratio(95, 100);
 
-/// w_d of the original MClone code (DESIGN.md).
+/// w_d of the original MClone code (docs/mosaics.md).
 pub const ORIGINAL_PUSH_WEIGHT: Fx = Fx::from_ratio(66, 1000);
 
 /// An adhesion (or mutation) table from the diagonal and one value for

@@ -1,4 +1,4 @@
-//! Relaxation (thesis Sec. 3.2.1.1, DESIGN.md "Clonal mosaic"): every
+//! Relaxation (thesis Sec. 3.2.1.1, docs/mosaics.md): every
 //! neighbour q of p within the repulsion radius r pushes p by
 //! (1 − d/r)·ρ_pq·r·(p − q)/d = ρ_pq·(r − d)·(p − q)/d, with the pair's
 //! repulsion ρ_pq from the adhesion (1 − α_pq in the thesis; 1 for like

@@ -3,7 +3,7 @@
 //! in-memory framebuffer behind `morphogen run … --rig WxH` — so that the
 //! picture on the device and the PNG on the host come from the same code.
 //!
-//! What is drawn (DESIGN.md, "How data flows"):
+//! What is drawn (docs/stream-format.md, "What the records mean"):
 //! - [`Record::Segment`]: a line, its width scaled like the model (≥ 1 px),
 //!   in ink `colour`;
 //! - [`Record::Cell`]: a Voronoi region, as MClone displays its mosaics —

@@ -1,5 +1,5 @@
-//! The one output vocabulary and its wire format (DESIGN.md, "Stream
-//! format"; specified for receivers in `docs/stream-format.md`).
+//! The one output vocabulary and its wire format (specified for
+//! receivers in `docs/stream-format.md`).
 //!
 //! A simulation pushes [`Record`]s into a [`Sink`]. The [`Encoder`] sink
 //! turns each record into a frame — postcard bytes, a CRC-32, COBS, a zero
