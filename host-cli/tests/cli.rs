@@ -1010,3 +1010,28 @@ fn a_mismatch_is_a_mismatch_where_its_new_stream_cannot_be_left() {
         text(&o)
     );
 }
+
+/// The grammar that docs/lsystems.md shows to explain the format runs as
+/// written, saved as a file of its own.
+#[test]
+fn the_grammar_format_example_runs_as_written() {
+    let doc = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/lsystems.md"))
+        .unwrap();
+    let start = doc.find("# ABOP Fig. 2.6a\n").expect("the format example");
+    let end = start + doc[start..].find("```").unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("format.lsys");
+    fs::write(&file, &doc[start..end]).unwrap();
+    let out = tmp.path().join("out");
+    let o = morphogen(&[
+        "run",
+        "--grammar",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--only",
+        "png",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(out.join("plant.png").is_file());
+}
