@@ -4,13 +4,6 @@
 //! threads; the core's per-cell step (the MCU's) is the reference, bit for
 //! bit.
 
-#![allow(
-    clippy::unwrap_used,
-    clippy::expect_used,
-    clippy::panic,
-    reason = "a test stops at the first thing that is not as it expects"
-)]
-
 use morphogen::fx::Fx;
 use morphogen::mosaic::grid::Grid;
 use morphogen::mosaic::relaxation::{self, Forces, Relax};

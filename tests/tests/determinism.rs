@@ -2,13 +2,6 @@
 //! build writes equals, byte for byte, the one this (debug) test build
 //! computes in process.
 
-#![allow(
-    clippy::unwrap_used,
-    clippy::expect_used,
-    clippy::panic,
-    reason = "a test stops at the first thing that is not as it expects"
-)]
-
 use std::process::Command;
 
 use morphogen_cli::exec;

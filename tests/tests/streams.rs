@@ -1,13 +1,6 @@
 //! Every preset's stream, end to end through the core's encoder and the
 //! host's decoder and JSONL.
 
-#![allow(
-    clippy::unwrap_used,
-    clippy::expect_used,
-    clippy::panic,
-    reason = "a test stops at the first thing that is not as it expects"
-)]
-
 use morphogen::stream::{Decoder, Record, StreamDigest};
 use morphogen_cli::{exec, fixture, jsonl};
 
