@@ -185,16 +185,20 @@ fn run_scenario(
 ) -> Result<Outcome> {
     exec::warn_unused_seed(scenario, seed);
     let seed = seed.unwrap_or(scenario.seed());
-    let dir = out.unwrap_or_else(|| Path::new("out").join(scenario.name()));
-    let lock = FolderLock::take(&dir)?;
-    say_removed(&lock, &dir, writing.quiet)?;
-    let (stream, jsonl) = (dir.join(exec::STREAM_FILE), dir.join(exec::JSONL_FILE));
-    let paths = exec::RunPaths {
-        stream: &stream,
-        jsonl: writing.kinds.has(Kind::Jsonl).then_some(jsonl.as_path()),
-    };
-    let run = exec::run_to_file(scenario, what, seed, !writing.quiet, max_stream_mb, paths)?;
-    let written = exec::write_outputs(&dir, &run, !writing.quiet, |records, dir| {
+    let folder = Folder::take(
+        out.unwrap_or_else(|| Path::new("out").join(scenario.name())),
+        writing,
+    )?;
+    let dir = &folder.dir;
+    let run = exec::run_to_file(
+        scenario,
+        what,
+        seed,
+        !writing.quiet,
+        max_stream_mb,
+        folder.paths(writing),
+    )?;
+    let written = exec::write_outputs(dir, &run, !writing.quiet, |records, dir| {
         let mut files = outputs::write(scenario, records, dir, writing.kinds)?;
         if let Some(rig) = rig {
             let inks = outputs::rig_inks(scenario);
@@ -204,40 +208,79 @@ fn run_scenario(
     })?;
     // An earlier run's files of the series this run wrote anew, as they
     // were (their sizes), then gone.
-    let stale = outputs::numbered::stale(&dir, &written)?;
+    let stale = outputs::numbered::stale(dir, &written)?;
     let stale_lines = written::lines(&stale);
     outputs::numbered::remove(&stale)?;
     if writing.quiet {
         return Ok(Outcome::Ok);
     }
-    say!(
-        "{} seed {}: {} frames, {} bytes, digest {:016x}",
-        scenario.name(),
-        seed,
-        run.frames,
-        run.bytes,
-        run.digest
-    )?;
-    written::say_wrote(&written)?;
+    say_made(scenario.name(), seed, &run, &written)?;
     for line in stale_lines {
         say!("  removed an earlier run's {line}")?;
     }
     Ok(Outcome::Ok)
 }
 
-/// Says which temporary files of a stopped run the folder lock removed.
-fn say_removed(lock: &FolderLock, dir: &Path, quiet: bool) -> Result<()> {
-    let (count, bytes) = lock.removed;
-    if count > 0 && !quiet {
-        say!(
-            "removed {count} temporary file(s) ({}) that a stopped run left in {}",
-            indicatif::DecimalBytes(bytes),
-            dir.display()
-        )?;
-    }
-    Ok(())
+/// A run's output folder, locked for the run, and where its stream and
+/// records go.
+struct Folder {
+    dir: PathBuf,
+    stream: PathBuf,
+    jsonl: PathBuf,
+    _lock: FolderLock,
 }
 
+impl Folder {
+    /// Locks `dir` (creating it) and says which files of a stopped run the
+    /// lock removed.
+    fn take(dir: PathBuf, writing: Writing) -> Result<Folder> {
+        let lock = FolderLock::take(&dir)?;
+        let (count, bytes) = lock.removed;
+        if count > 0 && !writing.quiet {
+            say!(
+                "removed {count} temporary file(s) ({}) that a stopped run left in {}",
+                indicatif::DecimalBytes(bytes),
+                dir.display()
+            )?;
+        }
+        Ok(Folder {
+            stream: dir.join(exec::STREAM_FILE),
+            jsonl: dir.join(exec::JSONL_FILE),
+            dir,
+            _lock: lock,
+        })
+    }
+
+    /// The stream file, and the records' file if `writing` asks for it.
+    fn paths(&self, writing: Writing) -> exec::RunPaths<'_> {
+        exec::RunPaths {
+            stream: &self.stream,
+            jsonl: writing
+                .kinds
+                .has(Kind::Jsonl)
+                .then_some(self.jsonl.as_path()),
+        }
+    }
+}
+
+/// Says what a run of `name` made: its frames, bytes and digest, and the
+/// files written.
+fn say_made(
+    name: impl std::fmt::Display,
+    seed: u64,
+    run: &exec::RunFile,
+    written: &[PathBuf],
+) -> Result<()> {
+    say!(
+        "{name} seed {seed}: {} frames, {} bytes, digest {:016x}",
+        run.frames,
+        run.bytes,
+        run.digest
+    )?;
+    written::say_wrote(written)
+}
+
+/// A grammar file run on its own, as a plant.
 fn run_grammar(
     file: &Path,
     seed: Option<u64>,
@@ -253,29 +296,14 @@ fn run_grammar(
     let stem = file
         .file_stem()
         .map_or_else(|| "grammar".into(), |s| s.to_string_lossy().into_owned());
-    let dir = out.unwrap_or_else(|| Path::new("out").join(&stem));
-    let lock = FolderLock::take(&dir)?;
-    say_removed(&lock, &dir, writing.quiet)?;
-    let (stream, jsonl) = (dir.join(exec::STREAM_FILE), dir.join(exec::JSONL_FILE));
-    let paths = exec::RunPaths {
-        stream: &stream,
-        jsonl: writing.kinds.has(Kind::Jsonl).then_some(jsonl.as_path()),
-    };
+    let folder = Folder::take(out.unwrap_or_else(|| Path::new("out").join(&stem)), writing)?;
+    let paths = folder.paths(writing);
     let run = exec::run_grammar(file, &text, seed, max_stream_mb, paths, !writing.quiet)?;
-    let written = exec::write_outputs(&dir, &run, !writing.quiet, |records, dir| {
+    let written = exec::write_outputs(&folder.dir, &run, !writing.quiet, |records, dir| {
         outputs::plant::write(records, dir, writing.kinds)
     })?;
-    if writing.quiet {
-        return Ok(Outcome::Ok);
+    if !writing.quiet {
+        say_made(file.display(), seed, &run, &written)?;
     }
-    say!(
-        "{} seed {}: {} frames, {} bytes, digest {:016x}",
-        file.display(),
-        seed,
-        run.frames,
-        run.bytes,
-        run.digest
-    )?;
-    written::say_wrote(&written)?;
     Ok(Outcome::Ok)
 }
