@@ -15,14 +15,17 @@ use morphogen::fx::{Fx, Real};
 use morphogen::stream::Record;
 use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
+use super::chart::write_chart;
 use super::chart::{Axis, Chart, Series, series_colour};
+use super::kinds::{Kind, Kinds};
 use super::mesh::{self, GlbWriter, Library, ObjStyle, write_frame_obj};
+use super::montage::save_montage;
+use super::numbered::{FileSeries, Numbering};
 use super::picture::Canvases;
-use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, normals,
-    numbered::{FileSeries, Numbering},
-    picture, pipeline, raster, save_montage, trimmed, write_chart,
-};
+use super::pipeline::pipeline;
+use super::slots::{ANIMATION_DELAY_MS, OrderedAnimation, animation_frames};
+use super::text::trimmed;
+use super::{normals, picture, raster};
 use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
 
@@ -222,7 +225,7 @@ pub(crate) fn draw(
         let (Some(a), Some(b), Some(c)) = (z(t[0]), z(t[1]), z(t[2])) else {
             continue;
         };
-        order.push((super::depth_key((a + b + c) / 3.0), i));
+        order.push((raster::depth_key((a + b + c) / 3.0), i));
     }
     // Back to front: the stable sort by depth, as keys and positions.
     order.sort_unstable();

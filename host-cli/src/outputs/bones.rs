@@ -21,12 +21,13 @@ use nalgebra::Vector3;
 use super::animation::{AnimationWriter, Pixels};
 use super::body::{self, Extent, Frame, Shading, canvas, canvases, draw, rgb_of, solid};
 use super::chart::{Axis, Chart, Series, write_png, write_svg};
+use super::kinds::{Kind, Kinds};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
-use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, animation_frames,
-    numbered::{FileSeries, Numbering},
-    picture, save_montage, trimmed,
-};
+use super::montage::save_montage;
+use super::numbered::{FileSeries, Numbering};
+use super::picture;
+use super::slots::{ANIMATION_DELAY_MS, animation_frames};
+use super::text::trimmed;
 use crate::atomic::write_atomic;
 use crate::records::{Place, Records};
 

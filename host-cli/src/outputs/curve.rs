@@ -10,9 +10,9 @@ use morphogen::fx::Fx;
 use morphogen::growth_curve::{SERIES_DAILY, SERIES_GROWTH};
 use morphogen::stream::Record;
 
-use super::chart::{Axis, Chart, Series};
+use super::chart::{Axis, Chart, Series, write_chart};
+use super::kinds::{Kind, Kinds};
 use super::text::{self, Whole};
-use super::{Kind, Kinds, write_chart};
 use crate::atomic::OutputFile;
 use crate::records::{Place, Records};
 

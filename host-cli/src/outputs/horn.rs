@@ -23,15 +23,18 @@ use morphogen::horn::HornParams;
 use morphogen::stream::Record;
 use tiny_skia::{Color, Pixmap};
 
-use super::chart::{Axis, Chart, Series};
+use super::chart::{Axis, Chart, Series, write_chart};
+use super::kinds::{Kind, Kinds};
 use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
+use super::montage::{paste_rgb, save_montage_rgb};
+use super::numbered::{FileSeries, Numbering};
 use super::picture::Canvases;
+use super::pipeline::pipeline;
+use super::raster::depth_key;
+use super::slots::{ANIMATION_DELAY_MS, OrderedAnimation, animation_frames};
+use super::text::trimmed;
 use super::vector::{cross, dot, sub};
-use super::{
-    ANIMATION_DELAY_MS, Kind, Kinds, OrderedAnimation, animation_frames, depth_key, mesh, normals,
-    numbered::{FileSeries, Numbering},
-    paste_rgb, picture, pipeline, raster, save_montage_rgb, tip_bend, trimmed, write_chart,
-};
+use super::{mesh, normals, picture, raster, tip_bend};
 use crate::records::{Place, Records};
 
 /// A point in cm.

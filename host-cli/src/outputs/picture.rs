@@ -53,12 +53,7 @@ fn encode(
 /// # Errors
 /// When encoding or writing fails.
 pub fn save(pixmap: &Pixmap, path: &Path) -> Result<()> {
-    save_rgb(
-        pixmap.width(),
-        pixmap.height(),
-        &super::rgb_bytes(pixmap),
-        path,
-    )
+    save_rgb(pixmap.width(), pixmap.height(), &rgb_bytes(pixmap), path)
 }
 
 /// Writes `width × height` RGB bytes, row by row, as a PNG.
@@ -277,9 +272,65 @@ fn average<const C: usize>(out: &mut [u8], top: &[u8], bottom: &[u8]) {
     }
 }
 
+/// A picture's pixels as RGB bytes (every pixel opaque).
+#[must_use]
+pub fn rgb_bytes(pixmap: &Pixmap) -> Vec<u8> {
+    // Opaque premultiplied pixels are their own RGB.
+    let mut rgb = vec![0; 3 * pixmap.pixels().len()];
+    let (fours, rest) = pixmap.data().as_chunks::<16>();
+    let (out, out_rest) = rgb.as_chunks_mut::<12>();
+    for (out, four) in out.iter_mut().zip(fours) {
+        let words: [u32; 4] = std::array::from_fn(|k| {
+            u32::from_le_bytes([
+                four[4 * k],
+                four[4 * k + 1],
+                four[4 * k + 2],
+                four[4 * k + 3],
+            ])
+        });
+        *out = pack_rgb(words);
+    }
+    let pixels = rest.as_chunks::<4>().0;
+    for (out, rgba) in out_rest.as_chunks_mut::<3>().0.iter_mut().zip(pixels) {
+        *out = [rgba[0], rgba[1], rgba[2]];
+    }
+    rgb
+}
+
+/// The low three bytes of each of four little-endian words (a pixel's
+/// red, green, blue; the high byte is dropped), packed into 12 bytes with
+/// three word stores instead of twelve byte stores.
+#[must_use]
+pub(crate) fn pack_rgb([a, b, c, d]: [u32; 4]) -> [u8; 12] {
+    let words = [
+        (a & 0x00ff_ffff) | b << 24,
+        (b >> 8 & 0xffff) | c << 16,
+        (c >> 16 & 0xff) | d << 8,
+    ];
+    let mut out = [0; 12];
+    for (bytes, word) in out.as_chunks_mut::<4>().0.iter_mut().zip(words) {
+        *bytes = word.to_le_bytes();
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use tiny_skia::{Color, PremultipliedColorU8};
+
+    #[test]
+    fn rgb_bytes_drop_alpha_four_pixels_at_a_time_and_after() {
+        // 7 pixels: one packed group of four, three left over.
+        let mut pixmap = Pixmap::new(7, 1).unwrap();
+        let rgba: Vec<u8> = (0..28u8).map(|b| b.wrapping_mul(37)).collect();
+        pixmap.data_mut().copy_from_slice(&rgba);
+        let want: Vec<u8> = rgba.chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+        assert_eq!(rgb_bytes(&pixmap), want);
+        assert_eq!(
+            pack_rgb([0xff03_0201, 0xee06_0504, 0xdd09_0807, 0xcc0c_0b0a]),
+            [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]
+        );
+    }
 
     use super::*;
 

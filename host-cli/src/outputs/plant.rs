@@ -19,9 +19,11 @@ use tiny_skia::{Color, Pixmap};
 
 use super::animation::{AnimationWriter, Pixels};
 use super::fill::Filler;
+use super::kinds::{Kind, Kinds};
 use super::mesh::{self, GlbWriter, GroupId, Numbers, ObjStyle};
+use super::picture::{self, rgb_bytes};
+use super::slots::{ANIMATION_DELAY_MS, animation_frames};
 use super::text::{self, Whole};
-use super::{ANIMATION_DELAY_MS, Kind, Kinds, animation_frames, picture, rgb_bytes};
 use crate::atomic::OutputFile;
 use crate::records::{Place, Records};
 

@@ -238,6 +238,15 @@ impl Cover {
     }
 }
 
+/// `depth` as an integer that orders as [`f64::total_cmp`] does: sorting
+/// `(depth_key(depth), position)` pairs unstably is the stable sort by
+/// depth, on 16-byte items however large the things sorted.
+#[must_use]
+pub(crate) fn depth_key(depth: f64) -> i64 {
+    let bits = depth.to_bits() as i64;
+    bits ^ ((((bits >> 63) as u64) >> 1) as i64)
+}
+
 #[cfg(test)]
 mod tests {
     use tiny_skia::Color;

@@ -172,6 +172,18 @@ pub fn float(out: &mut Vec<u8>, x: f64) {
     }
 }
 
+/// `x` with at most `decimals` decimals, trailing zeros cut (`2.5`,
+/// `3`, `0.08`): a frame label's number.
+#[must_use]
+pub fn trimmed(x: f64, decimals: usize) -> String {
+    let text = format!("{x:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        text
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -23,16 +23,15 @@ use morphogen::fx::Fx;
 use morphogen::mosaic::Params;
 use morphogen::stream::Record;
 
-use super::chart::{Axis, Chart, Series};
+use super::chart::{Axis, Chart, Series, write_chart};
+use super::kinds::{Kind, Kinds};
 use super::mesh::{Mesh, ObjStyle, write_obj};
+use super::numbered::{FileSeries, Numbering};
 use super::picture;
+use super::pipeline::pipeline;
+use super::slots::{OrderedAnimation, animation_frames};
 use super::surface::Surface;
 use super::text;
-use super::{
-    Kind, Kinds, OrderedAnimation, animation_frames,
-    numbered::{FileSeries, Numbering},
-    pipeline, write_chart,
-};
 use crate::atomic::{self, OutputFile, write_atomic};
 use crate::records::{Place, Records};
 

@@ -14,7 +14,7 @@ use anyhow::Result;
 use morphogen::fx::Fx;
 use morphogen::mosaic::Domain;
 
-use crate::outputs::pack_rgb;
+use crate::outputs::picture::pack_rgb;
 use crate::outputs::picture::save_indexed;
 use crate::outputs::surface::pattern_pixel;
 

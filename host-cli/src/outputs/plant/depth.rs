@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 
 use super::Item;
-use crate::outputs::depth_key as key;
+use crate::outputs::raster::depth_key as key;
 
 /// The bytes of items held before they are sorted and spilled as a run.
 pub(crate) const BUDGET: usize = 1 << 20;

@@ -20,6 +20,7 @@ use morphogen::mosaic::surface::ControlMap;
 use morphogen::stream::Record;
 use rayon::prelude::*;
 
+use super::kinds::{Kind, Kinds};
 use super::mesh::{Mesh, ObjStyle, Rgb, write_obj};
 use super::mosaic::{
     write_counts_and_mask, write_csv, write_mosaic_obj, write_pattern, write_shares,
@@ -27,7 +28,6 @@ use super::mosaic::{
 use super::numbered::{FileSeries, Numbering};
 use super::picture;
 use super::vector::{cross, dot, sub};
-use super::{Kind, Kinds};
 use crate::atomic;
 use crate::records::{Place, Records};
 use control::Unrolled;
