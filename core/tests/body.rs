@@ -3,11 +3,9 @@
 #![allow(clippy::float_arithmetic, clippy::unwrap_used)]
 
 use morphogen::Error;
-use morphogen::body::binding::MAX_BINDINGS;
-use morphogen::body::skeleton::Skeleton;
 use morphogen::body::{
-    Body, BodyError, BodyModel, BodyParams, Cylinder, Drive, Joint, Label, MAX_CYLINDERS,
-    quadruped, solve,
+    Body, BodyError, BodyModel, BodyParams, Cylinder, Drive, Joint, Label, MAX_BINDINGS,
+    MAX_CYLINDERS, Skeleton, feature_target, quadruped,
 };
 use morphogen::fx::{Angle, Fx, Real};
 use morphogen::preset::Model;
@@ -18,7 +16,7 @@ use nalgebra::Vector3;
 type FxSkeleton = Skeleton<Fx, MAX_CYLINDERS>;
 
 fn n(v: Vector3<f64>) -> f64 {
-    morphogen::body::cylinder::norm(&v)
+    v.dot(&v).sqrt()
 }
 
 /// Poses a skeleton of scalar `R` at frame `frame` of `params`.
@@ -170,7 +168,7 @@ fn at_every_table_age_the_deformed_features_have_the_tables_lengths() {
                             }
                             Drive::Follows(_) | Drive::Below { .. } => {
                                 let rest = s.rest(c).unwrap();
-                                solve::feature_target(
+                                feature_target(
                                     cyl,
                                     rest,
                                     i,
@@ -210,7 +208,7 @@ fn joints_do_not_change_feature_lengths() {
             for (c, cyl) in params.model.cylinders.iter().enumerate() {
                 for i in 0..2 {
                     let rest = s.rest(c).unwrap();
-                    let want = solve::feature_target(
+                    let want = feature_target(
                         cyl,
                         rest,
                         i,

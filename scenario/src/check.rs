@@ -1210,7 +1210,7 @@ fn user_body(
                         "{mesh_name}:{}: vertex {} lies in more than {} cylinders ({e}); make the cylinders overlap less",
                         obj.vertex_lines.get(v).copied().unwrap_or(0),
                         v + 1,
-                        morphogen::body::binding::MAX_BINDINGS
+                        morphogen::body::MAX_BINDINGS
                     ),
                 },
                 (_, Some(c), _) => Invalid {

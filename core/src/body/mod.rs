@@ -3,20 +3,22 @@
 //! measured features, deformed continuously as the animal grows, and
 //! animated through the same hierarchy by joint rotations.
 //!
-//! One idea per module:
-//! - [`cylinder`]: the hierarchy, placements and features;
-//! - [`table`]: growth tables and their interpolation;
-//! - [`solve`]: the 2×2 system for L² and R² (growth matrix G);
-//! - [`chain`]: the transform chain `T_AB·G_A⁻¹·R_AB·R·S·G_B` and joints;
-//! - [`binding`]: vertex weights over the cylinders containing a vertex;
-//! - [`mesh`]: the surface (procedural tubes or an indexed mesh);
-//! - [`quadruped`]: the built-in horse and cow;
-//! - [`gait`]: joint angles over a stride (the trot);
-//! - [`stance`]: the supports, the trunk's pitch and the lift that keep
-//!   the body standing;
-//! - [`skeleton`]: the posed hierarchy, generic over [`Real`](crate::fx::Real);
-//! - [`sim`]: the [`Body`] simulation and its [`BodyParams`] (the built-in
-//!   bodies are the scenarios `horse-growth`, `cow-growth`, `horse-trot`,
+//! Its parts, one idea per (private) module:
+//! - the hierarchy, placements and features: [`Cylinder`], [`Anchor`],
+//!   [`Feature`], [`Drive`];
+//! - growth tables and their interpolation: [`table`], [`GrowthTable`];
+//! - the 2×2 system for L² and R² (growth matrix G): [`feature_target`];
+//! - the transform chain `T_AB·G_A⁻¹·R_AB·R·S·G_B` and its [`Joint`]s;
+//! - vertex weights over the cylinders containing a vertex (at most
+//!   [`MAX_BINDINGS`]): [`binding_summary`];
+//! - the surface, procedural tubes or an indexed [`Mesh`];
+//! - the built-in horse and cow: [`quadruped`];
+//! - joint angles over a stride (the trot): [`gait`];
+//! - the supports, the trunk's pitch and the lift that keep the body
+//!   standing, part of posing the [`Skeleton`], which is generic over
+//!   [`Real`](crate::fx::Real) (the `f64` instance is the reference);
+//! - the [`Body`] simulation and its [`BodyParams`] (the built-in bodies
+//!   are the scenarios `horse-growth`, `cow-growth`, `horse-trot`,
 //!   `cow-trot`, `horse-with-cow-growth`, `cow-walk`).
 //!
 //! ```
@@ -45,29 +47,31 @@
 //! });
 //! ```
 
-pub mod binding;
-pub mod chain;
-pub mod cylinder;
+mod binding;
+mod chain;
+mod cylinder;
 mod error;
 pub mod gait;
 mod label;
-pub mod mesh;
+mod mesh;
 pub mod quadruped;
-pub mod sim;
-pub mod skeleton;
-pub mod solve;
-pub mod stance;
+mod sim;
+mod skeleton;
+mod solve;
+mod stance;
 pub mod table;
 
 use serde::Serialize;
 
+pub use binding::MAX_BINDINGS;
 pub use chain::Joint;
-pub use cylinder::{Anchor, Cylinder, Drive, Feature};
+pub use cylinder::{Anchor, Cylinder, Drive, Feature, Rest};
 pub use error::BodyError;
 pub use label::{LABEL_BYTES, Label};
 pub use mesh::Mesh;
 pub use sim::{Body, BodyParams};
 pub use skeleton::Skeleton;
+pub use solve::feature_target;
 pub use table::{GrowthTable, Interpolation};
 
 /// Capacity: cylinders of the built-in bodies' simulation (the horse and

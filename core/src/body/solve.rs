@@ -149,7 +149,8 @@ fn target<R: Real>(
 /// the table's unit.
 ///
 /// # Errors
-/// As [`solve`].
+/// [`BodyError::UnknownColumn`] when the table has no value of a column
+/// the feature is driven by.
 pub fn feature_target<R: Real>(
     cylinder: &Cylinder,
     rest: &Rest<R>,

@@ -3,11 +3,11 @@
 //!
 //! A horn is a linear hierarchy of modules E_1 … E_k; module i appears at
 //! global time (i−1)T, grows while its local time τ runs over \[0, T\] and then
-//! keeps its shape. Its positioner P_i(τ) = T_i(τ)·R_z·R_y·R_x ([`positioner`])
+//! keeps its shape. Its positioner P_i(τ) = T_i(τ)·R_z·R_y·R_x
 //! is used twice: it sweeps the cross-sections L_i(θ) into the module's
 //! surface V_i(τ) = P_i(τ)·⋃_{θ∈\[0,τ\]} P_i(θ)⁻¹·L_i(θ) (a generalised
 //! cylinder, Algorithm 1), and it carries the older horn:
-//! Z_i(t) = V_i(τ) ∪ P_i(τ)·Ẑ_{i−1} ([`kernel`]). Only the youngest
+//! Z_i(t) = V_i(τ) ∪ P_i(τ)·Ẑ_{i−1} ([`HornKernel`]). Only the youngest
 //! positioner moves, and the upper base of module i is by construction the
 //! lower base of module i−1, so the surface is continuous at every t.
 //!
@@ -28,12 +28,12 @@
 //! The kernel is generic over [`Real`](crate::fx::Real): the [`Fx`](crate::fx::Fx)
 //! instance writes the stream, the `f64` instance is its accuracy reference.
 
-pub mod clock;
+mod clock;
 mod error;
-pub mod kernel;
-pub mod outline;
-pub mod params;
-pub mod positioner;
+mod kernel;
+mod outline;
+mod params;
+mod positioner;
 mod sim;
 
 pub use clock::{LocalTime, Moment};
