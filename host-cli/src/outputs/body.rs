@@ -49,10 +49,6 @@ pub struct Frame {
     pub triangles: Vec<[u32; 3]>,
 }
 
-fn fx(v: morphogen::fx::Fx) -> f64 {
-    f64::from(v.to_bits()) / 65_536.0
-}
-
 /// Splits a record stream into frames, one record at a time: a frame
 /// start begins a frame (dropping one left open), a frame end hands it
 /// over.
@@ -68,7 +64,7 @@ impl Framer {
             Record::FrameStart { frame, time } => {
                 self.current = Some(Frame {
                     index: *frame,
-                    age: fx(*time),
+                    age: f64::from_fx(*time),
                     ..Frame::default()
                 });
             }
@@ -78,7 +74,7 @@ impl Framer {
                     if f.vertices.len() <= i {
                         f.vertices.resize(i + 1, [0.0; 3]);
                     }
-                    f.vertices[i] = p.map(fx);
+                    f.vertices[i] = p.map(f64::from_fx);
                 }
             }
             Record::Triangle { v } => {

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use morphogen::fx::Fx;
+use morphogen::fx::Real as _;
 use morphogen::growth_curve::{SERIES_DAILY, SERIES_GROWTH};
 use morphogen::stream::Record;
 
@@ -37,7 +38,7 @@ fn series<R: Records + ?Sized>(records: &R) -> Result<(Samples, Samples)> {
 }
 
 fn real((x, y): (Fx, Fx)) -> (f64, f64) {
-    (fx_real(x), fx_real(y))
+    (f64::from_fx(x), f64::from_fx(y))
 }
 
 /// Writes `growth.csv`, `growth.png` and `growth.svg` (those of `kinds`).
@@ -67,7 +68,7 @@ pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Resu
         })?;
         written.push(csv_path);
     }
-    let days = growth.last().map_or(365.0, |p| fx_real(p.0));
+    let days = growth.last().map_or(365.0, |p| f64::from_fx(p.0));
     let chart = Chart::new(
         "Seasonal growth",
         Axis::new("time", "days").with_range(0.0, days.max(1.0)),
@@ -78,8 +79,4 @@ pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Resu
     .with_series(Series::line("daily increment", daily.into_iter().map(real).collect()).on_right());
     write_chart(&chart, dir, "growth", (900, 500), kinds, &mut written)?;
     Ok(written)
-}
-
-fn fx_real(v: Fx) -> f64 {
-    f64::from(v.to_bits()) / 65_536.0
 }

@@ -19,6 +19,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 use anyhow::{Context, Result, anyhow, bail};
+use morphogen::fx::Real as _;
 use morphogen::horn::HornParams;
 use morphogen::stream::Record;
 use tiny_skia::{Color, Pixmap};
@@ -62,10 +63,6 @@ pub struct Frame {
     pub rings: Vec<Ring>,
 }
 
-fn fx(v: morphogen::fx::Fx) -> f64 {
-    f64::from(v.to_bits()) / 65_536.0
-}
-
 /// Groups a horn stream's records into frames, one record at a time.
 #[derive(Debug, Default)]
 pub struct Framer {
@@ -88,7 +85,7 @@ impl Framer {
                 }
                 self.current = Some(Frame {
                     index: *frame,
-                    years: fx(*time),
+                    years: f64::from_fx(*time),
                     rings: Vec::new(),
                 });
             }
@@ -118,7 +115,8 @@ impl Framer {
                 if self.expected == 0 {
                     bail!("frame {}: more points than the ring announced", f.index);
                 }
-                ring.points.push([fx(p[0]), fx(p[1]), fx(p[2])]);
+                ring.points
+                    .push([f64::from_fx(p[0]), f64::from_fx(p[1]), f64::from_fx(p[2])]);
                 self.expected -= 1;
             }
             Record::FrameEnd { frame } => {

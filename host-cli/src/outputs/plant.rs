@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use morphogen::fx::Fx;
+use morphogen::fx::Real as _;
 use morphogen::stream::Record;
 use tiny_skia::{Color, Pixmap};
 
@@ -29,12 +30,8 @@ use crate::records::{Place, Records};
 
 mod depth;
 
-fn f(v: Fx) -> f64 {
-    f64::from(v.to_bits()) / 65_536.0
-}
-
 fn p3(p: &[Fx; 3]) -> [f64; 3] {
-    [f(p[0]), f(p[1]), f(p[2])]
+    [f64::from_fx(p[0]), f64::from_fx(p[1]), f64::from_fx(p[2])]
 }
 
 /// A drawable item of a frame.
@@ -102,7 +99,7 @@ fn frame_items<R: Records + ?Sized>(
             } => each(Item::Segment {
                 a: p3(a),
                 b: p3(b),
-                width: f(*width),
+                width: f64::from_fx(*width),
                 colour: *colour,
             })?,
             Record::Polygon { vertices, colour } if *vertices == 0 => each(Item::Polygon {

@@ -10,6 +10,7 @@
 use std::f64::consts::TAU;
 
 use anyhow::Result;
+use morphogen::fx::Real as _;
 use morphogen::mosaic::Domain;
 use tiny_skia::{Pixmap, PremultipliedColorU8};
 
@@ -49,7 +50,7 @@ impl Surface {
     /// flat).
     #[must_use]
     pub fn of(domain: &Domain) -> Surface {
-        let size = domain.size.map(|s| f64::from(s.to_bits()) / 65_536.0);
+        let size = domain.size.map(f64::from_fx);
         let wrap = match domain.periodic {
             [true, false] => Some(0),
             [false, true] => Some(1),

@@ -20,6 +20,7 @@ use std::sync::{Arc, Mutex};
 
 use anyhow::{Result, anyhow};
 use morphogen::fx::Fx;
+use morphogen::fx::Real as _;
 use morphogen::mosaic::Params;
 use morphogen::stream::Record;
 
@@ -246,7 +247,7 @@ pub fn write<R: Records + ?Sized>(
             let mut paths = Vec::with_capacity(2);
             if kinds.has(Kind::Csv) {
                 let csv = dir.join(numbering.name(FileSeries::CELLS, d.day));
-                let unit = |v: Fx| f64::from(v.to_bits()) / 65_536.0;
+                let unit = |v: Fx| f64::from_fx(v);
                 let points = d
                     .cells
                     .iter()

@@ -12,6 +12,7 @@ use std::path::Path;
 
 use anyhow::Result;
 use morphogen::fx::Fx;
+use morphogen::fx::Real as _;
 use morphogen::mosaic::Domain;
 
 use crate::outputs::picture::pack_rgb;
@@ -55,7 +56,7 @@ struct Bins {
 
 impl Bins {
     fn new(domain: &Domain, sites: Vec<Site>) -> Bins {
-        let size = domain.size.map(|s| f64::from(s.to_bits()) / 65_536.0);
+        let size = domain.size.map(f64::from_fx);
         let spacing = (size[0] * size[1] / sites.len().max(1) as f64).sqrt();
         let n = size.map(|s| ((s / spacing) as i64).clamp(1, 4096));
         let side = [size[0] / n[0] as f64, size[1] / n[1] as f64];
@@ -228,7 +229,7 @@ const UNKNOWN: u8 = 1;
 /// The size of a mosaic's pictures, pixels: [`LONG_SIDE`] along the
 /// domain's longer side.
 pub(super) fn picture_size(domain: &Domain) -> (usize, usize) {
-    let size = domain.size.map(|s| f64::from(s.to_bits()) / 65_536.0);
+    let size = domain.size.map(f64::from_fx);
     let scale = LONG_SIDE / size[0].max(size[1]);
     let w = ((size[0] * scale).round() as usize).max(1);
     let h = ((size[1] * scale).round() as usize).max(1);
@@ -272,7 +273,7 @@ impl Indexed {
     /// The picture as a [`Raster`] of `domain`, for its pattern's figures.
     #[must_use]
     pub fn raster(&self, domain: &Domain) -> Raster<'_> {
-        let size = domain.size.map(|s| f64::from(s.to_bits()) / 65_536.0);
+        let size = domain.size.map(f64::from_fx);
         Raster {
             pixels: &self.pixels,
             width: self.width,
@@ -473,8 +474,8 @@ pub fn voronoi(domain: &Domain, colours: &[[u8; 3]], cells: &[(u32, u8, Fx, Fx)]
         .iter()
         .enumerate()
         .map(|(i, &(_, kind, x, y))| Site {
-            x: f64::from(x.to_bits()) / 65_536.0,
-            y: f64::from(y.to_bits()) / 65_536.0,
+            x: f64::from_fx(x),
+            y: f64::from_fx(y),
             order: i as u32,
             colour: if usize::from(kind) + 2 < palette.len() {
                 kind + 2
@@ -534,7 +535,7 @@ mod tests {
     /// The nearest cell by brute force, ties to the first, periodic
     /// distances where the domain wraps.
     fn brute(domain: &Domain, sites: &[Site], x: f64, y: f64) -> u8 {
-        let size = domain.size.map(|s| f64::from(s.to_bits()) / 65_536.0);
+        let size = domain.size.map(f64::from_fx);
         let delta = |axis: usize, d: f64| {
             if domain.periodic[axis] {
                 d - size[axis] * (d / size[axis]).round()
@@ -618,8 +619,8 @@ mod tests {
                     .iter()
                     .enumerate()
                     .map(|(i, c)| Site {
-                        x: f64::from(c.2.to_bits()) / 65_536.0,
-                        y: f64::from(c.3.to_bits()) / 65_536.0,
+                        x: f64::from_fx(c.2),
+                        y: f64::from_fx(c.3),
                         order: i as u32,
                         colour: if c.1 < 2 { c.1 + 2 } else { UNKNOWN },
                     })

@@ -4,6 +4,7 @@
 //! measured as on a cylinder's side ([`Raster`]): every pixel takes the
 //! type most of the surface's sample points that land on it have.
 
+use morphogen::fx::Real as _;
 use morphogen::mosaic::Params;
 use morphogen::mosaic::surface::ControlMap;
 
@@ -34,10 +35,7 @@ impl Unrolled {
     /// Samples every triangle of `shell` densely enough that each pixel it
     /// covers gets points, and lets each pixel's points vote for its type.
     pub(super) fn new(shell: &Shell, near: &Nearest, params: &Params, types: usize) -> Unrolled {
-        let size = params
-            .domain
-            .size
-            .map(|s| f64::from(s.to_bits()) / 65_536.0);
+        let size = params.domain.size.map(f64::from_fx);
         let scale = LONG_SIDE / size[0].max(size[1]);
         let (w, h) = (
             ((size[0] * scale).round() as usize).max(1),

@@ -15,6 +15,7 @@ mod view;
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
+use morphogen::fx::Real as _;
 use morphogen::mosaic::Params;
 use morphogen::mosaic::surface::ControlMap;
 use morphogen::stream::Record;
@@ -61,7 +62,7 @@ pub struct Day {
 pub fn read<R: Records + ?Sized>(records: &R) -> Result<(Shell, Vec<Day>)> {
     let mut shell = Shell::default();
     let mut days: Vec<Day> = Vec::new();
-    let units = |p: &[morphogen::fx::Fx; 3]| p.map(|x| f64::from(x.to_bits()) / 65_536.0);
+    let units = |p: &[morphogen::fx::Fx; 3]| p.map(f64::from_fx);
     records.visit(Place::START, |_, r| {
         match r {
             Record::FrameStart { time, .. } => days.push(Day {
