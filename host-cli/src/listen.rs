@@ -228,47 +228,58 @@ impl Listener {
                     }
                 }
             }
-            Err(e) if e.is_corrupt() => {
-                self.bad += 1;
-                // The first of a run of bad frames is reported here, the
-                // rest by their count once the run ends.
-                let quiet = match &mut self.unreported {
-                    Some((count, last)) => {
-                        *count += 1;
-                        *last = frame_start;
-                        true
-                    }
-                    None => {
-                        self.unreported = Some((0, frame_start));
-                        false
-                    }
-                };
-                match &mut self.stream {
-                    Some(stream) => {
-                        stream.bad += 1;
-                        if self.rig.is_some() {
-                            stream.frames.push(Err(e));
-                        }
-                        if !quiet {
-                            let line = format!(
-                                "  {}: bad frame at byte {} of the stream ({frame_start} of the source), skipped: {e}",
-                                stream.header.preset,
-                                stream.bytes.len() - len
-                            );
-                            stream.bar.suspend(|| eprintln!("{line}"));
-                        }
-                    }
-                    None => {
-                        self.bad_outside += 1;
-                        if !quiet {
-                            eprintln!("  bad frame at byte {frame_start}, before any header: {e}");
-                        }
-                    }
-                }
-            }
+            Err(e) if e.is_corrupt() => self.bad_frame(e, frame_start, len),
             Err(_) => {}
         }
         self.frame.clear();
+        self.progress()
+    }
+
+    /// Counts the corrupt frame `e` (at `frame_start` of the source,
+    /// `len` bytes) against the stream being read, or against the bytes
+    /// before any header; only the first of a run of them is named.
+    fn bad_frame(&mut self, e: FrameError, frame_start: u64, len: usize) {
+        self.bad += 1;
+        // The first of a run of bad frames is reported here, the
+        // rest by their count once the run ends.
+        let quiet = match &mut self.unreported {
+            Some((count, last)) => {
+                *count += 1;
+                *last = frame_start;
+                true
+            }
+            None => {
+                self.unreported = Some((0, frame_start));
+                false
+            }
+        };
+        match &mut self.stream {
+            Some(stream) => {
+                stream.bad += 1;
+                if self.rig.is_some() {
+                    stream.frames.push(Err(e));
+                }
+                if !quiet {
+                    let line = format!(
+                        "  {}: bad frame at byte {} of the stream ({frame_start} of the source), skipped: {e}",
+                        stream.header.preset,
+                        stream.bytes.len() - len
+                    );
+                    stream.bar.suspend(|| eprintln!("{line}"));
+                }
+            }
+            None => {
+                self.bad_outside += 1;
+                if !quiet {
+                    eprintln!("  bad frame at byte {frame_start}, before any header: {e}");
+                }
+            }
+        }
+    }
+
+    /// The progress bar of the stream being read, and its end once it has
+    /// its fixture's size (or a run's stream cap where it has none).
+    fn progress(&mut self) -> Result<()> {
         if let Some(stream) = &self.stream {
             stream.bar.set_position(stream.bytes.len() as u64);
             stream.bar.set_message(format!(

@@ -174,26 +174,7 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
         return merge(&args.merge, &args.out);
     }
     let target = args.target.as_deref().unwrap_or_default();
-    let axes: Vec<Axis> = args
-        .sets
-        .iter()
-        .map(|s| {
-            let (key, v) = exec::split_set(s)?;
-            Ok(Axis {
-                key,
-                values: values(&v)?,
-            })
-        })
-        .collect::<Result<_>>()?;
-    for (i, axis) in axes.iter().enumerate() {
-        let key = quoted(&axis.key);
-        if axes[..i].iter().any(|a| a.key == axis.key) {
-            bail!("--set {key} is given twice: give all its values in one (--set {key}=a,b,c)");
-        }
-        if axis.values.is_empty() {
-            bail!("--set {key}: no values");
-        }
-    }
+    let axes = axes(&args.sets)?;
     let total = axes
         .iter()
         .try_fold(1usize, |n, a| n.checked_mul(a.values.len()))
@@ -252,6 +233,37 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
         combos.len(),
         args.out.join(TABLE).display()
     )?;
+    say_removed(&stale)?;
+    Ok(crate::Outcome::Ok)
+}
+
+/// The axes of `--set KEY=a,b,c` options, each key once and with values.
+fn axes(sets: &[String]) -> Result<Vec<Axis>> {
+    let axes: Vec<Axis> = sets
+        .iter()
+        .map(|s| {
+            let (key, v) = exec::split_set(s)?;
+            Ok(Axis {
+                key,
+                values: values(&v)?,
+            })
+        })
+        .collect::<Result<_>>()?;
+    for (i, axis) in axes.iter().enumerate() {
+        let key = quoted(&axis.key);
+        if axes[..i].iter().any(|a| a.key == axis.key) {
+            bail!("--set {key} is given twice: give all its values in one (--set {key}=a,b,c)");
+        }
+        if axis.values.is_empty() {
+            bail!("--set {key}: no values");
+        }
+    }
+    Ok(axes)
+}
+
+/// Names the `stale` run folders an earlier sweep left and this one
+/// removed.
+fn say_removed(stale: &[String]) -> Result<()> {
     if let (Some(first), Some(last)) = (stale.first(), stale.last()) {
         let folders = if stale.len() == 1 {
             first.clone()
@@ -260,7 +272,7 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
         };
         crate::say!("removed an earlier sweep's {folders}, not in {TABLE}")?;
     }
-    Ok(crate::Outcome::Ok)
+    Ok(())
 }
 
 /// The folder of run `k`.

@@ -26,7 +26,9 @@ use std::sync::OnceLock;
 
 use ab_glyph::FontRef;
 use anyhow::{Context, Result, anyhow, bail};
+use plotters::chart::DualCoordChartContext;
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::kinds::{Kind, Kinds};
@@ -411,6 +413,35 @@ fn draw<DB: DrawingBackend>(chart: &Chart, root: &DrawingArea<DB, Shift>) -> Res
             .map_err(drawing)?;
     }
 
+    plot_series(&mut ctx, chart, text_px)?;
+    if !chart.series.is_empty() {
+        ctx.configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(120, 120, 120))
+            .label_font(text)
+            .draw()
+            .map_err(drawing)?;
+    }
+    root.present().map_err(drawing)?;
+    Ok(())
+}
+
+/// The chart's axes on both sides, over the same x.
+type Dual<'a, DB> = DualCoordChartContext<
+    'a,
+    DB,
+    Cartesian2d<RangedCoordf64, RangedCoordf64>,
+    Cartesian2d<RangedCoordf64, RangedCoordf64>,
+>;
+
+/// Draws each of `chart`'s series on its axis, with its legend entry
+/// (a key `text_px`·1.5 long).
+fn plot_series<DB: DrawingBackend>(
+    ctx: &mut Dual<'_, DB>,
+    chart: &Chart,
+    text_px: u32,
+) -> Result<()> {
     for (i, series) in chart.series.iter().enumerate() {
         let colour = series
             .colour
@@ -450,16 +481,6 @@ fn draw<DB: DrawingBackend>(chart: &Chart, root: &DrawingArea<DB, Shift>) -> Res
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + key, y)], stroke)),
         };
     }
-    if !chart.series.is_empty() {
-        ctx.configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.85))
-            .border_style(RGBColor(120, 120, 120))
-            .label_font(text)
-            .draw()
-            .map_err(drawing)?;
-    }
-    root.present().map_err(drawing)?;
     Ok(())
 }
 

@@ -19,8 +19,56 @@ use super::vector::{cross, dot, sub, unit};
 /// index is out of range, has zero normals.
 #[must_use]
 pub fn corner_normals(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[[f64; 3]; 3]> {
-    // Each vertex's point: the first vertex at its coordinates, found
-    // among the vertices sorted by a mix of the coordinates' bits.
+    let point = points(vertices);
+    // Each triangle's points; none for one whose index is out of range.
+    let points: Vec<Option<[usize; 3]>> = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| point.get(v as usize).copied());
+            Some([a?, b?, c?])
+        })
+        .collect();
+    // Twice each triangle's area times its unit normal, and that unit.
+    let mut normals = vec![[0.0; 3]; triangles.len()];
+    let mut units = vec![[0.0; 3]; triangles.len()];
+    for ((n, u), t) in normals.iter_mut().zip(&mut units).zip(&points) {
+        if let Some([a, b, c]) = *t {
+            let [a, b, c] = [a, b, c].map(|p| vertices[p]);
+            *n = cross(sub(b, a), sub(c, a));
+            *u = unit(*n);
+        }
+    }
+    let around = Around::new(&points, vertices.len());
+    let shared = shared_means(&around, &normals, &units);
+    let mut corners = vec![[[0.0; 3]; 3]; triangles.len()];
+    for (i, (out, t)) in corners.iter_mut().zip(&points).enumerate() {
+        let Some(t) = t else {
+            continue;
+        };
+        let own = units[i];
+        for (n, &p) in out.iter_mut().zip(t) {
+            if let Some((first, mean)) = shared[p] {
+                let turn = sign(dot(own, units[first]));
+                *n = [turn * mean[0], turn * mean[1], turn * mean[2]];
+                continue;
+            }
+            // This triangle among them (its own cosine is 1).
+            let mut sum = [0.0; 3];
+            for &g in around.at(p) {
+                let cos = dot(units[g], own);
+                if cos.abs() >= CREASE {
+                    sum = add_turned(sum, sign(cos), normals[g]);
+                }
+            }
+            *n = unit(sum);
+        }
+    }
+    corners
+}
+
+/// Each vertex's point: the first vertex at its coordinates, found among
+/// the vertices sorted by a mix of the coordinates' bits.
+fn points(vertices: &[[f64; 3]]) -> Vec<usize> {
     let bits = |v: &[f64; 3]| v.map(f64::to_bits);
     let mix = |[x, y, z]: [u64; 3]| {
         (x ^ y.rotate_left(21) ^ z.rotate_left(42)).wrapping_mul(0x9e37_79b9_7f4a_7c15)
@@ -43,95 +91,80 @@ pub fn corner_normals(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[[f6
             }
         }
     }
-    // Each triangle's points; none for one whose index is out of range.
-    let points: Vec<Option<[usize; 3]>> = triangles
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|v| point.get(v as usize).copied());
-            Some([a?, b?, c?])
-        })
-        .collect();
-    // Twice each triangle's area times its unit normal, and that unit.
-    let mut normals = vec![[0.0; 3]; triangles.len()];
-    let mut units = vec![[0.0; 3]; triangles.len()];
-    for ((n, u), t) in normals.iter_mut().zip(&mut units).zip(&points) {
-        if let Some([a, b, c]) = *t {
-            let [a, b, c] = [a, b, c].map(|p| vertices[p]);
-            *n = cross(sub(b, a), sub(c, a));
-            *u = unit(*n);
+    point
+}
+
+/// The triangles at each point: `around[starts[p]..starts[p + 1]]`.
+struct Around {
+    starts: Vec<usize>,
+    around: Vec<usize>,
+}
+
+impl Around {
+    /// The triangles at each of `count` points, of the triangles' `points`.
+    fn new(points: &[Option<[usize; 3]>], count: usize) -> Around {
+        let mut starts = vec![0usize; count + 1];
+        for &p in points.iter().flatten().flatten() {
+            starts[p + 1] += 1;
         }
-    }
-    // The triangles at each point: `around[starts[p]..starts[p + 1]]`.
-    let mut starts = vec![0usize; vertices.len() + 1];
-    for &p in points.iter().flatten().flatten() {
-        starts[p + 1] += 1;
-    }
-    for p in 1..starts.len() {
-        starts[p] += starts[p - 1];
-    }
-    let mut fill = starts.clone();
-    let mut around = vec![0usize; starts[vertices.len()]];
-    for (i, t) in points.iter().enumerate() {
-        for &p in t.iter().flatten() {
-            around[fill[p]] = i;
-            fill[p] += 1;
+        for p in 1..starts.len() {
+            starts[p] += starts[p - 1];
         }
-    }
-    // Where every triangle at a point is within half the crease of the
-    // first (turned to its side), any two are within the crease: each
-    // corner there takes the one mean, turned to its triangle's side.
-    let sign = |cos: f64| if cos < 0.0 { -1.0 } else { 1.0 };
-    let mut shared = vec![None; vertices.len()];
-    for (p, mean) in shared.iter_mut().enumerate() {
-        let faces = &around[starts[p]..starts[p + 1]];
-        let Some(&first) = faces.first() else {
-            continue;
-        };
-        let mut sum = [0.0; 3];
-        let mut alike = true;
-        for &g in faces {
-            let cos = dot(units[g], units[first]);
-            alike &= cos.abs() >= HALF_CREASE;
-            let s = sign(cos);
-            sum = [
-                sum[0] + s * normals[g][0],
-                sum[1] + s * normals[g][1],
-                sum[2] + s * normals[g][2],
-            ];
-        }
-        if alike {
-            *mean = Some((first, unit(sum)));
-        }
-    }
-    let mut corners = vec![[[0.0; 3]; 3]; triangles.len()];
-    for (i, (out, t)) in corners.iter_mut().zip(&points).enumerate() {
-        let Some(t) = t else {
-            continue;
-        };
-        let own = units[i];
-        for (n, &p) in out.iter_mut().zip(t) {
-            if let Some((first, mean)) = shared[p] {
-                let turn = sign(dot(own, units[first]));
-                *n = [turn * mean[0], turn * mean[1], turn * mean[2]];
-                continue;
+        let mut fill = starts.clone();
+        let mut around = vec![0usize; starts[count]];
+        for (i, t) in points.iter().enumerate() {
+            for &p in t.iter().flatten() {
+                around[fill[p]] = i;
+                fill[p] += 1;
             }
-            // This triangle among them (its own cosine is 1).
+        }
+        Around { starts, around }
+    }
+
+    /// The triangles at point `p`.
+    fn at(&self, p: usize) -> &[usize] {
+        &self.around[self.starts[p]..self.starts[p + 1]]
+    }
+
+    /// How many points.
+    fn points(&self) -> usize {
+        self.starts.len() - 1
+    }
+}
+
+/// For each point where every triangle is within half the crease of the
+/// first (turned to its side), so that any two are within the crease:
+/// that first triangle and the one mean every corner there takes (turned
+/// to its triangle's side).
+fn shared_means(
+    around: &Around,
+    normals: &[[f64; 3]],
+    units: &[[f64; 3]],
+) -> Vec<Option<(usize, [f64; 3])>> {
+    (0..around.points())
+        .map(|p| {
+            let faces = around.at(p);
+            let &first = faces.first()?;
             let mut sum = [0.0; 3];
-            for &g in &around[starts[p]..starts[p + 1]] {
-                let cos = dot(units[g], own);
-                if cos.abs() >= CREASE {
-                    let s = sign(cos);
-                    sum = [
-                        sum[0] + s * normals[g][0],
-                        sum[1] + s * normals[g][1],
-                        sum[2] + s * normals[g][2],
-                    ];
-                }
+            let mut alike = true;
+            for &g in faces {
+                let cos = dot(units[g], units[first]);
+                alike &= cos.abs() >= HALF_CREASE;
+                sum = add_turned(sum, sign(cos), normals[g]);
             }
-            *n = unit(sum);
-        }
-    }
-    corners
+            alike.then(|| (first, unit(sum)))
+        })
+        .collect()
+}
+
+/// The side a cosine puts a normal on: −1 behind, 1 in front.
+fn sign(cos: f64) -> f64 {
+    if cos < 0.0 { -1.0 } else { 1.0 }
+}
+
+/// `sum + s·n`, component by component.
+fn add_turned(sum: [f64; 3], s: f64, n: [f64; 3]) -> [f64; 3] {
+    [sum[0] + s * n[0], sum[1] + s * n[1], sum[2] + s * n[2]]
 }
 
 /// The cosine of half [`CREASE`] (22.5°).

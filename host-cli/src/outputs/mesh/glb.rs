@@ -13,11 +13,12 @@
 //! not repeated (the trot's topology and colours are stored once). A viewer
 //! that does not play the animation shows frame 0.
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use anyhow::{Context, Result};
 use gltf_json as json;
-use json::validation::{Checked::Valid, USize64};
+use json::validation::{Checked, Checked::Valid, USize64};
 
 use super::{Mesh, MeshError};
 use crate::atomic::write_atomic;
@@ -240,7 +241,6 @@ impl GlbWriter {
     /// When `seconds` is not finite or not after the previous frame's, or
     /// the data passes glTF's size limit.
     pub fn push_frame(&mut self, mesh: &Mesh, seconds: f32) -> Result<(), MeshError> {
-        use json::accessor::{ComponentType as C, Type as T};
         let frame = self.frames.len();
         if !seconds.is_finite() || self.frames.last().is_some_and(|&(t, _)| seconds <= t) {
             return Err(MeshError::TimeNotIncreasing { frame });
@@ -249,7 +249,7 @@ impl GlbWriter {
         let mut json_mesh = None;
         let vertices = mesh.positions.len();
         if vertices > 0 && mesh.triangle_count() > 0 {
-            let mut attributes = std::collections::BTreeMap::new();
+            let mut attributes = BTreeMap::new();
             // POSITION, with the bounds glTF requires (of the f32 values).
             let points: Vec<[f32; 3]> =
                 mesh.positions.iter().map(|p| p.map(|c| c as f32)).collect();
@@ -258,82 +258,10 @@ impl GlbWriter {
             let a = self.vec3(&mesh.vertex_normals(), false)?;
             attributes.insert(Valid(json::mesh::Semantic::Normals), a);
             if let Some(colours) = mesh.resolved_colours() {
-                let table: Vec<u8> = (0..=255).map(linear).collect();
-                let bytes: Vec<u8> = colours
-                    .iter()
-                    .flat_map(|c| {
-                        [
-                            table[c[0] as usize],
-                            table[c[1] as usize],
-                            table[c[2] as usize],
-                            255,
-                        ]
-                    })
-                    .collect();
-                let a = match &self.shared.colours {
-                    Some((b, a)) if *b == bytes => *a,
-                    _ => {
-                        let a = self.accessor(
-                            &bytes,
-                            Some(ARRAY_BUFFER),
-                            vertices,
-                            C::U8,
-                            T::Vec4,
-                            true,
-                            None,
-                        )?;
-                        self.shared.colours = Some((bytes, a));
-                        a
-                    }
-                };
+                let a = self.colours(&colours, vertices)?;
                 attributes.insert(Valid(json::mesh::Semantic::Colors(0)), a);
             }
-            // Indices: u16 while they fit (65 535 is reserved), per group.
-            let short = vertices < 65_535;
-            let mut shared = Vec::new();
-            let mut primitives = Vec::new();
-            for g in &mesh.groups {
-                let triangles: Vec<u32> = g.triangles().flatten().collect();
-                if triangles.is_empty() {
-                    continue;
-                }
-                let bytes: Vec<u8> = if short {
-                    triangles
-                        .iter()
-                        .flat_map(|&i| (i as u16).to_le_bytes())
-                        .collect()
-                } else {
-                    triangles.iter().flat_map(|&i| i.to_le_bytes()).collect()
-                };
-                let previous = self.shared.indices.iter().find(|(b, _)| *b == bytes);
-                let a = match previous {
-                    Some((_, a)) => *a,
-                    None => self.accessor(
-                        &bytes,
-                        Some(ELEMENT_ARRAY_BUFFER),
-                        triangles.len(),
-                        if short { C::U16 } else { C::U32 },
-                        T::Scalar,
-                        false,
-                        None,
-                    )?,
-                };
-                shared.push((bytes, a));
-                let material = match g.material {
-                    Some(m) => mesh.materials[m].name.clone(),
-                    None => "default".to_owned(),
-                };
-                primitives.push(json::mesh::Primitive {
-                    attributes: attributes.clone(),
-                    extensions: None,
-                    extras: Default::default(),
-                    indices: Some(a),
-                    material: Some(self.material(&material)),
-                    mode: Valid(json::mesh::Mode::Triangles),
-                    targets: None,
-                });
-            }
-            self.shared.indices = shared;
+            let primitives = self.primitives(mesh, &attributes)?;
             json_mesh = Some(self.root.push(json::Mesh {
                 extensions: None,
                 extras: Default::default(),
@@ -351,6 +279,103 @@ impl GlbWriter {
         });
         self.frames.push((seconds, node));
         Ok(())
+    }
+
+    /// The accessor of the vertex colours `colours` (linear RGBA bytes),
+    /// the previous frame's when they are the same.
+    fn colours(
+        &mut self,
+        colours: &[[u8; 3]],
+        vertices: usize,
+    ) -> Result<json::Index<json::Accessor>, MeshError> {
+        use json::accessor::{ComponentType as C, Type as T};
+        let table: Vec<u8> = (0..=255).map(linear).collect();
+        let bytes: Vec<u8> = colours
+            .iter()
+            .flat_map(|c| {
+                [
+                    table[c[0] as usize],
+                    table[c[1] as usize],
+                    table[c[2] as usize],
+                    255,
+                ]
+            })
+            .collect();
+        if let Some((b, a)) = &self.shared.colours
+            && *b == bytes
+        {
+            return Ok(*a);
+        }
+        let a = self.accessor(
+            &bytes,
+            Some(ARRAY_BUFFER),
+            vertices,
+            C::U8,
+            T::Vec4,
+            true,
+            None,
+        )?;
+        self.shared.colours = Some((bytes, a));
+        Ok(a)
+    }
+
+    /// One primitive per group of `mesh` with triangles, each with the
+    /// vertex `attributes` and its material; an index accessor the
+    /// previous frame has with the same bytes is used again.
+    fn primitives(
+        &mut self,
+        mesh: &Mesh,
+        attributes: &BTreeMap<Checked<json::mesh::Semantic>, json::Index<json::Accessor>>,
+    ) -> Result<Vec<json::mesh::Primitive>, MeshError> {
+        use json::accessor::{ComponentType as C, Type as T};
+        let vertices = mesh.positions.len();
+        // Indices: u16 while they fit (65 535 is reserved), per group.
+        let short = vertices < 65_535;
+        let mut shared = Vec::new();
+        let mut primitives = Vec::new();
+        for g in &mesh.groups {
+            let triangles: Vec<u32> = g.triangles().flatten().collect();
+            if triangles.is_empty() {
+                continue;
+            }
+            let bytes: Vec<u8> = if short {
+                triangles
+                    .iter()
+                    .flat_map(|&i| (i as u16).to_le_bytes())
+                    .collect()
+            } else {
+                triangles.iter().flat_map(|&i| i.to_le_bytes()).collect()
+            };
+            let previous = self.shared.indices.iter().find(|(b, _)| *b == bytes);
+            let a = match previous {
+                Some((_, a)) => *a,
+                None => self.accessor(
+                    &bytes,
+                    Some(ELEMENT_ARRAY_BUFFER),
+                    triangles.len(),
+                    if short { C::U16 } else { C::U32 },
+                    T::Scalar,
+                    false,
+                    None,
+                )?,
+            };
+            shared.push((bytes, a));
+            let material = match g.material {
+                Some(m) => mesh.materials[m].name.clone(),
+                None => "default".to_owned(),
+            };
+            primitives.push(json::mesh::Primitive {
+                attributes: attributes.clone(),
+                extensions: None,
+                extras: Default::default(),
+                indices: Some(a),
+                material: Some(self.material(&material)),
+                mode: Valid(json::mesh::Mode::Triangles),
+                targets: None,
+            });
+        }
+        self.shared.indices = shared;
+        Ok(primitives)
     }
 
     /// The file's bytes: the scene, the animation (for two or more

@@ -76,42 +76,7 @@ impl Shell {
         let mut level = vec![NOTHING; w * h];
         for (f, shades) in self.faces.iter().zip(&corners) {
             let [a, b, c] = f.map(|i| to_px(&screen[i as usize]));
-            let area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-            if area.abs() < 1e-12 {
-                continue;
-            }
-            let x0 = a[0].min(b[0]).min(c[0]).floor().max(0.0) as usize;
-            let x1 = (a[0].max(b[0]).max(c[0]).ceil() as usize).min(w);
-            let y0 = a[1].min(b[1]).min(c[1]).floor().max(0.0) as usize;
-            let y1 = (a[1].max(b[1]).max(c[1]).ceil() as usize).min(h);
-            // The weights of a and b, linear in the pixel's centre (px, py):
-            // k[0] + k[1]·px + k[2]·py; c's is what they leave of 1.
-            let inv = 1.0 / area;
-            let ka = [b[0] * c[1] - b[1] * c[0], b[1] - c[1], c[0] - b[0]].map(|k| k * inv);
-            let kb = [c[0] * a[1] - c[1] * a[0], c[1] - a[1], a[0] - c[0]].map(|k| k * inv);
-            for y in y0..y1 {
-                let py = y as f64 + 0.5;
-                let (ra, rb) = (ka[0] + ka[2] * py, kb[0] + kb[2] * py);
-                let weights = [(ra, ka[1]), (rb, kb[1]), (1.0 - ra - rb, -ka[1] - kb[1])];
-                for x in row_span(weights, x0, x1) {
-                    let px = x as f64 + 0.5;
-                    let wa = ra + ka[1] * px;
-                    let wb = rb + kb[1] * px;
-                    let wc = 1.0 - wa - wb;
-                    if wa < 0.0 || wb < 0.0 || wc < 0.0 {
-                        continue;
-                    }
-                    let z = wa * a[2] + wb * b[2] + wc * c[2];
-                    let k = y * w + x;
-                    if z > depth[k] {
-                        depth[k] = z;
-                        // Within the corners' shades, all in [0.35, 1]:
-                        // a level of at least 89, never NOTHING.
-                        let shade = wa * shades[0] + wb * shades[1] + wc * shades[2];
-                        level[k] = (shade * 255.0 + 0.5) as u8;
-                    }
-                }
-            }
+            depth_shade([a, b, c], shades, w, &mut depth, &mut level);
         }
         let mut view = View {
             w,
@@ -131,6 +96,54 @@ impl Shell {
         };
         view.boxes = view.boxes();
         view
+    }
+}
+
+/// Draws the triangle `[a, b, c]` (pixel x, y and depth) into a picture
+/// `w` pixels wide: where it is nearer than `depth`, its depth and its
+/// shade, interpolated between the corners' `shades`, as a `level`.
+fn depth_shade(
+    [a, b, c]: [[f64; 3]; 3],
+    shades: &[f64; 3],
+    w: usize,
+    depth: &mut [f64],
+    level: &mut [u8],
+) {
+    let area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    if area.abs() < 1e-12 {
+        return;
+    }
+    let x0 = a[0].min(b[0]).min(c[0]).floor().max(0.0) as usize;
+    let x1 = (a[0].max(b[0]).max(c[0]).ceil() as usize).min(w);
+    let y0 = a[1].min(b[1]).min(c[1]).floor().max(0.0) as usize;
+    let y1 = (a[1].max(b[1]).max(c[1]).ceil() as usize).min(depth.len() / w.max(1));
+    // The weights of a and b, linear in the pixel's centre (px, py):
+    // k[0] + k[1]·px + k[2]·py; c's is what they leave of 1.
+    let inv = 1.0 / area;
+    let ka = [b[0] * c[1] - b[1] * c[0], b[1] - c[1], c[0] - b[0]].map(|k| k * inv);
+    let kb = [c[0] * a[1] - c[1] * a[0], c[1] - a[1], a[0] - c[0]].map(|k| k * inv);
+    for y in y0..y1 {
+        let py = y as f64 + 0.5;
+        let (ra, rb) = (ka[0] + ka[2] * py, kb[0] + kb[2] * py);
+        let weights = [(ra, ka[1]), (rb, kb[1]), (1.0 - ra - rb, -ka[1] - kb[1])];
+        for x in row_span(weights, x0, x1) {
+            let px = x as f64 + 0.5;
+            let wa = ra + ka[1] * px;
+            let wb = rb + kb[1] * px;
+            let wc = 1.0 - wa - wb;
+            if wa < 0.0 || wb < 0.0 || wc < 0.0 {
+                continue;
+            }
+            let z = wa * a[2] + wb * b[2] + wc * c[2];
+            let k = y * w + x;
+            if z > depth[k] {
+                depth[k] = z;
+                // Within the corners' shades, all in [0.35, 1]:
+                // a level of at least 89, never NOTHING.
+                let shade = wa * shades[0] + wb * shades[1] + wc * shades[2];
+                level[k] = (shade * 255.0 + 0.5) as u8;
+            }
+        }
     }
 }
 
