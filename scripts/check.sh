@@ -72,6 +72,9 @@ cargo test -p morphogen --features surface-runner --test mosaic
 step "golden fixtures: every built-in scenario re-run (release build)"
 "$morphogen" verify
 
+step "big-endian: every preset on s390x under qemu-user, bit-exact (scripts/targets-check.sh)"
+bash scripts/targets-check.sh
+
 step "the Python stream reader against every preset (python/)"
 MORPHOGEN_BIN="$morphogen" bash scripts/python-check.sh
 
