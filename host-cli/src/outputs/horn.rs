@@ -22,6 +22,7 @@ use anyhow::{Context, Result, anyhow, bail};
 use morphogen::fx::Real as _;
 use morphogen::horn::HornParams;
 use morphogen::stream::Record;
+use nalgebra::Vector3;
 use tiny_skia::{Color, Pixmap};
 
 use super::chart::{Axis, Chart, Series, write_chart};
@@ -34,12 +35,11 @@ use super::pipeline::pipeline;
 use super::raster::depth_key;
 use super::slots::{ANIMATION_DELAY_MS, OrderedAnimation, animation_frames};
 use super::text::trimmed;
-use super::vector::{cross, dot, sub};
 use super::{mesh, normals, picture, raster, tip_bend};
 use crate::records::{Place, Records};
 
 /// A point in cm.
-pub type P3 = [f64; 3];
+pub type P3 = Vector3<f64>;
 
 /// One cross-section of a frame.
 #[derive(Debug, Clone, PartialEq)]
@@ -115,8 +115,11 @@ impl Framer {
                 if self.expected == 0 {
                     bail!("frame {}: more points than the ring announced", f.index);
                 }
-                ring.points
-                    .push([f64::from_fx(p[0]), f64::from_fx(p[1]), f64::from_fx(p[2])]);
+                ring.points.push(P3::new(
+                    f64::from_fx(p[0]),
+                    f64::from_fx(p[1]),
+                    f64::from_fx(p[2]),
+                ));
                 self.expected -= 1;
             }
             Record::FrameEnd { frame } => {
@@ -176,10 +179,7 @@ pub struct Mesh {
 
 fn centroid(points: &[P3]) -> P3 {
     let n = points.len().max(1) as f64;
-    let s = points
-        .iter()
-        .fold([0.0; 3], |s, p| [s[0] + p[0], s[1] + p[1], s[2] + p[2]]);
-    [s[0] / n, s[1] / n, s[2] / n]
+    points.iter().fold(P3::zeros(), |s, p| s + p) / n
 }
 
 /// The mesh of `frame`; `rings_per_year` (J) maps ring indices to months.
@@ -198,8 +198,8 @@ pub fn mesh(frame: &Frame, rings_per_year: u32) -> Mesh {
         .find(|w| w[0].module == w[1].module && w[0].points.len() >= 2)
         .is_none_or(|w| {
             let (a, b) = (&w[0].points, &w[1].points);
-            let n = cross(sub(a[1], a[0]), sub(b[0], a[0]));
-            dot(n, sub(a[0], centroid(a))) > 0.0
+            let n = (a[1] - a[0]).cross(&(b[0] - a[0]));
+            n.dot(&(a[0] - centroid(a))) > 0.0
         });
     for (k, w) in frame.rings.windows(2).enumerate() {
         if w[0].module != w[1].module || w[0].points.len() != w[1].points.len() {
@@ -236,7 +236,7 @@ pub fn mesh(frame: &Frame, rings_per_year: u32) -> Mesh {
         }
         let ring = &frame.rings[cap];
         let c = centroid(&ring.points);
-        let away = sub(c, centroid(&frame.rings[neighbour].points));
+        let away = c - centroid(&frame.rings[neighbour].points);
         let centre = m.vertices.len();
         m.vertices.push(c);
         let (s, n) = (starts[cap], ring.points.len());
@@ -245,8 +245,8 @@ pub fn mesh(frame: &Frame, rings_per_year: u32) -> Mesh {
         };
         for i in 0..n {
             let j = (i + 1) % n;
-            let normal = cross(sub(ring.points[i], c), sub(ring.points[j], c));
-            let tri = if dot(normal, away) > 0.0 {
+            let normal = (ring.points[i] - c).cross(&(ring.points[j] - c));
+            let tri = if normal.dot(&away) > 0.0 {
                 [centre, s + i, s + j]
             } else {
                 [centre, s + j, s + i]
@@ -274,11 +274,11 @@ pub fn solid(frame: &Frame, m: &Mesh, title: &str, rings_per_year: u32) -> Resul
         let month = u32::from(r.ring) * 12 / rings_per_year.max(1);
         let rgb = shade(if month % 2 == 1 { 0.86 } else { 1.0 });
         for v in vertices.by_ref().take(r.points.len()) {
-            out.push_coloured_vertex(*v, rgb)?;
+            out.push_coloured_vertex((*v).into(), rgb)?;
         }
     }
     for v in vertices {
-        out.push_coloured_vertex(*v, shade(0.8))?;
+        out.push_coloured_vertex((*v).into(), shade(0.8))?;
     }
     let horn = out.material("horn", shade(1.0))?;
     for (module, tris) in &m.groups {
@@ -307,7 +307,7 @@ impl View {
         let ry = [[cy, 0.0, sy], [0.0, 1.0, 0.0], [-sy, 0.0, cy]];
         let rx = [[1.0, 0.0, 0.0], [0.0, cp, -sp], [0.0, sp, cp]];
         let rz = [[cr, -sr, 0.0], [sr, cr, 0.0], [0.0, 0.0, 1.0]];
-        let mul = |a: [P3; 3], b: [P3; 3]| {
+        let mul = |a: [[f64; 3]; 3], b: [[f64; 3]; 3]| {
             let mut m = [[0.0; 3]; 3];
             for (i, row) in m.iter_mut().enumerate() {
                 for (j, v) in row.iter_mut().enumerate() {
@@ -317,16 +317,16 @@ impl View {
             m
         };
         View {
-            rows: mul(rz, mul(rx, ry)),
+            rows: mul(rz, mul(rx, ry)).map(P3::from),
         }
     }
 
     fn apply(&self, p: P3) -> P3 {
-        [
-            dot(self.rows[0], p),
-            dot(self.rows[1], p),
-            dot(self.rows[2], p),
-        ]
+        P3::new(
+            self.rows[0].dot(&p),
+            self.rows[1].dot(&p),
+            self.rows[2].dot(&p),
+        )
     }
 }
 
@@ -375,11 +375,7 @@ type Shaded = ([[f32; 2]; 3], [[u8; 3]; 3]);
 /// ([`normals::corner_normals`]), so the horn shades smoothly round and
 /// along, and its bands and the tip's cap keep their edges.
 fn shaded(mesh: &Mesh, view: &View, origin: [f64; 2], at: [f32; 2], scale: f64) -> Vec<Shaded> {
-    let light = {
-        let l = [-0.45, 0.6, 0.66];
-        let n = dot(l, l).sqrt();
-        [l[0] / n, l[1] / n, l[2] / n]
-    };
+    let light = normals::unit(P3::new(-0.45, 0.6, 0.66));
     let screen: Vec<P3> = mesh.vertices.iter().map(|&p| view.apply(p)).collect();
     let all: Vec<&Triangle> = mesh.groups.iter().flat_map(|g| g.1.iter()).collect();
     let indices: Vec<[u32; 3]> = all.iter().map(|(t, _)| t.map(|k| k as u32)).collect();
@@ -389,7 +385,7 @@ fn shaded(mesh: &Mesh, view: &View, origin: [f64; 2], at: [f32; 2], scale: f64) 
         .enumerate()
         .filter_map(|(i, &&(t, _))| {
             let (a, b, c) = (screen[t[0]], screen[t[1]], screen[t[2]]);
-            let n = cross(sub(b, a), sub(c, a));
+            let n = (b - a).cross(&(c - a));
             // Back faces of the closed surface are hidden.
             (n[2] > 0.0).then(|| ((a[2] + b[2] + c[2]) / 3.0, i))
         })
@@ -420,7 +416,7 @@ fn shaded(mesh: &Mesh, view: &View, origin: [f64; 2], at: [f32; 2], scale: f64) 
                 None => 0.8,
             };
             let rgb = corners[k].map(|n| {
-                let lambert = dot(n, light).max(0.0);
+                let lambert = P3::from(n).dot(&light).max(0.0);
                 let k = (0.35 + 0.65 * lambert) * band;
                 HORN.map(|v| (v * k).clamp(0.0, 255.0) as u8)
             });
@@ -545,14 +541,14 @@ fn centre_line(frame: &Frame) -> (f64, f64) {
     let centres: Vec<P3> = frame.rings.iter().map(|r| centroid(&r.points)).collect();
     let steps: Vec<P3> = centres
         .windows(2)
-        .map(|w| sub(w[1], w[0]))
-        .filter(|d| dot(*d, *d) > 1e-12)
+        .map(|w| w[1] - w[0])
+        .filter(|d| d.norm_squared() > 1e-12)
         .collect();
-    let length = steps.iter().map(|d| dot(*d, *d).sqrt()).sum();
+    let length = steps.iter().map(P3::norm).sum();
     let bend = steps
         .windows(2)
         .map(|w| {
-            let c = dot(w[0], w[1]) / (dot(w[0], w[0]) * dot(w[1], w[1])).sqrt();
+            let c = w[0].dot(&w[1]) / (w[0].norm_squared() * w[1].norm_squared()).sqrt();
             c.clamp(-1.0, 1.0).acos().to_degrees()
         })
         .sum();
@@ -819,16 +815,14 @@ mod tests {
             for (_, tris) in &m.groups {
                 for (t, _) in tris {
                     let (a, b, c) = (m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
-                    volume += dot(a, cross(b, c)) / 6.0;
+                    volume += a.dot(&b.cross(&c)) / 6.0;
                 }
             }
             assert!(volume > 100.0, "frame {}: volume {volume} cm³", f.index);
             let (a, b) = (&f.rings[0].points, &f.rings[1].points);
-            let n = cross(
-                sub(m.vertices[m.groups[0].1[0].0[1]], a[0]),
-                sub(m.vertices[m.groups[0].1[0].0[2]], a[0]),
-            );
-            assert!(dot(n, sub(a[0], centroid(a))) > 0.0 || b.is_empty());
+            let n = (m.vertices[m.groups[0].1[0].0[1]] - a[0])
+                .cross(&(m.vertices[m.groups[0].1[0].0[2]] - a[0]));
+            assert!(n.dot(&(a[0] - centroid(a))) > 0.0 || b.is_empty());
         }
         let mut text = Vec::new();
         let f = frames.last().unwrap();

@@ -37,7 +37,6 @@ pub(crate) mod slots;
 pub mod surface;
 pub mod text;
 pub mod tip_bend;
-mod vector;
 
 /// Writes the files natural to `scenario`'s model into `dir`, of the
 /// `kinds` given; returns their paths.

@@ -7,7 +7,7 @@
 /// shaded smoothly across (45°): a sharper edge stays an edge.
 pub const CREASE: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
-use super::vector::{cross, dot, sub, unit};
+use nalgebra::Vector3;
 
 /// The unit normal at each corner of each of `triangles` (indices into
 /// `vertices`): the mean of the normals of the triangles at that point
@@ -18,8 +18,12 @@ use super::vector::{cross, dot, sub, unit};
 /// shades smoothly across them). A triangle without area, or one whose
 /// index is out of range, has zero normals.
 #[must_use]
-pub fn corner_normals(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[[f64; 3]; 3]> {
-    let point = points(vertices);
+pub fn corner_normals<P>(vertices: &[P], triangles: &[[u32; 3]]) -> Vec<[[f64; 3]; 3]>
+where
+    P: Copy + Into<Vector3<f64>>,
+{
+    let vertices: Vec<Vector3<f64>> = vertices.iter().map(|&v| v.into()).collect();
+    let point = points(&vertices);
     // Each triangle's points; none for one whose index is out of range.
     let points: Vec<Option<[usize; 3]>> = triangles
         .iter()
@@ -29,12 +33,12 @@ pub fn corner_normals(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[[f6
         })
         .collect();
     // Twice each triangle's area times its unit normal, and that unit.
-    let mut normals = vec![[0.0; 3]; triangles.len()];
-    let mut units = vec![[0.0; 3]; triangles.len()];
+    let mut normals = vec![Vector3::zeros(); triangles.len()];
+    let mut units = vec![Vector3::zeros(); triangles.len()];
     for ((n, u), t) in normals.iter_mut().zip(&mut units).zip(&points) {
         if let Some([a, b, c]) = *t {
             let [a, b, c] = [a, b, c].map(|p| vertices[p]);
-            *n = cross(sub(b, a), sub(c, a));
+            *n = (b - a).cross(&(c - a));
             *u = unit(*n);
         }
     }
@@ -48,19 +52,19 @@ pub fn corner_normals(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[[f6
         let own = units[i];
         for (n, &p) in out.iter_mut().zip(t) {
             if let Some((first, mean)) = shared[p] {
-                let turn = sign(dot(own, units[first]));
-                *n = [turn * mean[0], turn * mean[1], turn * mean[2]];
+                let turn = sign(own.dot(&units[first]));
+                *n = (mean * turn).into();
                 continue;
             }
             // This triangle among them (its own cosine is 1).
-            let mut sum = [0.0; 3];
+            let mut sum = Vector3::zeros();
             for &g in around.at(p) {
-                let cos = dot(units[g], own);
+                let cos = units[g].dot(&own);
                 if cos.abs() >= CREASE {
-                    sum = add_turned(sum, sign(cos), normals[g]);
+                    sum += normals[g] * sign(cos);
                 }
             }
-            *n = unit(sum);
+            *n = unit(sum).into();
         }
     }
     corners
@@ -68,8 +72,8 @@ pub fn corner_normals(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[[f6
 
 /// Each vertex's point: the first vertex at its coordinates, found among
 /// the vertices sorted by a mix of the coordinates' bits.
-fn points(vertices: &[[f64; 3]]) -> Vec<usize> {
-    let bits = |v: &[f64; 3]| v.map(f64::to_bits);
+fn points(vertices: &[Vector3<f64>]) -> Vec<usize> {
+    let bits = |v: &Vector3<f64>| [v.x, v.y, v.z].map(f64::to_bits);
     let mix = |[x, y, z]: [u64; 3]| {
         (x ^ y.rotate_left(21) ^ z.rotate_left(42)).wrapping_mul(0x9e37_79b9_7f4a_7c15)
     };
@@ -138,19 +142,19 @@ impl Around {
 /// to its triangle's side).
 fn shared_means(
     around: &Around,
-    normals: &[[f64; 3]],
-    units: &[[f64; 3]],
-) -> Vec<Option<(usize, [f64; 3])>> {
+    normals: &[Vector3<f64>],
+    units: &[Vector3<f64>],
+) -> Vec<Option<(usize, Vector3<f64>)>> {
     (0..around.points())
         .map(|p| {
             let faces = around.at(p);
             let &first = faces.first()?;
-            let mut sum = [0.0; 3];
+            let mut sum = Vector3::zeros();
             let mut alike = true;
             for &g in faces {
-                let cos = dot(units[g], units[first]);
+                let cos = units[g].dot(&units[first]);
                 alike &= cos.abs() >= HALF_CREASE;
-                sum = add_turned(sum, sign(cos), normals[g]);
+                sum += normals[g] * sign(cos);
             }
             alike.then(|| (first, unit(sum)))
         })
@@ -162,9 +166,15 @@ fn sign(cos: f64) -> f64 {
     if cos < 0.0 { -1.0 } else { 1.0 }
 }
 
-/// `sum + s·n`, component by component.
-fn add_turned(sum: [f64; 3], s: f64, n: [f64; 3]) -> [f64; 3] {
-    [sum[0] + s * n[0], sum[1] + s * n[1], sum[2] + s * n[2]]
+/// `v` scaled to length 1; the zero vector stays 0.
+#[must_use]
+pub fn unit(v: Vector3<f64>) -> Vector3<f64> {
+    let length = v.norm();
+    if length > 0.0 {
+        v / length
+    } else {
+        Vector3::zeros()
+    }
 }
 
 /// The cosine of half [`CREASE`] (22.5°).
@@ -202,7 +212,11 @@ pub(crate) mod tests {
     }
 
     fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
-        dot(a, b).clamp(-1.0, 1.0).acos().to_degrees()
+        Vector3::from(a)
+            .dot(&Vector3::from(b))
+            .clamp(-1.0, 1.0)
+            .acos()
+            .to_degrees()
     }
 
     #[test]
@@ -277,7 +291,8 @@ pub(crate) mod tests {
         let normals = corner_normals(&vertices, &triangles);
         for (t, corners) in triangles.iter().zip(&normals) {
             let [a, b, c] = t.map(|v| vertices[v as usize]);
-            let face = unit(cross(sub(b, a), sub(c, a)));
+            let [a, b, c] = [a, b, c].map(Vector3::from);
+            let face: [f64; 3] = unit((b - a).cross(&(c - a))).into();
             for n in corners {
                 assert!(angle(*n, face) < 1e-9, "{n:?} {face:?}");
             }

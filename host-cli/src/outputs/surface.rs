@@ -16,7 +16,9 @@ use tiny_skia::{Pixmap, PremultipliedColorU8};
 
 use super::mesh::{Mesh, Rgb};
 use super::picture;
-use super::vector::unit;
+use nalgebra::Vector3;
+
+use super::normals::unit;
 
 /// The colour of the mosaic at the fractions (u, v) of the domain's
 /// width and height (its Voronoi picture).
@@ -158,7 +160,7 @@ impl Surface {
         if Pixmap::new(width, rows).is_none() {
             anyhow::bail!("a {width}×{rows} picture is too large");
         }
-        let light = unit(LIGHT);
+        let light = unit(Vector3::from(LIGHT));
         // What a column sees depends on its screen coordinate s alone: the
         // side's depth there, and on the near side (z = +depth) and the far
         // wall's inside (z = −depth) the angle round the axis and the shade.

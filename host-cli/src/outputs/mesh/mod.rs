@@ -24,7 +24,7 @@ pub use obj::{Library, Numbers, ObjStyle, mtl, obj, obj_part, write_frame_obj, w
 
 use std::fmt;
 
-use crate::outputs::vector::{cross, dot, sub};
+use nalgebra::Vector3;
 
 /// An sRGB colour, 8 bits a channel (as the pictures use them).
 pub type Rgb = [u8; 3];
@@ -389,25 +389,21 @@ impl Mesh {
         width: f64,
         rgb: Option<Rgb>,
     ) -> Result<(), MeshError> {
-        let d = sub(b, a);
-        let helper = if d[0].abs() < d[1].abs().max(d[2].abs()) {
-            [1.0, 0.0, 0.0]
+        let [a, b] = [a, b].map(Vector3::from);
+        let d = b - a;
+        let helper = if d.x.abs() < d.y.abs().max(d.z.abs()) {
+            Vector3::x()
         } else {
-            [0.0, 1.0, 0.0]
+            Vector3::y()
         };
         let r = width.max(1e-4) / 2.0;
-        let u = scaled(cross(d, helper), r);
-        let v = scaled(cross(d, u), r);
-        let corners = [
-            [u[0] + v[0], u[1] + v[1], u[2] + v[2]],
-            [v[0] - u[0], v[1] - u[1], v[2] - u[2]],
-            [-u[0] - v[0], -u[1] - v[1], -u[2] - v[2]],
-            [u[0] - v[0], u[1] - v[1], u[2] - v[2]],
-        ];
+        let u = scaled(d.cross(&helper), r);
+        let v = scaled(d.cross(&u), r);
+        let corners = [u + v, v - u, -u - v, u - v];
         let mut first = None;
         for end in [a, b] {
             for c in &corners {
-                let p = [end[0] + c[0], end[1] + c[1], end[2] + c[2]];
+                let p = (end + c).into();
                 let i = match rgb {
                     Some(rgb) => self.push_coloured_vertex(p, rgb)?,
                     None => self.push_vertex(p)?,
@@ -465,21 +461,20 @@ impl Mesh {
         if let Some(n) = &self.normals {
             return n.clone();
         }
-        let mut sums = vec![[0.0f64; 3]; self.positions.len()];
+        let mut sums = vec![Vector3::<f64>::zeros(); self.positions.len()];
         for t in self.groups.iter().flat_map(Group::triangles) {
-            let [a, b, c] = t.map(|i| self.positions[i as usize]);
+            let [a, b, c] = t.map(|i| Vector3::from(self.positions[i as usize]));
             // |(b − a) × (c − a)| is twice the area: the weight.
-            let n = cross(sub(b, a), sub(c, a));
+            let n = (b - a).cross(&(c - a));
             for i in t {
-                let s = &mut sums[i as usize];
-                *s = [s[0] + n[0], s[1] + n[1], s[2] + n[2]];
+                sums[i as usize] += n;
             }
         }
         sums.into_iter()
             .map(|s| {
-                let len = dot(s, s).sqrt();
+                let len = s.norm();
                 if len > 0.0 && len.is_finite() {
-                    s.map(|c| (c / len) as f32)
+                    [s.x, s.y, s.z].map(|c| (c / len) as f32)
                 } else {
                     [0.0, 0.0, 1.0]
                 }
@@ -509,12 +504,13 @@ impl Mesh {
     }
 }
 
-fn scaled(a: [f64; 3], s: f64) -> [f64; 3] {
-    let n = dot(a, a).sqrt();
+/// `a` at length `s` (the zero vector stays 0).
+fn scaled(a: Vector3<f64>, s: f64) -> Vector3<f64> {
+    let n = a.norm();
     if n == 0.0 {
-        return [0.0; 3];
+        return Vector3::zeros();
     }
-    [a[0] * s / n, a[1] * s / n, a[2] * s / n]
+    a * s / n
 }
 #[cfg(test)]
 mod tests {
@@ -571,10 +567,10 @@ mod tests {
         );
         // Each side's normal points away from the axis.
         for f in g.faces() {
-            let [a, b, c] = [f[0], f[1], f[2]].map(|i| m.positions()[i as usize]);
-            let n = cross(sub(b, a), sub(c, a));
-            let centre = [(a[0] + c[0]) / 2.0, 0.0, (a[2] + c[2]) / 2.0];
-            assert!(dot(n, centre) > 0.0, "face {f:?}");
+            let [a, b, c] = [f[0], f[1], f[2]].map(|i| Vector3::from(m.positions()[i as usize]));
+            let n = (b - a).cross(&(c - a));
+            let centre = Vector3::new((a.x + c.x) / 2.0, 0.0, (a.z + c.z) / 2.0);
+            assert!(n.dot(&centre) > 0.0, "face {f:?}");
         }
         assert_eq!(m.triangle_count(), 8 + 8 + 2);
     }

@@ -258,7 +258,6 @@ mod tests {
     use super::*;
     use crate::outputs::mesh::MeshError;
     use crate::outputs::mesh::tests::plant;
-    use crate::outputs::vector::dot;
 
     /// `bits / 65 536`, as the streams' fixed-point coordinates read.
     fn fx(bits: i32) -> f64 {
@@ -350,7 +349,8 @@ mod tests {
             .collect();
         assert_eq!(vn[16], [0.0, 0.0, 1.0]);
         for n in &vn {
-            assert!((dot(*n, *n) - 1.0).abs() < 1e-4, "{n:?}");
+            let length_squared: f64 = n.iter().map(|c| c * c).sum();
+            assert!((length_squared - 1.0).abs() < 1e-4, "{n:?}");
         }
         // Every face corner names a vertex and its own normal.
         for l in lines.iter().filter_map(|l| l.strip_prefix("f ")) {

@@ -19,6 +19,7 @@ use morphogen::fx::Real as _;
 use morphogen::mosaic::Params;
 use morphogen::mosaic::surface::ControlMap;
 use morphogen::stream::Record;
+use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use super::kinds::{Kind, Kinds};
@@ -28,7 +29,6 @@ use super::mosaic::{
 };
 use super::numbered::{FileSeries, Numbering};
 use super::picture;
-use super::vector::{cross, dot, sub};
 use crate::atomic;
 use crate::records::{Place, Records};
 use control::Unrolled;
@@ -108,9 +108,8 @@ impl Shell {
             .faces
             .par_iter()
             .map(|f| {
-                let [a, b, c] = self.corners(f);
-                let area =
-                    dot(cross(sub(b, a), sub(c, a)), cross(sub(b, a), sub(c, a))).sqrt() / 2.0;
+                let [a, b, c] = self.corners(f).map(Vector3::from);
+                let area = (b - a).cross(&(c - a)).norm() / 2.0;
                 let mut share = vec![0.0; types.max(1)];
                 let mut n = 0.0;
                 let mut along = Along::new(near);

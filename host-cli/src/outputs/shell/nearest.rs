@@ -3,7 +3,7 @@
 //! nearest to the points of a box.
 
 use super::Shell;
-use crate::outputs::vector::{dot, sub};
+use nalgebra::Vector3;
 
 /// The most cubes [`Nearest::near_box`] gathers cells from.
 const BOX_CUBES: i64 = 4_096;
@@ -170,7 +170,7 @@ impl Nearest {
         let Some(near) = self.kind_near(&g) else {
             return Reach::One(None);
         };
-        let half = dot(sub(hi, lo), sub(hi, lo)).sqrt() / 2.0;
+        let half = (Vector3::from(hi) - Vector3::from(lo)).norm() / 2.0;
         if near.stays > half * (1.0 + 1e-9) + self.margin() {
             return Reach::One(Some(near.kind)); // the whole box is within `stays`
         }
@@ -218,7 +218,7 @@ impl Nearest {
         let Some(d2) = nearest_among(wider, &g).map(|(d2, _)| d2) else {
             return Reach::One(None);
         };
-        let half = dot(sub(hi, lo), sub(hi, lo)).sqrt() / 2.0;
+        let half = (Vector3::from(hi) - Vector3::from(lo)).norm() / 2.0;
         let reach = (d2.sqrt() + half) * (1.0 + 1e-9) + self.margin();
         out.extend(wider.iter().filter(|c| within(&c.2, lo, hi, reach)));
         Reach::among(out)
@@ -267,8 +267,8 @@ impl Reach {
 
 /// Whether `p` is within `reach` of the box `lo`–`hi`.
 fn within(p: &[f64; 3], lo: [f64; 3], hi: [f64; 3], reach: f64) -> bool {
-    let d = [0, 1, 2].map(|k| (lo[k] - p[k]).max(p[k] - hi[k]).max(0.0));
-    dot(d, d) <= reach * reach
+    let d = Vector3::from([0, 1, 2].map(|k| (lo[k] - p[k]).max(p[k] - hi[k]).max(0.0)));
+    d.norm_squared() <= reach * reach
 }
 
 /// The squared distance and type of the cell of `cells` nearest `p`, the
@@ -307,7 +307,7 @@ impl<'n> Along<'n> {
 
     pub(super) fn kind_at(&mut self, p: &[f64; 3]) -> Option<u8> {
         if let Some((q, kind, stays)) = self.known
-            && dot(sub(*p, q), sub(*p, q)) < stays * stays
+            && (Vector3::from(*p) - Vector3::from(q)).norm_squared() < stays * stays
         {
             return Some(kind);
         }

@@ -11,7 +11,9 @@ use super::Shell;
 use super::nearest::{Along, Cell, Nearest, Reach, nearest_among};
 use crate::outputs::mesh::Rgb;
 use crate::outputs::normals;
-use crate::outputs::vector::{cross, dot, unit};
+use nalgebra::Vector3;
+
+use crate::outputs::normals::unit;
 
 /// The picture's longer side in pixels (drawn at twice the size, halved).
 const PICTURE_SIDE: f64 = 700.0;
@@ -31,10 +33,10 @@ impl Shell {
     /// picture shaded between the corners is smooth where the surface is
     /// and keeps its edges.
     fn corner_shades(&self) -> Vec<[f64; 3]> {
-        let light = unit(LIGHT);
+        let light = unit(Vector3::from(LIGHT));
         normals::corner_normals(&self.vertices, &self.faces)
             .into_iter()
-            .map(|corners| corners.map(|n| 0.35 + 0.65 * dot(n, light).abs()))
+            .map(|corners| corners.map(|n| 0.35 + 0.65 * Vector3::from(n).dot(&light).abs()))
             .collect()
     }
     /// The object seen from `elevation` radians above its equator
@@ -43,13 +45,16 @@ impl Shell {
     /// the days (the mesh does not move).
     pub(super) fn view(&self, elevation: f64) -> View {
         let (sin_e, cos_e) = elevation.sin_cos();
-        let towards = [0.0, -cos_e, sin_e]; // towards the viewer
-        let right = [1.0, 0.0, 0.0];
-        let up = cross(towards, right);
+        let towards = Vector3::new(0.0, -cos_e, sin_e); // towards the viewer
+        let right = Vector3::x();
+        let up = towards.cross(&right);
         let screen: Vec<[f64; 3]> = self
             .vertices
             .iter()
-            .map(|p| [dot(*p, right), dot(*p, up), dot(*p, towards)])
+            .map(|&p| {
+                let p = Vector3::from(p);
+                [p.dot(&right), p.dot(&up), p.dot(&towards)]
+            })
             .collect();
         let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
         for s in &screen {
@@ -83,11 +88,11 @@ impl Shell {
             h,
             scale,
             top: hi[1] + margin,
-            axes: [right, up, towards],
+            axes: [right, up, towards].map(Into::into),
             columns: (0..w)
                 .map(|x| {
                     let across = (x as f64 + 0.5) / scale + lo[0] - margin;
-                    right.map(|k| k * across)
+                    (right * across).into()
                 })
                 .collect(),
             depth,
