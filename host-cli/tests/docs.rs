@@ -13,6 +13,8 @@
 //!   under test (run to argument parsing, `--help` appended), every flag it
 //!   names is in its subcommand's help, every file it reads exists, and
 //!   every `cargo bench`/`cargo test` target they name is a target;
+//! - every `--only` list names kinds `run --only` takes, and a synopsis's
+//!   list names them all;
 //!
 //! and no tracked file names a work session or an issue by its number.
 
@@ -811,4 +813,51 @@ fn no_tracked_file_names_a_session_or_an_issue_by_number() {
         "session or issue numbers belong in git, not in the project:\n{}",
         wrong.join("\n")
     );
+}
+
+// ---- output kinds ------------------------------------------------------
+
+/// The kinds of file `run --only` takes, from its own message.
+fn output_kinds() -> BTreeSet<String> {
+    let (ok, out) = morphogen(&["run", "--only", "no-such-kind"]);
+    assert!(!ok, "{out}");
+    let allowed = out
+        .split_once("(allowed: ")
+        .and_then(|(_, rest)| rest.split_once(')'))
+        .unwrap_or_else(|| panic!("`run --only` names no allowed kinds: {out}"))
+        .0;
+    allowed.split(", ").map(str::to_owned).collect()
+}
+
+#[test]
+fn every_output_kind_the_documents_name_is_the_clis() {
+    let kinds = output_kinds();
+    assert!(kinds.len() > 3, "{kinds:?}");
+    let only = Regex::new(r"--only[ =]([a-z0-9]+(?:,[a-z0-9]+)*)").unwrap();
+    let (mut wrong, mut lists) = (Vec::new(), 0);
+    for (doc, text) in documents() {
+        let synopses: BTreeSet<usize> = blocks(&text)
+            .iter()
+            .filter(|b| b.info.is_empty())
+            .flat_map(|b| b.line..=b.line + b.lines.len())
+            .collect();
+        for (line, piece) in pieces(&text) {
+            for c in only.captures_iter(&piece) {
+                lists += 1;
+                let named: BTreeSet<String> = c[1].split(',').map(str::to_owned).collect();
+                let unknown: Vec<&String> = named.difference(&kinds).collect();
+                if !unknown.is_empty() {
+                    wrong.push(format!("{doc}:{line}: `--only` takes no {unknown:?}"));
+                }
+                // A synopsis lists every kind.
+                if synopses.contains(&line) && named != kinds {
+                    wrong.push(format!(
+                        "{doc}:{line}: the synopsis lists {named:?}, `run --only` takes {kinds:?}"
+                    ));
+                }
+            }
+        }
+    }
+    assert!(lists >= 2, "only {lists} `--only` lists found");
+    assert!(wrong.is_empty(), "\n{}", wrong.join("\n"));
 }
