@@ -83,7 +83,9 @@ fn repository() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-/// README.md and docs/*.md, relative to the repository, with their text.
+/// README.md, docs/*.md (a new one too, before it is tracked) and every
+/// other tracked Markdown file, relative to the repository, with their
+/// text.
 fn documents() -> Vec<(String, String)> {
     let mut names: Vec<String> = fs::read_dir(repository().join("docs"))
         .unwrap()
@@ -93,6 +95,11 @@ fn documents() -> Vec<(String, String)> {
         .collect();
     names.sort();
     names.insert(0, "README.md".to_string());
+    for other in tracked() {
+        if other.ends_with(".md") && !names.contains(&other) && !other.starts_with("fixtures/") {
+            names.push(other);
+        }
+    }
     names
         .into_iter()
         .map(|n| {
@@ -376,6 +383,8 @@ struct Claim {
     expected: fn(&Project) -> usize,
 }
 
+/// In order, the specific before the general: the first claim whose
+/// pattern takes a number checks it.
 const CLAIMS: &[Claim] = &[
     Claim {
         pattern: r"{N}\s+presets,\s+the\s+slowest",
@@ -391,6 +400,11 @@ const CLAIMS: &[Claim] = &[
         pattern: r"\d+\s+of\s+{N}\*\*",
         what: "presets (a figure measured over every preset)",
         expected: |p| p.presets,
+    },
+    Claim {
+        pattern: r"{N}\s+presets\s+(?:it\s+streams|here)",
+        what: "streams the firmware sends",
+        expected: |p| p.streams,
     },
     Claim {
         pattern: r"(?:all|every one of the)\s+{N}\s+presets",
@@ -739,7 +753,9 @@ fn every_command_the_documents_show_parses() {
                 // Every file it reads exists (or an earlier command of the
                 // document wrote it, or it is a reader's own).
                 for (i, a) in arguments.iter().enumerate() {
-                    let value_of_written = i > 0 && WRITTEN.contains(&arguments[i - 1].as_str());
+                    let value_of_written = (i > 0 && WRITTEN.contains(&arguments[i - 1].as_str()))
+                        // `send SCENARIO PORT|FILE` writes to its last.
+                        || (sub == "send" && i + 1 == arguments.len() && i > 1);
                     if file.is_match(a)
                         && !value_of_written
                         && !root.join(a).exists()
