@@ -11,8 +11,9 @@
 //!   to be checked or said without a number;
 //! - every `morphogen …` command line they show parses with the binary
 //!   under test (run to argument parsing, `--help` appended), every flag it
-//!   names is in its subcommand's help, every file it reads exists, and
-//!   every `cargo bench`/`cargo test` target they name is a target;
+//!   names is in its subcommand's help, every file it reads exists, every
+//!   preset it names is one, `cargo morphogen` is an alias, and every
+//!   `cargo bench`/`cargo test` target they name is a target;
 //! - every `--only` list names kinds `run --only` takes, and a synopsis's
 //!   list names them all;
 //!
@@ -620,6 +621,46 @@ fn flags_of(
         .clone()
 }
 
+/// The flags of a subcommand that take a value (`--out <DIR>`).
+fn valued_flags(subcommand: &str) -> BTreeSet<String> {
+    let (_, help) = morphogen(&[subcommand, "--help"]);
+    Regex::new(r"(--[a-z][a-z0-9-]*)[ =]<")
+        .unwrap()
+        .captures_iter(&help)
+        .map(|c| c[1].to_string())
+        .collect()
+}
+
+/// The preset names a command gives where a preset or a file goes: the
+/// positional arguments of `run`, `show`, `send` (its first), `verify` and
+/// `bless` (not `--accept`'s fixture names), without a `.` or `/`.
+fn preset_arguments(arguments: &[String], valued: &BTreeSet<String>) -> Vec<String> {
+    let Some(sub) = arguments.first() else {
+        return Vec::new();
+    };
+    if !["run", "show", "send", "verify", "bless"].contains(&sub.as_str())
+        || arguments.iter().any(|a| a == "--accept")
+    {
+        return Vec::new();
+    }
+    let mut positional = Vec::new();
+    let mut words = arguments[1..].iter();
+    while let Some(w) = words.next() {
+        if w.starts_with('-') {
+            if valued.contains(w.as_str()) {
+                words.next();
+            }
+        } else {
+            positional.push(w.clone());
+        }
+    }
+    if sub == "send" || sub == "run" || sub == "show" {
+        positional.truncate(1);
+    }
+    positional.retain(|p| !p.contains(['.', '/']));
+    positional
+}
+
 /// The package folder of each workspace package, by its name.
 fn packages() -> BTreeMap<String, PathBuf> {
     let name = Regex::new(r#"(?m)^\[package\]\s*\nname\s*=\s*"([^"]+)""#).unwrap();
@@ -672,6 +713,13 @@ fn every_command_the_documents_show_parses() {
     let packages = packages();
     let file = Regex::new(r"^[\w./-]+\.(toml|obj|cylinders|txt|lsys|pbm|png|bin)$").unwrap();
     let flag_word = Regex::new(r"--[a-z][a-z0-9-]*").unwrap();
+    let presets: BTreeSet<String> = morphogen_scenario::builtins()
+        .iter()
+        .map(|s| s.name().to_owned())
+        .collect();
+    let mut valued: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    let mut named_presets = 0;
+    let alias = fs::read_to_string(root.join(".cargo/config.toml")).unwrap_or_default();
     let mut helps = BTreeMap::new();
     let (mut wrong, mut run, mut synopses, mut targets) = (Vec::new(), 0, 0, 0);
     for (doc, text) in documents() {
@@ -729,6 +777,13 @@ fn every_command_the_documents_show_parses() {
                 if let Some(redirect) = words.iter().position(|w| w == ">") {
                     written.extend(words.get(redirect + 1).cloned());
                 }
+                if words.starts_with(&["cargo".to_string(), "morphogen".to_string()])
+                    && !alias.contains("morphogen = ")
+                {
+                    wrong.push(format!(
+                        "{at}: `cargo morphogen` is no alias of .cargo/config.toml"
+                    ));
+                }
                 let Some(arguments) = morphogen_arguments(&words) else {
                     continue;
                 };
@@ -749,6 +804,18 @@ fn every_command_the_documents_show_parses() {
                 if is_synopsis(&arguments) {
                     synopses += 1;
                     continue;
+                }
+                let valued = valued
+                    .entry(sub.clone())
+                    .or_insert_with(|| valued_flags(&sub));
+                for name in preset_arguments(&arguments, valued) {
+                    named_presets += 1;
+                    if !presets.contains(&name) && !readers_own(&name) {
+                        wrong.push(format!(
+                            "{at}: `morphogen {}`: {name} is no preset (`morphogen list`)",
+                            arguments.join(" ")
+                        ));
+                    }
                 }
                 // Every file it reads exists (or an earlier command of the
                 // document wrote it, or it is a reader's own).
@@ -787,8 +854,8 @@ fn every_command_the_documents_show_parses() {
         }
     }
     assert!(
-        run >= 10 && synopses >= 10 && targets >= 5,
-        "{run} commands, {synopses} synopses, {targets} cargo targets: the reading is wrong"
+        run >= 10 && synopses >= 10 && targets >= 5 && named_presets >= 10,
+        "{run} commands, {synopses} synopses, {targets} cargo targets, {named_presets} presets named: the reading is wrong"
     );
     assert!(wrong.is_empty(), "\n{}", wrong.join("\n"));
 }
