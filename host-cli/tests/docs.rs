@@ -473,6 +473,11 @@ const CLAIMS: &[Claim] = &[
         expected: |p| p.sent,
     },
     Claim {
+        pattern: r"sends\s+{N}\s+scenarios",
+        what: "scenarios sent (scripts/firmware-check.sh)",
+        expected: |p| p.sent,
+    },
+    Claim {
         pattern: r"{N}\s+Playwright\s+tests",
         what: "Playwright tests (web/tests/*.spec.js)",
         expected: |p| p.browser_tests,
@@ -480,7 +485,7 @@ const CLAIMS: &[Claim] = &[
 ];
 
 /// A count of one of these that no claim checks fails.
-const COUNTED: &str = r"{N}\s+(?:MCU\s+|built-in\s+|golden\s+|firmware\s+|fuzz\s+|Playwright\s+)?(?:presets|streams|fixtures|cylinders|targets|tests|models)\b";
+const COUNTED: &str = r"{N}\s+(?:MCU\s+|built-in\s+|golden\s+|firmware\s+|fuzz\s+|Playwright\s+)?(?:presets|streams|fixtures|cylinders|targets|tests|models|pictures|scenarios|scenario files|grammars|kinds|outputs|subcommands|jobs|papers)\b";
 
 fn with_number(pattern: &str) -> Regex {
     Regex::new(&format!(r"(?i){}", pattern.replacen("{N}", NUMBER, 1))).unwrap()
