@@ -1,14 +1,16 @@
-//! README.md and every docs/*.md held to the project they describe, so
-//! that what they say stays true (a new document is read too):
+//! README.md, every docs/*.md (a new one too) and every other tracked
+//! Markdown file held to the project they describe, so that what they say
+//! stays true:
 //!
 //! - every relative link, and every repository path named in code (a
 //!   backtick span or a code block), exists; outputs that a command shown
 //!   creates are listed in `CREATED`, each with the reason;
 //! - every count of presets, MCU presets, firmware streams, fixtures,
-//!   cylinders, fuzz targets and browser tests they state is the
-//!   project's, computed here from the scenario crate, the core and the
-//!   repository's files; a count of those that no claim here checks fails,
-//!   to be checked or said without a number;
+//!   cylinders (a built-in body's, a user's limit, an MCU's), fuzz targets,
+//!   browser tests and scenarios sent that they state is the project's,
+//!   computed here from the scenario crate, the core and the repository's
+//!   files (`CLAIMS`); a count of such things, or an "all N", that no claim
+//!   checks fails, to be checked or said without a number;
 //! - every `morphogen …` command line they show parses with the binary
 //!   under test (run to argument parsing, `--help` appended), every flag it
 //!   names is in its subcommand's help, every file it reads exists, every
@@ -184,14 +186,38 @@ fn as_repository_path(word: &str, top: &BTreeSet<String>) -> Option<String> {
     Some(word.to_string())
 }
 
+/// `path` (relative to the repository, `..` and `.` allowed) as git
+/// tracks it: a tracked file or a folder holding one. Files a build or a
+/// run left in the work tree do not count, so the test says the same in a
+/// fresh clone.
+fn is_tracked(path: &str, tracked: &BTreeSet<String>) -> bool {
+    let mut parts: Vec<&str> = Vec::new();
+    for part in path.split('/') {
+        match part {
+            "" | "." => {}
+            ".." => {
+                parts.pop();
+            }
+            _ => parts.push(part),
+        }
+    }
+    let path = parts.join("/");
+    let folder = format!("{path}/");
+    tracked.contains(&path)
+        || tracked
+            .range(folder.clone()..)
+            .next()
+            .is_some_and(|t| t.starts_with(&folder))
+}
+
 fn created(path: &str) -> bool {
     CREATED.iter().any(|(prefix, _)| path.starts_with(prefix))
 }
 
 #[test]
 fn every_path_the_documents_name_exists() {
-    let root = repository();
-    let top: BTreeSet<String> = tracked()
+    let tracked: BTreeSet<String> = tracked().into_iter().collect();
+    let top: BTreeSet<String> = tracked
         .iter()
         .filter_map(|p| p.split('/').next().map(str::to_owned))
         .collect();
@@ -200,7 +226,7 @@ fn every_path_the_documents_name_exists() {
     let mut wrong = Vec::new();
     let mut checked = 0;
     for (doc, text) in documents() {
-        let folder = root.join(&doc).parent().unwrap().to_path_buf();
+        let folder = doc.rsplit_once('/').map_or("", |(f, _)| f);
         for (line, paragraph) in paragraphs(&text) {
             for target in link.captures_iter(&paragraph).map(|c| c[1].to_string()) {
                 if target.contains("://")
@@ -211,9 +237,9 @@ fn every_path_the_documents_name_exists() {
                 }
                 let file = target.split('#').next().unwrap_or_default();
                 checked += 1;
-                if !folder.join(file).exists() {
+                if !is_tracked(&format!("{folder}/{file}"), &tracked) {
                     wrong.push(format!(
-                        "{doc}:{line}: link to {target}, which does not exist"
+                        "{doc}:{line}: link to {target}, which git does not track"
                     ));
                 }
             }
@@ -237,8 +263,10 @@ fn every_path_the_documents_name_exists() {
                     wrong.push(format!(
                         "{doc}:{line}: `{path}` names a line, which moves with every edit: name the item"
                     ));
-                } else if !root.join(&path).exists() && !created(&path) {
-                    wrong.push(format!("{doc}:{line}: `{path}` does not exist"));
+                } else if !is_tracked(&path, &tracked) && !created(&path) {
+                    wrong.push(format!(
+                        "{doc}:{line}: `{path}` is not a file or folder git tracks"
+                    ));
                 }
             }
         }
@@ -722,6 +750,7 @@ fn every_command_the_documents_show_parses() {
     let packages = packages();
     let file = Regex::new(r"^[\w./-]+\.(toml|obj|cylinders|txt|lsys|pbm|png|bin)$").unwrap();
     let flag_word = Regex::new(r"--[a-z][a-z0-9-]*").unwrap();
+    let tracked_files: BTreeSet<String> = tracked().into_iter().collect();
     let presets: BTreeSet<String> = morphogen_scenario::builtins()
         .iter()
         .map(|s| s.name().to_owned())
@@ -834,13 +863,13 @@ fn every_command_the_documents_show_parses() {
                         || (sub == "send" && i + 1 == arguments.len() && i > 1);
                     if file.is_match(a)
                         && !value_of_written
-                        && !root.join(a).exists()
+                        && !is_tracked(a, &tracked_files)
                         && !written.contains(a)
                         && !created(a)
                         && !readers_own(a)
                     {
                         wrong.push(format!(
-                            "{at}: `morphogen {}` reads {a}, which does not exist",
+                            "{at}: `morphogen {}` reads {a}, which git does not track",
                             arguments.join(" ")
                         ));
                     }
