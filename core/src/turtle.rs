@@ -1,6 +1,6 @@
-//! The 3D turtle that draws an L-system's string (ABOP ch. 1.5, seed
-//! `002_…`, "Three-dimensional commands"), generic over [`Real`] so the
-//! fixed-point turtle can be checked against an `f64` one.
+//! The 3D turtle that draws an L-system's string (ABOP ch. 1.5; Digital
+//! Design of Nature, Sec. 5.4, "Three-dimensional commands"), generic over
+//! [`Real`] so the fixed-point turtle can be checked against an `f64` one.
 //!
 //! # Conventions (pinned; `docs/lsystems.md` has the figures)
 //!

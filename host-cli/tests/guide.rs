@@ -16,34 +16,10 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod markdown;
 mod terminal;
+use markdown::{Block, blocks};
 use terminal::{read_to_end, read_until, review_on_a_terminal};
-
-/// A fenced block of the guide: its info string and its lines.
-struct Block {
-    info: String,
-    lines: Vec<String>,
-}
-
-fn blocks(markdown: &str) -> Vec<Block> {
-    let mut blocks = Vec::new();
-    let mut open: Option<Block> = None;
-    for line in markdown.lines() {
-        match (&mut open, line.strip_prefix("```")) {
-            (None, Some(info)) => {
-                open = Some(Block {
-                    info: info.trim().to_string(),
-                    lines: Vec::new(),
-                });
-            }
-            (Some(_), Some(_)) => blocks.extend(open.take()),
-            (Some(block), None) => block.lines.push(line.to_string()),
-            (None, None) => {}
-        }
-    }
-    assert!(open.is_none(), "a block is never closed");
-    blocks
-}
 
 /// The folder of the `morphogen` under test, first on `PATH`.
 fn path_with_morphogen() -> std::ffi::OsString {

@@ -54,14 +54,7 @@ pub fn write_presets(surfaces: bool) -> Result<(), String> {
     );
 
     let scenarios = match env::var_os(VAR) {
-        None => crate::builtins()
-            .into_iter()
-            .filter(|s| {
-                s.with_preset(|p| p.model.fits_mcu())
-                    && (surfaces || !on_surface(s))
-                    && on_own_mesh(s).is_none()
-            })
-            .collect(),
+        None => builtin_presets(surfaces),
         Some(list) => user_scenarios(
             list.to_str().ok_or(format!("{VAR} is not UTF-8"))?,
             surfaces,
@@ -178,6 +171,24 @@ fn without_comments(text: &str) -> String {
         })
         .collect();
     lines.join("\n")
+}
+
+/// The built-in presets a firmware runs unless [`VAR`] names others, in
+/// `morphogen list` order: each that fits the MCU, without mosaics on a
+/// surface unless the runner runs them (`surfaces`: the core's feature
+/// `surface-runner`) and without bodies on their own mesh
+/// ([`on_own_mesh`]). Its length is the number of streams the firmware
+/// sends back to back.
+#[must_use]
+pub fn builtin_presets(surfaces: bool) -> Vec<Scenario> {
+    crate::builtins()
+        .into_iter()
+        .filter(|s| {
+            s.with_preset(|p| p.model.fits_mcu())
+                && (surfaces || !on_surface(s))
+                && on_own_mesh(s).is_none()
+        })
+        .collect()
 }
 
 /// For a body grown on its own mesh (a built-in preset such as

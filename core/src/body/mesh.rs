@@ -1,4 +1,4 @@
-//! The polygonal body the cylinders deform: either a procedural mesh of
+//! The polygonal body the cylinders deform (growth paper, Sec. 2): either a procedural mesh of
 //! tubes generated vertex by vertex on the fly (the built-in quadrupeds, no
 //! RAM beyond a few scalars), or an indexed triangle mesh borrowed from the
 //! caller (an OBJ file on the host).

@@ -1,4 +1,4 @@
-//! Growth data on bodies (growth paper, seed 001, Secs. 5–8): a polygonal
+//! Growth data on bodies (growth paper, Secs. 5–8): a polygonal
 //! body enclosed by a hierarchy of cylinders, each sized at every age by two
 //! measured features, deformed continuously as the animal grows, and
 //! animated through the same hierarchy by joint rotations.

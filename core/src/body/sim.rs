@@ -1,4 +1,5 @@
-//! A growing (and moving) body as a [`Simulation`]: one frame per step.
+//! A growing (and moving) body as a [`Simulation`] (growth paper, Secs.
+//! 6–7: the growth process and animation): one frame per step.
 //!
 //! Frame f shows the body at age `first_age + (last_age − first_age)·f /
 //! (frames − 1)` months, with the gait (if any) at phase `(f mod

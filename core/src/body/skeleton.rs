@@ -1,4 +1,5 @@
-//! The posed hierarchy: every cylinder's growth at an age and its map from
+//! The posed hierarchy (growth paper, Secs. 5–7): every cylinder's growth
+//! at an age and its map from
 //! model space to the deformed world, for a pose of the joints — the
 //! kernel that [`super::Body`] runs in fixed point and tests run in `f64`.
 //!

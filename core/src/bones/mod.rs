@@ -1,4 +1,4 @@
-//! Bones (seed `003_…`, Slovak): an L-system skeleton of points and
+//! Bones (bones paper, Secs. 2–6): an L-system skeleton of points and
 //! segments, wrapped by [`crate::shrinkwrap`] in a closed triangle mesh on
 //! the iso-surface V(r) = V0 of V(r) = Σ ρ_i / |r − R_i|, with the paper's
 //! normalised ρ_i over the skeleton's vertices (eqs. (1)–(2)) or each

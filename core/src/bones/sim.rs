@@ -1,4 +1,5 @@
-//! The bone simulation: grow the skeleton, wrap it, stream the frame.
+//! The bone simulation (bones paper, Secs. 2–6): grow the skeleton, wrap
+//! it, stream the frame.
 //!
 //! A frame is one wrapped bone: `FrameStart` (time = derivation steps), a
 //! `Segment` per skeleton element (a point has `a == b`; width = ρ; a

@@ -1,4 +1,4 @@
-//! The bone skeleton (seed `003_…`, Sec. 2–4 and 6): the elements an
+//! The bone skeleton (bones paper, Secs. 2–4 and 6): the elements an
 //! L-system's turtle draws. `F` draws a segment element whose weight ρ is
 //! the turtle's width; `O(ρ)` puts a point element at the turtle (`O`
 //! alone: ρ = the width); `{ … }` is a convex polygon element of weight

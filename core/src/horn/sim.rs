@@ -1,4 +1,5 @@
-//! The horn as a [`Simulation`]: one frame per step.
+//! The horn as a [`Simulation`]: one frame per step, each the compound
+//! solid Z(t) of the horn paper, Sec. 7, at its global time t.
 //!
 //! Frame m (from 0) shows global time t = (m + 1)·T / `frames_per_year`;
 //! its `FrameStart` carries t in years. Then, module by module from the tip,

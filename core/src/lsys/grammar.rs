@@ -1,5 +1,7 @@
-//! A parsed grammar: productions, axiom and settings in fixed-capacity
-//! pools (no allocation, no borrowing of the text).
+//! A parsed grammar: the productions of bracketed, stochastic,
+//! context-sensitive and parametric L-systems (ABOP, Secs. 1.6–1.10), the
+//! axiom and the settings, in fixed-capacity pools (no allocation, no
+//! borrowing of the text).
 
 use heapless::Vec;
 

@@ -1,5 +1,5 @@
-//! L-systems as a plant modeller knows them (Prusinkiewicz & Lindenmayer,
-//! *The Algorithmic Beauty of Plants*, ch. 1–2; seed `002_…`): bracketed,
+//! L-systems as a plant modeller knows them (ABOP: Prusinkiewicz &
+//! Lindenmayer, *The Algorithmic Beauty of Plants*, ch. 1–2): bracketed,
 //! stochastic, parametric and context-sensitive, derived in bounded memory.
 //!
 //! - [`Grammar`] is parsed from a small text format (`docs/lsystems.md`)

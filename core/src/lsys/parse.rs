@@ -1,5 +1,6 @@
-//! The grammar text parser: line by line, alloc-free, every error located.
-//! The format is specified in `docs/lsystems.md`.
+//! The grammar text parser: ABOP's notation (Secs. 1.6–1.10) line by line,
+//! alloc-free, every error located. The format is specified in
+//! `docs/lsystems.md`.
 
 use core::cell::Cell;
 

@@ -1,5 +1,5 @@
-//! The L-system simulation: derive, then draw with the turtle, streaming
-//! segment by segment.
+//! The L-system simulation: derive (ABOP, Secs. 1.1–1.10), then draw with
+//! the turtle (Secs. 1.3, 1.5), streaming segment by segment.
 //!
 //! Frames: by default one frame (index 0, time `n`) holding the plants of
 //! derivation step `n`; with `animate = 1`, frame `k` (time `k`) holds step

@@ -1,4 +1,5 @@
-//! A uniform grid for the neighbour search of the relaxation: cells are
+//! A uniform grid for the neighbour search of the relaxation (MClone
+//! thesis, Sec. 3.2.1.1: the neighbours within the repulsion radius): cells are
 //! counting-sorted into square-ish bins at least one repulsion radius wide,
 //! so every neighbour of a cell lies in its bin or the 8 around it. O(N)
 //! per build, no allocation: the bins and the permutation live in the

@@ -1,5 +1,5 @@
 //! Clonal mosaics: the MClone model of Walter et al. as used for plant
-//! patterns in the thesis `004_…` (Secs. 3.2 and 4.1; docs/mosaics.md), in bounded memory and fixed point.
+//! patterns in the MClone thesis (Secs. 3.2 and 4.1; docs/mosaics.md), in bounded memory and fixed point.
 //!
 //! Cells are points with a type on a [`Domain`]. Day 0 spreads
 //! [`Params::initial_cells`] cells uniformly at random (types by their

@@ -1,4 +1,4 @@
-//! One skeleton element (seed `003_…`, Sec. 6: "points, lines or convex
+//! One skeleton element (bones paper, Sec. 6: "points, lines or convex
 //! polygons"): a point, a segment, or one edge of a convex polygon element
 //! ([`super::polygon`]), with its weight ρ.
 

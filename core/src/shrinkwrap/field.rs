@@ -1,5 +1,5 @@
-//! The skeleton's field V(r) = Σ ρ_i / |r − R_i| and its gradient (seed
-//! `003_…`, eq. (6) and (12)), where R_i is the point of element i nearest
+//! The skeleton's field V(r) = Σ ρ_i / |r − R_i| and its gradient (bones
+//! paper, eqs. (6) and (12)), where R_i is the point of element i nearest
 //! to r.
 
 use heapless::Vec;

@@ -1,5 +1,5 @@
 //! The shrinkwrap mesh: a closed triangle mesh in fixed-capacity buffers,
-//! started as a UV sphere (seed `003_…`, Sec. 5: m meridians, a multiple of
+//! started as a UV sphere (bones paper, Sec. 5: m meridians, a multiple of
 //! 4, p parallels, odd, m·p + 2 vertices) and refined only by splitting
 //! edges at their midpoints (Sec. 5, "adaptive triangulation").
 //!

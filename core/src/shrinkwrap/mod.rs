@@ -1,4 +1,4 @@
-//! Shrinkwrap (seed `003_…`, Sec. 5–6): an adaptive triangle mesh pulled
+//! Shrinkwrap (bones paper, Secs. 5–6): an adaptive triangle mesh pulled
 //! onto the iso-surface V(r) = V0 of a skeleton's field
 //! V(r) = Σ ρ_i / |r − R_i| (eq. (6)), from a sphere around the skeleton
 //! inwards.

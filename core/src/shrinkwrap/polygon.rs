@@ -1,4 +1,4 @@
-//! Convex polygon elements (seed `003_…`, Sec. 6, after eq. (6)): "if the
+//! Convex polygon elements (bones paper, Sec. 6, after eq. (6)): "if the
 //! element is a convex polygon, R_i is the projection of r into the
 //! polygon", so its surface lies ρ / V0 from the polygon, with rounded
 //! (cylindrical) rims.

@@ -1,4 +1,4 @@
-//! The paper's own field (seed `003_…`, Sec. 5, eqs. (1)–(2) in (6)): the
+//! The paper's own field (bones paper, Sec. 5, eqs. (1)–(2) in (6)): the
 //! skeleton's *vertices* are its elements (its edges are only drawn), and
 //! each weighs ρ_i(r) = (1/|r − R_i|) / ρ(r) with ρ(r) = Σ_j 1/|r − R_j|,
 //! so V(r) = Σ_i ρ_i / |r − R_i| = Σ u_i² / Σ u_i with u_i = 1/|r − R_i|:

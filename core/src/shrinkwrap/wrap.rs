@@ -1,4 +1,4 @@
-//! The shrinkwrap iteration (seed `003_…`, Sec. 5–6), with three
+//! The shrinkwrap iteration (bones paper, Secs. 5–6), with three
 //! corrections that make it converge in fixed point:
 //!
 //! - a vertex moves towards the new level V0 from where it *is*:

@@ -7,8 +7,8 @@
 //! An `Fx` is `bits / 65536`, whose decimal expansion ends after at most
 //! 16 fractional digits; [`fx`] prints every one of them, with no `f64` in
 //! between. For values of up to 15 significant digits this is the same
-//! text as the shortest round-trip `f64` form printed before; longer values
-//! (e.g. `1.0000152587890625`) now show all their digits.
+//! text as the shortest round-trip `f64` form; longer values (e.g.
+//! `1.0000152587890625`) show all their digits, which that form rounds.
 
 use std::fmt::Write as _;
 

@@ -1,4 +1,5 @@
-//! Relaxation on a surface: the plane's pushes
+//! Relaxation on a surface (MClone thesis, Secs. 3.2.1.1 and 4.1: the cells
+//! on the object itself): the plane's pushes
 //! ρ_pq·(r − d)·(p − q)/d by 3D distance d < r
 //! ([`crate::mosaic::relaxation`]), summed over the neighbours a cube
 //! grid finds, blended with the anisotropy field of the cell's face
