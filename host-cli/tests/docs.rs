@@ -299,7 +299,7 @@ struct Project {
     user_cylinders: usize,
     /// The cylinders a body may have on an MCU (`body::MAX_CYLINDERS`).
     mcu_cylinders: usize,
-    /// The cylinders a vertex may lie in (`body::binding::MAX_BINDINGS`).
+    /// The cylinders a vertex may lie in (`body::MAX_BINDINGS`).
     bindings: usize,
     /// cargo-fuzz targets of `core/fuzz` and `fuzz`.
     fuzz_targets: usize,
@@ -351,7 +351,7 @@ fn project() -> Project {
         cylinders: morphogen::body::quadruped::HORSE_CYLINDERS.len(),
         user_cylinders: morphogen_scenario::body_files::USER_CYLINDERS,
         mcu_cylinders: morphogen::body::MAX_CYLINDERS,
-        bindings: morphogen::body::binding::MAX_BINDINGS,
+        bindings: morphogen::body::MAX_BINDINGS,
         fuzz_targets: count_lines(&root.join("core/fuzz/Cargo.toml"), "[[bin]]")
             + count_lines(&root.join("fuzz/Cargo.toml"), "[[bin]]"),
         browser_tests,
@@ -472,7 +472,7 @@ const CLAIMS: &[Claim] = &[
     },
     Claim {
         pattern: r"in\s+more\s+than\s+{N}\s+cylinders",
-        what: "cylinders a vertex may lie in (body::binding::MAX_BINDINGS)",
+        what: "cylinders a vertex may lie in (body::MAX_BINDINGS)",
         expected: |p| p.bindings,
     },
     Claim {
