@@ -30,6 +30,7 @@ pub mod sweep;
 pub mod verdict;
 pub mod verify;
 pub mod written;
+pub mod ws2812;
 
 /// How a command ended, mapped to the process exit code.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

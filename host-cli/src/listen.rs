@@ -55,6 +55,11 @@ const PORT_TIMEOUT: Duration = Duration::from_millis(200);
 /// cannot be written, or a source without any stream.
 pub fn run(args: &Args) -> Result<Outcome> {
     let rig = args.rig;
+    if rig.is_some_and(|r| r.chain.is_some()) {
+        anyhow::bail!(
+            "--rig …:ws2812: listen draws the rig's picture only; `morphogen run … --rig WxH:ws2812` writes a chain's bytes"
+        );
+    }
     let fixtures = fixture::locate(args.fixtures.clone(), false)?;
     let (mut source, port) = open(&args.source, args.baud)?;
     eprintln!(

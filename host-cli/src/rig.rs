@@ -16,6 +16,7 @@ use morphogen::rig::{Bounds, PALETTE_GRAY4, PALETTE_RGB888, Receiver, Rig, View,
 use morphogen::stream::{FrameError, Header, Record};
 
 use crate::records::{Place, Records};
+use crate::ws2812::{Chain, ChainFile};
 
 /// The largest rig accepted, per side (a 4096×4096 framebuffer is 48 MiB).
 pub const MAX_RIG_SIDE: u32 = 4096;
@@ -39,6 +40,18 @@ impl Framebuffer {
             height,
             pixels: vec![Rgb888::BLACK; len],
         }
+    }
+
+    /// Pixels across.
+    #[must_use]
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Pixels down.
+    #[must_use]
+    pub fn height(&self) -> u32 {
+        self.height
     }
 
     /// The colour at `(x, y)`, if inside.
@@ -148,7 +161,8 @@ impl RigPalette {
     }
 }
 
-/// A rig: its size in pixels and its palette (`--rig WxH[:grey4]`).
+/// A rig: its size in pixels, its palette and, for a WS2812 matrix, its
+/// chain (`--rig WxH[:grey4]`, `--rig WxH:ws2812[:LAYOUT][:B]`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RigSpec {
     /// Pixels across.
@@ -157,6 +171,8 @@ pub struct RigSpec {
     pub height: u32,
     /// The colours.
     pub palette: RigPalette,
+    /// The WS2812 chain whose bytes are written per frame, if any.
+    pub chain: Option<Chain>,
 }
 
 impl RigSpec {
@@ -177,6 +193,12 @@ impl RigSpec {
     #[must_use]
     pub fn file_name(&self) -> String {
         format!("{}.png", self.stem())
+    }
+
+    /// The WS2812 chain's bytes' file name: `rig-WxH-ws2812.bin`.
+    #[must_use]
+    pub fn chain_name(&self) -> String {
+        format!("rig-{}x{}-ws2812.bin", self.width, self.height)
     }
 
     /// The enlarged preview's file name: `rig-WxH[-grey4]-preview.png`.
@@ -201,18 +223,25 @@ impl RigSpec {
 }
 
 /// Parses a rig `WxH` (e.g. `64x64`, `128x64`), optionally followed by
-/// `:grey4` for a 4-bit grey OLED.
+/// `:grey4` for a 4-bit grey OLED, or by `:ws2812` for an RGB matrix of
+/// WS2812 LEDs with its chain's options ([`Chain::parse`]).
 ///
 /// # Errors
 /// When it is not two positive integers ≤ [`MAX_RIG_SIDE`] around an `x`,
-/// or the palette is not `grey4`.
+/// the kind is neither `grey4` nor `ws2812`, or a chain option is wrong.
 pub fn parse_rig(text: &str) -> Result<RigSpec> {
-    let (size, palette) = match text.split_once(':') {
-        None => (text, RigPalette::Rgb),
-        Some((size, p)) if p.trim().eq_ignore_ascii_case("grey4") => (size, RigPalette::Grey4),
-        Some((_, p)) => {
-            bail!("unknown palette {p:?}; the one there is is grey4 (e.g. 128x64:grey4)")
+    let mut parts = text.split(':');
+    let size = parts.next().unwrap_or_default();
+    let options: Vec<&str> = parts.collect();
+    let (palette, chain) = match options.split_first() {
+        None => (RigPalette::Rgb, None),
+        Some((kind, [])) if kind.trim().eq_ignore_ascii_case("grey4") => (RigPalette::Grey4, None),
+        Some((kind, rest)) if kind.trim().eq_ignore_ascii_case("ws2812") => {
+            (RigPalette::Rgb, Some(Chain::parse(rest)?))
         }
+        Some((kind, _)) => bail!(
+            "unknown rig {kind:?}: grey4 (a 4-bit grey OLED, e.g. 128x64:grey4) or ws2812 (an LED matrix, e.g. 16x16:ws2812)"
+        ),
     };
     let parsed = size
         .split_once(['x', 'X'])
@@ -225,6 +254,7 @@ pub fn parse_rig(text: &str) -> Result<RigSpec> {
                 width,
                 height,
                 palette,
+                chain,
             })
         }
         _ => bail!(
@@ -248,40 +278,110 @@ pub fn render_rig<R: Records + ?Sized>(
     rig: RigSpec,
     inks: Option<&[[u8; 3]]>,
 ) -> Result<Framebuffer> {
-    let (size, margin) = rig.checked()?;
-    let mut bounds = Bounds::new();
-    // Only the last frame survives the clears: draw from its start (its
-    // place, and its index among the records).
-    let (mut last_frame, mut last_index, mut count) = (Place::START, 0usize, 0usize);
-    records.visit(Place::START, |place, r| {
-        bounds.include(r);
-        if matches!(r, Record::FrameStart { .. }) {
-            (last_frame, last_index) = (place, count);
-        }
-        count += 1;
-        Ok(())
-    })?;
-    let view = View::fit(&bounds, size, margin);
-    let mut plane = vec![0; plane_bytes(size)];
-    let mut screen = Framebuffer::new(size.width, size.height);
-    let palette = match (rig.palette, inks) {
-        (RigPalette::Rgb, Some(inks)) if !inks.is_empty() => std::iter::once(Rgb888::BLACK)
-            .chain(inks.iter().map(|&[r, g, b]| Rgb888::new(r, g, b)))
-            .collect(),
-        (palette, _) => palette.colours().to_vec(),
-    };
-    let mut rig = Rig::new(view, &palette, &mut plane);
-    let mut i = last_index;
-    records.visit(last_frame, |_, r| {
-        rig.draw(r, &mut screen)
-            .map_err(|e| anyhow::anyhow!("record {i}: {e}"))?;
-        i += 1;
-        Ok(())
-    })?;
-    // A stream that does not end its frame still shows its cells.
-    rig.draw(&Record::FrameEnd { frame: 0 }, &mut screen)
-        .map_err(|e| anyhow::anyhow!("end of stream: {e}"))?;
+    let (fitted, (last_frame, last_index)) = Fitted::new(records, rig, inks)?;
+    let mut screen = Framebuffer::new(rig.width, rig.height);
+    fitted.draw(records, (last_frame, last_index), &mut screen, |_| Ok(()))?;
     Ok(screen)
+}
+
+/// Writes `chain`'s bytes of every frame of `records` on `rig` (as
+/// [`render_rig`] draws them) into `dir`; returns the file's path and the
+/// number of frames.
+///
+/// # Errors
+/// As [`render_rig`], or a failed write.
+pub fn render_chain<R: Records + ?Sized>(
+    records: &R,
+    rig: RigSpec,
+    chain: Chain,
+    inks: Option<&[[u8; 3]]>,
+    dir: &Path,
+) -> Result<(PathBuf, u32)> {
+    let (fitted, _) = Fitted::new(records, rig, inks)?;
+    let mut screen = Framebuffer::new(rig.width, rig.height);
+    let mut file = ChainFile::create(dir, &rig.chain_name(), chain)?;
+    fitted.draw(records, (Place::START, 0), &mut screen, |screen| {
+        file.frame((screen.width, screen.height), |x, y| {
+            let c = screen.get(x, y).unwrap_or(Rgb888::BLACK);
+            [c.r(), c.g(), c.b()]
+        })
+    })?;
+    file.finish()
+}
+
+/// A rig's view fitted to a whole stream, and its colours.
+struct Fitted {
+    view: View,
+    palette: Vec<Rgb888>,
+}
+
+impl Fitted {
+    /// The view of `rig` fitted to `records` (1 px margin when there is
+    /// room) and the colours it draws with: an RGB rig's ink `n` is
+    /// `inks[n]` when given, else from [`PALETTE_RGB888`]; a grey one's is
+    /// from [`PALETTE_GRAY4`], as the firmware's. Also where the last
+    /// frame starts, and its record's index.
+    fn new<R: Records + ?Sized>(
+        records: &R,
+        rig: RigSpec,
+        inks: Option<&[[u8; 3]]>,
+    ) -> Result<(Fitted, (Place, usize))> {
+        let (size, margin) = rig.checked()?;
+        let mut bounds = Bounds::new();
+        let (mut last_frame, mut last_index, mut count) = (Place::START, 0usize, 0usize);
+        records.visit(Place::START, |place, r| {
+            bounds.include(r);
+            if matches!(r, Record::FrameStart { .. }) {
+                (last_frame, last_index) = (place, count);
+            }
+            count += 1;
+            Ok(())
+        })?;
+        let palette = match (rig.palette, inks) {
+            (RigPalette::Rgb, Some(inks)) if !inks.is_empty() => std::iter::once(Rgb888::BLACK)
+                .chain(inks.iter().map(|&[r, g, b]| Rgb888::new(r, g, b)))
+                .collect(),
+            (palette, _) => palette.colours().to_vec(),
+        };
+        let view = View::fit(&bounds, size, margin);
+        Ok((Fitted { view, palette }, (last_frame, last_index)))
+    }
+
+    /// Draws `records` from `start` (a place and its record's index) on
+    /// `screen`, each frame clearing it, and hands `screen` to
+    /// `frame_end` as each frame ends. A stream that does not end its
+    /// last frame still shows it.
+    fn draw<R: Records + ?Sized>(
+        &self,
+        records: &R,
+        (start, index): (Place, usize),
+        screen: &mut Framebuffer,
+        mut frame_end: impl FnMut(&Framebuffer) -> Result<()>,
+    ) -> Result<()> {
+        let mut plane = vec![0; plane_bytes(screen.size())];
+        let mut rig = Rig::new(self.view, &self.palette, &mut plane);
+        let (mut i, mut open) = (index, false);
+        records.visit(start, |_, r| {
+            rig.draw(r, screen)
+                .map_err(|e| anyhow::anyhow!("record {i}: {e}"))?;
+            i += 1;
+            match r {
+                Record::FrameStart { .. } => open = true,
+                Record::FrameEnd { .. } => {
+                    open = false;
+                    frame_end(screen)?;
+                }
+                _ => {}
+            }
+            Ok(())
+        })?;
+        if open {
+            rig.draw(&Record::FrameEnd { frame: 0 }, screen)
+                .map_err(|e| anyhow::anyhow!("end of stream: {e}"))?;
+            frame_end(screen)?;
+        }
+        Ok(())
+    }
 }
 
 /// The picture a device that receives the stream of `header` would show
@@ -364,6 +464,7 @@ mod tests {
             width,
             height,
             palette: RigPalette::Rgb,
+            chain: None,
         }
     }
 

@@ -56,8 +56,13 @@ pub struct Args {
     /// draws its SSD0323 (rig-WxH-grey4.png). In colour, mosaics and
     /// plants take the colours of their main pictures. Also writes
     /// rig-WxH[-grey4]-preview.png, enlarged as the LEDs or the OLED
-    /// look lit.
-    #[arg(long, value_name = "WxH[:grey4]", value_parser = rig::parse_rig)]
+    /// look lit. `WxH:ws2812` also writes rig-WxH-ws2812.bin, the bytes a
+    /// chain of WS2812 LEDs wired as that matrix receives for each frame
+    /// (green, red, blue; gamma and brightness as smart-leds applies
+    /// them): `:serpentine` (the default) or `:progressive` rows, and a
+    /// brightness 0 to 255 (default 255), e.g. 16x16:ws2812:64
+    /// (docs/stream-format.md, "LED matrices").
+    #[arg(long, value_name = "WxH[:grey4|:ws2812[:LAYOUT][:B]]", value_parser = rig::parse_rig)]
     pub rig: Option<RigSpec>,
     /// With a mosaic: where F cells may start instead of the scenario's
     /// mask, a PBM (P1/P4) or PNG stretched over the whole domain; white
@@ -203,6 +208,10 @@ fn run_scenario(
         if let Some(rig) = rig {
             let inks = outputs::rig_inks(scenario);
             files.extend(rig::render_rig_png(records, rig, inks.as_deref(), dir)?);
+            if let Some(chain) = rig.chain {
+                let (path, _) = rig::render_chain(records, rig, chain, inks.as_deref(), dir)?;
+                files.push(path);
+            }
         }
         Ok(files)
     })?;

@@ -462,3 +462,41 @@ fn an_unknown_output_kind_is_an_error_listing_the_allowed_ones() {
         "{help}"
     );
 }
+
+#[test]
+fn a_ws2812_matrix_gets_every_frame_in_chain_order_as_smart_leds_corrects_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (dir, _) = run(
+        tmp.path(),
+        "croton-mcu",
+        &["--only", "png", "--rig", "16x16:ws2812:64"],
+    );
+    let chain = std::fs::read(dir.join("rig-16x16-ws2812.bin")).unwrap();
+    // A frame per day: the fixture's 36 frame ends, 3 bytes an LED.
+    let per_frame = 16 * 16 * 3;
+    assert_eq!(chain.len(), 36 * per_frame);
+    // The last frame is the rig's picture, LED by LED: rows from the top,
+    // odd rows right to left, gamma then brightness 64, green first.
+    let picture = tiny_skia::Pixmap::load_png(dir.join("rig-16x16.png")).unwrap();
+    let leds = (0..16u32).flat_map(|y| {
+        let row: Vec<u32> = if y % 2 == 0 {
+            (0..16).collect()
+        } else {
+            (0..16).rev().collect()
+        };
+        row.into_iter().map(move |x| (x, y))
+    });
+    let colours = leds.map(|(x, y)| {
+        let p = picture.pixel(x, y).unwrap();
+        smart_leds::RGB8::new(p.red(), p.green(), p.blue())
+    });
+    let want: Vec<u8> = smart_leds::brightness(smart_leds::gamma(colours), 64)
+        .flat_map(|c| [c.g, c.r, c.b])
+        .collect();
+    assert_eq!(chain[35 * per_frame..], want[..]);
+    // The days differ: the chain is not one picture repeated.
+    assert_ne!(chain[..per_frame], chain[35 * per_frame..]);
+    let listen = morphogen(&["listen", "x.bin", "--rig", "16x16:ws2812"]);
+    assert!(!listen.status.success());
+    assert!(String::from_utf8_lossy(&listen.stderr).contains("writes a chain's bytes"));
+}
