@@ -33,6 +33,38 @@ fn main() {
     // then runs them).
     morphogen_scenario::firmware::write_presets(env::var_os("CARGO_FEATURE_SURFACE").is_some())
         .unwrap_or_else(|e| fail(&e));
+    write_example_horn(&out).unwrap_or_else(|e| fail(&e));
+}
+
+/// The variable naming the horn scenario file of the example
+/// `horn_scenario` (default: the built-in `scenarios/ram-horn.toml`).
+const EXAMPLE_HORN_VAR: &str = "MORPHOGEN_EXAMPLE_HORN";
+
+/// Writes `example_horn.rs` for `examples/horn_scenario.rs`: one scenario
+/// file as a `static` preset (`PRESETS`, by `morphogen_scenario::codegen`,
+/// as `presets.rs`) and its parameter digest (`PARAMS_DIGEST`), computed
+/// here so that the device needs no serializer for it. The summary, which
+/// the device never shows, is left out.
+fn write_example_horn(out: &std::path::Path) -> Result<(), String> {
+    println!("cargo:rerun-if-env-changed={EXAMPLE_HORN_VAR}");
+    let file = env::var_os(EXAMPLE_HORN_VAR).map_or_else(
+        || PathBuf::from("../scenarios/ram-horn.toml"),
+        PathBuf::from,
+    );
+    println!("cargo:rerun-if-changed={}", file.display());
+    let scenario = morphogen_scenario::Scenario::load(&file, &[]).map_err(|e| e.to_string())?;
+    let mut source = morphogen_scenario::codegen::presets(std::slice::from_ref(&scenario))?
+        .replace(
+            &format!("summary: {:?}", scenario.summary()),
+            "summary: \"\"",
+        );
+    source.push_str(&format!(
+        "\n/// The parameter digest of `PRESETS[0]` (computed by `build.rs`).\n\
+         pub const PARAMS_DIGEST: u64 = {:#018x};\n",
+        scenario.with_preset(|p| p.model.params_digest())
+    ));
+    fs::write(out.join("example_horn.rs"), source)
+        .map_err(|e| format!("writing example_horn.rs: {e}"))
 }
 
 /// Fails the build with `message`.

@@ -39,7 +39,7 @@ cargo fmt --all --check
 step "lint"
 cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy -p morphogen --all-targets --features rig,defmt,surface-runner -- -D warnings
-(cd firmware-example && cargo clippy --release -- -D warnings)
+(cd firmware-example && cargo clippy --release --lib --bins --examples -- -D warnings)
 (cd firmware-example && cargo clippy --release --no-default-features --features semihosting,bitwise-crc -- -D warnings)
 (cd firmware-example && cargo clippy --release --features surface -- -D warnings)
 # firmware-rp2040 shares firmware-example's target folder: the host-side
@@ -55,6 +55,19 @@ for t in thumbv6m-none-eabi thumbv7m-none-eabi; do
     cargo check -p morphogen --target "$t"
     cargo check -p morphogen --target "$t" --features defmt,rig
 done
+
+step "the embedding examples build for Cortex-M0+ (firmware-example/examples, profile small: docs/embedding.md's flash and RAM table), the directly driven horn under 32 KB of flash"
+# One build of the four examples, as docs/embedding.md measures them (the
+# streams are checked on the host by core/tests/embedding.rs). `size` is
+# binutils', which links every host build.
+(cd firmware-example && cargo build --profile small --target thumbv6m-none-eabi \
+    --no-default-features --features semihosting,oled --examples)
+direct_flash="$(size -A firmware-example/target/thumbv6m-none-eabi/small/examples/horn_direct \
+    | awk '$1 ~ /^\.(vector_table|text|rodata|data)$/ {s += $2} END {print s}')"
+[ "$direct_flash" -lt 32768 ] || {
+    echo "horn_direct (thumbv6m, profile small): $direct_flash B of flash, not under 32 KB (docs/embedding.md)" >&2
+    exit 1
+}
 
 step "the Raspberry Pi Pico firmware builds (firmware-rp2040, thumbv6m; no board in CI: flashed by hand, see its README)"
 (cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo build --release)

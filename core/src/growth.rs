@@ -41,6 +41,30 @@ impl Sigmoid {
         span: Fx::from_int(YEAR_DAYS),
     };
 
+    /// The growth of a life of `days` days: `span` is `days`, as a horn
+    /// module's must be (its life is the delay T between modules,
+    /// [`HornParams::delay_days`](crate::horn::HornParams::delay_days);
+    /// horn paper Sec. 6). A scenario file gives a horn's `centre` and
+    /// `width` only and its reader builds the sigmoid so; a horn whose
+    /// sigmoid spans anything else is refused with
+    /// [`HornError::SpanMismatch`](crate::horn::HornError::SpanMismatch).
+    ///
+    /// ```
+    /// use morphogen::fx::Fx;
+    /// use morphogen::growth::Sigmoid;
+    /// // The ram horn's seasonal growth over T = 365 days (Sec. 2).
+    /// let growth = Sigmoid::over_life(Fx::from_ratio(303, 2), Fx::from_int(22), 365);
+    /// assert_eq!(growth.span, Fx::from_int(365));
+    /// ```
+    #[must_use]
+    pub const fn over_life(centre: Fx, width: Fx, days: u16) -> Sigmoid {
+        Sigmoid {
+            centre,
+            width,
+            span: Fx::from_int(days as i32),
+        }
+    }
+
     /// A plain sigmoid over `span` without seasons: centred on the middle of
     /// the life, width a twelfth of it.
     #[must_use]

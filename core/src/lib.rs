@@ -32,6 +32,13 @@
 //! // (fixtures/growth-curve/summary.toml), on any target.
 //! assert_eq!(encoder.digest(), 0x3796_d9cd_8193_fce1);
 //! ```
+//!
+//! On a microcontroller the same loop runs over a UART: `docs/embedding.md`
+//! drives one model directly (the horn with Table 1 written in Rust, in
+//! 22 KB of flash and 1.4 KB of static RAM on a Cortex-M0+), through
+//! [`preset::Runner`], from a scenario file turned into Rust at build time,
+//! and streams while drawing (feature `rig`), with the programs in
+//! `firmware-example/examples/` and the flash and RAM of each.
 #![cfg_attr(not(test), no_std)]
 #![forbid(unsafe_code)]
 // The workspace's lints (Cargo.toml), and no floats in the kernels.

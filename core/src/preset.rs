@@ -6,6 +6,39 @@
 //! The core holds no preset data: built-in presets are the scenario files
 //! in `scenarios/` (read by the host at run time, and turned into
 //! `static` [`Preset`]s at the firmware's build time).
+//!
+//! A preset written in Rust, run by the [`Runner`] into an [`Encoder`]
+//! (on a device, over a UART; `docs/embedding.md` says when to drive a
+//! model directly instead, in a fraction of the Runner's flash and RAM):
+//!
+//! ```
+//! use morphogen::fx::Fx;
+//! use morphogen::growth::Sigmoid;
+//! use morphogen::growth_curve::Params;
+//! use morphogen::preset::{self, Model, Preset, Runner};
+//! use morphogen::stream::Encoder;
+//!
+//! // The horn paper's seasonal growth (Sec. 2) over a year, sampled daily:
+//! // the built-in `growth-curve` preset's parameters.
+//! static GROWTH_CURVE: Preset<'static> = Preset {
+//!     name: "growth-curve",
+//!     summary: "",
+//!     default_seed: 0,
+//!     model: Model::GrowthCurve(Params {
+//!         growth: Sigmoid::over_life(Fx::from_ratio(303, 2), Fx::from_int(22), 365),
+//!         days: 365,
+//!     }),
+//! };
+//! let mut runner = Runner::new(); // a `static` on a device
+//! let mut encoder = Encoder::new(Vec::new());
+//! let mut steps = 0;
+//! preset::run(&GROWTH_CURVE, 0, &mut runner, &mut encoder, &mut |p| steps = p.done).unwrap();
+//! assert_eq!(steps, 366); // days 0 to 365, a step each
+//! // The stream of fixtures/growth-curve/summary.toml, byte for byte.
+//! assert_eq!(encoder.digest(), 0x3796_d9cd_8193_fce1);
+//! ```
+//!
+//! [`Encoder`]: crate::stream::Encoder
 
 use crate::Error;
 use crate::body::{self, Body, BodyParams};

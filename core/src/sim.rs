@@ -1,5 +1,44 @@
 //! The face every simulation shows to host, firmware and tests: a stepper
 //! that pushes records into a [`Sink`] and reports its progress.
+//!
+//! Every model starts through [`Start`] with its parameters and a seed, in
+//! place, then steps; each step pushes its records into any [`Sink`] — an
+//! encoder, a display, or one of your own:
+//!
+//! ```
+//! use morphogen::fx::Fx;
+//! use morphogen::growth::Sigmoid;
+//! use morphogen::growth_curve::{GrowthCurve, Params};
+//! use morphogen::sim::{Simulation, Start};
+//! use morphogen::stream::{Record, Sink, SinkError};
+//!
+//! /// Keeps the last sample of the growth f(t) (series 0).
+//! struct Last(Fx);
+//! impl Sink for Last {
+//!     fn record(&mut self, record: &Record) -> Result<(), SinkError> {
+//!         if let Record::Sample { series: 0, y, .. } = record {
+//!             self.0 = *y;
+//!         }
+//!         Ok(())
+//!     }
+//! }
+//!
+//! // The horn paper's seasonal growth over a year (Sec. 2), sampled daily.
+//! static PARAMS: Params = Params {
+//!     growth: Sigmoid::over_life(Fx::from_ratio(303, 2), Fx::from_int(22), 365),
+//!     days: 365,
+//! };
+//! let mut curve = GrowthCurve::IDLE; // a `static` on a device
+//! curve.start(&PARAMS, 0).unwrap();
+//! let mut last = Last(Fx::ZERO);
+//! loop {
+//!     let progress = curve.step(&mut last).unwrap();
+//!     if progress.finished() {
+//!         break;
+//!     }
+//! }
+//! assert_eq!(last.0, Fx::ONE); // f(T) = 1: the year's growth is complete
+//! ```
 
 use heapless::Vec;
 

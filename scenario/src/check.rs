@@ -1425,6 +1425,50 @@ mod tests {
     use super::*;
     use crate::Scenario;
 
+    /// What hand-written Rust parameters rely on (`docs/embedding.md`):
+    /// the core's `Fx::from_ratio` of a decimal's digits over its power of
+    /// ten is the value this reader gives the decimal, and
+    /// `horn::Percent(p).ratio()` the ratio it gives `p` %; a tie (an odd
+    /// multiple of 2⁻¹⁷, exact in f64) goes away from zero in both.
+    #[test]
+    fn from_ratio_rounds_decimals_as_the_reader() {
+        // A deterministic spread of numerators over the whole range.
+        let mut n: u64 = 0x9e37_79b9_7f4a_7c15;
+        for places in 0..=9u32 {
+            let den = 10i64.pow(places);
+            for i in 0..20_000i64 {
+                n = n
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                let limit = (32_767 * den).min(i64::from(i32::MAX));
+                let num = if i < 1_000 {
+                    i - 500
+                } else {
+                    (n >> 33) as i64 % (2 * limit + 1) - limit
+                };
+                let text = format!(
+                    "{}{}.{:0width$}",
+                    if num < 0 { "-" } else { "" },
+                    num.abs() / den,
+                    num.abs() % den,
+                    width = places as usize
+                );
+                let read = crate::value::fx("v", text.parse().unwrap(), -32768.0, 32768.0).unwrap();
+                let ratio = Fx::from_ratio(num as i32, den as i32);
+                assert_eq!(read, ratio, "{text} = {num}/{den}");
+            }
+        }
+        for k in -1000..1000i32 {
+            let tie = f64::from(2 * k + 1) / 131_072.0;
+            let read = crate::value::fx("v", tie, -1.0, 1.0).unwrap();
+            assert_eq!(read, Fx::from_ratio(2 * k + 1, 131_072), "{tie}");
+        }
+        for p in 1..=10_000u16 {
+            let read = percent("p", f64::from(p), 0.01, 10_000.0).unwrap();
+            assert_eq!(read, morphogen::horn::Percent(p).ratio(), "{p} %");
+        }
+    }
+
     /// The yearling of `docs/scenarios.md`, its head width given as `head`.
     fn yearling(head: &str) -> std::result::Result<Scenario, crate::Error> {
         Scenario::from_text(

@@ -81,9 +81,20 @@ impl Fx {
         Fx::from_bits(saturate((i as i64) << FRAC))
     }
 
-    /// `num / den` rounded to nearest; `den == 0` saturates like division.
-    /// A `const fn`, so constants from the papers are written exactly:
-    /// `Fx::from_ratio(137, 100)` is 1.37.
+    /// `num / den` rounded to nearest, ties away from zero; `den == 0`
+    /// saturates like division. A `const fn`, so constants from the papers
+    /// are written exactly: `Fx::from_ratio(137, 100)` is 1.37.
+    ///
+    /// A decimal written as its digits over its power of ten
+    /// (`Fx::from_ratio(-1299, 1000)` for −1.299) is the value a scenario
+    /// file's reader gives the decimal (it rounds the nearest `f64` to
+    /// nearest, ties away from zero, and an `i32` ratio of a power of ten is
+    /// never close enough to a tie for that `f64` to differ; the scenario
+    /// crate's `from_ratio_rounds_decimals_as_the_reader` test checks it):
+    /// hand-written parameters then have the scenario's parameter digest.
+    /// [`Fx::from_decimal`] instead rounds ties to even, as `fixed`'s
+    /// parser (and the L-system grammars) do: for a tie such as
+    /// `0.00000762939453125` (2⁻¹⁷) the two differ by one LSB.
     #[must_use]
     pub const fn from_ratio(num: i32, den: i32) -> Fx {
         Fx::from_bits(div_bits((num as i64) << FRAC, den as i64))

@@ -13,8 +13,14 @@ pub enum HornError {
         /// The younger module (1-based, as in Table 1).
         module: u16,
     },
-    /// The growth sigmoid's span differs from the delay T between modules.
-    SpanMismatch,
+    /// The growth sigmoid's span differs from the delay T between modules
+    /// (a module's life, Sec. 6), or T is above 32767 days (Fx's range);
+    /// [`Sigmoid::over_life`](crate::growth::Sigmoid::over_life) builds
+    /// the sigmoid of a life of T.
+    SpanMismatch {
+        /// The delay T, days (`HornParams::delay_days`).
+        delay_days: u16,
+    },
     /// The cross-section outline has fewer than 3 vertices or no length.
     DegenerateOutline,
     /// `rings_per_module` (J), `ring_points` or `frames_per_year` is zero.
@@ -32,9 +38,11 @@ impl core::fmt::Display for HornError {
                 "module {module}: positioner scale differs from the lower-base scale of module {}",
                 module.saturating_sub(1)
             ),
-            HornError::SpanMismatch => {
-                f.write_str("the growth sigmoid's span differs from the delay T")
-            }
+            HornError::SpanMismatch { delay_days } => write!(
+                f,
+                "growth.span must equal delay_days (T = {delay_days} days, at most 32767): \
+                 build it with Sigmoid::over_life(centre, width, delay_days)"
+            ),
             HornError::DegenerateOutline => {
                 f.write_str("the cross-section outline needs at least 3 distinct vertices")
             }

@@ -40,7 +40,7 @@ pub use clock::{LocalTime, Moment};
 pub use error::HornError;
 pub use kernel::{Emit, HornKernel};
 pub use outline::Outline;
-pub use params::{HornParams, Module};
+pub use params::{HornParams, Module, Percent};
 pub use sim::Horn;
 
 /// Capacity: modules per horn (the ram horn has 8).
