@@ -60,8 +60,10 @@ step "the embedding examples build for Cortex-M0+ (firmware-example/examples, pr
 # One build of the four examples, as docs/embedding.md measures them (the
 # streams are checked on the host by core/tests/embedding.rs). `size` is
 # binutils', which links every host build.
-(cd firmware-example && cargo build --profile small --target thumbv6m-none-eabi \
-    --no-default-features --features semihosting,oled --examples)
+# The checkout's path mapped to a fixed name, as the firmware check builds
+# (scripts/fixed-paths.sh): the same flash on any machine.
+(root="$PWD" && . scripts/fixed-paths.sh && cd firmware-example && cargo build --profile small \
+    --target thumbv6m-none-eabi --no-default-features --features semihosting,oled --examples)
 direct_flash="$(size -A firmware-example/target/thumbv6m-none-eabi/small/examples/horn_direct \
     | awk '$1 ~ /^\.(vector_table|text|rodata|data)$/ {s += $2} END {print s}')"
 [ "$direct_flash" -lt 32768 ] || {

@@ -1,64 +1,5 @@
 //! The parameters of a horn and of its modules (horn paper, Sec. 6 and
 //! Table 1), written in Rust with the same bits a scenario file gives.
-//!
-//! Three things a scenario file's reader does that hand-written parameters
-//! must do too, or their stream header's parameter digest (and, for the
-//! first two, the horn) differs from the scenario's:
-//! - a module grows over its life T: the growth sigmoid's `span` is
-//!   `delay_days` ([`Sigmoid::over_life`]; any other span is refused with
-//!   [`HornError::SpanMismatch`], naming T);
-//! - Table 1 and the scenario files give scales in percent of L_1(T), the
-//!   parameters hold ratios: [`Module::new`] takes [`Percent`]s;
-//! - decimals become 16.16 rounded to nearest: [`Fx::from_ratio`] of the
-//!   decimal's digits (`1.299` is `Fx::from_ratio(1299, 1000)`) is the
-//!   value the reader gives (see there).
-//!
-//! A horn of two modules (Table 1's first two rows) with a square
-//! cross-section, written by hand:
-//!
-//! ```
-//! use morphogen::fx::{Angle, Fx};
-//! use morphogen::growth::Sigmoid;
-//! use morphogen::horn::{Horn, HornError, HornParams, Module, Percent};
-//! use morphogen::sim::{Simulation, Start};
-//! use morphogen::stream::Encoder;
-//! use morphogen::Error;
-//!
-//! static MODULES: [Module; 2] = [
-//!     Module::new(Percent(30), Percent(100), Angle::from_degrees(75), Angle::from_degrees(30), Fx::from_int(20)),
-//!     Module::new(Percent(100), Percent(137), Angle::from_degrees(83), Angle::from_degrees(33), Fx::from_int(20)),
-//! ];
-//! // L_1(T): a square of side 5 cm, (y, z) counter-clockwise seen from +x.
-//! const P: Fx = Fx::from_ratio(5, 2);
-//! const M: Fx = Fx::from_ratio(-5, 2);
-//! static SQUARE: [[Fx; 2]; 4] = [[P, P], [M, P], [M, M], [P, M]];
-//! static PARAMS: HornParams<'static> = HornParams {
-//!     modules: &MODULES,
-//!     outline: &SQUARE,
-//!     ring_points: 8,
-//!     rings_per_module: 4,
-//!     delay_days: 365,
-//!     growth: Sigmoid::over_life(Fx::from_ratio(303, 2), Fx::from_int(22), 365),
-//!     frames_per_year: 1,
-//!     years: 2,
-//! };
-//! assert_eq!(PARAMS.validate(), Ok(()));
-//! assert_eq!(MODULES[1].base_scale, Fx::from_ratio(137, 100));
-//!
-//! let mut horn = Horn::IDLE;
-//! horn.start(&PARAMS, 0).unwrap();
-//! // Any `embedded_io::Write`: a UART on a device, a `Vec<u8>` here.
-//! let mut encoder = Encoder::new(Vec::new());
-//! while !horn.step(&mut encoder).unwrap().finished() {}
-//! // Two frames (start and end records each): at t = T the first module's
-//! // J + 1 = 5 rings (a ring record and its 8 points each), at 2T both modules'.
-//! assert_eq!(encoder.frames(), 2 * 2 + (1 + 2) * 5 * (1 + 8));
-
-//!
-//! // A sigmoid over another span is refused, naming T.
-//! let wrong = HornParams { growth: Sigmoid::over_life(Fx::from_ratio(303, 2), Fx::from_int(22), 360), ..PARAMS };
-//! assert_eq!(wrong.validate(), Err(Error::Horn(HornError::SpanMismatch { delay_days: 365 })));
-//! ```
 
 use serde::{Deserialize, Serialize};
 
@@ -129,6 +70,65 @@ impl Module {
 }
 
 /// Everything that defines a horn run.
+///
+/// Three things a scenario file's reader does that hand-written parameters
+/// must do too, or their stream header's parameter digest (and, for the
+/// first two, the horn) differs from the scenario's:
+/// - a module grows over its life T: the growth sigmoid's `span` is
+///   `delay_days` ([`Sigmoid::over_life`]; any other span is refused with
+///   [`HornError::SpanMismatch`], naming T);
+/// - Table 1 and the scenario files give scales in percent of L_1(T), the
+///   parameters hold ratios: [`Module::new`] takes [`Percent`]s;
+/// - decimals become 16.16 rounded to nearest: [`Fx::from_ratio`] of the
+///   decimal's digits (`1.299` is `Fx::from_ratio(1299, 1000)`) is the
+///   value the reader gives (see there).
+///
+/// A horn of two modules (Table 1's first two rows) with a square
+/// cross-section, written by hand:
+///
+/// ```
+/// use morphogen::fx::{Angle, Fx};
+/// use morphogen::growth::Sigmoid;
+/// use morphogen::horn::{Horn, HornError, HornParams, Module, Percent};
+/// use morphogen::sim::{Simulation, Start};
+/// use morphogen::stream::Encoder;
+/// use morphogen::Error;
+///
+/// static MODULES: [Module; 2] = [
+///     Module::new(Percent(30), Percent(100), Angle::from_degrees(75), Angle::from_degrees(30), Fx::from_int(20)),
+///     Module::new(Percent(100), Percent(137), Angle::from_degrees(83), Angle::from_degrees(33), Fx::from_int(20)),
+/// ];
+/// // L_1(T): a square of side 5 cm, (y, z) counter-clockwise seen from +x.
+/// const P: Fx = Fx::from_ratio(5, 2);
+/// const M: Fx = Fx::from_ratio(-5, 2);
+/// static SQUARE: [[Fx; 2]; 4] = [[P, P], [M, P], [M, M], [P, M]];
+/// static PARAMS: HornParams<'static> = HornParams {
+///     modules: &MODULES,
+///     outline: &SQUARE,
+///     ring_points: 8,
+///     rings_per_module: 4,
+///     delay_days: 365,
+///     growth: Sigmoid::over_life(Fx::from_ratio(303, 2), Fx::from_int(22), 365),
+///     frames_per_year: 1,
+///     years: 2,
+/// };
+/// assert_eq!(PARAMS.validate(), Ok(()));
+/// assert_eq!(MODULES[1].base_scale, Fx::from_ratio(137, 100));
+///
+/// let mut horn = Horn::IDLE;
+/// horn.start(&PARAMS, 0).unwrap();
+/// // Any `embedded_io::Write`: a UART on a device, a `Vec<u8>` here.
+/// let mut encoder = Encoder::new(Vec::new());
+/// while !horn.step(&mut encoder).unwrap().finished() {}
+/// // Two frames (start and end records each): at t = T the first module's
+/// // J + 1 = 5 rings (a ring record and its 8 points each), at 2T both modules'.
+/// assert_eq!(encoder.frames(), 2 * 2 + (1 + 2) * 5 * (1 + 8));
+
+///
+/// // A sigmoid over another span is refused, naming T.
+/// let wrong = HornParams { growth: Sigmoid::over_life(Fx::from_ratio(303, 2), Fx::from_int(22), 360), ..PARAMS };
+/// assert_eq!(wrong.validate(), Err(Error::Horn(HornError::SpanMismatch { delay_days: 365 })));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct HornParams<'a> {
     /// Modules E_1 … E_k, oldest (the tip) first.
