@@ -42,18 +42,6 @@ impl Framebuffer {
         }
     }
 
-    /// Pixels across.
-    #[must_use]
-    pub fn width(&self) -> u32 {
-        self.width
-    }
-
-    /// Pixels down.
-    #[must_use]
-    pub fn height(&self) -> u32 {
-        self.height
-    }
-
     /// The colour at `(x, y)`, if inside.
     #[must_use]
     pub fn get(&self, x: u32, y: u32) -> Option<Rgb888> {
