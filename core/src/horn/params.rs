@@ -123,7 +123,6 @@ impl Module {
 /// // Two frames (start and end records each): at t = T the first module's
 /// // J + 1 = 5 rings (a ring record and its 8 points each), at 2T both modules'.
 /// assert_eq!(encoder.frames(), 2 * 2 + (1 + 2) * 5 * (1 + 8));
-
 ///
 /// // A sigmoid over another span is refused, naming T.
 /// let wrong = HornParams { growth: Sigmoid::over_life(Fx::from_ratio(303, 2), Fx::from_int(22), 360), ..PARAMS };
