@@ -21,13 +21,13 @@ step() {
     printf '\n==> %s\n' "$*"
 }
 
-step "toolchain: rustfmt, clippy and the Cortex-M targets"
+step "toolchain: rustfmt, clippy, the Cortex-M targets and RISC-V's riscv32imac"
 installed_components=$(rustup component list --installed)
 for c in rustfmt clippy; do
     grep -q "^$c" <<<"$installed_components" || rustup component add "$c"
 done
 installed_targets=$(rustup target list --installed)
-for t in thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf; do
+for t in thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf riscv32imac-unknown-none-elf; do
     grep -qx "$t" <<<"$installed_targets" || rustup target add "$t"
 done
 
@@ -55,6 +55,9 @@ for t in thumbv6m-none-eabi thumbv7m-none-eabi; do
     cargo check -p morphogen --target "$t"
     cargo check -p morphogen --target "$t" --features defmt,rig
 done
+
+step "core check for RISC-V (riscv32imac: the cores of ESP32-C3, CH32V and GD32V boards; built, no firmware or emulator run yet)"
+cargo check -p morphogen --target riscv32imac-unknown-none-elf --features rig
 
 step "the embedding examples build for Cortex-M0+ (firmware-example/examples, profile small: docs/embedding.md's flash and RAM table), the directly driven horn under 32 KB of flash"
 # One build of the four examples, as docs/embedding.md measures them (the
