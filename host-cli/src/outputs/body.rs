@@ -9,7 +9,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::Result;
+use anyhow::{Result, anyhow};
 use morphogen::body::{BindingSummary, GrowthTable};
 use morphogen::fx::{Fx, Real};
 use morphogen::stream::Record;
@@ -17,17 +17,15 @@ use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
 use super::chart::write_chart;
 use super::chart::{Axis, Chart, Series, series_colour};
-use super::kinds::{Kind, Kinds};
-use super::mesh::{self, GlbWriter, Library, ObjStyle, write_frame_obj};
-use super::montage::save_montage;
-use super::numbered::{FileSeries, Numbering};
+use super::driver::{self, FrameModel, MeshFiles, Montage, Rgb};
+use super::kinds::Kinds;
+use super::mesh;
+use super::numbered::FileSeries;
 use super::picture::Canvases;
-use super::pipeline::pipeline;
-use super::slots::{ANIMATION_DELAY_MS, OrderedAnimation, animation_frames};
 use super::text::trimmed;
-use super::{normals, picture, raster};
+use super::{normals, raster};
 use crate::atomic::write_atomic;
-use crate::records::{Place, Records};
+use crate::records::Records;
 
 /// Pictures are drawn at this many times their size, then averaged down
 /// (anti-aliasing for the triangles of [`raster`]).
@@ -183,18 +181,41 @@ pub(crate) enum Shading {
     Smooth,
 }
 
+/// Where [`draw`] puts a frame: model point (x, y) at `(ox + s·x,
+/// oy − s·y)` in the saved pixels of a picture whose left edge is `left`
+/// pixels into it (a montage's tile, drawn on a canvas of its own to the
+/// very pixels of the whole montage).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Placement {
+    pub s: f32,
+    pub ox: f32,
+    pub oy: f32,
+    pub left: f32,
+}
+
+impl Placement {
+    /// Model point (x, y) at `(ox + s·x, oy − s·y)`.
+    pub(crate) fn new(s: f32, ox: f32, oy: f32) -> Placement {
+        Placement {
+            s,
+            ox,
+            oy,
+            left: 0.0,
+        }
+    }
+}
+
 /// Draws `frame` seen from its left side (+z), orthographic, painter's
 /// order far to near, Lambert-shaded as `shading` says, into a [`canvas`]
-/// where model point (x, y) lands at `(ox + s·x, oy − s·y)` in the saved
-/// picture's pixels.
+/// where `at` places it.
 pub(crate) fn draw(
     pixmap: &mut Pixmap,
     frame: &Frame,
     (base, shading): ([f32; 3], Shading),
-    s: f32,
-    ox: f32,
-    oy: f32,
+    at: Placement,
 ) {
+    let Placement { s, ox, oy, left } = at;
+    let left = left * OVERSAMPLE;
     let (s, ox, oy) = (s * OVERSAMPLE, ox * OVERSAMPLE, oy * OVERSAMPLE);
     let light = {
         let l = [-0.35f64, 0.65, 0.68];
@@ -239,7 +260,7 @@ pub(crate) fn draw(
         if len <= 0.0 || n[2] < 0.0 {
             continue; // degenerate, or facing away from the viewer
         }
-        let at = |p: [f64; 3]| [ox + s * p[0] as f32, oy - s * p[1] as f32];
+        let at = |p: [f64; 3]| [ox + s * p[0] as f32 - left, oy - s * p[1] as f32];
         let p = [at(a), at(b), at(c)];
         match corners.get(i) {
             Some(corners) => raster::smooth_triangle(pixmap, p, corners.map(|n| shade(n, 1.0))),
@@ -268,8 +289,12 @@ fn ground(pixmap: &mut Pixmap, y: f32) {
 /// [`OVERSAMPLE`] times that), for frame after frame.
 pub(crate) fn canvases(width: u32, height: u32) -> Canvases {
     let k = OVERSAMPLE as u32;
-    Canvases::new(width * k, height * k, Color::from_rgba8(246, 244, 238, 255))
+    let [r, g, b] = BACKGROUND;
+    Canvases::new(width * k, height * k, Color::from_rgba8(r, g, b, 255))
 }
+
+/// The colour behind a body or a bone.
+pub(crate) const BACKGROUND: [u8; 3] = [246, 244, 238];
 
 /// A blank picture of `width × height` pixels once saved (drawn at
 /// [`OVERSAMPLE`] times that).
@@ -290,14 +315,8 @@ fn side_view(
     let mut p = sides.take()?;
     let (ox, oy) = ((-b.0 * s) as f32, (b.3 * s) as f32);
     ground(&mut p, oy);
-    draw(
-        &mut p,
-        frame,
-        (colour(title), Shading::Flat),
-        s as f32,
-        ox,
-        oy,
-    );
+    let at = Placement::new(s as f32, ox, oy);
+    draw(&mut p, frame, (colour(title), Shading::Flat), at);
     Ok(p)
 }
 
@@ -346,11 +365,196 @@ fn label(age: f64) -> String {
     format!("age {} months", trimmed(age, 1))
 }
 
-/// All of a body run's files (those of `kinds`): `frame_NNN.obj`,
-/// `model.glb`, `side_NNN.png`, `animation.png` (every frame, or 60
-/// spread evenly), `ages.png`, `growth.png`/`growth.svg` (with `table`)
-/// and `summary.txt` (with `binding`, when known). Two passes, a frame at
-/// a time: the sizes and the common scale, then the files.
+/// A body run's products ([`driver::write`]): `frame_NNN.obj`,
+/// `model.glb`, `side_NNN.png` and `animation.png` (every frame, or 60
+/// spread evenly) at one common scale, `ages.png` (the yearly ages, at
+/// most six), `growth.png`/`growth.svg` (with a growth table) and
+/// `summary.txt` (with the binding counts, when known, and each frame's
+/// side-view extent).
+struct Body<'a> {
+    title: &'a str,
+    binding: Option<BindingSummary>,
+    table: Option<&'a GrowthTable<'a>>,
+    count: usize,
+    extent: Extent,
+    /// The first frame's vertices and triangles.
+    first: Option<(usize, usize)>,
+    /// Each frame's line of the summary's table.
+    sizes: String,
+    /// The frames at whole years: their positions and ages.
+    yearly: Vec<(usize, f64)>,
+    /// The side views' bounds and canvases, once surveyed.
+    sides: Option<(Bounds, Canvases)>,
+}
+
+/// Side-view bounds: least and most x, least and most y.
+type Bounds = (f64, f64, f64, f64);
+
+/// Pixels across a side view.
+const SIDE_WIDTH: u32 = 640;
+
+/// Pixels across a tile of `ages.png`.
+const PANEL: u32 = 300;
+
+impl Body<'_> {
+    /// The side views' bounds (with a margin) and canvases.
+    fn sides(&self) -> Result<&(Bounds, Canvases)> {
+        self.sides
+            .as_ref()
+            .ok_or_else(|| anyhow!("the body's frames are not surveyed"))
+    }
+
+    /// The yearly frames `ages.png` shows (at most six, evenly) and their
+    /// ages.
+    fn strip(&self) -> Vec<(usize, f64)> {
+        let step = self.yearly.len().div_ceil(6).max(1);
+        self.yearly.iter().copied().step_by(step).collect()
+    }
+
+    /// The side view's height, pixels, at the scale of `bounds`.
+    fn height(b: Bounds, width: u32) -> u32 {
+        let s = f64::from(width) / (b.1 - b.0);
+        ((b.3 - b.2) * s).ceil().max(1.0) as u32
+    }
+}
+
+impl FrameModel for Body<'_> {
+    type Frame = Frame;
+    type Framer = Framer;
+
+    fn push(framer: &mut Framer, record: &Record) -> Result<Option<Frame>> {
+        Ok(framer.push(record))
+    }
+
+    fn survey(&mut self, f: Frame) -> Result<()> {
+        self.first
+            .get_or_insert((f.vertices.len(), f.triangles.len()));
+        let fb = bounds(&[&f]);
+        writeln!(
+            self.sizes,
+            "{:5}  {:11.2}  {:6.2}  {:6.2}",
+            f.index,
+            f.age,
+            fb.1 - fb.0,
+            fb.3 - fb.2
+        )?;
+        self.extent.include(&f);
+        if whole_year(f.age) {
+            self.yearly.push((self.count, f.age));
+        }
+        self.count += 1;
+        Ok(())
+    }
+
+    fn surveyed(&mut self) {
+        let b = self.extent.bounds();
+        self.sides = Some((b, canvases(SIDE_WIDTH, Body::height(b, SIDE_WIDTH))));
+    }
+
+    fn index(frame: &Frame) -> u32 {
+        frame.index
+    }
+
+    fn mesh_files(&self) -> MeshFiles {
+        MeshFiles {
+            library: LIBRARY,
+            scene: self.title.into(),
+            metres: 0.0254,
+        }
+    }
+
+    fn mesh(&self, f: &Frame) -> Result<mesh::Mesh> {
+        let header = format!("{} frame {}, age {:.2} months", self.title, f.index, f.age);
+        solid(f, &header, "body", rgb_of(colour(self.title)))
+    }
+
+    fn stills(&self) -> Option<FileSeries> {
+        Some(FileSeries::SIDES)
+    }
+
+    fn picture_size(&self) -> (u32, u32) {
+        let b = self.extent.bounds();
+        (SIDE_WIDTH, Body::height(b, SIDE_WIDTH))
+    }
+
+    fn picture(&self, f: &Frame) -> Result<Rgb> {
+        let (b, sides) = self.sides()?;
+        let side = side_view(f, self.title, *b, SIDE_WIDTH, sides)?;
+        let rgb = Rgb::halved(&side);
+        sides.give_back(side);
+        rgb
+    }
+
+    fn label(&self, f: &Frame) -> String {
+        label(f.age)
+    }
+
+    fn montage(&self) -> Option<Montage> {
+        let strip = self.strip();
+        if strip.is_empty() {
+            return None;
+        }
+        let b = self.extent.bounds();
+        Some(Montage {
+            name: "ages.png",
+            frames: strip.iter().map(|&(k, _)| k).collect(),
+            tile: (PANEL, Body::height(b, PANEL)),
+            columns: strip.len() as u32,
+            background: BACKGROUND,
+        })
+    }
+
+    fn tile(&self, f: &Frame, n: usize) -> Result<Option<Rgb>> {
+        let (b, _) = self.sides()?;
+        let s = f64::from(PANEL) / (b.1 - b.0);
+        let oy = (b.3 * s) as f32;
+        let mut p = canvas(PANEL, Body::height(*b, PANEL))?;
+        ground(&mut p, oy);
+        let at = Placement {
+            left: (PANEL as usize * n) as f32,
+            ..Placement::new(s as f32, (f64::from(PANEL) * n as f64 - b.0 * s) as f32, oy)
+        };
+        draw(&mut p, f, (colour(self.title), Shading::Flat), at);
+        Rgb::halved(&p).map(Some)
+    }
+
+    fn close(self, dir: &Path, kinds: Kinds, montage: bool) -> Result<Vec<PathBuf>> {
+        let mut written = Vec::new();
+        let mut summary = format!("{}: {} frames\n", self.title, self.count);
+        if let Some((vertices, triangles)) = self.first {
+            writeln!(summary, "vertices {vertices}, triangles {triangles}")?;
+        }
+        if let Some(s) = self.binding {
+            writeln!(
+                summary,
+                "vertices in no cylinder (following the nearest): {}\nvertices blended from n cylinders (n = 1, 2, ...): {:?}",
+                s.unbound,
+                &s.by_count[1..]
+            )?;
+        }
+        summary.push_str("frame  age(months)  length  height  (side-view extent of the body)\n");
+        summary.push_str(&self.sizes);
+        if montage {
+            let months: Vec<String> = self
+                .strip()
+                .iter()
+                .map(|(_, a)| format!("{a:.0}"))
+                .collect();
+            writeln!(summary, "ages.png shows months {}", months.join(", "))?;
+        }
+        if let Some(table) = self.table.filter(|t| !t.columns.is_empty()) {
+            let chart = table_chart(table);
+            write_chart(&chart, dir, "growth", (900, 560), kinds, &mut written)?;
+        }
+        let path = dir.join("summary.txt");
+        write_atomic(&path, summary.as_bytes())?;
+        written.push(path);
+        Ok(written)
+    }
+}
+
+/// Writes (those of `kinds`) a body run's files ([`Body`]), its title
+/// `title`, with its cylinders' `binding` and growth `table` when known.
 ///
 /// # Errors
 /// When the records cannot be read or a file cannot be written.
@@ -362,175 +566,16 @@ pub fn write<R: Records + ?Sized>(
     table: Option<&GrowthTable<'_>>,
     kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
-    let mut count = 0usize;
-    let mut extent = Extent::new();
-    let mut first = None;
-    let mut sizes = String::new();
-    // The frames at whole years (by position), at most six of them below.
-    let mut yearly = Vec::new();
-    let mut framer = Framer::default();
-    records.visit(Place::START, |_, r| {
-        if let Some(f) = framer.push(r) {
-            first.get_or_insert((f.vertices.len(), f.triangles.len()));
-            let fb = bounds(&[&f]);
-            let _ = writeln!(
-                sizes,
-                "{:5}  {:11.2}  {:6.2}  {:6.2}",
-                f.index,
-                f.age,
-                fb.1 - fb.0,
-                fb.3 - fb.2
-            );
-            extent.include(&f);
-            if whole_year(f.age) {
-                yearly.push(count);
-            }
-            count += 1;
-        }
-        Ok(())
-    })?;
-    let b = extent.bounds();
-    let numbering = Numbering::frames(count);
-    let mut summary = format!("{title}: {count} frames\n");
-    if let Some((vertices, triangles)) = first {
-        let _ = writeln!(summary, "vertices {vertices}, triangles {triangles}");
-    }
-    if let Some(s) = binding {
-        let _ = writeln!(
-            summary,
-            "vertices in no cylinder (following the nearest): {}\nvertices blended from n cylinders (n = 1, 2, ...): {:?}",
-            s.unbound,
-            &s.by_count[1..]
-        );
-    }
-    summary.push_str("frame  age(months)  length  height  (side-view extent of the body)\n");
-    summary.push_str(&sizes);
-    let step = yearly.len().div_ceil(6).max(1);
-    let strip: Vec<usize> = if kinds.has(Kind::Png) {
-        yearly.into_iter().step_by(step).collect()
-    } else {
-        Vec::new()
+    let body = Body {
+        title,
+        binding,
+        table,
+        count: 0,
+        extent: Extent::new(),
+        first: None,
+        sizes: String::new(),
+        yearly: Vec::new(),
+        sides: None,
     };
-    let panel = 300u32;
-    let s = f64::from(panel) / (b.1 - b.0);
-    let oy = (b.3 * s) as f32;
-    let mut ages = Vec::new();
-    let mut picture = if strip.is_empty() {
-        None
-    } else {
-        let height = ((b.3 - b.2) * s).ceil().max(1.0) as u32;
-        let mut p = canvas(panel * strip.len() as u32, height)?;
-        ground(&mut p, oy);
-        Some(p)
-    };
-    let side_width = 640u32;
-    // As side_view sizes its pictures.
-    let side_scale = f64::from(side_width) / (b.1 - b.0);
-    let side_height = ((b.3 - b.2) * side_scale).ceil().max(1.0) as u32;
-    let sides = canvases(side_width, side_height);
-    let picked = if kinds.has(Kind::Anim) && count > 1 {
-        animation_frames(count)
-    } else {
-        Vec::new()
-    };
-    let anim_path = dir.join("animation.png");
-    let apng = if picked.is_empty() {
-        None
-    } else {
-        Some(OrderedAnimation::new(
-            &anim_path,
-            side_width,
-            side_height,
-            picked.len(),
-        )?)
-    };
-    let rgb = rgb_of(colour(title));
-    let mut glb = kinds.has(Kind::Glb).then(|| GlbWriter::new(title, 0.0254));
-    let mut library = Library::new(dir, LIBRARY);
-    let per_frame: Vec<Vec<PathBuf>> = pipeline(
-        |send| {
-            let mut framer = Framer::default();
-            let mut k = 0usize;
-            records.visit(Place::START, |_, r| {
-                let Some(f) = framer.push(r) else {
-                    return Ok(());
-                };
-                if let (Some(slot), Some(p)) = (strip.iter().position(|&i| i == k), &mut picture) {
-                    let ox = (f64::from(panel) * slot as f64 - b.0 * s) as f32;
-                    draw(p, &f, (colour(title), Shading::Flat), s as f32, ox, oy);
-                    ages.push(f.age);
-                }
-                let header = format!("{title} frame {}, age {:.2} months", f.index, f.age);
-                let m = if kinds.has(Kind::Obj) || glb.is_some() {
-                    Some(solid(&f, &header, "body", rgb)?)
-                } else {
-                    None
-                };
-                if let (Some(glb), Some(m)) = (&mut glb, &m) {
-                    glb.push_frame(m, k as f32 * f32::from(ANIMATION_DELAY_MS) / 1000.0)?;
-                }
-                if let Some(m) = m.as_ref().filter(|_| kinds.has(Kind::Obj)) {
-                    library.write_once(m)?;
-                }
-                let slot = picked.binary_search(&k).ok();
-                k += 1;
-                send((f, m, slot))
-            })
-        },
-        |(f, m, slot): (Frame, Option<mesh::Mesh>, Option<usize>)| {
-            let mut paths = Vec::with_capacity(2);
-            if let Some(m) = m.filter(|_| kinds.has(Kind::Obj)) {
-                let obj_path = dir.join(numbering.name(FileSeries::FRAMES, f.index));
-                write_frame_obj(&obj_path, &m, ObjStyle::PLAIN, LIBRARY)?;
-                paths.push(obj_path);
-            }
-            let apng = apng.as_ref().zip(slot);
-            if kinds.has(Kind::Png) || apng.is_some() {
-                let side = side_view(&f, title, b, side_width, &sides)?;
-                let view = picture::half_rgb(&side)?;
-                let (w, h) = (side.width() / 2, side.height() / 2);
-                sides.give_back(side);
-                if kinds.has(Kind::Png) {
-                    let png_path = dir.join(numbering.name(FileSeries::SIDES, f.index));
-                    picture::save_rgb(w, h, &view, &png_path)?;
-                    paths.push(png_path);
-                }
-                if let Some((apng, slot)) = apng {
-                    apng.frame(slot, view, label(f.age))?;
-                }
-            }
-            Ok(paths)
-        },
-    )?;
-    let mut written: Vec<PathBuf> = per_frame.into_iter().flatten().collect();
-    written.extend(library.written());
-    if let Some(glb) = glb {
-        let path = dir.join("model.glb");
-        glb.write(&path)?;
-        written.push(path);
-    }
-    if let Some(apng) = apng {
-        apng.finish()?;
-        written.push(anim_path);
-    }
-    if let Some(p) = picture {
-        let (w, h) = (p.width() / 2 / ages.len().max(1) as u32, p.height() / 2);
-        let labels: Vec<_> = (0..)
-            .zip(&ages)
-            .map(|(n, &age)| ([n * w, 0, w, h], label(age)))
-            .collect();
-        let path = dir.join("ages.png");
-        save_montage(&p, &labels, &path)?;
-        let months: Vec<String> = ages.iter().map(|a| format!("{a:.0}")).collect();
-        let _ = writeln!(summary, "ages.png shows months {}", months.join(", "));
-        written.push(path);
-    }
-    if let Some(table) = table.filter(|t| !t.columns.is_empty()) {
-        let chart = table_chart(table);
-        write_chart(&chart, dir, "growth", (900, 560), kinds, &mut written)?;
-    }
-    let path = dir.join("summary.txt");
-    write_atomic(&path, summary.as_bytes())?;
-    written.push(path);
-    Ok(written)
+    driver::write(body, records, dir, kinds)
 }

@@ -18,18 +18,16 @@ use morphogen::shrinkwrap::{Element, Phase, Shrinkwrap, WrapParams, worst_level_
 use morphogen::stream::Record;
 use nalgebra::Vector3;
 
-use super::animation::{AnimationWriter, Pixels};
-use super::body::{self, Extent, Frame, Shading, canvas, canvases, draw, rgb_of, solid};
-use super::chart::{Axis, Chart, Series, write_png, write_svg};
+use super::body::{self, Extent, Frame, Placement, Shading, canvas, canvases, draw, rgb_of, solid};
+use super::chart::{Axis, Chart, Series, write_chart};
+use super::driver::{self, FrameModel, MeshFiles, Montage, Rgb};
 use super::kinds::{Kind, Kinds};
-use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
-use super::montage::save_montage;
-use super::numbered::{FileSeries, Numbering};
-use super::picture;
-use super::slots::{ANIMATION_DELAY_MS, animation_frames};
+use super::mesh;
+use super::numbered::FileSeries;
+use super::picture::Canvases;
 use super::text::trimmed;
 use crate::atomic::write_atomic;
-use crate::records::{Place, Records};
+use crate::records::Records;
 
 /// Bone colour.
 const BONE: [f32; 3] = [0.89, 0.86, 0.78];
@@ -51,13 +49,16 @@ struct Framer {
     /// Edges of the polygon element being read still to come (a
     /// `Polygon` record of k vertices is followed by its k edges).
     edges: u8,
+    /// The run's seed, from its header.
+    seed: u64,
 }
 
 impl Framer {
-    /// Takes the next record; returns the frame it ends and its skeleton
-    /// (as streamed, and in f64).
-    fn push(&mut self, r: &Record) -> Option<(Frame, Skeleton, Vec<Element<f64>>)> {
+    /// Takes the next record; returns the frame it ends, with its
+    /// skeleton as streamed.
+    fn push(&mut self, r: &Record) -> Option<BoneFrame> {
         match r {
+            Record::Header(h) => self.seed = h.seed,
             Record::FrameStart { .. } => {
                 self.fixed.clear();
                 self.edges = 0;
@@ -75,10 +76,11 @@ impl Framer {
             }
             _ => {}
         }
-        let frame = self.frames.push(r)?;
-        let fixed = std::mem::take(&mut self.fixed);
-        let skeleton = fixed.iter().map(in_f64).collect();
-        Some((frame, fixed, skeleton))
+        Some(BoneFrame {
+            mesh: self.frames.push(r)?,
+            skeleton: std::mem::take(&mut self.fixed),
+            seed: self.seed,
+        })
     }
 }
 
@@ -180,10 +182,229 @@ fn label(steps: f64) -> String {
     format!("step {}", trimmed(steps, 1))
 }
 
-/// Writes (those of `kinds`) `frame_NNN.obj`, `model.glb`,
-/// `bone_NNN.png`, `animation.png` (every frame, or 60 spread evenly),
-/// `bones.png` and `summary.txt`, in two passes a frame at a time: the
-/// frame count and the common scale, then the files.
+/// A wrapped frame: its mesh, its skeleton as streamed, and the run's
+/// seed (which draws the frame's wrap).
+struct BoneFrame {
+    mesh: Frame,
+    skeleton: Skeleton,
+    seed: u64,
+}
+
+/// Pixels across a bone's picture.
+const WIDTH: u32 = 360;
+
+/// The scale of a bones run's pictures, set by the survey.
+struct Scale {
+    /// Bounds of every frame (with a margin).
+    b: (f64, f64, f64, f64),
+    /// Pixels per unit of a picture, and its height.
+    s: f64,
+    height: u32,
+    /// A tile of `bones.png`: its width, pixels per unit and height.
+    panel: u32,
+    ps: f64,
+    panel_height: u32,
+    /// Canvases for the pictures.
+    ones: Canvases,
+}
+
+/// A bones run's products ([`driver::write`]): `frame_NNN.obj`,
+/// `model.glb`, `bone_NNN.png`, `animation.png` (every frame, or 60
+/// spread evenly), `bones.png` (every frame, at most 1 440 pixels across),
+/// `wrap.png`/`.svg` (the last frame's shrinkwrap again) and
+/// `summary.txt` (each mesh checked again in f64).
+struct Bones<'a> {
+    preset: &'a str,
+    params: &'a BonesParams<'a>,
+    count: usize,
+    extent: Extent,
+    summary: String,
+    /// The last frame: its index, vertices, skeleton and wrap.
+    last: Option<(u32, usize, Skeleton, WrapParams)>,
+    scale: Option<Scale>,
+}
+
+impl Bones<'_> {
+    /// The frame's wrap, its V0 and ΔV drawn as the run drew them.
+    fn frame_wrap(&self, f: &BoneFrame) -> WrapParams {
+        let seed = self.params.frame_seed(f.seed, f.mesh.index);
+        self.params.frame_wrap(seed, f.mesh.age as u8)
+    }
+
+    fn scale(&self) -> Result<&Scale> {
+        self.scale
+            .as_ref()
+            .ok_or_else(|| anyhow::anyhow!("the bones' frames are not surveyed"))
+    }
+}
+
+impl FrameModel for Bones<'_> {
+    type Frame = BoneFrame;
+    type Framer = Framer;
+
+    fn push(framer: &mut Framer, record: &Record) -> Result<Option<BoneFrame>> {
+        Ok(framer.push(record))
+    }
+
+    fn survey(&mut self, f: BoneFrame) -> Result<()> {
+        let wrap = self.frame_wrap(&f);
+        let skeleton: Vec<Element<f64>> = f.skeleton.iter().map(in_f64).collect();
+        let m = &f.mesh;
+        let worst = worst_level_error(
+            &skeleton,
+            self.params.wrap.weights,
+            &points(m),
+            f64::from_fx(wrap.target),
+        );
+        writeln!(
+            self.summary,
+            "{:5}  {:5.0}  {:8}  {:8}  {:9}  {:5}  {:.5}",
+            m.index,
+            m.age,
+            skeleton.len(),
+            m.vertices.len(),
+            m.triangles.len(),
+            euler(m),
+            worst
+        )?;
+        self.extent.include(m);
+        self.count += 1;
+        self.last = Some((m.index, m.vertices.len(), f.skeleton, wrap));
+        Ok(())
+    }
+
+    fn surveyed(&mut self) {
+        let b = self.extent.bounds();
+        let s = f64::from(WIDTH) / (b.1 - b.0);
+        let height = ((b.3 - b.2) * s).ceil().max(1.0) as u32;
+        // The strip: at most 1 440 pixels wide, panels of 120 to 360.
+        let panel = (1440 / self.count.max(1) as u32).clamp(120, WIDTH);
+        let ps = f64::from(panel) / (b.1 - b.0);
+        self.scale = Some(Scale {
+            b,
+            s,
+            height,
+            panel,
+            ps,
+            panel_height: ((b.3 - b.2) * ps).ceil().max(1.0) as u32,
+            ones: canvases(WIDTH, height),
+        });
+    }
+
+    fn index(f: &BoneFrame) -> u32 {
+        f.mesh.index
+    }
+
+    fn mesh_files(&self) -> MeshFiles {
+        MeshFiles {
+            library: LIBRARY,
+            scene: self.preset.into(),
+            metres: 1.0,
+        }
+    }
+
+    fn mesh(&self, f: &BoneFrame) -> Result<mesh::Mesh> {
+        let m = &f.mesh;
+        let header = format!(
+            "{} frame {}, {} L-system steps",
+            self.preset, m.index, m.age
+        );
+        solid(m, &header, "bone", rgb_of(BONE))
+    }
+
+    fn stills(&self) -> Option<FileSeries> {
+        Some(FileSeries::BONES)
+    }
+
+    fn picture_size(&self) -> (u32, u32) {
+        self.scale
+            .as_ref()
+            .map_or((WIDTH, 1), |s| (WIDTH, s.height))
+    }
+
+    fn picture(&self, f: &BoneFrame) -> Result<Rgb> {
+        let Scale { b, s, ones, .. } = self.scale()?;
+        let mut one = ones.take()?;
+        let (ox, oy) = ((-b.0 * s) as f32, (b.3 * s) as f32);
+        draw(
+            &mut one,
+            &f.mesh,
+            (BONE, Shading::Smooth),
+            Placement::new(*s as f32, ox, oy),
+        );
+        let rgb = Rgb::halved(&one);
+        ones.give_back(one);
+        rgb
+    }
+
+    fn label(&self, f: &BoneFrame) -> String {
+        label(f.mesh.age)
+    }
+
+    fn montage(&self) -> Option<Montage> {
+        let scale = self.scale.as_ref()?;
+        Some(Montage {
+            name: "bones.png",
+            frames: (0..self.count).collect(),
+            tile: (scale.panel, scale.panel_height),
+            columns: self.count.max(1) as u32,
+            background: body::BACKGROUND,
+        })
+    }
+
+    fn tile(&self, f: &BoneFrame, n: usize) -> Result<Option<Rgb>> {
+        let scale = self.scale()?;
+        let (b, ps, panel) = (scale.b, scale.ps, scale.panel);
+        let mut p = canvas(panel, scale.panel_height)?;
+        let at = Placement {
+            left: (panel as usize * n) as f32,
+            ..Placement::new(
+                ps as f32,
+                (f64::from(panel) * n as f64 - b.0 * ps) as f32,
+                (b.3 * ps) as f32,
+            )
+        };
+        draw(&mut p, &f.mesh, (BONE, Shading::Smooth), at);
+        Rgb::halved(&p).map(Some)
+    }
+
+    fn close(mut self, dir: &Path, kinds: Kinds, _montage: bool) -> Result<Vec<PathBuf>> {
+        let mut written = Vec::new();
+        if let Some((frame, vertices, skeleton, wrap)) = self.last.take()
+            && (kinds.has(Kind::Png) || kinds.has(Kind::Svg))
+        {
+            let run = wrap_steps(&skeleton, &wrap)?;
+            // The run done again is the one streamed.
+            anyhow::ensure!(
+                run.last().map(|s| s.vertices) == Some(vertices),
+                "the shrinkwrap of frame {frame} done again differs from the stream"
+            );
+            writeln!(
+                self.summary,
+                "the shrinkwrap of frame {frame}: {} iterations, worst |V-V0|/V0 {:.5} after the last",
+                run.len() - 1,
+                run.last().map_or(0.0, |s| s.worst)
+            )?;
+            let chart = wrap_chart(&run, self.params.wrap.split_tolerance.to_f64(), frame);
+            write_chart(&chart, dir, "wrap", (900, 500), kinds, &mut written)?;
+        }
+        let level = f64::from_fx(self.params.wrap.target);
+        let levels = match self.params.wrap.target_max {
+            None => format!("{level}"),
+            Some(top) => format!("{level} to {} (drawn per frame)", f64::from_fx(top)),
+        };
+        let head = format!(
+            "{}: {} frames, V0 = {levels}\nframe  steps  elements  vertices  triangles  V-E+F  worst |V-V0|/V0\n",
+            self.preset, self.count
+        );
+        let path = dir.join("summary.txt");
+        write_atomic(&path, (head + &self.summary).as_bytes())?;
+        written.push(path);
+        Ok(written)
+    }
+}
+
+/// Writes (those of `kinds`) a bones run's files ([`Bones`]).
 ///
 /// # Errors
 /// When the records cannot be read or a file cannot be written.
@@ -194,181 +415,14 @@ pub fn write<R: Records + ?Sized>(
     dir: &Path,
     kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
-    let mut count = 0usize;
-    let mut extent = Extent::new();
-    let mut frames = body::Framer::default();
-    let mut seed = 0;
-    records.visit(Place::START, |_, r| {
-        if let Record::Header(h) = r {
-            seed = h.seed;
-        }
-        if let Some(f) = frames.push(r) {
-            extent.include(&f);
-            count += 1;
-        }
-        Ok(())
-    })?;
-    let b = extent.bounds();
-    let numbering = Numbering::frames(count);
-    let level = f64::from_fx(params.wrap.target);
-    let levels = match params.wrap.target_max {
-        None => format!("{level}"),
-        Some(top) => format!("{level} to {} (drawn per frame)", f64::from_fx(top)),
+    let bones = Bones {
+        preset,
+        params,
+        count: 0,
+        extent: Extent::new(),
+        summary: String::new(),
+        last: None,
+        scale: None,
     };
-    // Frame k's wrap, its V0 and ΔV drawn as the run drew them.
-    let frame_wrap =
-        |k: u32, steps: f64| params.frame_wrap(params.frame_seed(seed, k), steps as u8);
-    let mut summary = format!(
-        "{preset}: {count} frames, V0 = {levels}\nframe  steps  elements  vertices  triangles  V-E+F  worst |V-V0|/V0\n",
-    );
-    let width = 360u32;
-    let s = f64::from(width) / (b.1 - b.0);
-    let height = ((b.3 - b.2) * s).ceil().max(1.0) as u32;
-    // The strip: at most 1 440 pixels wide, panels of 120 to 360.
-    let panels = count.max(1) as u32;
-    let panel = (1440 / panels).clamp(120, width);
-    let ps = f64::from(panel) / (b.1 - b.0);
-    let mut strip = canvas(panel * panels, ((b.3 - b.2) * ps).ceil().max(1.0) as u32)?;
-    let ones = canvases(width, height);
-    let picked = if kinds.has(Kind::Anim) && count > 1 {
-        animation_frames(count)
-    } else {
-        Vec::new()
-    };
-    let anim_path = dir.join("animation.png");
-    let mut apng = if picked.is_empty() {
-        None
-    } else {
-        Some(AnimationWriter::new(
-            &anim_path,
-            width,
-            height,
-            Pixels::Rgb,
-            u32::try_from(picked.len())?,
-            ANIMATION_DELAY_MS,
-        )?)
-    };
-    let mut glb = kinds.has(Kind::Glb).then(|| GlbWriter::new(preset, 1.0));
-    let mut steps = Vec::with_capacity(count);
-    // A frame at a time, in order: the check of each mesh in f64 is the
-    // memory-hungry part, and one at a time keeps it so.
-    let mut written = Vec::new();
-    let mut library = Library::new(dir, LIBRARY);
-    // The last frame: its index, vertices and skeleton.
-    let mut last = None;
-    let mut framer = Framer::default();
-    let mut k = 0usize;
-    records.visit(Place::START, |_, r| {
-        let Some((f, fixed, skeleton)) = framer.push(r) else {
-            return Ok(());
-        };
-        let _ = writeln!(
-            summary,
-            "{:5}  {:5.0}  {:8}  {:8}  {:9}  {:5}  {:.5}",
-            f.index,
-            f.age,
-            skeleton.len(),
-            f.vertices.len(),
-            f.triangles.len(),
-            euler(&f),
-            worst_level_error(
-                &skeleton,
-                params.wrap.weights,
-                &points(&f),
-                f64::from_fx(frame_wrap(f.index, f.age).target)
-            )
-        );
-        if kinds.has(Kind::Obj) || glb.is_some() {
-            let header = format!("{preset} frame {}, {} L-system steps", f.index, f.age);
-            let m = solid(&f, &header, "bone", rgb_of(BONE))?;
-            if kinds.has(Kind::Obj) {
-                library.write_once(&m)?;
-                let obj_path = dir.join(numbering.name(FileSeries::FRAMES, f.index));
-                write_frame_obj(&obj_path, &m, ObjStyle::PLAIN, LIBRARY)?;
-                written.push(obj_path);
-            }
-            if let Some(glb) = &mut glb {
-                glb.push_frame(&m, k as f32 * f32::from(ANIMATION_DELAY_MS) / 1000.0)?;
-            }
-        }
-        let animated = apng.as_mut().filter(|_| picked.binary_search(&k).is_ok());
-        if kinds.has(Kind::Png) || animated.is_some() {
-            let mut one = ones.take()?;
-            let (ox, oy) = ((-b.0 * s) as f32, (b.3 * s) as f32);
-            draw(&mut one, &f, (BONE, Shading::Smooth), s as f32, ox, oy);
-            let rgb = picture::half_rgb(&one)?;
-            let (w, h) = (one.width() / 2, one.height() / 2);
-            ones.give_back(one);
-            if kinds.has(Kind::Png) {
-                let png_path = dir.join(numbering.name(FileSeries::BONES, f.index));
-                picture::save_rgb(w, h, &rgb, &png_path)?;
-                written.push(png_path);
-            }
-            if let Some(apng) = animated {
-                apng.frame(rgb, &label(f.age))?;
-            }
-        }
-        if kinds.has(Kind::Png) {
-            let (ox, oy) = (
-                (f64::from(panel) * k as f64 - b.0 * ps) as f32,
-                (b.3 * ps) as f32,
-            );
-            draw(&mut strip, &f, (BONE, Shading::Smooth), ps as f32, ox, oy);
-        }
-        steps.push(f.age);
-        k += 1;
-        last = Some((f.index, f.vertices.len(), fixed, frame_wrap(f.index, f.age)));
-        Ok(())
-    })?;
-    if let Some((frame, vertices, skeleton, wrap)) = last
-        && (kinds.has(Kind::Png) || kinds.has(Kind::Svg))
-    {
-        let run = wrap_steps(&skeleton, &wrap)?;
-        // The run done again is the one streamed.
-        anyhow::ensure!(
-            run.last().map(|s| s.vertices) == Some(vertices),
-            "the shrinkwrap of frame {frame} done again differs from the stream"
-        );
-        let _ = writeln!(
-            summary,
-            "the shrinkwrap of frame {frame}: {} iterations, worst |V-V0|/V0 {:.5} after the last",
-            run.len() - 1,
-            run.last().map_or(0.0, |s| s.worst)
-        );
-        let chart = wrap_chart(&run, params.wrap.split_tolerance.to_f64(), frame);
-        for (kind, name) in [(Kind::Png, "wrap.png"), (Kind::Svg, "wrap.svg")] {
-            if kinds.has(kind) {
-                let path = dir.join(name);
-                match kind {
-                    Kind::Png => write_png(&chart, &path, 900, 500)?,
-                    _ => write_svg(&chart, &path, 900, 500)?,
-                }
-                written.push(path);
-            }
-        }
-    }
-    written.extend(library.written());
-    if let Some(glb) = glb {
-        let path = dir.join("model.glb");
-        glb.write(&path)?;
-        written.push(path);
-    }
-    if let Some(apng) = apng {
-        apng.finish()?;
-        written.push(anim_path);
-    }
-    if kinds.has(Kind::Png) {
-        let h = strip.height() / 2;
-        let labels: Vec<_> = (0..)
-            .zip(&steps)
-            .map(|(n, &age)| ([n * panel, 0, panel, h], label(age)))
-            .collect();
-        let path = dir.join("bones.png");
-        save_montage(&strip, &labels, &path)?;
-        written.push(path);
-    }
-    let path = dir.join("summary.txt");
-    write_atomic(&path, summary.as_bytes())?;
-    written.push(path);
-    Ok(written)
+    driver::write(bones, records, dir, kinds)
 }

@@ -16,9 +16,7 @@
 
 use std::path::{Path, PathBuf};
 
-use std::sync::{Arc, Mutex};
-
-use anyhow::{Context, Result, anyhow, bail};
+use anyhow::{Context, Result, bail};
 use morphogen::fx::Real as _;
 use morphogen::horn::HornParams;
 use morphogen::stream::Record;
@@ -26,17 +24,13 @@ use nalgebra::Vector3;
 use tiny_skia::{Color, Pixmap};
 
 use super::chart::{Axis, Chart, Series, write_chart};
+use super::driver::{self, FrameModel, MeshFiles, Montage, Rgb};
 use super::kinds::{Kind, Kinds};
-use super::mesh::{GlbWriter, Library, ObjStyle, write_frame_obj};
-use super::montage::{paste_rgb, save_montage_rgb};
-use super::numbered::{FileSeries, Numbering};
-use super::picture::Canvases;
-use super::pipeline::pipeline;
+use super::numbered::FileSeries;
 use super::raster::depth_key;
-use super::slots::{ANIMATION_DELAY_MS, OrderedAnimation, animation_frames};
 use super::text::trimmed;
 use super::{mesh, normals, picture, raster, tip_bend};
-use crate::records::{Place, Records};
+use crate::records::Records;
 
 /// A point in cm.
 pub type P3 = Vector3<f64>;
@@ -520,16 +514,6 @@ impl Fit {
     }
 }
 
-/// A frame to draw for years.png (its tile) or the animation (its slot),
-/// or both when they share a scale.
-#[derive(Debug)]
-struct Shot {
-    start: Place,
-    fit: Fit,
-    tile: Option<usize>,
-    slot: Option<usize>,
-}
-
 /// A frame's label: its time in years.
 fn label(frame: &Frame) -> String {
     format!("year {}", trimmed(frame.years, 2))
@@ -555,25 +539,166 @@ fn centre_line(frame: &Frame) -> (f64, f64) {
     (length, bend)
 }
 
-/// Re-reads the frame starting at `start`.
-fn frame_at<R: Records + ?Sized>(records: &R, start: Place) -> Result<Frame> {
-    let mut framer = Framer::default();
-    let mut frame = None;
-    records.visit_while(start, |_, r| {
-        frame = framer.push(r)?;
-        Ok(frame.is_none())
-    })?;
-    frame.context("a frame is gone from the stream")
+/// A horn run's products ([`driver::write`]): `frame_NNN.obj` and
+/// `model.glb`; `years.png`, the frames at the end of each year to the
+/// scale of the last of them; `animation.png`, every frame (or 60 spread
+/// evenly) to the last frame's scale, the skull end fixed, a frame both
+/// show drawn once; `horn.png`, the last frame alone; `bend.png`/`.svg`,
+/// the centre line's length and total turning over time; and
+/// `e1-bend.png`/`.svg`, the paper's Fig. 11 from the parameters
+/// ([`super::tip_bend`]).
+struct Horn<'a> {
+    params: &'a HornParams<'a>,
+    /// Rings per module (J), which map ring indices to months.
+    j: u32,
+    /// Frames seen, the positions of those that end a year, and the
+    /// last of those.
+    count: usize,
+    years: Vec<usize>,
+    last_year: Option<Frame>,
+    last: Option<Frame>,
+    /// Years, centre-line length (cm) and bend (degrees) of every frame.
+    lines: Vec<(f64, f64, f64)>,
+    /// The scales of `years.png` and of the animation, once surveyed.
+    fits: Option<(Fit, Fit)>,
 }
 
-/// Writes (those of `kinds`) `frame_NNN.obj` for every frame and
-/// `model.glb` with all of them (while the frames are read), `horn.png`,
-/// `years.png` and `animation.png` (every frame, or 60 spread evenly):
-/// their frames read again, one at a time, once the last frame has set
-/// the scale, a frame both show drawn once; `bend.png`/`bend.svg`, the
-/// centre line's length and
-/// total turning over time, and `e1-bend.png`/`e1-bend.svg`, the paper's
-/// Fig. 11 from `params` ([`super::tip_bend`]).
+impl Horn<'_> {
+    /// The scales of `years.png` and of the animation.
+    fn fits(&self) -> Result<(Fit, Fit)> {
+        self.fits.context("the horn's frames are not surveyed")
+    }
+
+    /// `frame` drawn to `fit`, halved.
+    fn drawn(&self, fit: &Fit, frame: &Frame) -> Result<Rgb> {
+        let mut p = Pixmap::new(fit.cell, fit.cell).context("picture size must be positive")?;
+        p.fill(background());
+        fit.draw(&mut p, frame, self.j);
+        Rgb::halved(&p)
+    }
+}
+
+impl FrameModel for Horn<'_> {
+    type Frame = Frame;
+    type Framer = Framer;
+
+    fn push(framer: &mut Framer, record: &Record) -> Result<Option<Frame>> {
+        framer.push(record)
+    }
+
+    fn end(framer: &Framer) -> Result<()> {
+        framer.finish()
+    }
+
+    fn survey(&mut self, frame: Frame) -> Result<()> {
+        let (length, bend) = centre_line(&frame);
+        self.lines.push((frame.years, length, bend));
+        if is_year_end(&frame) {
+            self.years.push(self.count);
+            self.last_year = Some(frame.clone());
+        }
+        self.count += 1;
+        self.last = Some(frame);
+        Ok(())
+    }
+
+    fn surveyed(&mut self) {
+        let year_fit = Fit::new(self.last_year.as_ref(), 800);
+        self.fits = Some((year_fit, Fit::new(self.last.as_ref(), 800)));
+    }
+
+    fn index(frame: &Frame) -> u32 {
+        frame.index
+    }
+
+    fn mesh_files(&self) -> MeshFiles {
+        MeshFiles {
+            library: LIBRARY,
+            scene: "horn".into(),
+            metres: 0.01,
+        }
+    }
+
+    fn mesh(&self, frame: &Frame) -> Result<mesh::Mesh> {
+        let title = format!(
+            "morphogen horn, frame {} at t = {} years",
+            frame.index, frame.years
+        );
+        solid(frame, &mesh(frame, self.j), &title, self.j)
+    }
+
+    fn stills(&self) -> Option<FileSeries> {
+        None
+    }
+
+    fn picture_size(&self) -> (u32, u32) {
+        (400, 400)
+    }
+
+    fn picture(&self, frame: &Frame) -> Result<Rgb> {
+        self.drawn(&self.fits()?.1, frame)
+    }
+
+    fn label(&self, frame: &Frame) -> String {
+        label(frame)
+    }
+
+    fn montage(&self) -> Option<Montage> {
+        self.last.as_ref()?;
+        let c = background().to_color_u8();
+        Some(Montage {
+            name: "years.png",
+            frames: self.years.clone(),
+            tile: (400, 400),
+            columns: self.years.len().clamp(1, 4) as u32,
+            background: [c.red(), c.green(), c.blue()],
+        })
+    }
+
+    fn tile(&self, frame: &Frame, _n: usize) -> Result<Option<Rgb>> {
+        let (year_fit, anim_fit) = self.fits()?;
+        if year_fit == anim_fit {
+            return Ok(None);
+        }
+        self.drawn(&year_fit, frame).map(Some)
+    }
+
+    fn close(self, dir: &Path, kinds: Kinds, _montage: bool) -> Result<Vec<PathBuf>> {
+        let mut written = Vec::new();
+        let Some(last) = self.last else {
+            return Ok(written);
+        };
+        if kinds.has(Kind::Png) {
+            let path = dir.join("horn.png");
+            save_picture(&last, self.j, (1200, 900), &path)?;
+            written.push(path);
+        }
+        let lines = &self.lines;
+        if lines.len() > 1 {
+            let chart = Chart::new(
+                "Horn centre line",
+                Axis::new("time", "years"),
+                Axis::new("bend (total turning)", "degrees"),
+            )
+            .with_y2(Axis::new("length", "cm"))
+            .with_series(Series::line(
+                "bend",
+                lines.iter().map(|&(t, _, b)| (t, b)).collect(),
+            ))
+            .with_series(
+                Series::line("length", lines.iter().map(|&(t, l, _)| (t, l)).collect()).on_right(),
+            );
+            write_chart(&chart, dir, "bend", (900, 500), kinds, &mut written)?;
+        }
+        if kinds.has(Kind::Png) || kinds.has(Kind::Svg) {
+            let chart = tip_bend::chart(&tip_bend::samples(self.params)?);
+            write_chart(&chart, dir, "e1-bend", (900, 500), kinds, &mut written)?;
+        }
+        Ok(written)
+    }
+}
+
+/// Writes (those of `kinds`) a horn run's files ([`Horn`]).
 ///
 /// # Errors
 /// A malformed stream, unreadable records, or a file that cannot be
@@ -584,194 +709,17 @@ pub fn write<R: Records + ?Sized>(
     params: &HornParams<'_>,
     kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
-    let j = u32::from(params.rings_per_module);
-    let mut last: Option<Arc<Frame>> = None;
-    // Where each frame starts, which of them end a year, and the last of
-    // those.
-    let mut starts: Vec<Place> = Vec::new();
-    let mut years: Vec<Place> = Vec::new();
-    let mut last_year: Option<Arc<Frame>> = None;
-    // Years, centre-line length (cm) and bend (degrees) of every frame.
-    let mut lines: Vec<(f64, f64, f64)> = Vec::new();
-    let mut glb = kinds.has(Kind::Glb).then(|| GlbWriter::new("horn", 0.01));
-    let meshes = kinds.has(Kind::Obj) || kinds.has(Kind::Glb);
-    let mut library = Library::new(dir, LIBRARY);
-    let numbering = Numbering::frames(records.frame_starts()?);
-    let objs: Vec<Option<PathBuf>> = pipeline(
-        |send| {
-            let mut framer = Framer::default();
-            let mut start = Place::START;
-            records.visit(Place::START, |place, r| {
-                if matches!(r, Record::FrameStart { .. }) {
-                    start = place;
-                }
-                if let Some(f) = framer.push(r)? {
-                    let f = Arc::new(f);
-                    starts.push(start);
-                    let (length, bend) = centre_line(&f);
-                    lines.push((f.years, length, bend));
-                    if is_year_end(&f) {
-                        years.push(start);
-                        last_year = Some(Arc::clone(&f));
-                    }
-                    last = Some(Arc::clone(&f));
-                    if meshes {
-                        let title =
-                            format!("morphogen horn, frame {} at t = {} years", f.index, f.years);
-                        let solid = solid(&f, &mesh(&f, j), &title, j)?;
-                        if kinds.has(Kind::Obj) {
-                            library.write_once(&solid)?;
-                        }
-                        if let Some(glb) = &mut glb {
-                            let seconds =
-                                (starts.len() - 1) as f32 * f32::from(ANIMATION_DELAY_MS) / 1000.0;
-                            glb.push_frame(&solid, seconds)?;
-                        }
-                        send((f.index, solid))?;
-                    }
-                }
-                Ok(())
-            })?;
-            framer.finish()
-        },
-        |(index, solid): (u32, mesh::Mesh)| {
-            if !kinds.has(Kind::Obj) {
-                return Ok(None);
-            }
-            let path = dir.join(numbering.name(FileSeries::FRAMES, index));
-            write_frame_obj(&path, &solid, ObjStyle::PLAIN, LIBRARY)?;
-            Ok(Some(path))
-        },
-    )?;
-    let mut written: Vec<PathBuf> = objs.into_iter().flatten().collect();
-    written.extend(library.written());
-    if let Some(glb) = glb {
-        let path = dir.join("model.glb");
-        glb.write(&path)?;
-        written.push(path);
-    }
-    let Some(last) = last else {
-        return Ok(written);
+    let horn = Horn {
+        params,
+        j: u32::from(params.rings_per_module),
+        count: 0,
+        years: Vec::new(),
+        last_year: None,
+        last: None,
+        lines: Vec::new(),
+        fits: None,
     };
-    let picked = if kinds.has(Kind::Anim) && starts.len() > 1 {
-        animation_frames(starts.len())
-    } else {
-        Vec::new()
-    };
-    let png = kinds.has(Kind::Png);
-    if png {
-        let path = dir.join("horn.png");
-        save_picture(&last, j, (1200, 900), &path)?;
-        written.push(path);
-    }
-    // years.png's tiles, then the animation's frames not among them: each
-    // drawn once, on a canvas of its own, by parallel workers.
-    let year_fit = Fit::new(last_year.as_deref(), 800);
-    // Every animation frame to the last one's scale, the skull end fixed.
-    let anim_fit = Fit::new(Some(&last), 800);
-    drop(last_year);
-    let mut shots: Vec<Shot> = if png {
-        (0..years.len())
-            .map(|n| Shot {
-                start: years[n],
-                fit: year_fit,
-                tile: Some(n),
-                slot: None,
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
-    for (slot, &k) in picked.iter().enumerate() {
-        let year = years.binary_search(&starts[k]).ok();
-        match year.filter(|_| png && year_fit == anim_fit) {
-            Some(n) => shots[n].slot = Some(slot),
-            None => shots.push(Shot {
-                start: starts[k],
-                fit: anim_fit,
-                tile: None,
-                slot: Some(slot),
-            }),
-        }
-    }
-    shots.sort_by_key(|shot| shot.start);
-    let columns = years.len().clamp(1, 4) as u32;
-    let size = (
-        400 * columns,
-        400 * (years.len() as u32).div_ceil(columns).max(1),
-    );
-    let montage = png.then(|| {
-        let c = background().to_color_u8();
-        Mutex::new([c.red(), c.green(), c.blue()].repeat((size.0 * size.1) as usize))
-    });
-    let apng_path = dir.join("animation.png");
-    let apng = if picked.is_empty() {
-        None
-    } else {
-        Some(OrderedAnimation::new(&apng_path, 400, 400, picked.len())?)
-    };
-    let canvases = Canvases::new(800, 800, background());
-    let labels = pipeline(
-        |send| {
-            shots
-                .iter()
-                .try_for_each(|shot| send((shot, frame_at(records, shot.start)?)))
-        },
-        |(shot, frame): (&Shot, Frame)| {
-            let mut p = canvases.take()?;
-            shot.fit.draw(&mut p, &frame, j);
-            let rgb = picture::half_rgb(&p)?;
-            canvases.give_back(p);
-            let text = label(&frame);
-            let tile = shot.tile.map(|n| {
-                let n = n as u32;
-                [n % columns * 400, n / columns * 400, 400, 400]
-            });
-            if let (Some(tile), Some(montage)) = (tile, &montage) {
-                let mut montage = montage.lock().map_err(|_| anyhow!("a drawing stopped"))?;
-                paste_rgb(&mut montage, size.0, tile, &rgb)?;
-            }
-            if let (Some(apng), Some(slot)) = (&apng, shot.slot) {
-                apng.frame(slot, rgb, text.clone())?;
-            }
-            Ok(tile.map(|tile| (tile, text)))
-        },
-    )?;
-    if let Some(montage) = montage {
-        let labels: Vec<_> = labels.into_iter().flatten().collect();
-        let rgb = montage
-            .into_inner()
-            .map_err(|_| anyhow!("a drawing stopped"))?;
-        let path = dir.join("years.png");
-        save_montage_rgb(rgb, size, &labels, &path)?;
-        written.push(path);
-    }
-    if let Some(apng) = apng {
-        apng.finish()?;
-        written.push(apng_path);
-    }
-    drop(last);
-    if lines.len() > 1 {
-        let chart = Chart::new(
-            "Horn centre line",
-            Axis::new("time", "years"),
-            Axis::new("bend (total turning)", "degrees"),
-        )
-        .with_y2(Axis::new("length", "cm"))
-        .with_series(Series::line(
-            "bend",
-            lines.iter().map(|&(t, _, b)| (t, b)).collect(),
-        ))
-        .with_series(
-            Series::line("length", lines.iter().map(|&(t, l, _)| (t, l)).collect()).on_right(),
-        );
-        write_chart(&chart, dir, "bend", (900, 500), kinds, &mut written)?;
-    }
-    if kinds.has(Kind::Png) || kinds.has(Kind::Svg) {
-        let chart = tip_bend::chart(&tip_bend::samples(params)?);
-        write_chart(&chart, dir, "e1-bend", (900, 500), kinds, &mut written)?;
-    }
-    Ok(written)
+    driver::write(horn, records, dir, kinds)
 }
 
 /// Whether `frame` is at the end of a year (shown in `years.png`).
@@ -827,7 +775,7 @@ mod tests {
         let mut text = Vec::new();
         let f = frames.last().unwrap();
         let solid = solid(f, &mesh(f, 24), "t", 24).unwrap();
-        mesh::obj(&solid, ObjStyle::PLAIN, None, &mut text).unwrap();
+        mesh::obj(&solid, mesh::ObjStyle::PLAIN, None, &mut text).unwrap();
         let text = String::from_utf8(text).unwrap();
         for i in 1..=8 {
             assert!(text.contains(&format!("\ng module_{i}\n")));

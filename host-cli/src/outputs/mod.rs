@@ -20,6 +20,7 @@ pub mod body;
 pub mod bones;
 pub mod chart;
 pub mod curve;
+pub(crate) mod driver;
 pub mod fill;
 pub mod horn;
 pub mod kinds;
