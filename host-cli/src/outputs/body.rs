@@ -17,11 +17,12 @@ use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
 use super::chart::write_chart;
 use super::chart::{Axis, Chart, Series, series_colour};
-use super::driver::{self, FrameModel, MeshFiles, Montage, Rgb};
+use super::driver::{self, Closing, MeshFiles, Montage, Products, Rgb};
 use super::kinds::Kinds;
 use super::mesh;
 use super::numbered::FileSeries;
 use super::picture::Canvases;
+use super::slots::OrderedAnimation;
 use super::text::trimmed;
 use super::{normals, raster};
 use crate::atomic::write_atomic;
@@ -418,9 +419,11 @@ impl Body<'_> {
     }
 }
 
-impl FrameModel for Body<'_> {
+impl Products for Body<'_> {
     type Frame = Frame;
     type Framer = Framer;
+    type Picture = Rgb;
+    type Measure = ();
 
     fn push(framer: &mut Framer, record: &Record) -> Result<Option<Frame>> {
         Ok(framer.push(record))
@@ -446,37 +449,36 @@ impl FrameModel for Body<'_> {
         Ok(())
     }
 
-    fn surveyed(&mut self) {
+    fn surveyed(&mut self, _framer: Framer) {
         let b = self.extent.bounds();
         self.sides = Some((b, canvases(SIDE_WIDTH, Body::height(b, SIDE_WIDTH))));
     }
 
-    fn index(frame: &Frame) -> u32 {
-        frame.index
+    fn index(frame: &Frame) -> i64 {
+        i64::from(frame.index)
     }
 
-    fn mesh_files(&self) -> MeshFiles {
-        MeshFiles {
+    fn mesh_files(&self) -> Option<MeshFiles> {
+        Some(MeshFiles {
             library: LIBRARY,
             scene: self.title.into(),
             metres: 0.0254,
-        }
+        })
     }
 
-    fn mesh(&self, f: &Frame) -> Result<mesh::Mesh> {
+    fn mesh(&self, f: &Frame) -> Result<Option<mesh::Mesh>> {
         let header = format!("{} frame {}, age {:.2} months", self.title, f.index, f.age);
-        solid(f, &header, "body", rgb_of(colour(self.title)))
+        solid(f, &header, "body", rgb_of(colour(self.title))).map(Some)
     }
 
     fn stills(&self) -> Option<FileSeries> {
         Some(FileSeries::SIDES)
     }
 
-    fn picture_size(&self) -> (u32, u32) {
-        let b = self.extent.bounds();
-        (SIDE_WIDTH, Body::height(b, SIDE_WIDTH))
+    fn animation(&self, path: &Path, frames: usize) -> Result<Option<OrderedAnimation>> {
+        let height = Body::height(self.extent.bounds(), SIDE_WIDTH);
+        OrderedAnimation::new(path, SIDE_WIDTH, height, frames).map(Some)
     }
-
     fn picture(&self, f: &Frame) -> Result<Rgb> {
         let (b, sides) = self.sides()?;
         let side = side_view(f, self.title, *b, SIDE_WIDTH, sides)?;
@@ -518,7 +520,7 @@ impl FrameModel for Body<'_> {
         Rgb::halved(&p).map(Some)
     }
 
-    fn close(self, dir: &Path, kinds: Kinds, montage: bool) -> Result<Vec<PathBuf>> {
+    fn close(self, dir: &Path, kinds: Kinds, run: Closing<()>) -> Result<Vec<PathBuf>> {
         let mut written = Vec::new();
         let mut summary = format!("{}: {} frames\n", self.title, self.count);
         if let Some((vertices, triangles)) = self.first {
@@ -534,7 +536,7 @@ impl FrameModel for Body<'_> {
         }
         summary.push_str("frame  age(months)  length  height  (side-view extent of the body)\n");
         summary.push_str(&self.sizes);
-        if montage {
+        if run.montage {
             let months: Vec<String> = self
                 .strip()
                 .iter()

@@ -20,11 +20,12 @@ use nalgebra::Vector3;
 
 use super::body::{self, Extent, Frame, Placement, Shading, canvas, canvases, draw, rgb_of, solid};
 use super::chart::{Axis, Chart, Series, write_chart};
-use super::driver::{self, FrameModel, MeshFiles, Montage, Rgb};
+use super::driver::{self, Closing, MeshFiles, Montage, Products, Rgb};
 use super::kinds::{Kind, Kinds};
 use super::mesh;
 use super::numbered::FileSeries;
 use super::picture::Canvases;
+use super::slots::OrderedAnimation;
 use super::text::trimmed;
 use crate::atomic::write_atomic;
 use crate::records::Records;
@@ -238,9 +239,11 @@ impl Bones<'_> {
     }
 }
 
-impl FrameModel for Bones<'_> {
+impl Products for Bones<'_> {
     type Frame = BoneFrame;
     type Framer = Framer;
+    type Picture = Rgb;
+    type Measure = ();
 
     fn push(framer: &mut Framer, record: &Record) -> Result<Option<BoneFrame>> {
         Ok(framer.push(record))
@@ -273,7 +276,7 @@ impl FrameModel for Bones<'_> {
         Ok(())
     }
 
-    fn surveyed(&mut self) {
+    fn surveyed(&mut self, _framer: Framer) {
         let b = self.extent.bounds();
         let s = f64::from(WIDTH) / (b.1 - b.0);
         let height = ((b.3 - b.2) * s).ceil().max(1.0) as u32;
@@ -291,37 +294,35 @@ impl FrameModel for Bones<'_> {
         });
     }
 
-    fn index(f: &BoneFrame) -> u32 {
-        f.mesh.index
+    fn index(f: &BoneFrame) -> i64 {
+        i64::from(f.mesh.index)
     }
 
-    fn mesh_files(&self) -> MeshFiles {
-        MeshFiles {
+    fn mesh_files(&self) -> Option<MeshFiles> {
+        Some(MeshFiles {
             library: LIBRARY,
             scene: self.preset.into(),
             metres: 1.0,
-        }
+        })
     }
 
-    fn mesh(&self, f: &BoneFrame) -> Result<mesh::Mesh> {
+    fn mesh(&self, f: &BoneFrame) -> Result<Option<mesh::Mesh>> {
         let m = &f.mesh;
         let header = format!(
             "{} frame {}, {} L-system steps",
             self.preset, m.index, m.age
         );
-        solid(m, &header, "bone", rgb_of(BONE))
+        solid(m, &header, "bone", rgb_of(BONE)).map(Some)
     }
 
     fn stills(&self) -> Option<FileSeries> {
         Some(FileSeries::BONES)
     }
 
-    fn picture_size(&self) -> (u32, u32) {
-        self.scale
-            .as_ref()
-            .map_or((WIDTH, 1), |s| (WIDTH, s.height))
+    fn animation(&self, path: &Path, frames: usize) -> Result<Option<OrderedAnimation>> {
+        let height = self.scale()?.height;
+        OrderedAnimation::new(path, WIDTH, height, frames).map(Some)
     }
-
     fn picture(&self, f: &BoneFrame) -> Result<Rgb> {
         let Scale { b, s, ones, .. } = self.scale()?;
         let mut one = ones.take()?;
@@ -368,7 +369,7 @@ impl FrameModel for Bones<'_> {
         Rgb::halved(&p).map(Some)
     }
 
-    fn close(mut self, dir: &Path, kinds: Kinds, _montage: bool) -> Result<Vec<PathBuf>> {
+    fn close(mut self, dir: &Path, kinds: Kinds, _run: Closing<()>) -> Result<Vec<PathBuf>> {
         let mut written = Vec::new();
         if let Some((frame, vertices, skeleton, wrap)) = self.last.take()
             && (kinds.has(Kind::Png) || kinds.has(Kind::Svg))

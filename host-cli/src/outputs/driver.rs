@@ -1,15 +1,16 @@
-//! The one writer of a frame model's files (horns, bodies, bones). A
-//! model states its products — frame → mesh, frame → picture with its
-//! label, frames → montage tiles, run → charts and tables — as a
-//! [`FrameModel`]; [`write`] writes every kind `--only` asks for, in two
-//! passes over the stream a frame at a time: the survey (the frame count,
-//! the common scale, the tables), then the files, drawn by parallel
-//! workers and written in order.
+//! The one writer of a model's files. A model states its products as
+//! [`Products`] — frame → mesh, frame → picture with its label, frames →
+//! montage tiles, frame → tables of its own, run → charts and tables —
+//! and [`write`] writes every kind `--only` asks for, in two passes over
+//! the stream a frame at a time: the survey (the frame count, the common
+//! scale, the tables), then the files, drawn by parallel workers and
+//! handed over in order.
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-use anyhow::{Result, anyhow};
+use anyhow::{Result, anyhow, bail};
 use morphogen::stream::Record;
 
 use super::kinds::{Kind, Kinds};
@@ -30,6 +31,35 @@ pub(crate) struct Rgb {
     pub height: u32,
     /// Red, green and blue of each pixel, row by row.
     pub bytes: Vec<u8>,
+}
+
+/// A frame's picture, as its still, its animation frame and its tile use
+/// it.
+pub(crate) trait Still: Send + Sync {
+    /// Saves it as a PNG at `path`.
+    ///
+    /// # Errors
+    /// When the file cannot be written.
+    fn save(&self, path: &Path) -> Result<()>;
+
+    /// Its pixels as RGB bytes, row by row.
+    fn rgb(&self) -> Cow<'_, [u8]>;
+
+    /// Its pixels as indices into its palette, if it has one (an indexed
+    /// animation's frames).
+    fn indices(&self) -> Option<&[u8]> {
+        None
+    }
+}
+
+impl Still for Rgb {
+    fn save(&self, path: &Path) -> Result<()> {
+        picture::save_rgb(self.width, self.height, &self.bytes, path)
+    }
+
+    fn rgb(&self) -> Cow<'_, [u8]> {
+        Cow::Borrowed(&self.bytes)
+    }
 }
 
 impl Rgb {
@@ -89,12 +119,17 @@ impl Montage {
     }
 }
 
-/// What a model makes of its frames, for [`write`].
-pub(crate) trait FrameModel: Sync {
-    /// One frame, as its records group.
+/// What a model makes of its stream, for [`write`]. Only the frames are
+/// required; every product has a default of none.
+pub(crate) trait Products: Sync {
+    /// One frame (a day of a mosaic), as its records group.
     type Frame: Send + Sync;
     /// Groups records into frames.
     type Framer: Default;
+    /// A frame's picture.
+    type Picture: Still;
+    /// What a frame's own files measure for the run's tables.
+    type Measure: Send;
 
     /// Takes the next record; returns the frame it ends, if any.
     ///
@@ -117,68 +152,139 @@ pub(crate) trait FrameModel: Sync {
     /// When the frame cannot be measured.
     fn survey(&mut self, frame: Self::Frame) -> Result<()>;
 
-    /// Ends the survey: every frame is seen.
-    fn surveyed(&mut self) {}
+    /// Ends the survey: every frame is seen, and what the framer gathered
+    /// besides (a mosaic's mesh) is handed over.
+    fn surveyed(&mut self, _framer: Self::Framer) {}
 
-    /// The frame's number in file names (`frame_NNN.obj`).
-    fn index(frame: &Self::Frame) -> u32;
+    /// The frame's number in file names (`frame_NNN.obj`, `day_NN.png`).
+    fn index(frame: &Self::Frame) -> i64;
 
-    /// Where the meshes go.
-    fn mesh_files(&self) -> MeshFiles;
+    /// How the numbered files of `count` frames are named.
+    fn numbering(&self, count: usize) -> Numbering {
+        Numbering::frames(count)
+    }
+
+    /// Where the frames' meshes go, if the model makes them.
+    fn mesh_files(&self) -> Option<MeshFiles> {
+        None
+    }
 
     /// The frame's mesh, for `frame_NNN.obj` and `model.glb`.
     ///
     /// # Errors
     /// When the frame is not a mesh.
-    fn mesh(&self, frame: &Self::Frame) -> Result<mesh::Mesh>;
+    fn mesh(&self, _frame: &Self::Frame) -> Result<Option<mesh::Mesh>> {
+        Ok(None)
+    }
 
     /// The series of a picture per frame, if the model writes one.
-    fn stills(&self) -> Option<FileSeries>;
+    fn stills(&self) -> Option<FileSeries> {
+        None
+    }
 
-    /// The size of [`FrameModel::picture`], known after the survey.
-    fn picture_size(&self) -> (u32, u32);
-
-    /// The frame's picture: its still and its `animation.png` frame.
+    /// The animation of `frames` of the frames' pictures at `path`, if
+    /// the model shows one.
     ///
     /// # Errors
-    /// When it cannot be drawn.
-    fn picture(&self, frame: &Self::Frame) -> Result<Rgb>;
+    /// When the file cannot be started.
+    fn animation(&self, _path: &Path, _frames: usize) -> Result<Option<OrderedAnimation>> {
+        Ok(None)
+    }
+
+    /// The frame's picture: its still, its `animation.png` frame, its
+    /// tile, and what its own files are drawn from.
+    ///
+    /// # Errors
+    /// When it cannot be drawn, or the model draws no picture of a frame.
+    fn picture(&self, _frame: &Self::Frame) -> Result<Self::Picture> {
+        bail!("this model draws no picture of a frame")
+    }
 
     /// The frame's label in the animation and the montage.
-    fn label(&self, frame: &Self::Frame) -> String;
+    fn label(&self, _frame: &Self::Frame) -> String {
+        String::new()
+    }
 
     /// The montage, planned after the survey.
-    fn montage(&self) -> Option<Montage>;
+    fn montage(&self) -> Option<Montage> {
+        None
+    }
 
     /// The frame's tile in the montage (the `n`-th); `None` when it is
-    /// its [`FrameModel::picture`].
+    /// its [`Products::picture`].
     ///
     /// # Errors
     /// When it cannot be drawn.
-    fn tile(&self, frame: &Self::Frame, n: usize) -> Result<Option<Rgb>>;
+    fn tile(&self, _frame: &Self::Frame, _n: usize) -> Result<Option<Rgb>> {
+        Ok(None)
+    }
 
-    /// The run's own files, once the frames' are written: charts,
-    /// tables, summaries. `montage` is whether the montage was written.
+    /// Whether every frame has files of its own ([`Products::frame_files`]),
+    /// and whether those need its picture.
+    fn frame_work(&self) -> (bool, bool) {
+        (false, false)
+    }
+
+    /// The frame's own files besides its mesh and its still (a table of
+    /// its cells, a second picture), the frame at `position`, its
+    /// `picture` if drawn (its last use); returns their paths and what
+    /// they measure.
     ///
     /// # Errors
     /// When a file cannot be written.
-    fn close(self, dir: &Path, kinds: Kinds, montage: bool) -> Result<Vec<PathBuf>>;
+    fn frame_files(
+        &self,
+        _frame: &Self::Frame,
+        _position: usize,
+        _picture: Option<Self::Picture>,
+        _numbering: Numbering,
+    ) -> Result<(Vec<PathBuf>, Option<Self::Measure>)> {
+        Ok((Vec::new(), None))
+    }
+
+    /// The run's own files, once the frames' are written: charts,
+    /// tables, summaries.
+    ///
+    /// # Errors
+    /// When a file cannot be written.
+    fn close(self, dir: &Path, kinds: Kinds, run: Closing<Self::Measure>)
+    -> Result<Vec<PathBuf>>;
+}
+
+/// What the frames' files leave for [`Products::close`].
+#[derive(Debug)]
+pub(crate) struct Closing<M> {
+    /// Whether the montage was written.
+    pub montage: bool,
+    /// What each frame's own files measured: the frame's position, its
+    /// measure.
+    pub measures: Vec<(usize, M)>,
+    /// How the numbered files are named.
+    pub numbering: Numbering,
 }
 
 /// A frame's work for the drawing workers.
 struct Job<F> {
     frame: F,
+    position: usize,
     mesh: Option<mesh::Mesh>,
     slot: Option<usize>,
     tile: Option<usize>,
 }
 
+/// What a frame's work returns: its files, its label if it is a tile,
+/// and its measure.
+type Done<M> = (Vec<PathBuf>, Option<String>, Option<(usize, M)>);
+
 /// The files a run's frames make together, planned after the survey.
 struct Plan<'a> {
     dir: &'a Path,
     numbering: Numbering,
-    library: &'static str,
+    library: Option<&'static str>,
     stills: Option<FileSeries>,
+    /// Whether every frame has files of its own, and whether those need
+    /// its picture.
+    frame_work: (bool, bool),
     /// The frames the animation shows (by position), and it.
     picked: Vec<usize>,
     animation: Option<OrderedAnimation>,
@@ -187,8 +293,8 @@ struct Plan<'a> {
 
 impl<'a> Plan<'a> {
     /// The plan for `count` frames of `model`, those files of `kinds`.
-    fn new<M: FrameModel>(model: &M, count: usize, dir: &'a Path, kinds: Kinds) -> Result<Self> {
-        let picked = if kinds.has(Kind::Anim) && count > 1 {
+    fn new<M: Products>(model: &M, count: usize, dir: &'a Path, kinds: Kinds) -> Result<Self> {
+        let mut picked = if kinds.has(Kind::Anim) && count > 1 {
             animation_frames(count)
         } else {
             Vec::new()
@@ -196,20 +302,23 @@ impl<'a> Plan<'a> {
         let animation = if picked.is_empty() {
             None
         } else {
-            let (w, h) = model.picture_size();
-            let path = dir.join(ANIMATION);
-            Some(OrderedAnimation::new(&path, w, h, picked.len())?)
+            model.animation(&dir.join(ANIMATION), picked.len())?
         };
+        if animation.is_none() {
+            picked.clear();
+        }
         let montage = model.montage().filter(|_| kinds.has(Kind::Png)).map(|m| {
             let (w, h) = m.size();
             let rgb = m.background.repeat((w * h) as usize);
             (m, Mutex::new(rgb))
         });
+        let meshes = kinds.has(Kind::Obj) || kinds.has(Kind::Glb);
         Ok(Plan {
             dir,
-            numbering: Numbering::frames(count),
-            library: model.mesh_files().library,
+            numbering: model.numbering(count),
+            library: model.mesh_files().filter(|_| meshes).map(|f| f.library),
             stills: model.stills().filter(|_| kinds.has(Kind::Png)),
+            frame_work: model.frame_work(),
             picked,
             animation,
             montage,
@@ -223,9 +332,14 @@ impl<'a> Plan<'a> {
             .montage
             .as_ref()
             .and_then(|(m, _)| m.frames.binary_search(&position).ok());
-        let work = mesh.is_some() || self.stills.is_some() || slot.is_some() || tile.is_some();
+        let work = mesh.is_some()
+            || self.stills.is_some()
+            || self.frame_work.0
+            || slot.is_some()
+            || tile.is_some();
         work.then_some(Job {
             frame,
+            position,
             mesh,
             slot,
             tile,
@@ -261,7 +375,7 @@ const ANIMATION: &str = "animation.png";
 /// # Errors
 /// A malformed stream, unreadable records, or a file that cannot be
 /// written.
-pub(crate) fn write<M: FrameModel, R: Records + ?Sized>(
+pub(crate) fn write<M: Products, R: Records + ?Sized>(
     mut model: M,
     records: &R,
     dir: &Path,
@@ -270,12 +384,13 @@ pub(crate) fn write<M: FrameModel, R: Records + ?Sized>(
     let count = survey(&mut model, records)?;
     let plan = Plan::new(&model, count, dir, kinds)?;
     let files = model.mesh_files();
-    let mut glb = kinds
-        .has(Kind::Glb)
-        .then(|| GlbWriter::new(&files.scene, files.metres));
-    let mut library = Library::new(dir, files.library);
+    let mut glb = files
+        .as_ref()
+        .filter(|_| kinds.has(Kind::Glb))
+        .map(|f| GlbWriter::new(&f.scene, f.metres));
+    let mut library = plan.library.map(|name| Library::new(dir, name));
     let (model_ref, plan_ref) = (&model, &plan);
-    let done: Vec<(Vec<PathBuf>, Option<String>)> = pipeline(
+    let done: Vec<Done<M::Measure>> = pipeline(
         |send| {
             let mut framer = M::Framer::default();
             let mut position = 0usize;
@@ -283,14 +398,16 @@ pub(crate) fn write<M: FrameModel, R: Records + ?Sized>(
                 let Some(frame) = M::push(&mut framer, r)? else {
                     return Ok(());
                 };
-                let meshes = kinds.has(Kind::Obj) || glb.is_some();
-                let mesh = meshes.then(|| model_ref.mesh(&frame)).transpose()?;
+                let mesh = match &library {
+                    Some(_) => model_ref.mesh(&frame)?,
+                    None => None,
+                };
                 if let (Some(glb), Some(m)) = (&mut glb, &mesh) {
                     let seconds = position as f32 * f32::from(ANIMATION_DELAY_MS) / 1000.0;
                     glb.push_frame(m, seconds)?;
                 }
                 let mesh = mesh.filter(|_| kinds.has(Kind::Obj));
-                if let Some(m) = &mesh {
+                if let (Some(library), Some(m)) = (&mut library, &mesh) {
                     library.write_once(m)?;
                 }
                 let job = plan_ref.job(frame, position, mesh);
@@ -304,22 +421,32 @@ pub(crate) fn write<M: FrameModel, R: Records + ?Sized>(
         },
         |job: Job<M::Frame>| frame_files(model_ref, plan_ref, job),
     )?;
-    let (paths, labels): (Vec<_>, Vec<_>) = done.into_iter().unzip();
-    let mut written: Vec<PathBuf> = paths.into_iter().flatten().collect();
-    written.extend(library.written());
+    let mut written = Vec::new();
+    let mut labels = Vec::new();
+    let mut measures = Vec::new();
+    for (paths, label, measure) in done {
+        written.extend(paths);
+        labels.extend(label);
+        measures.extend(measure);
+    }
+    written.extend(library.and_then(Library::written));
     if let Some(glb) = glb {
         let path = dir.join("model.glb");
         glb.write(&path)?;
         written.push(path);
     }
-    let montage = plan.montage.is_some();
-    written.extend(plan.finish(labels.into_iter().flatten().collect())?);
-    written.extend(model.close(dir, kinds, montage)?);
+    let closing = Closing {
+        montage: plan.montage.is_some(),
+        measures,
+        numbering: plan.numbering,
+    };
+    written.extend(plan.finish(labels)?);
+    written.extend(model.close(dir, kinds, closing)?);
     Ok(written)
 }
 
 /// The first pass: every frame surveyed; returns how many there are.
-fn survey<M: FrameModel, R: Records + ?Sized>(model: &mut M, records: &R) -> Result<usize> {
+fn survey<M: Products, R: Records + ?Sized>(model: &mut M, records: &R) -> Result<usize> {
     let mut framer = M::Framer::default();
     let mut count = 0usize;
     records.visit(Place::START, |_, r| {
@@ -330,24 +457,20 @@ fn survey<M: FrameModel, R: Records + ?Sized>(model: &mut M, records: &R) -> Res
         Ok(())
     })?;
     M::end(&framer)?;
-    model.surveyed();
+    model.surveyed(framer);
     Ok(count)
 }
 
-/// One frame's files (its OBJ and still), its animation frame and its
-/// montage tile; returns the files' paths and, for a tile, its label.
-fn frame_files<M: FrameModel>(
-    model: &M,
-    plan: &Plan<'_>,
-    job: Job<M::Frame>,
-) -> Result<(Vec<PathBuf>, Option<String>)> {
+/// One frame's files (its OBJ, its still and its own), its animation
+/// frame and its montage tile; returns the files' paths, its label if it
+/// is a tile, and its measure.
+fn frame_files<M: Products>(model: &M, plan: &Plan<'_>, job: Job<M::Frame>) -> Result<Done<M::Measure>> {
     let index = M::index(&job.frame);
     let mut paths = Vec::with_capacity(2);
-    if let Some(m) = &job.mesh {
-        let path = plan
-            .dir
-            .join(plan.numbering.name(FileSeries::FRAMES, index));
-        write_frame_obj(&path, m, ObjStyle::PLAIN, plan.library)?;
+    if let (Some(m), Some(library)) = (&job.mesh, plan.library) {
+        let name = plan.numbering.name(FileSeries::FRAMES, index);
+        let path = plan.dir.join(name);
+        write_frame_obj(&path, m, ObjStyle::PLAIN, library)?;
         paths.push(path);
     }
     let tile = match (&plan.montage, job.tile) {
@@ -356,26 +479,44 @@ fn frame_files<M: FrameModel>(
     };
     let animated = plan.animation.as_ref().zip(job.slot);
     let shown_as_tile = matches!(tile, Some((_, None)));
-    let picture = if plan.stills.is_some() || animated.is_some() || shown_as_tile {
+    let (files, pictured) = plan.frame_work;
+    let picture = if plan.stills.is_some() || animated.is_some() || shown_as_tile || pictured {
         Some(model.picture(&job.frame)?)
     } else {
         None
     };
     if let (Some(series), Some(p)) = (plan.stills, &picture) {
         let path = plan.dir.join(plan.numbering.name(series, index));
-        picture::save_rgb(p.width, p.height, &p.bytes, &path)?;
+        p.save(&path)?;
         paths.push(path);
     }
     let label = model.label(&job.frame);
     if let (Some((n, own)), Some((montage, rgb))) = (tile, &plan.montage) {
-        let drawn = own.as_ref().or(picture.as_ref());
-        let drawn = drawn.ok_or_else(|| anyhow!("a montage tile was not drawn"))?;
+        let drawn = match (&own, &picture) {
+            (Some(own), _) => own.rgb(),
+            (None, Some(p)) => p.rgb(),
+            (None, None) => bail!("a montage tile was not drawn"),
+        };
         let mut rgb = rgb.lock().map_err(|_| anyhow!("a drawing stopped"))?;
         let (width, _) = montage.size();
-        paste_rgb(&mut rgb, width, montage.tile_box(n), &drawn.bytes)?;
+        paste_rgb(&mut rgb, width, montage.tile_box(n), &drawn)?;
     }
-    if let (Some((animation, slot)), Some(p)) = (animated, picture) {
-        animation.frame(slot, p.bytes, label.clone())?;
+    if let (Some((animation, slot)), Some(p)) = (animated, &picture) {
+        let bytes = if animation.is_indexed() {
+            let indices = p.indices();
+            indices.ok_or_else(|| anyhow!("an indexed animation's frame has no palette"))?.to_vec()
+        } else {
+            p.rgb().into_owned()
+        };
+        animation.frame(slot, bytes, label.clone())?;
     }
-    Ok((paths, job.tile.map(|_| label)))
+    let measure = if files {
+        let (own, measure) =
+            model.frame_files(&job.frame, job.position, picture, plan.numbering)?;
+        paths.extend(own);
+        measure.map(|m| (job.position, m))
+    } else {
+        None
+    };
+    Ok((paths, job.tile.map(|_| label), measure))
 }

@@ -24,10 +24,11 @@ use nalgebra::Vector3;
 use tiny_skia::{Color, Pixmap};
 
 use super::chart::{Axis, Chart, Series, write_chart};
-use super::driver::{self, FrameModel, MeshFiles, Montage, Rgb};
+use super::driver::{self, Closing, MeshFiles, Montage, Products, Rgb};
 use super::kinds::{Kind, Kinds};
 use super::numbered::FileSeries;
 use super::raster::depth_key;
+use super::slots::OrderedAnimation;
 use super::text::trimmed;
 use super::{mesh, normals, picture, raster, tip_bend};
 use crate::records::Records;
@@ -578,9 +579,11 @@ impl Horn<'_> {
     }
 }
 
-impl FrameModel for Horn<'_> {
+impl Products for Horn<'_> {
     type Frame = Frame;
     type Framer = Framer;
+    type Picture = Rgb;
+    type Measure = ();
 
     fn push(framer: &mut Framer, record: &Record) -> Result<Option<Frame>> {
         framer.push(record)
@@ -602,39 +605,38 @@ impl FrameModel for Horn<'_> {
         Ok(())
     }
 
-    fn surveyed(&mut self) {
+    fn surveyed(&mut self, _framer: Framer) {
         let year_fit = Fit::new(self.last_year.as_ref(), 800);
         self.fits = Some((year_fit, Fit::new(self.last.as_ref(), 800)));
     }
 
-    fn index(frame: &Frame) -> u32 {
-        frame.index
+    fn index(frame: &Frame) -> i64 {
+        i64::from(frame.index)
     }
 
-    fn mesh_files(&self) -> MeshFiles {
-        MeshFiles {
+    fn mesh_files(&self) -> Option<MeshFiles> {
+        Some(MeshFiles {
             library: LIBRARY,
             scene: "horn".into(),
             metres: 0.01,
-        }
+        })
     }
 
-    fn mesh(&self, frame: &Frame) -> Result<mesh::Mesh> {
+    fn mesh(&self, frame: &Frame) -> Result<Option<mesh::Mesh>> {
         let title = format!(
             "morphogen horn, frame {} at t = {} years",
             frame.index, frame.years
         );
-        solid(frame, &mesh(frame, self.j), &title, self.j)
+        solid(frame, &mesh(frame, self.j), &title, self.j).map(Some)
     }
 
     fn stills(&self) -> Option<FileSeries> {
         None
     }
 
-    fn picture_size(&self) -> (u32, u32) {
-        (400, 400)
+    fn animation(&self, path: &Path, frames: usize) -> Result<Option<OrderedAnimation>> {
+        OrderedAnimation::new(path, 400, 400, frames).map(Some)
     }
-
     fn picture(&self, frame: &Frame) -> Result<Rgb> {
         self.drawn(&self.fits()?.1, frame)
     }
@@ -663,7 +665,7 @@ impl FrameModel for Horn<'_> {
         self.drawn(&year_fit, frame).map(Some)
     }
 
-    fn close(self, dir: &Path, kinds: Kinds, _montage: bool) -> Result<Vec<PathBuf>> {
+    fn close(self, dir: &Path, kinds: Kinds, _run: Closing<()>) -> Result<Vec<PathBuf>> {
         let mut written = Vec::new();
         let Some(last) = self.last else {
             return Ok(written);

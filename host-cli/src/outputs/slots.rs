@@ -34,6 +34,8 @@ pub fn animation_frames(count: usize) -> Vec<usize> {
 /// before it are written, so only the frames in flight are held.
 pub(crate) struct OrderedAnimation {
     state: Mutex<OrderedState>,
+    /// Whether its frames are indices into a palette.
+    indexed: bool,
 }
 
 struct OrderedState {
@@ -49,11 +51,12 @@ impl OrderedAnimation {
         let frames = u32::try_from(frames)?;
         let writer =
             AnimationWriter::new(path, width, height, Pixels::Rgb, frames, ANIMATION_DELAY_MS)?;
-        Ok(Self::writing(writer))
+        Ok(Self::writing(writer, false))
     }
 
-    fn writing(writer: AnimationWriter) -> Self {
+    fn writing(writer: AnimationWriter, indexed: bool) -> Self {
         OrderedAnimation {
+            indexed,
             state: Mutex::new(OrderedState {
                 writer: Some(writer),
                 next: 0,
@@ -77,7 +80,12 @@ impl OrderedAnimation {
         let frames = u32::try_from(frames)?;
         let writer =
             AnimationWriter::indexed(path, width, height, palette, frames, ANIMATION_DELAY_MS)?;
-        Ok(Some(Self::writing(writer)))
+        Ok(Some(Self::writing(writer, true)))
+    }
+
+    /// Whether its frames are indices ([`OrderedAnimation::indexed`]).
+    pub(crate) fn is_indexed(&self) -> bool {
+        self.indexed
     }
 
     /// Hands over frame `slot` (0-based among the animation's frames):

@@ -16,7 +16,7 @@ mod voronoi;
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
+use std::sync::Mutex;
 
 use anyhow::{Result, anyhow};
 use morphogen::fx::Fx;
@@ -25,16 +25,16 @@ use morphogen::mosaic::Params;
 use morphogen::stream::Record;
 
 use super::chart::{Axis, Chart, Series, write_chart};
+use super::driver::{self, Closing, Products};
 use super::kinds::{Kind, Kinds};
 use super::mesh::{Mesh, ObjStyle, write_obj};
 use super::numbered::{FileSeries, Numbering};
 use super::picture;
-use super::pipeline::pipeline;
-use super::slots::{OrderedAnimation, animation_frames};
-use super::surface::Surface;
+use super::slots::OrderedAnimation;
+use super::surface::{Surface, SurfaceView};
 use super::text;
 use crate::atomic::{self, OutputFile, write_atomic};
-use crate::records::{Place, Records};
+use crate::records::Records;
 
 pub use pattern::{Figures, Raster};
 pub use voronoi::{Indexed, voronoi};
@@ -151,9 +151,238 @@ pub(super) fn write_pattern(
     })
 }
 
-/// Writes (those of `kinds`) the CSVs, the Voronoi PNGs, the animation,
-/// the cell counts chart (its legend by the types' `names`, where given)
-/// and the mask of `params`' run, a day at a time as the days are read.
+/// Groups a mosaic stream's records into days: a frame start begins a
+/// day (handing over one left open), a frame end hands it over.
+#[derive(Debug, Default)]
+pub(super) struct DayFramer {
+    current: Option<Day>,
+}
+
+impl DayFramer {
+    /// Takes the next record; returns the day it ends, if any.
+    fn push(&mut self, r: &Record) -> Option<Day> {
+        match r {
+            Record::FrameStart { time, .. } => self.current.replace(Day {
+                day: time.floor_int(),
+                cells: Vec::new(),
+            }),
+            Record::Cell { id, kind, p } => {
+                if let Some(d) = self.current.as_mut() {
+                    d.cells.push((*id, *kind, p[0], p[1]));
+                }
+                None
+            }
+            Record::FrameEnd { .. } => self.current.take(),
+            _ => None,
+        }
+    }
+}
+
+/// The cells of each type in `cells`, by their types' `kinds`: at least
+/// one count per type of `types`.
+pub(super) fn by_type(kinds: impl Iterator<Item = u8>, types: usize) -> Vec<usize> {
+    let mut by_type = vec![0usize; types];
+    for kind in kinds {
+        let k = usize::from(kind);
+        if by_type.len() <= k {
+            by_type.resize(k + 1, 0);
+        }
+        by_type[k] += 1;
+    }
+    by_type
+}
+
+/// What a day's files measure for `types.csv` and `pattern.csv`: each
+/// type's area and the figures of its pattern.
+pub(super) type Measured = (Vec<u64>, Vec<Figures>);
+
+/// A planar mosaic run's products ([`driver::write`], the module's
+/// files).
+struct Plane<'a> {
+    dir: &'a Path,
+    params: &'a Params<'a>,
+    names: &'a [&'a str],
+    kinds: Kinds,
+    colours: Vec<[u8; 3]>,
+    surface: Surface,
+    /// The pictures' size, pixels.
+    size: (u32, u32),
+    /// The object the surface pictures show, found once.
+    view: Option<SurfaceView>,
+    /// Per day: its number and the cells of each type.
+    counts: Vec<(i32, Vec<usize>)>,
+    /// The last day.
+    last: Option<Day>,
+    /// The picture of the latest day drawn so far (by position), kept
+    /// for `mosaic.obj`, which shows the last day.
+    latest: Mutex<Option<(usize, Indexed)>>,
+}
+
+impl Products for Plane<'_> {
+    type Frame = Day;
+    type Framer = DayFramer;
+    type Picture = Indexed;
+    type Measure = Measured;
+
+    fn push(framer: &mut DayFramer, record: &Record) -> Result<Option<Day>> {
+        Ok(framer.push(record))
+    }
+
+    fn survey(&mut self, day: Day) -> Result<()> {
+        let by_type = by_type(day.cells.iter().map(|c| c.1), self.colours.len());
+        self.counts.push((day.day, by_type));
+        self.last = Some(day);
+        Ok(())
+    }
+
+    fn index(day: &Day) -> i64 {
+        i64::from(day.day)
+    }
+
+    fn numbering(&self, _count: usize) -> Numbering {
+        Numbering::days(self.params.days)
+    }
+
+    fn stills(&self) -> Option<FileSeries> {
+        Some(FileSeries::DAYS)
+    }
+
+    fn animation(&self, path: &Path, frames: usize) -> Result<Option<OrderedAnimation>> {
+        // Indexed frames (a third of the bytes, no RGB copy) when the
+        // labels' colours fit the palette beside the types'; RGB otherwise.
+        let palette = palette(&self.colours);
+        match OrderedAnimation::indexed(path, self.size, &palette, frames)? {
+            Some(indexed) => Ok(Some(indexed)),
+            None => OrderedAnimation::new(path, self.size.0, self.size.1, frames).map(Some),
+        }
+    }
+
+    fn picture(&self, day: &Day) -> Result<Indexed> {
+        Ok(voronoi(&self.params.domain, &self.colours, &day.cells))
+    }
+
+    fn label(&self, day: &Day) -> String {
+        format!("day {}", day.day)
+    }
+
+    fn frame_work(&self) -> (bool, bool) {
+        let csv = self.kinds.has(Kind::Csv);
+        (csv || self.kinds.has(Kind::Png), csv)
+    }
+
+    fn frame_files(
+        &self,
+        d: &Day,
+        position: usize,
+        picture: Option<Indexed>,
+        numbering: Numbering,
+    ) -> Result<(Vec<PathBuf>, Option<Measured>)> {
+        let (dir, domain) = (self.dir, &self.params.domain);
+        let mut paths = Vec::with_capacity(2);
+        if self.kinds.has(Kind::Csv) {
+            let csv = dir.join(numbering.name(FileSeries::CELLS, d.day));
+            let unit = |v: Fx| f64::from_fx(v);
+            let points = d
+                .cells
+                .iter()
+                .map(|&(id, kind, u, v)| (id, kind, self.surface.point(unit(u), unit(v))));
+            write_csv(points, &csv)?;
+            paths.push(csv);
+        }
+        let Some(picture) = picture else {
+            return Ok((paths, None));
+        };
+        let measured = self.kinds.has(Kind::Csv).then(|| {
+            let figures = (0..self.colours.len())
+                .map(|k| picture.raster(domain).figures(k as u8 + 2))
+                .collect();
+            (picture.areas(self.colours.len()), figures)
+        });
+        if let (Some(view), true) = (&self.view, self.kinds.has(Kind::Png)) {
+            let png = dir.join(numbering.name(FileSeries::SURFACES, d.day));
+            let drawn = view.paint(picture.palette(), &|i| picture.index(i))?;
+            picture::save(&drawn, &png)?;
+            paths.push(png);
+        }
+        let mut latest = self
+            .latest
+            .lock()
+            .map_err(|_| anyhow!("a mosaic picture writer stopped"))?;
+        if latest.as_ref().is_none_or(|(at, ..)| *at < position) {
+            *latest = Some((position, picture));
+        }
+        Ok((paths, measured))
+    }
+
+    fn close(self, dir: &Path, kinds: Kinds, run: Closing<Measured>) -> Result<Vec<PathBuf>> {
+        let mut written = write_tables(self.names, &self.counts, run.measures, dir, kinds)?;
+        if kinds.has(Kind::Obj) {
+            let path = dir.join("surface.obj");
+            written.extend(write_obj(&path, &self.surface.mesh(None)?, ObjStyle::PLAIN)?);
+        }
+        if let Some(last) = self.last.filter(|_| kinds.has(Kind::Png) || kinds.has(Kind::Obj)) {
+            let drawn = self
+                .latest
+                .into_inner()
+                .map_err(|_| anyhow!("a mosaic picture writer stopped"))?;
+            let picture = match drawn {
+                Some((at, picture)) if at + 1 == self.counts.len() => picture,
+                _ => voronoi(&self.params.domain, &self.colours, &last.cells),
+            };
+            if kinds.has(Kind::Png) {
+                // Every day's pictures were written: the last day's again.
+                let mut copies = vec![(FileSeries::DAYS, "mosaic.png")];
+                if self.view.is_some() {
+                    copies.push((FileSeries::SURFACES, "surface.png"));
+                }
+                for (series, name) in copies {
+                    let path = dir.join(name);
+                    atomic::copy(&dir.join(run.numbering.name(series, last.day)), &path)?;
+                    written.push(path);
+                }
+            }
+            if kinds.has(Kind::Obj) {
+                let coloured = self.surface.mesh(Some(&|u, v| picture.at(u, v)))?;
+                written.extend(write_mosaic_obj(dir, &coloured)?);
+            }
+        }
+        written.extend(write_counts_and_mask(self.params, self.names, &self.counts, dir, kinds)?);
+        Ok(written)
+    }
+}
+
+/// Writes (those of `kinds`) `types.csv` and `pattern.csv` from the
+/// days' `counts` and what their files `measured` (by the days'
+/// positions), on the plane or on a mesh alike.
+///
+/// # Errors
+/// When a file cannot be written.
+pub(super) fn write_tables(
+    names: &[&str],
+    counts: &[(i32, Vec<usize>)],
+    measured: Vec<(usize, Measured)>,
+    dir: &Path,
+    kinds: Kinds,
+) -> Result<Vec<PathBuf>> {
+    if !kinds.has(Kind::Csv) {
+        return Ok(Vec::new());
+    }
+    let mut areas = vec![None; counts.len()];
+    let mut figures = vec![None; counts.len()];
+    for (position, (a, f)) in measured {
+        if let (Some(area), Some(figure)) = (areas.get_mut(position), figures.get_mut(position)) {
+            (*area, *figure) = (Some(a), Some(f));
+        }
+    }
+    let types = dir.join("types.csv");
+    write_shares(names, counts, &areas, &types)?;
+    let pattern = dir.join("pattern.csv");
+    write_pattern(names, counts, &figures, &pattern)?;
+    Ok(vec![types, pattern])
+}
+
+/// Writes (those of `kinds`) the files of `params`' run ([`Plane`]), the
+/// types named `names` where given.
 ///
 /// # Errors
 /// When the records cannot be read or a file cannot be written.
@@ -164,187 +393,27 @@ pub fn write<R: Records + ?Sized>(
     dir: &Path,
     kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
-    let colours: Vec<[u8; 3]> = params.types.iter().map(|t| t.colour).collect();
-    let numbering = Numbering::days(params.days);
-    let domain = &params.domain;
-    let surface = Surface::of(domain);
-    let (w, h) = picture_size(domain);
-    // The object the surface pictures show, found once.
+    let surface = Surface::of(&params.domain);
+    let (w, h) = picture_size(&params.domain);
     let view = if kinds.has(Kind::Png) {
         surface.view([w, h])?
     } else {
         None
     };
-    let picked = if kinds.has(Kind::Anim) {
-        animation_frames(records.frame_starts()?)
-    } else {
-        Vec::new()
+    let plane = Plane {
+        dir,
+        params,
+        names,
+        kinds,
+        colours: params.types.iter().map(|t| t.colour).collect(),
+        surface,
+        size: (u32::try_from(w)?, u32::try_from(h)?),
+        view,
+        counts: Vec::new(),
+        last: None,
+        latest: Mutex::new(None),
     };
-    let anim_path = dir.join("animation.png");
-    // Indexed frames (a third of the bytes, no RGB copy) when the labels'
-    // colours fit the palette beside the types'; RGB otherwise.
-    let apng = if picked.len() > 1 {
-        let size = (u32::try_from(w)?, u32::try_from(h)?);
-        match OrderedAnimation::indexed(&anim_path, size, &palette(&colours), picked.len())? {
-            Some(apng) => Some((apng, true)),
-            None => Some((
-                OrderedAnimation::new(&anim_path, size.0, size.1, picked.len())?,
-                false,
-            )),
-        }
-    } else {
-        None
-    };
-    let mut last: Option<Arc<Day>> = None;
-    // The picture of the latest day drawn so far (by position), kept for
-    // mosaic.obj, which shows the last day.
-    let latest: Mutex<Option<(usize, Indexed)>> = Mutex::new(None);
-    // Per day: its number and the cells of each type.
-    let mut counts: Vec<(i32, Vec<usize>)> = Vec::new();
-    type Measured = (Vec<PathBuf>, Option<(Vec<u64>, Vec<Figures>)>);
-    let per_day: Vec<Measured> = pipeline(
-        |send| {
-            let mut current: Option<Day> = None;
-            let mut hand_over = |day: Day| {
-                let mut by_type = vec![0usize; colours.len()];
-                for &(_, kind, _, _) in &day.cells {
-                    let k = usize::from(kind);
-                    if by_type.len() <= k {
-                        by_type.resize(k + 1, 0);
-                    }
-                    by_type[k] += 1;
-                }
-                let position = counts.len();
-                let slot = picked.binary_search(&position).ok();
-                counts.push((day.day, by_type));
-                let day = Arc::new(day);
-                last = Some(Arc::clone(&day));
-                send((day, position, slot))
-            };
-            records.visit(Place::START, |_, r| {
-                match r {
-                    Record::FrameStart { time, .. } => {
-                        let next = Day {
-                            day: time.floor_int(),
-                            cells: Vec::new(),
-                        };
-                        if let Some(done) = current.replace(next) {
-                            hand_over(done)?;
-                        }
-                    }
-                    Record::Cell { id, kind, p } => {
-                        if let Some(d) = current.as_mut() {
-                            d.cells.push((*id, *kind, p[0], p[1]));
-                        }
-                    }
-                    _ => {}
-                }
-                Ok(())
-            })?;
-            current.map_or(Ok(()), hand_over)
-        },
-        |(d, position, slot): (Arc<Day>, usize, Option<usize>)| {
-            let mut paths = Vec::with_capacity(2);
-            if kinds.has(Kind::Csv) {
-                let csv = dir.join(numbering.name(FileSeries::CELLS, d.day));
-                let unit = |v: Fx| f64::from_fx(v);
-                let points = d
-                    .cells
-                    .iter()
-                    .map(|&(id, kind, u, v)| (id, kind, surface.point(unit(u), unit(v))));
-                write_csv(points, &csv)?;
-                paths.push(csv);
-            }
-            let animated = apng.as_ref().zip(slot);
-            let mut areas = None;
-            if kinds.has(Kind::Png) || kinds.has(Kind::Csv) || animated.is_some() {
-                let picture = voronoi(domain, &colours, &d.cells);
-                areas = kinds.has(Kind::Csv).then(|| {
-                    let figures = (0..colours.len())
-                        .map(|k| picture.raster(domain).figures(k as u8 + 2))
-                        .collect();
-                    (picture.areas(colours.len()), figures)
-                });
-                if kinds.has(Kind::Png) {
-                    let png = dir.join(numbering.name(FileSeries::DAYS, d.day));
-                    picture.save(&png)?;
-                    paths.push(png);
-                    if let Some(view) = &view {
-                        let png = dir.join(numbering.name(FileSeries::SURFACES, d.day));
-                        let drawn = view.paint(picture.palette(), &|i| picture.index(i))?;
-                        picture::save(&drawn, &png)?;
-                        paths.push(png);
-                    }
-                }
-                if let Some(((apng, indexed), slot)) = animated {
-                    let frame = if *indexed {
-                        picture.indices().to_vec()
-                    } else {
-                        picture.rgb()
-                    };
-                    apng.frame(slot, frame, format!("day {}", d.day))?;
-                }
-                let mut latest = latest
-                    .lock()
-                    .map_err(|_| anyhow!("a mosaic picture writer stopped"))?;
-                if latest.as_ref().is_none_or(|(at, ..)| *at < position) {
-                    *latest = Some((position, picture));
-                }
-            }
-            Ok((paths, areas))
-        },
-    )?;
-    let (paths, measured): (Vec<_>, Vec<_>) = per_day.into_iter().unzip();
-    let mut written: Vec<PathBuf> = paths.into_iter().flatten().collect();
-    if kinds.has(Kind::Csv) {
-        let (areas, figures): (Vec<_>, Vec<_>) = measured
-            .into_iter()
-            .map(|m| m.map_or((None, None), |(a, f)| (Some(a), Some(f))))
-            .unzip();
-        let path = dir.join("types.csv");
-        write_shares(names, &counts, &areas, &path)?;
-        written.push(path);
-        let path = dir.join("pattern.csv");
-        write_pattern(names, &counts, &figures, &path)?;
-        written.push(path);
-    }
-    if let Some((apng, _)) = apng {
-        apng.finish()?;
-        written.push(anim_path);
-    }
-    if kinds.has(Kind::Obj) {
-        let path = dir.join("surface.obj");
-        written.extend(write_obj(&path, &surface.mesh(None)?, ObjStyle::PLAIN)?);
-    }
-    if let Some(last) = last.filter(|_| kinds.has(Kind::Png) || kinds.has(Kind::Obj)) {
-        let drawn = latest
-            .into_inner()
-            .map_err(|_| anyhow!("a mosaic picture writer stopped"))?;
-        let picture = match drawn {
-            Some((at, picture)) if at + 1 == counts.len() => picture,
-            _ => voronoi(domain, &colours, &last.cells),
-        };
-        if kinds.has(Kind::Png) {
-            // Every day's pictures were written: the last day's again.
-            let path = dir.join("mosaic.png");
-            atomic::copy(&dir.join(numbering.name(FileSeries::DAYS, last.day)), &path)?;
-            written.push(path);
-            if view.is_some() {
-                let path = dir.join("surface.png");
-                atomic::copy(
-                    &dir.join(numbering.name(FileSeries::SURFACES, last.day)),
-                    &path,
-                )?;
-                written.push(path);
-            }
-        }
-        if kinds.has(Kind::Obj) {
-            let coloured = surface.mesh(Some(&|u, v| picture.at(u, v)))?;
-            written.extend(write_mosaic_obj(dir, &coloured)?);
-        }
-    }
-    written.extend(write_counts_and_mask(params, names, &counts, dir, kinds)?);
-    Ok(written)
+    driver::write(plane, records, dir, kinds)
 }
 
 /// Writes `mosaic.obj`: `coloured`, the surface with the last day's

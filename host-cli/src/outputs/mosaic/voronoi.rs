@@ -8,6 +8,7 @@
 //! placed once per tile) within that reach of the tile are compared, in
 //! plain arithmetic per pixel.
 
+use std::borrow::Cow;
 use std::path::Path;
 
 use anyhow::Result;
@@ -17,6 +18,7 @@ use morphogen::mosaic::Domain;
 
 use crate::outputs::picture::pack_rgb;
 use crate::outputs::picture::save_indexed;
+use crate::outputs::driver::Still;
 use crate::outputs::surface::pattern_pixel;
 
 use super::pattern::Raster;
@@ -246,6 +248,20 @@ pub struct Indexed {
     /// The pixels of each palette index but [`EMPTY`], counted as they
     /// were coloured.
     counts: Box<[u64; 256]>,
+}
+
+impl Still for Indexed {
+    fn save(&self, path: &Path) -> Result<()> {
+        Indexed::save(self, path)
+    }
+
+    fn rgb(&self) -> Cow<'_, [u8]> {
+        Cow::Owned(Indexed::rgb(self))
+    }
+
+    fn indices(&self) -> Option<&[u8]> {
+        Some(&self.pixels)
+    }
 }
 
 impl Indexed {

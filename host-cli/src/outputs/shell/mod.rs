@@ -12,9 +12,11 @@ mod control;
 mod nearest;
 mod view;
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
-use anyhow::Result;
+use anyhow::{Context, Result, anyhow};
 use morphogen::fx::Real as _;
 use morphogen::mosaic::Params;
 use morphogen::mosaic::surface::ControlMap;
@@ -22,17 +24,18 @@ use morphogen::stream::Record;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
+use super::driver::{self, Closing, Products, Still};
 use super::kinds::{Kind, Kinds};
 use super::mesh::{Mesh, ObjStyle, Rgb, write_obj};
 use super::mosaic::{
-    write_counts_and_mask, write_csv, write_mosaic_obj, write_pattern, write_shares,
+    Measured, by_type, write_counts_and_mask, write_csv, write_mosaic_obj, write_tables,
 };
 use super::numbered::{FileSeries, Numbering};
-use super::picture;
 use crate::atomic;
 use crate::records::{Place, Records};
 use control::Unrolled;
 use nearest::{Along, Nearest};
+use view::View;
 
 /// Sample points per triangle side for the area shares (s(s+1)/2 each).
 const AREA_SAMPLES: usize = 6;
@@ -183,7 +186,200 @@ impl Shell {
     }
 }
 
-/// Writes (those of `kinds`) the outputs of a surface mosaic's run.
+/// Groups a surface mosaic's records into days, gathering the mesh the
+/// cells live on as it goes by.
+#[derive(Debug, Default)]
+pub(super) struct ShellFramer {
+    shell: Shell,
+    current: Option<Day>,
+}
+
+impl ShellFramer {
+    /// Takes the next record; returns the day it ends, if any.
+    fn push(&mut self, r: &Record) -> Option<Day> {
+        let units = |p: &[morphogen::fx::Fx; 3]| p.map(f64::from_fx);
+        match r {
+            Record::FrameStart { time, .. } => {
+                return self.current.replace(Day {
+                    day: time.floor_int(),
+                    cells: Vec::new(),
+                });
+            }
+            Record::MeshVertex { p, .. } => self.shell.vertices.push(units(p)),
+            Record::Triangle { v } => self.shell.faces.push(*v),
+            Record::SurfaceCell { id, kind, p } => {
+                if let Some(d) = self.current.as_mut() {
+                    d.cells.push((*id, *kind, units(p)));
+                }
+            }
+            Record::FrameEnd { .. } => return self.current.take(),
+            _ => {}
+        }
+        None
+    }
+}
+
+/// A day's picture: the object painted by the day's cells, and the cells'
+/// regions it was painted with.
+pub(super) struct Painted {
+    picture: driver::Rgb,
+    near: Nearest,
+}
+
+impl Still for Painted {
+    fn save(&self, path: &Path) -> Result<()> {
+        self.picture.save(path)
+    }
+
+    fn rgb(&self) -> Cow<'_, [u8]> {
+        self.picture.rgb()
+    }
+}
+
+/// A surface mosaic run's products ([`driver::write`], the module's
+/// files); no animation.
+struct Surface<'a> {
+    dir: &'a Path,
+    params: &'a Params<'a>,
+    names: &'a [&'a str],
+    kinds: Kinds,
+    colours: Vec<[u8; 3]>,
+    /// The mesh, and the view of it the pictures show (with `png`), once
+    /// surveyed.
+    shell: Shell,
+    view: Option<View>,
+    /// Per day: its number and the cells of each type.
+    counts: Vec<(i32, Vec<usize>)>,
+    /// The latest day whose regions were found (by position), kept for
+    /// `mosaic.obj`, which shows the last day; and the last day.
+    latest: Mutex<Option<(usize, Nearest)>>,
+    last: Option<Day>,
+}
+
+impl Products for Surface<'_> {
+    type Frame = Day;
+    type Framer = ShellFramer;
+    type Picture = Painted;
+    type Measure = Measured;
+
+    fn push(framer: &mut ShellFramer, record: &Record) -> Result<Option<Day>> {
+        Ok(framer.push(record))
+    }
+
+    fn survey(&mut self, day: Day) -> Result<()> {
+        let counted = day.cells.iter().map(|c| c.1).filter(|&k| usize::from(k) < self.colours.len());
+        self.counts.push((day.day, by_type(counted, self.colours.len())));
+        self.last = Some(day);
+        Ok(())
+    }
+
+    fn surveyed(&mut self, framer: ShellFramer) {
+        self.shell = framer.shell;
+        let elevation = match self.params.surface.map(|s| s.control) {
+            Some(ControlMap::Plane) => 1.0,
+            _ => 0.35,
+        };
+        self.view = self.kinds.has(Kind::Png).then(|| self.shell.view(elevation));
+    }
+
+    fn index(day: &Day) -> i64 {
+        i64::from(day.day)
+    }
+
+    fn numbering(&self, _count: usize) -> Numbering {
+        Numbering::days(self.params.days)
+    }
+
+    fn stills(&self) -> Option<FileSeries> {
+        Some(FileSeries::SURFACES)
+    }
+
+    fn picture(&self, day: &Day) -> Result<Painted> {
+        let view = self.view.as_ref().context("the surface has no view")?;
+        let near = Nearest::new(&day.cells, &self.shell);
+        let mut canvas = view.canvas()?;
+        view.paint(&near, &self.colours, &mut canvas);
+        Ok(Painted {
+            picture: driver::Rgb::halved(&canvas)?,
+            near,
+        })
+    }
+
+    fn label(&self, day: &Day) -> String {
+        format!("day {}", day.day)
+    }
+
+    fn frame_work(&self) -> (bool, bool) {
+        (self.kinds.has(Kind::Csv) || self.kinds.has(Kind::Obj), false)
+    }
+
+    fn frame_files(
+        &self,
+        d: &Day,
+        position: usize,
+        picture: Option<Painted>,
+        numbering: Numbering,
+    ) -> Result<(Vec<PathBuf>, Option<Measured>)> {
+        let near = match picture {
+            Some(p) => p.near,
+            None => Nearest::new(&d.cells, &self.shell),
+        };
+        let mut paths = Vec::new();
+        let mut measured = None;
+        if self.kinds.has(Kind::Csv) {
+            let path = self.dir.join(numbering.name(FileSeries::CELLS, d.day));
+            write_csv(d.cells.iter().copied(), &path)?;
+            paths.push(path);
+            let types = self.colours.len();
+            let unrolled = Unrolled::new(&self.shell, &near, self.params, types);
+            let figures = (0..types)
+                .map(|k| unrolled.raster().figures(k as u8 + 2))
+                .collect();
+            measured = Some((self.shell.areas(&near, types), figures));
+        }
+        let mut latest = self
+            .latest
+            .lock()
+            .map_err(|_| anyhow!("a mosaic writer stopped"))?;
+        if latest.as_ref().is_none_or(|(at, _)| *at < position) {
+            *latest = Some((position, near));
+        }
+        Ok((paths, measured))
+    }
+
+    fn close(self, dir: &Path, kinds: Kinds, run: Closing<Measured>) -> Result<Vec<PathBuf>> {
+        let mut written = write_tables(self.names, &self.counts, run.measures, dir, kinds)?;
+        if kinds.has(Kind::Obj) {
+            let path = dir.join("surface.obj");
+            written.extend(write_obj(&path, &self.shell.bare()?, ObjStyle::PLAIN)?);
+        }
+        if let Some(last) = &self.last {
+            if self.view.is_some() {
+                let path = dir.join("surface.png");
+                let day = run.numbering.name(FileSeries::SURFACES, last.day);
+                atomic::copy(&dir.join(day), &path)?;
+                written.push(path);
+            }
+            if kinds.has(Kind::Obj) {
+                let latest = self
+                    .latest
+                    .into_inner()
+                    .map_err(|_| anyhow!("a mosaic writer stopped"))?;
+                let near = match latest {
+                    Some((at, near)) if at + 1 == self.counts.len() => near,
+                    _ => Nearest::new(&last.cells, &self.shell),
+                };
+                let coloured = self.shell.coloured(&near, &self.colours, 2)?;
+                written.extend(write_mosaic_obj(dir, &coloured)?);
+            }
+        }
+        written.extend(write_counts_and_mask(self.params, self.names, &self.counts, dir, kinds)?);
+        Ok(written)
+    }
+}
+
+/// Writes (those of `kinds`) the files of `params`' run on a mesh
+/// ([`Surface`]), the types named `names` where given.
 ///
 /// # Errors
 /// When the records cannot be read or a file cannot be written.
@@ -194,86 +390,17 @@ pub fn write<R: Records + ?Sized>(
     dir: &Path,
     kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
-    let colours: Vec<[u8; 3]> = params.types.iter().map(|t| t.colour).collect();
-    let numbering = Numbering::days(params.days);
-    let (shell, days) = read(records)?;
-    let elevation = match params.surface.map(|s| s.control) {
-        Some(ControlMap::Plane) => 1.0,
-        _ => 0.35,
+    let surface = Surface {
+        dir,
+        params,
+        names,
+        kinds,
+        colours: params.types.iter().map(|t| t.colour).collect(),
+        shell: Shell::default(),
+        view: None,
+        counts: Vec::new(),
+        latest: Mutex::new(None),
+        last: None,
     };
-    let view = kinds.has(Kind::Png).then(|| shell.view(elevation));
-    // The view's canvas, and its picture at half the size as RGB: one of
-    // each for every day (a day's canvas of a 1400² view is 7.8 MB).
-    let mut pictures = match &view {
-        Some(view) => {
-            let canvas = view.canvas()?;
-            let half = 3 * (canvas.width() / 2 * (canvas.height() / 2)) as usize;
-            Some((view, canvas, vec![0; half]))
-        }
-        None => None,
-    };
-    let mut written = Vec::new();
-    let mut counts = Vec::new();
-    let mut areas = Vec::new();
-    let mut figures = Vec::new();
-    // The last day and its cells, for `surface.png` (a copy of its
-    // picture) and `mosaic.obj`.
-    let mut last = None;
-    for d in &days {
-        let mut by_type = vec![0usize; colours.len()];
-        for c in &d.cells {
-            if let Some(n) = by_type.get_mut(usize::from(c.1)) {
-                *n += 1;
-            }
-        }
-        counts.push((d.day, by_type));
-        let near = Nearest::new(&d.cells, &shell);
-        if kinds.has(Kind::Csv) {
-            let path = dir.join(numbering.name(FileSeries::CELLS, d.day));
-            write_csv(d.cells.iter().copied(), &path)?;
-            written.push(path);
-            areas.push(Some(shell.areas(&near, colours.len())));
-            let unrolled = Unrolled::new(&shell, &near, params, colours.len());
-            figures.push(Some(
-                (0..colours.len())
-                    .map(|k| unrolled.raster().figures(k as u8 + 2))
-                    .collect(),
-            ));
-        } else {
-            areas.push(None);
-            figures.push(None);
-        }
-        if let Some((view, canvas, half)) = &mut pictures {
-            let path = dir.join(numbering.name(FileSeries::SURFACES, d.day));
-            view.paint(&near, &colours, canvas);
-            picture::half_rgb_into(canvas, half)?;
-            picture::save_rgb(canvas.width() / 2, canvas.height() / 2, half, &path)?;
-            written.push(path);
-        }
-        last = Some((d.day, near));
-    }
-    if kinds.has(Kind::Csv) {
-        let path = dir.join("types.csv");
-        write_shares(names, &counts, &areas, &path)?;
-        written.push(path);
-        let path = dir.join("pattern.csv");
-        write_pattern(names, &counts, &figures, &path)?;
-        written.push(path);
-    }
-    if kinds.has(Kind::Obj) {
-        let path = dir.join("surface.obj");
-        written.extend(write_obj(&path, &shell.bare()?, ObjStyle::PLAIN)?);
-    }
-    if let Some((day, near)) = last {
-        if pictures.is_some() {
-            let path = dir.join("surface.png");
-            atomic::copy(&dir.join(numbering.name(FileSeries::SURFACES, day)), &path)?;
-            written.push(path);
-        }
-        if kinds.has(Kind::Obj) {
-            written.extend(write_mosaic_obj(dir, &shell.coloured(&near, &colours, 2)?)?);
-        }
-    }
-    written.extend(write_counts_and_mask(params, names, &counts, dir, kinds)?);
-    Ok(written)
+    driver::write(surface, records, dir, kinds)
 }
