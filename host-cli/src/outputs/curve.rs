@@ -80,7 +80,9 @@ impl Products for Curve {
         )
         .with_y2(Axis::new("daily increment", "fraction a day"))
         .with_series(Series::line("f(t)", growth.into_iter().map(real).collect()))
-        .with_series(Series::line("daily increment", daily.into_iter().map(real).collect()).on_right());
+        .with_series(
+            Series::line("daily increment", daily.into_iter().map(real).collect()).on_right(),
+        );
         write_chart(&chart, dir, "growth", (900, 500), kinds, &mut written)?;
         Ok(written)
     }

@@ -98,7 +98,7 @@ pub(crate) struct Montage {
     pub frames: Vec<usize>,
     /// Each tile's size, pixels.
     pub tile: (u32, u32),
-    /// Tiles a row.
+    /// Tiles a row (at least one).
     pub columns: u32,
     /// The colour where no tile is.
     pub background: [u8; 3],
@@ -107,15 +107,16 @@ pub(crate) struct Montage {
 impl Montage {
     /// The whole picture's size.
     fn size(&self) -> (u32, u32) {
-        let rows = (self.frames.len() as u32).div_ceil(self.columns).max(1);
-        (self.tile.0 * self.columns, self.tile.1 * rows)
+        let columns = self.columns.max(1);
+        let rows = (self.frames.len() as u32).div_ceil(columns).max(1);
+        (self.tile.0 * columns, self.tile.1 * rows)
     }
 
     /// The box of tile `n`.
     fn tile_box(&self, n: usize) -> [u32; 4] {
-        let n = n as u32;
+        let (n, columns) = (n as u32, self.columns.max(1));
         let (w, h) = self.tile;
-        [n % self.columns * w, n / self.columns * h, w, h]
+        [n % columns * w, n / columns * h, w, h]
     }
 }
 
@@ -247,8 +248,7 @@ pub(crate) trait Products: Sync {
     ///
     /// # Errors
     /// When a file cannot be written.
-    fn close(self, dir: &Path, kinds: Kinds, run: Closing<Self::Measure>)
-    -> Result<Vec<PathBuf>>;
+    fn close(self, dir: &Path, kinds: Kinds, run: Closing<Self::Measure>) -> Result<Vec<PathBuf>>;
 }
 
 /// What the frames' files leave for [`Products::close`].
@@ -464,7 +464,11 @@ fn survey<M: Products, R: Records + ?Sized>(model: &mut M, records: &R) -> Resul
 /// One frame's files (its OBJ, its still and its own), its animation
 /// frame and its montage tile; returns the files' paths, its label if it
 /// is a tile, and its measure.
-fn frame_files<M: Products>(model: &M, plan: &Plan<'_>, job: Job<M::Frame>) -> Result<Done<M::Measure>> {
+fn frame_files<M: Products>(
+    model: &M,
+    plan: &Plan<'_>,
+    job: Job<M::Frame>,
+) -> Result<Done<M::Measure>> {
     let index = M::index(&job.frame);
     let mut paths = Vec::with_capacity(2);
     if let (Some(m), Some(library)) = (&job.mesh, plan.library) {
@@ -504,7 +508,9 @@ fn frame_files<M: Products>(model: &M, plan: &Plan<'_>, job: Job<M::Frame>) -> R
     if let (Some((animation, slot)), Some(p)) = (animated, &picture) {
         let bytes = if animation.is_indexed() {
             let indices = p.indices();
-            indices.ok_or_else(|| anyhow!("an indexed animation's frame has no palette"))?.to_vec()
+            indices
+                .ok_or_else(|| anyhow!("an indexed animation's frame has no palette"))?
+                .to_vec()
         } else {
             p.rgb().into_owned()
         };

@@ -547,12 +547,29 @@ mod tests {
         }
     }
 
-    #[test]
-    fn glb_reads_back_with_counts_bounds_colours_and_animation() {
+    /// `scene()` as GLB: its bytes, and them parsed (which validates the
+    /// JSON against the glTF rules the crate knows).
+    fn cubes() -> (Vec<u8>, gltf::Gltf) {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("cubes.glb");
         write_glb(&path, &scene()).unwrap();
         let bytes = std::fs::read(&path).unwrap();
+        let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
+        (bytes, gltf)
+    }
+
+    /// The frame nodes under the scene's root.
+    fn frame_nodes(gltf: &gltf::Gltf) -> Vec<gltf::Node<'_>> {
+        let scene = gltf.default_scene().unwrap();
+        let root = scene.nodes().next().unwrap();
+        assert_eq!(root.name(), Some("cubes"));
+        assert_eq!(root.transform().decomposed().2, [0.01; 3]);
+        root.children().collect()
+    }
+
+    #[test]
+    fn glb_container_is_aligned_and_every_accessor_fills_its_view() {
+        let (bytes, gltf) = cubes();
         // The container: header, a JSON chunk padded with spaces, BIN.
         let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
         assert_eq!(&bytes[..4], b"glTF");
@@ -562,13 +579,7 @@ mod tests {
         let bin_at = 20 + json_len;
         assert_eq!(&bytes[bin_at + 4..bin_at + 8], b"BIN\0");
         assert_eq!(bin_at + 8 + word(bin_at), bytes.len());
-        // Parsing validates the JSON against the glTF rules the crate knows.
-        let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
         let blob = gltf.blob.clone().unwrap();
-        let buffers = |b: gltf::Buffer<'_>| match b.source() {
-            gltf::buffer::Source::Bin => Some(&blob[..]),
-            gltf::buffer::Source::Uri(_) => None,
-        };
         // Every view inside the buffer, 4-aligned; every accessor fills its view.
         for a in gltf.accessors() {
             let v = a.view().unwrap();
@@ -577,11 +588,17 @@ mod tests {
             assert_eq!(a.offset(), 0);
             assert_eq!(a.count() * a.size(), v.length());
         }
-        let scene = gltf.default_scene().unwrap();
-        let root = scene.nodes().next().unwrap();
-        assert_eq!(root.name(), Some("cubes"));
-        assert_eq!(root.transform().decomposed().2, [0.01; 3]);
-        let frames: Vec<_> = root.children().collect();
+    }
+
+    #[test]
+    fn glb_frames_read_back_with_counts_bounds_colours_and_shared_blocks() {
+        let (_, gltf) = cubes();
+        let blob = gltf.blob.clone().unwrap();
+        let buffers = |b: gltf::Buffer<'_>| match b.source() {
+            gltf::buffer::Source::Bin => Some(&blob[..]),
+            gltf::buffer::Source::Uri(_) => None,
+        };
+        let frames = frame_nodes(&gltf);
         assert_eq!(frames.len(), 3);
         assert_eq!(gltf.meshes().count(), 3);
         let (mut index_accessors, mut colour_accessors) = (Vec::new(), Vec::new());
@@ -644,6 +661,17 @@ mod tests {
         let spike = frames[2].mesh().unwrap().primitives().nth(1).unwrap();
         assert_ne!(spike.indices().unwrap().index(), index_accessors[2]);
         assert_eq!(gltf.accessors().count(), 3 * 2 + 2 + 2 + 1 + 3);
+    }
+
+    #[test]
+    fn glb_animation_shows_one_frame_at_a_time() {
+        let (_, gltf) = cubes();
+        let blob = gltf.blob.clone().unwrap();
+        let buffers = |b: gltf::Buffer<'_>| match b.source() {
+            gltf::buffer::Source::Bin => Some(&blob[..]),
+            gltf::buffer::Source::Uri(_) => None,
+        };
+        let frames = frame_nodes(&gltf);
         // One animation: each node's scale, STEP, on the frames' times
         // (the last frame lasts as long as the one before it).
         let animations: Vec<_> = gltf.animations().collect();

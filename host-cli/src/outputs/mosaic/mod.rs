@@ -318,9 +318,16 @@ impl Products for Plane<'_> {
         let mut written = write_tables(self.names, &self.counts, run.measures, dir, kinds)?;
         if kinds.has(Kind::Obj) {
             let path = dir.join("surface.obj");
-            written.extend(write_obj(&path, &self.surface.mesh(None)?, ObjStyle::PLAIN)?);
+            written.extend(write_obj(
+                &path,
+                &self.surface.mesh(None)?,
+                ObjStyle::PLAIN,
+            )?);
         }
-        if let Some(last) = self.last.filter(|_| kinds.has(Kind::Png) || kinds.has(Kind::Obj)) {
+        if let Some(last) = self
+            .last
+            .filter(|_| kinds.has(Kind::Png) || kinds.has(Kind::Obj))
+        {
             let drawn = self
                 .latest
                 .into_inner()
@@ -346,7 +353,13 @@ impl Products for Plane<'_> {
                 written.extend(write_mosaic_obj(dir, &coloured)?);
             }
         }
-        written.extend(write_counts_and_mask(self.params, self.names, &self.counts, dir, kinds)?);
+        written.extend(write_counts_and_mask(
+            self.params,
+            self.names,
+            &self.counts,
+            dir,
+            kinds,
+        )?);
         Ok(written)
     }
 }

@@ -267,8 +267,13 @@ impl Products for Surface<'_> {
     }
 
     fn survey(&mut self, day: Day) -> Result<()> {
-        let counted = day.cells.iter().map(|c| c.1).filter(|&k| usize::from(k) < self.colours.len());
-        self.counts.push((day.day, by_type(counted, self.colours.len())));
+        let counted = day
+            .cells
+            .iter()
+            .map(|c| c.1)
+            .filter(|&k| usize::from(k) < self.colours.len());
+        self.counts
+            .push((day.day, by_type(counted, self.colours.len())));
         self.last = Some(day);
         Ok(())
     }
@@ -279,7 +284,10 @@ impl Products for Surface<'_> {
             Some(ControlMap::Plane) => 1.0,
             _ => 0.35,
         };
-        self.view = self.kinds.has(Kind::Png).then(|| self.shell.view(elevation));
+        self.view = self
+            .kinds
+            .has(Kind::Png)
+            .then(|| self.shell.view(elevation));
     }
 
     fn index(day: &Day) -> i64 {
@@ -310,7 +318,10 @@ impl Products for Surface<'_> {
     }
 
     fn frame_work(&self) -> (bool, bool) {
-        (self.kinds.has(Kind::Csv) || self.kinds.has(Kind::Obj), false)
+        (
+            self.kinds.has(Kind::Csv) || self.kinds.has(Kind::Obj),
+            false,
+        )
     }
 
     fn frame_files(
@@ -373,7 +384,13 @@ impl Products for Surface<'_> {
                 written.extend(write_mosaic_obj(dir, &coloured)?);
             }
         }
-        written.extend(write_counts_and_mask(self.params, self.names, &self.counts, dir, kinds)?);
+        written.extend(write_counts_and_mask(
+            self.params,
+            self.names,
+            &self.counts,
+            dir,
+            kinds,
+        )?);
         Ok(written)
     }
 }
