@@ -1,9 +1,15 @@
 //! The model's natural files written by `morphogen run`: pictures, meshes,
-//! tables. Each model has a module; [`write()`] picks it by the preset's
-//! model. Writers read their records in passes over a [`Records`] source
-//! (the stream file, read back frame by frame), one frame or day at a
-//! time, so their memory is that of a frame and a picture, never that of
-//! the stream.
+//! tables. Each model's module states its products (`driver::Products`:
+//! frame → mesh, frame → picture with its label, frames → montage, frame
+//! → tables of its own, run → charts and tables) and one driver writes
+//! every kind `--only` asks for; [`write()`] picks the model by the
+//! preset's. The driver reads the records in passes over a [`Records`]
+//! source (the stream file, read back frame by frame), one frame or day
+//! at a time, so its memory is that of the frames in hand and their
+//! pictures, never that of the stream. The L-system's plant is the one
+//! model with its own writer (`plant`): its last frame can be larger than
+//! memory allows to hold, so it is streamed into its OBJ and drawn from
+//! depth-sorted runs spilled to disk.
 
 use std::path::{Path, PathBuf};
 
