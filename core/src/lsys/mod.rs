@@ -47,7 +47,7 @@
 //!   (32, 256, 32, 1024, 64: about 3 KB): productions, successor modules
 //!   over all productions and the axiom, context modules over all
 //!   productions, bytes of expression code, distinct literals;
-//!   `Grammar::<8, 64, 8, 256, 16>::empty()` holds a quarter of that.
+//!   `Grammar::<8, 64, 8, 256, 16>::empty()` holds under 1 KB.
 //! - [`Streaming<STEPS>`](Streaming) (32): derivation steps, one frame and
 //!   its counters (~44 bytes) each.
 //! - [`LSystem<D, PRODUCTIONS, …>`](LSystem) owns a derivation `D` and a

@@ -1234,6 +1234,9 @@ fn smaller_pools_parse_what_fits_and_name_their_capacity() {
     let mut small = Small::empty();
     small.parse(SMALL).unwrap();
     assert_eq!(small.production_count(), 2);
+    // What the module doc says of the pools' memory.
+    assert!(core::mem::size_of::<Grammar<8, 64, 8, 256, 16>>() < 1024);
+    assert!(core::mem::size_of::<Grammar>() < 3400);
     // The same grammar in the default pools derives the same string.
     let big = grammar(SMALL);
     assert_eq!(big.production_count(), 2);
