@@ -116,7 +116,7 @@ impl Model<'_> {
             }
             Model::Body(p) => p.model.cylinders.len() <= body::MAX_CYLINDERS,
             // The MCU derives skeletons streaming: context-free, at most
-            // MAX_STEPS steps.
+            // a default `Streaming`'s 32 steps.
             Model::Bones(p) => {
                 let mut grammar = crate::lsys::Grammar::new();
                 grammar.parse(p.grammar).is_ok() && !grammar.needs_buffer()

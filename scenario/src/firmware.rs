@@ -156,7 +156,7 @@ pub fn sent(scenario: &Scenario, seed: u64) -> Result<SentScenario, SentError> {
 
 /// Why a bone scenario that does not fit the MCU does not: its grammar.
 const NEEDS_BUFFER: &str = "its skeleton grammar is context-sensitive, has decomposition rules or \
-     n > MAX_STEPS = 32, which only buffered derivation handles, and the device derives \
+     n > 32 (the device's `Streaming<STEPS>`), which only buffered derivation handles, and the device derives \
      streaming; run it on the host with `morphogen run`";
 
 /// `text` without its comments: each line up to its first `#`, as the

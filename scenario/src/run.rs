@@ -705,7 +705,7 @@ pub fn run(
                 let mut a = vec![Module::default(); HOST_BUFFER_MODULES];
                 let mut b = vec![Module::default(); HOST_BUFFER_MODULES];
                 let mut links = vec![Neighbours::default(); HOST_BUFFER_MODULES];
-                let mut sim = Box::new(LSystem::with_derivation(Buffered::new(
+                let mut sim = Box::new(LSystem::<_>::with_derivation(Buffered::new(
                     &mut a, &mut b, &mut links,
                 )));
                 sim.start(text, seed)?;

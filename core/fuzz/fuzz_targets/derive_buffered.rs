@@ -70,7 +70,7 @@ fuzz_target!(|data: &[u8]| {
     let mut a = vec![Module::default(); BUFFER_MODULES];
     let mut b = vec![Module::default(); BUFFER_MODULES];
     let mut links = vec![Neighbours::default(); BUFFER_MODULES];
-    let mut buffered = Box::new(LSystem::with_derivation(Buffered::new(&mut a, &mut b, &mut links)));
+    let mut buffered = Box::new(LSystem::<_>::with_derivation(Buffered::new(&mut a, &mut b, &mut links)));
     match buffered.start(text, 1) {
         Err(Error::Lsys(LsysError::Parse(e))) => {
             assert!(e.line >= 1 && e.column >= 1);

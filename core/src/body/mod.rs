@@ -22,8 +22,8 @@
 //!   `cow-trot`, `horse-with-cow-growth`, `cow-walk`).
 //!
 //! ```
-//! use morphogen::body::Body;
-//! use morphogen::preset::Model;
+//! use morphogen::body::{Body, BodyParams, quadruped, table};
+//! use morphogen::fx::Fx;
 //! use morphogen::sim::{Simulation, Start};
 //! use morphogen::stream::{Record, Sink, SinkError};
 //!
@@ -36,15 +36,23 @@
 //!         Ok(())
 //!     }
 //! }
-//! let scenario = morphogen_scenario::builtin("horse-growth").unwrap();
-//! scenario.with_preset(|preset| {
-//!     let Model::Body(params) = preset.model else { unreachable!() };
-//!     let mut body: Body = Body::new();
-//!     body.start(params, 0).unwrap();
-//!     let mut sink = Count(0);
-//!     body.step(&mut sink).unwrap(); // the newborn foal
-//!     assert_eq!(sink.0, params.model.mesh.vertex_count());
-//! });
+//! // The built-in horse grown by the paper's quarter horse (Table 1),
+//! // from birth to 60 months every 6 months (the `horse-growth` scenario).
+//! static PARAMS: BodyParams<'static> = BodyParams {
+//!     model: &quadruped::HORSE,
+//!     table: &table::QUARTER_HORSE,
+//!     frames: 11,
+//!     first_age: Fx::ZERO,
+//!     last_age: Fx::from_int(60),
+//!     gait: None,
+//!     frames_per_stride: 1,
+//! };
+//! let mut body: Body = Body::new();
+//! body.start(&PARAMS, 0).unwrap();
+//! let mut sink = Count(0);
+//! body.step(&mut sink).unwrap(); // the newborn foal
+//! assert_eq!(sink.0, quadruped::HORSE.mesh.vertex_count());
+//! assert_eq!(PARAMS.age(10), Fx::from_int(60));
 //! ```
 
 mod binding;

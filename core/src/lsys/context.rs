@@ -46,7 +46,17 @@ pub(crate) struct Context<'s> {
 
 /// Links the positions of `string` in `links` (which holds at least
 /// `string.len()`; positions past it have no neighbours).
-pub(crate) fn link(g: &Grammar, string: &[Module], links: &mut [Neighbours]) {
+pub(crate) fn link<
+    const PRODUCTIONS: usize,
+    const SUCCESSORS: usize,
+    const CONTEXTS: usize,
+    const CODE: usize,
+    const LITERALS: usize,
+>(
+    g: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
+    string: &[Module],
+    links: &mut [Neighbours],
+) {
     let n = string.len().min(links.len());
     // Left to right: `open` is the innermost unclosed `[`, each `[`
     // keeping the one around it in its `from` (overwritten below).

@@ -20,9 +20,7 @@ use crate::rng::KeyedRng;
 
 use super::context::{self, Context, Neighbours};
 use super::grammar::{AXIOM, Grammar, Production, Section, Span, bind, matches};
-use super::{
-    LsysError, MAX_DECOMPOSITION_DEPTH, MAX_FORMALS, MAX_PARAMS, MAX_PRODUCTIONS, MAX_STEPS, Module,
-};
+use super::{LsysError, MAX_DECOMPOSITION_DEPTH, MAX_FORMALS, MAX_PARAMS, Module};
 
 /// The RNG stream of the choice for the module at `position` of the string
 /// rewritten by derivation step `step` (from 1): the step in the top 8 bits,
@@ -54,27 +52,54 @@ pub enum Next {
     End,
 }
 
-/// A source of the derived string, module by module.
+/// A source of the derived string, module by module, from a grammar of
+/// any pool sizes.
 pub trait Derivation {
     /// Starts deriving `steps` steps of `grammar` with `seed`.
     ///
     /// # Errors
     /// A capacity, or [`LsysError::NeedsBuffer`] for a context-sensitive
     /// grammar given to [`Streaming`].
-    fn restart(&mut self, grammar: &Grammar, steps: u8, seed: u64) -> Result<(), LsysError>;
+    fn restart<
+        const PRODUCTIONS: usize,
+        const SUCCESSORS: usize,
+        const CONTEXTS: usize,
+        const CODE: usize,
+        const LITERALS: usize,
+    >(
+        &mut self,
+        grammar: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
+        steps: u8,
+        seed: u64,
+    ) -> Result<(), LsysError>;
 
     /// The next module of the derived string, after a bounded amount of
     /// work: [`Next::Pending`] when it is not reached yet.
     ///
     /// # Errors
     /// A capacity.
-    fn next_module(&mut self, grammar: &Grammar) -> Result<Next, LsysError>;
+    fn next_module<
+        const PRODUCTIONS: usize,
+        const SUCCESSORS: usize,
+        const CONTEXTS: usize,
+        const CODE: usize,
+        const LITERALS: usize,
+    >(
+        &mut self,
+        grammar: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
+    ) -> Result<Next, LsysError>;
 }
 
 /// Matches `p`'s contexts around `m` and binds every formal parameter
 /// (left context, predecessor, right context, in text order).
-fn bind_production(
-    g: &Grammar,
+fn bind_production<
+    const PRODUCTIONS: usize,
+    const SUCCESSORS: usize,
+    const CONTEXTS: usize,
+    const CODE: usize,
+    const LITERALS: usize,
+>(
+    g: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
     p: &Production,
     m: &Module,
     context: Option<(Context<'_>, usize)>,
@@ -121,8 +146,14 @@ fn bind_production(
 
 /// The production applied to `m` (see the module docs) and its bound
 /// formal parameters; `None` copies `m`.
-fn choose(
-    g: &Grammar,
+fn choose<
+    const PRODUCTIONS: usize,
+    const SUCCESSORS: usize,
+    const CONTEXTS: usize,
+    const CODE: usize,
+    const LITERALS: usize,
+>(
+    g: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
     m: &Module,
     context: Option<(Context<'_>, usize)>,
     step: u8,
@@ -133,8 +164,14 @@ fn choose(
 }
 
 /// [`choose`] among the rules of `section`.
-fn choose_in(
-    g: &Grammar,
+fn choose_in<
+    const PRODUCTIONS: usize,
+    const SUCCESSORS: usize,
+    const CONTEXTS: usize,
+    const CODE: usize,
+    const LITERALS: usize,
+>(
+    g: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
     section: Section,
     m: &Module,
     context: Option<(Context<'_>, usize)>,
@@ -145,7 +182,7 @@ fn choose_in(
     if !g.has_rule_for(section, m.symbol) {
         return None;
     }
-    let mut candidates = Vec::<(u8, Fx), MAX_PRODUCTIONS>::new();
+    let mut candidates = Vec::<(u8, Fx), PRODUCTIONS>::new();
     let mut weighted = false;
     for (k, p) in g.productions.iter().enumerate() {
         if p.section != section || !matches(&p.predecessor, m) {
@@ -179,7 +216,7 @@ fn choose_in(
                 return Some((k as u8, formals));
             }
         }
-        // At most MAX_PRODUCTIONS candidates: the push cannot fail.
+        // At most PRODUCTIONS candidates: the push cannot fail.
         let _ = candidates.push((k as u8, weight));
     }
     let &(first, _) = candidates.first()?;
@@ -221,13 +258,18 @@ pub(crate) struct Frame<const F: usize = MAX_PARAMS> {
     formals: [Fx; F],
 }
 
+impl<const F: usize> Frame<F> {
+    /// No successor: all zero bytes.
+    const IDLE: Self = Frame {
+        successor: Span { start: 0, len: 0 },
+        next: 0,
+        formals: [Fx::ZERO; F],
+    };
+}
+
 impl<const F: usize> Default for Frame<F> {
     fn default() -> Self {
-        Frame {
-            successor: Span::default(),
-            next: 0,
-            formals: [Fx::ZERO; F],
-        }
+        Frame::IDLE
     }
 }
 
@@ -235,7 +277,17 @@ impl Frame {
     /// The frame expanding the first rule of `section` (a decomposition or
     /// interpretation rule: deterministic, context-free) that applies to
     /// `m`, if any.
-    pub(crate) fn for_rule(g: &Grammar, section: Section, m: &Module) -> Option<Frame> {
+    pub(crate) fn for_rule<
+        const PRODUCTIONS: usize,
+        const SUCCESSORS: usize,
+        const CONTEXTS: usize,
+        const CODE: usize,
+        const LITERALS: usize,
+    >(
+        g: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
+        section: Section,
+        m: &Module,
+    ) -> Option<Frame> {
         let (rule, formals) = choose_in(g, section, m, None, 0, 0, 0)?;
         let mut f = [Fx::ZERO; MAX_PARAMS];
         f.copy_from_slice(formals.get(..MAX_PARAMS)?);
@@ -249,7 +301,16 @@ impl Frame {
 
 impl<const F: usize> Frame<F> {
     /// The next module of the successor, `None` at its end.
-    pub(crate) fn next_module(&mut self, g: &Grammar) -> Option<Module> {
+    pub(crate) fn next_module<
+        const PRODUCTIONS: usize,
+        const SUCCESSORS: usize,
+        const CONTEXTS: usize,
+        const CODE: usize,
+        const LITERALS: usize,
+    >(
+        &mut self,
+        g: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
+    ) -> Option<Module> {
         if self.next >= self.successor.len {
             return None;
         }
@@ -262,10 +323,68 @@ impl<const F: usize> Frame<F> {
     }
 }
 
+/// What [`Streaming`] reads and writes for each module of one level of
+/// the derivation: the axiom's string is level 0, step `k`'s string
+/// level `k`.
+#[derive(Clone, Copy, Debug)]
+struct Level {
+    /// The successor being expanded into this level's string.
+    frame: Frame,
+    /// Modules of this level's string so far (its modules' positions).
+    position: u64,
+    /// Modules carried from this level to the last one at once.
+    carried: u64,
+}
+
+impl Level {
+    /// All zero bytes.
+    const IDLE: Level = Level {
+        frame: Frame::IDLE,
+        position: 0,
+        carried: 0,
+    };
+}
+
+/// Levels 0 to `STEPS` (an array of `STEPS + 1` is not a stable type).
+#[derive(Clone, Copy, Debug)]
+struct Levels<T, const STEPS: usize> {
+    axiom: T,
+    steps: [T; STEPS],
+}
+
+impl<T: Copy, const STEPS: usize> Levels<T, STEPS> {
+    /// Every level `value` (`const`).
+    const fn filled(value: T) -> Self {
+        Levels {
+            axiom: value,
+            steps: [value; STEPS],
+        }
+    }
+
+    #[inline]
+    fn get_mut(&mut self, level: usize) -> Option<&mut T> {
+        match level.checked_sub(1) {
+            None => Some(&mut self.axiom),
+            Some(k) => self.steps.get_mut(k),
+        }
+    }
+
+    /// Levels 0 to `STEPS`, in order.
+    fn iter(&self) -> impl Iterator<Item = &T> {
+        core::iter::once(&self.axiom).chain(&self.steps)
+    }
+
+    fn iter_mut(&mut self) -> impl Iterator<Item = &mut T> {
+        core::iter::once(&mut self.axiom).chain(&mut self.steps)
+    }
+}
+
 /// Depth-first derivation of a context-free grammar: the string of step
-/// `n` is produced module by module, holding one frame per step
-/// (`MAX_STEPS + 1` frames, ~24 bytes each) and one position counter per
-/// step (for keying stochastic choices), never the string.
+/// `n` is produced module by module, holding one frame per step and one
+/// position counter per step (for keying stochastic choices), never the
+/// string. It derives up to `STEPS` steps (the default 32; fewer than 64)
+/// in `STEPS + 1` levels of 44 bytes; more is the error `Capacity {
+/// limit: "Streaming<STEPS>", capacity: STEPS }`.
 ///
 /// Positions: the frames visit every level's string in order, so a running
 /// counter per level gives each module its index in its level's string —
@@ -281,13 +400,28 @@ impl<const F: usize> Frame<F> {
 /// — removes them as they arrive; a removed module is neither counted nor
 /// expanded. A module carried from level `j` and removed at level `k > j`
 /// is counted at the levels `j + 1 .. k` it still reaches.
+///
+/// ```
+/// use morphogen::lsys::{Derivation, Grammar, LsysError, Streaming};
+/// let mut g = Grammar::new();
+/// g.parse("n = 9\naxiom: F\nF -> F[+F]F").unwrap();
+/// // Levels for 8 steps only: 9 is an error naming the capacity.
+/// let mut d = Streaming::<8>::empty();
+/// assert_eq!(
+///     d.restart(&g, 8, 0),
+///     Err(LsysError::Capacity {
+///         limit: "Streaming<STEPS>",
+///         capacity: 8
+///     })
+/// );
+/// ```
 #[derive(Clone, Debug)]
-pub struct Streaming {
-    frames: Vec<Frame, { MAX_STEPS + 1 }>,
-    positions: [u64; MAX_STEPS + 1],
-    carried: [u64; MAX_STEPS + 1],
+pub struct Streaming<const STEPS: usize = 32> {
+    levels: Levels<Level, STEPS>,
     /// Per level: the bracket depth inside its cut, while it is cutting.
-    cuts: [u32; MAX_STEPS + 1],
+    cuts: Levels<u32, STEPS>,
+    /// The levels whose frames are being expanded, `0..depth` (a stack).
+    depth: usize,
     /// Bit `k` set while level `k` is cutting (the fast path needs none).
     /// Idle, both are zeros: the whole derivation is (a `Runner` writes an
     /// idle model with a memset, not from a template in flash).
@@ -296,26 +430,46 @@ pub struct Streaming {
     seed: u64,
 }
 
-const _: () = assert!(MAX_STEPS < 64, "`Streaming::cutting` is a 64-bit set");
-
-impl Default for Streaming {
+impl<const STEPS: usize> Default for Streaming<STEPS> {
     fn default() -> Self {
-        Streaming::new()
+        Streaming::empty()
     }
 }
 
 impl Streaming {
-    /// An idle derivation (`const`, for a `static`).
+    /// An idle derivation of up to 32 steps (`const`, for a `static`);
+    /// [`Streaming::empty`] for other sizes.
     #[must_use]
     pub const fn new() -> Streaming {
+        Streaming::empty()
+    }
+}
+
+impl<const STEPS: usize> Streaming<STEPS> {
+    /// The derivation steps it derives at most.
+    pub const STEPS: usize = STEPS;
+
+    /// An idle derivation of up to `STEPS` steps (`const`, for a
+    /// `static`): `Streaming::<8>::empty()`.
+    #[must_use]
+    pub const fn empty() -> Self {
+        // Level `STEPS` is a bit of the 64-bit `cutting` set: a build
+        // error above, never a run-time one.
+        const { assert!(STEPS < 64, "Streaming<STEPS>: STEPS < 64") };
         Streaming {
-            frames: Vec::new(),
-            positions: [0; MAX_STEPS + 1],
-            carried: [0; MAX_STEPS + 1],
-            cuts: [0; MAX_STEPS + 1],
+            levels: Levels::filled(Level::IDLE),
+            cuts: Levels::filled(0),
+            depth: 0,
             cutting: 0,
             steps: 0,
             seed: 0,
+        }
+    }
+
+    fn capacity_error() -> LsysError {
+        LsysError::Capacity {
+            limit: "Streaming<STEPS>",
+            capacity: STEPS as u32,
         }
     }
 
@@ -327,7 +481,7 @@ impl Streaming {
         let Some(depth) = self.cuts.get_mut(level) else {
             return true;
         };
-        let bit = 1u64 << level; // level ≤ MAX_STEPS < 64
+        let bit = 1u64 << level; // level ≤ STEPS < 64
         if self.cutting & bit == 0 {
             if m.symbol == b'%' {
                 *depth = 0;
@@ -354,8 +508,10 @@ impl Streaming {
     fn carry_through_cuts(&mut self, level: usize, m: &Module) -> bool {
         for k in level + 1..=self.steps as usize {
             if !self.survives_cut(k, m) {
-                for counter in self.positions.get_mut(level + 1..k).unwrap_or(&mut []) {
-                    *counter += 1;
+                for j in level + 1..k {
+                    if let Some(reached) = self.levels.get_mut(j) {
+                        reached.position += 1;
+                    }
                 }
                 return false;
             }
@@ -364,20 +520,22 @@ impl Streaming {
     }
 
     /// After a complete derivation, the length of every intermediate
-    /// string (before, each level's counter without the modules carried
-    /// into it).
-    #[must_use]
-    pub fn positions(&self) -> &[u64] {
-        self.positions.get(..=self.steps as usize).unwrap_or(&[])
+    /// string, from the axiom's to step `n`'s (before, each level's
+    /// counter without the modules carried into it).
+    pub fn positions(&self) -> impl Iterator<Item = u64> {
+        self.levels
+            .iter()
+            .take(self.steps as usize + 1)
+            .map(|l| l.position)
     }
 
     /// Adds to every level's counter the modules carried into it from the
     /// levels above, once the derivation is complete.
     fn settle_carried(&mut self) {
         let mut above = 0u64;
-        for (counter, carried) in self.positions.iter_mut().zip(&mut self.carried) {
-            *counter = counter.saturating_add(above);
-            above = above.saturating_add(core::mem::take(carried));
+        for l in self.levels.iter_mut() {
+            l.position = l.position.saturating_add(above);
+            above = above.saturating_add(core::mem::take(&mut l.carried));
         }
     }
 
@@ -385,18 +543,27 @@ impl Streaming {
     /// frames, pushes a frame for each production chosen on the way down,
     /// and carries a module with no applicable production to the last
     /// level; pending after [`VISITS_PER_CALL`] of these.
-    fn descend(&mut self, grammar: &Grammar) -> Result<Next, LsysError> {
+    fn descend<
+        const PRODUCTIONS: usize,
+        const SUCCESSORS: usize,
+        const CONTEXTS: usize,
+        const CODE: usize,
+        const LITERALS: usize,
+    >(
+        &mut self,
+        grammar: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
+    ) -> Result<Next, LsysError> {
         for _ in 0..VISITS_PER_CALL {
-            let Some(level) = self.frames.len().checked_sub(1) else {
+            let Some(level) = self.depth.checked_sub(1) else {
                 self.settle_carried();
                 return Ok(Next::End);
             };
-            let Some(frame) = self.frames.last_mut() else {
+            let Some(Level { frame, .. }) = self.levels.get_mut(level) else {
                 return Ok(Next::End);
             };
             let span = frame.successor;
             if frame.next >= span.len {
-                self.frames.pop();
+                self.depth = level;
                 continue;
             }
             let m = grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
@@ -404,18 +571,22 @@ impl Streaming {
             if !self.survives_cut(level, &m) {
                 continue;
             }
-            let Some(counter) = self.positions.get_mut(level) else {
+            let Some(Level { position, .. }) = self.levels.get_mut(level) else {
                 return Ok(Next::End);
             };
-            let own = *counter;
-            *counter += 1;
+            let own = *position;
+            *position += 1;
             if level >= self.steps as usize {
                 return Ok(Next::Module(m));
             }
             // Most modules have no production: skip the call to `choose`.
             let chosen = if grammar.is_rewritten(m.symbol) {
-                let above = self.carried.get(..level).unwrap_or(&[]);
-                let position = above.iter().fold(own, |p, &c| p.saturating_add(c));
+                let mut position = own;
+                for j in 0..level {
+                    if let Some(above) = self.levels.get_mut(j) {
+                        position = position.saturating_add(above.carried);
+                    }
+                }
                 choose(grammar, &m, None, level as u8 + 1, position, self.seed)
             } else {
                 None
@@ -424,23 +595,23 @@ impl Streaming {
                 Some((production, formals)) => {
                     let mut f = [Fx::ZERO; MAX_PARAMS];
                     f.copy_from_slice(&formals[..MAX_PARAMS]);
-                    self.frames
-                        .push(Frame {
-                            successor: grammar.successor(production),
-                            next: 0,
-                            formals: f,
-                        })
-                        .map_err(|_| LsysError::Capacity {
-                            limit: "MAX_STEPS",
-                            capacity: MAX_STEPS as u32,
-                        })?;
+                    let next = self
+                        .levels
+                        .get_mut(self.depth)
+                        .ok_or_else(Self::capacity_error)?;
+                    next.frame = Frame {
+                        successor: grammar.successor(production),
+                        next: 0,
+                        formals: f,
+                    };
+                    self.depth += 1;
                 }
                 None => {
                     if self.cutting >> (level + 1) != 0 && !self.carry_through_cuts(level, &m) {
                         continue;
                     }
-                    if let Some(carried) = self.carried.get_mut(level) {
-                        *carried += 1;
+                    if let Some(l) = self.levels.get_mut(level) {
+                        l.carried += 1;
                     }
                     return Ok(Next::Module(m));
                 }
@@ -450,55 +621,75 @@ impl Streaming {
     }
 }
 
-impl Derivation for Streaming {
-    fn restart(&mut self, grammar: &Grammar, steps: u8, seed: u64) -> Result<(), LsysError> {
+impl<const STEPS: usize> Derivation for Streaming<STEPS> {
+    fn restart<
+        const PRODUCTIONS: usize,
+        const SUCCESSORS: usize,
+        const CONTEXTS: usize,
+        const CODE: usize,
+        const LITERALS: usize,
+    >(
+        &mut self,
+        grammar: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
+        steps: u8,
+        seed: u64,
+    ) -> Result<(), LsysError> {
         // The grammar's own `n` too, so that an animation fails at its
-        // first frame rather than at step 33.
-        if steps.max(grammar.settings().steps) as usize > MAX_STEPS {
-            return Err(LsysError::Capacity {
-                limit: "MAX_STEPS",
-                capacity: MAX_STEPS as u32,
-            });
+        // first frame rather than at step `STEPS + 1`.
+        if steps.max(grammar.settings().steps) as usize > STEPS {
+            return Err(Self::capacity_error());
         }
-        if grammar.needs_buffer() {
+        if grammar.is_context_sensitive() || grammar.has_decomposition() {
             return Err(LsysError::NeedsBuffer);
         }
-        self.frames.clear();
-        self.positions = [0; MAX_STEPS + 1];
-        self.carried = [0; MAX_STEPS + 1];
-        self.cuts = [0; MAX_STEPS + 1];
+        for l in self.levels.iter_mut() {
+            (l.position, l.carried) = (0, 0);
+        }
+        for cut in self.cuts.iter_mut() {
+            *cut = 0;
+        }
         self.cutting = 0;
         self.steps = steps;
         self.seed = seed;
-        let _ = self.frames.push(Frame {
+        self.levels.axiom.frame = Frame {
             successor: grammar.successor(AXIOM),
-            ..Frame::default()
-        });
+            ..Frame::IDLE
+        };
+        self.depth = 1;
         Ok(())
     }
 
     #[inline]
-    fn next_module(&mut self, grammar: &Grammar) -> Result<Next, LsysError> {
+    fn next_module<
+        const PRODUCTIONS: usize,
+        const SUCCESSORS: usize,
+        const CONTEXTS: usize,
+        const CODE: usize,
+        const LITERALS: usize,
+    >(
+        &mut self,
+        grammar: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
+    ) -> Result<Next, LsysError> {
         // Fast path: the top frame's next module needs no choice (the
         // frame is at the last level, or no production rewrites the
         // module), so it is counted and returned as it is.
         let last = self.steps as usize;
         if self.cutting == 0
-            && let Some(level) = self.frames.len().checked_sub(1)
-            && let Some(frame) = self.frames.last_mut()
+            && let Some(level) = self.depth.checked_sub(1)
+            && let Some(l) = self.levels.get_mut(level)
         {
-            let span = frame.successor;
-            if frame.next < span.len {
-                let m =
-                    grammar.instantiate(span.start as usize + frame.next as usize, &frame.formals);
+            let span = l.frame.successor;
+            if l.frame.next < span.len {
+                let m = grammar.instantiate(
+                    span.start as usize + l.frame.next as usize,
+                    &l.frame.formals,
+                );
                 let carried = level < last;
                 if m.symbol != b'%' && (!carried || !grammar.is_rewritten(m.symbol)) {
-                    frame.next += 1;
-                    if let Some(counter) = self.positions.get_mut(level) {
-                        *counter += 1;
-                    }
-                    if carried && let Some(count) = self.carried.get_mut(level) {
-                        *count += 1;
+                    l.frame.next += 1;
+                    l.position += 1;
+                    if carried {
+                        l.carried += 1;
                     }
                     return Ok(Next::Module(m));
                 }
@@ -644,7 +835,16 @@ impl<'b> Buffered<'b> {
 
     /// Links the front string for context matching, if the grammar has
     /// contexts.
-    fn link(&mut self, g: &Grammar) {
+    fn link<
+        const PRODUCTIONS: usize,
+        const SUCCESSORS: usize,
+        const CONTEXTS: usize,
+        const CODE: usize,
+        const LITERALS: usize,
+    >(
+        &mut self,
+        g: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
+    ) {
         if g.is_context_sensitive() {
             let front: &[Module] = if self.front_is_a { self.a } else { self.b };
             let front = front.get(..self.len).unwrap_or(&[]);
@@ -667,7 +867,17 @@ impl<'b> Buffered<'b> {
     /// Writes `m`, or starts decomposing it when a decomposition rule
     /// applies (L-Py decomposes the whole string after a step, copied
     /// modules too).
-    fn write(&mut self, g: &Grammar, m: Module) -> Result<(), LsysError> {
+    fn write<
+        const PRODUCTIONS: usize,
+        const SUCCESSORS: usize,
+        const CONTEXTS: usize,
+        const CODE: usize,
+        const LITERALS: usize,
+    >(
+        &mut self,
+        g: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
+        m: Module,
+    ) -> Result<(), LsysError> {
         if !g.has_decomposition() {
             return self.put(m);
         }
@@ -682,7 +892,16 @@ impl<'b> Buffered<'b> {
     }
 
     /// One visit of the derivation under way (see the type's docs).
-    fn visit(&mut self, g: &Grammar) -> Result<(), LsysError> {
+    fn visit<
+        const PRODUCTIONS: usize,
+        const SUCCESSORS: usize,
+        const CONTEXTS: usize,
+        const CODE: usize,
+        const LITERALS: usize,
+    >(
+        &mut self,
+        g: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
+    ) -> Result<(), LsysError> {
         if let Some(top) = self.decomposing.last_mut() {
             let Some(x) = top.next_module(g) else {
                 self.decomposing.pop();
@@ -755,7 +974,18 @@ impl<'b> Buffered<'b> {
 }
 
 impl Derivation for Buffered<'_> {
-    fn restart(&mut self, grammar: &Grammar, steps: u8, seed: u64) -> Result<(), LsysError> {
+    fn restart<
+        const PRODUCTIONS: usize,
+        const SUCCESSORS: usize,
+        const CONTEXTS: usize,
+        const CODE: usize,
+        const LITERALS: usize,
+    >(
+        &mut self,
+        grammar: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
+        steps: u8,
+        seed: u64,
+    ) -> Result<(), LsysError> {
         self.front_is_a = true;
         self.read = 0;
         self.len = 0;
@@ -786,7 +1016,16 @@ impl Derivation for Buffered<'_> {
         Ok(())
     }
 
-    fn next_module(&mut self, grammar: &Grammar) -> Result<Next, LsysError> {
+    fn next_module<
+        const PRODUCTIONS: usize,
+        const SUCCESSORS: usize,
+        const CONTEXTS: usize,
+        const CODE: usize,
+        const LITERALS: usize,
+    >(
+        &mut self,
+        grammar: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
+    ) -> Result<Next, LsysError> {
         for _ in 0..VISITS_PER_CALL {
             if self.derived {
                 let m = self.string().get(self.read).copied();

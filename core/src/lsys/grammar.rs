@@ -8,10 +8,7 @@ use heapless::Vec;
 use crate::fx::Fx;
 
 use super::expr;
-use super::{
-    MAX_CODE, MAX_CONTEXT_MODULES, MAX_FORMALS, MAX_LITERALS, MAX_PARAMS, MAX_PRODUCTIONS,
-    MAX_SUCCESSOR_MODULES, Module,
-};
+use super::{MAX_FORMALS, MAX_PARAMS, Module};
 
 /// The numbers a grammar sets with `name = value` lines (defaults in
 /// brackets): `n` derivation steps (required), `delta` the turn angle in
@@ -126,18 +123,48 @@ pub(crate) struct Production {
     pub successor: Span,
 }
 
-/// A parsed L-system.
+/// A parsed L-system, its pools sized by its type (as heapless sizes a
+/// `Vec<T, N>`): at most `PRODUCTIONS` productions (at most 255: a
+/// production's index is a byte, 255 the axiom's), `SUCCESSORS` successor modules over all
+/// productions and the axiom, `CONTEXTS` context modules (left and right)
+/// over all productions, `CODE` bytes of compiled expression code and
+/// `LITERALS` distinct numeric literals (at most 256: a literal's index is
+/// a byte; `SUCCESSORS`, `CONTEXTS` and `CODE` below 65 536). A size
+/// outside these is a build error. A grammar too big for its pools is a located
+/// [`super::ParseErrorKind::Capacity`] naming the parameter
+/// (`Grammar<PRODUCTIONS>`) and its value.
 ///
-/// Memory: a fixed ~3 KB whatever the text (see the `MAX_*` limits);
-/// [`Grammar::parse`] fills it in place, so a grammar can live in a
-/// `static` and be re-parsed without a stack temporary.
+/// Memory: fixed by the type whatever the text (about 3 KB with the
+/// defaults); [`Grammar::parse`] fills it in place, so a grammar can live
+/// in a `static` and be re-parsed without a stack temporary.
+///
+/// ```
+/// use morphogen::lsys::{Grammar, ParseErrorKind};
+/// // The defaults: `Grammar::new()`.
+/// let mut g = Grammar::new();
+/// g.parse("n = 2\naxiom: F\nF -> F[+F]F").unwrap();
+/// // Smaller pools for a small part: 4 productions, 16 successor modules.
+/// let mut small = Grammar::<4, 16, 4, 64, 8>::empty();
+/// small.parse("n = 2\naxiom: F\nF -> F[+F]F").unwrap();
+/// let e = small.parse("n = 1\naxiom: F\nF -> FFFFFFFF[+FFFFFFFF]").unwrap_err();
+/// assert_eq!(
+///     e.kind,
+///     ParseErrorKind::Capacity { limit: "Grammar<SUCCESSORS>", capacity: 16 }
+/// );
+/// ```
 #[derive(Clone, Debug)]
-pub struct Grammar {
-    pub(crate) productions: Vec<Production, MAX_PRODUCTIONS>,
-    pub(crate) contexts: Vec<Pattern, MAX_CONTEXT_MODULES>,
-    pub(crate) templates: Vec<Template, MAX_SUCCESSOR_MODULES>,
-    pub(crate) code: Vec<u8, MAX_CODE>,
-    pub(crate) literals: Vec<Fx, MAX_LITERALS>,
+pub struct Grammar<
+    const PRODUCTIONS: usize = 32,
+    const SUCCESSORS: usize = 256,
+    const CONTEXTS: usize = 32,
+    const CODE: usize = 1024,
+    const LITERALS: usize = 64,
+> {
+    pub(crate) productions: Vec<Production, PRODUCTIONS>,
+    pub(crate) contexts: Vec<Pattern, CONTEXTS>,
+    pub(crate) templates: Vec<Template, SUCCESSORS>,
+    pub(crate) code: Vec<u8, CODE>,
+    pub(crate) literals: Vec<Fx, LITERALS>,
     pub(crate) axiom: Span,
     /// Symbols skipped when matching contexts, as a 128-bit set.
     pub(crate) ignored: [u32; 4],
@@ -155,16 +182,53 @@ pub struct Grammar {
     pub(crate) settings: Settings,
 }
 
-impl Default for Grammar {
+impl<
+    const PRODUCTIONS: usize,
+    const SUCCESSORS: usize,
+    const CONTEXTS: usize,
+    const CODE: usize,
+    const LITERALS: usize,
+> Default for Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>
+{
     fn default() -> Self {
-        Grammar::new()
+        Self::empty()
     }
 }
 
 impl Grammar {
-    /// An empty grammar (no productions, empty axiom, `n = 0`).
+    /// An empty grammar with the default pools (no productions, empty
+    /// axiom, `n = 0`); [`Grammar::empty`] for other sizes.
     #[must_use]
     pub const fn new() -> Grammar {
+        Grammar::empty()
+    }
+}
+
+impl<
+    const PRODUCTIONS: usize,
+    const SUCCESSORS: usize,
+    const CONTEXTS: usize,
+    const CODE: usize,
+    const LITERALS: usize,
+> Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>
+{
+    /// An empty grammar (no productions, empty axiom, `n = 0`) with these
+    /// pools, `const` for a `static`:
+    /// `Grammar::<8, 64, 8, 256, 16>::empty()`.
+    #[must_use]
+    pub const fn empty() -> Self {
+        // The pools fit the indices that address them: a build error for
+        // a size that does not, never a run-time one.
+        const {
+            assert!(
+                PRODUCTIONS <= AXIOM as usize
+                    && SUCCESSORS <= u16::MAX as usize
+                    && CONTEXTS <= u16::MAX as usize
+                    && CODE <= u16::MAX as usize
+                    && LITERALS <= u8::MAX as usize + 1,
+                "a Grammar's pools: PRODUCTIONS <= 255, LITERALS <= 256, the others < 65536"
+            )
+        };
         Grammar {
             productions: Vec::new(),
             contexts: Vec::new(),
@@ -185,35 +249,24 @@ impl Grammar {
     /// An empty grammar whose bytes are all zero (settings too), so that a
     /// runner slot holding one is written in place by a memset; parse a
     /// grammar before using it.
-    pub(crate) const fn zeroed() -> Grammar {
-        Grammar {
-            productions: Vec::new(),
-            contexts: Vec::new(),
-            templates: Vec::new(),
-            code: Vec::new(),
-            literals: Vec::new(),
-            axiom: Span { start: 0, len: 0 },
-            ignored: [0; 4],
-            rewritten: [0; 4],
-            decomposed: [0; 4],
-            interpreted: [0; 4],
-            decomposition_depth: 0,
-            interpretation_depth: 0,
-            settings: Settings {
-                steps: 0,
-                delta: Fx::ZERO,
-                step: Fx::ZERO,
-                width: Fx::ZERO,
-                thin: Fx::ZERO,
-                plants: 0,
-                spacing: Fx::ZERO,
-                animate: false,
-                tropism: [Fx::ZERO; 3],
-                elasticity: Fx::ZERO,
-            },
-        }
+    pub(crate) const fn zeroed() -> Self {
+        let mut zeroed = Self::empty();
+        zeroed.decomposition_depth = 0;
+        zeroed.interpretation_depth = 0;
+        zeroed.settings = Settings {
+            steps: 0,
+            delta: Fx::ZERO,
+            step: Fx::ZERO,
+            width: Fx::ZERO,
+            thin: Fx::ZERO,
+            plants: 0,
+            spacing: Fx::ZERO,
+            animate: false,
+            tropism: [Fx::ZERO; 3],
+            elasticity: Fx::ZERO,
+        };
+        zeroed
     }
-
     /// The settings.
     #[must_use]
     pub fn settings(&self) -> &Settings {
@@ -257,13 +310,13 @@ impl Grammar {
     }
 
     /// Whether only [`super::Buffered`] can derive the grammar: it is
-    /// context-sensitive, has decomposition rules, or asks for more than
-    /// [`super::MAX_STEPS`] steps.
+    /// context-sensitive, has decomposition rules, or asks for more steps
+    /// than a default [`super::Streaming`] derives (32).
     #[must_use]
     pub fn needs_buffer(&self) -> bool {
         self.is_context_sensitive()
             || self.has_decomposition()
-            || self.settings.steps as usize > super::MAX_STEPS
+            || self.settings.steps as usize > <super::Streaming>::STEPS
     }
 
     /// Whether some rule of `section` may apply to `symbol`.

@@ -36,6 +36,40 @@
 //! }
 //! assert_eq!(text, "F[+F]F[+F[+F]F]F[+F]F");
 //! ```
+//!
+//! # Capacities
+//!
+//! What a maker sizes for the RAM of their part is in the types, as
+//! heapless puts a `Vec`'s capacity in `Vec<T, N>`, with defaults that
+//! `new()` gives:
+//!
+//! - [`Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>`](Grammar)
+//!   (32, 256, 32, 1024, 64: about 3 KB): productions, successor modules
+//!   over all productions and the axiom, context modules over all
+//!   productions, bytes of expression code, distinct literals;
+//!   `Grammar::<8, 64, 8, 256, 16>::empty()` holds under 1 KB.
+//! - [`Streaming<STEPS>`](Streaming) (32): derivation steps, one frame and
+//!   its counters (~44 bytes) each.
+//! - [`LSystem<D, PRODUCTIONS, …>`](LSystem) owns a derivation `D` and a
+//!   grammar of those pools; [`Buffered`] borrows its buffers, whose length
+//!   is its capacity.
+//!
+//! A grammar or derivation too big for them is a
+//! [`ParseErrorKind::Capacity`] or [`LsysError::Capacity`] naming the type
+//! and parameter (`Grammar<PRODUCTIONS>`, `Streaming<STEPS>`,
+//! `BUFFER_MODULES`) with its value in that type.
+//!
+//! The `MAX_*` constants below stay constants: they are limits of the
+//! grammar language, which every grammar file may rely on whatever type
+//! parses it, not RAM a maker trades. [`MAX_PARAMS`] is the shape of
+//! [`Module`], which the derivations, the turtle and the callers' module
+//! buffers share; [`MAX_FORMALS`], [`MAX_NAME`], [`MAX_EXPR_STACK`] and
+//! [`MAX_NESTING`] bound one production or expression (stack, not pools);
+//! [`MAX_CONSTANTS`] is the parser's table, on the stack only while it
+//! parses; [`MAX_DECOMPOSITION_DEPTH`] and [`MAX_INTERPRETATION_DEPTH`]
+//! bound the `maximum depth:` a grammar writes, checked when it is parsed,
+//! before any derivation exists; [`MAX_BUFFERED_STEPS`] is the 8-bit step
+//! field of [`stream_id`]; [`MAX_PLANT_MODULES`] bounds work, not memory.
 
 mod context;
 mod derive;
@@ -60,16 +94,6 @@ pub use sim::{LSystem, MAX_PLANT_MODULES, MODULES_PER_STEP};
 use crate::fx::Fx;
 use crate::turtle::TurtleError;
 
-/// Productions per grammar.
-pub const MAX_PRODUCTIONS: usize = 32;
-/// Successor modules over all productions and the axiom.
-pub const MAX_SUCCESSOR_MODULES: usize = 256;
-/// Context modules (left and right) over all productions.
-pub const MAX_CONTEXT_MODULES: usize = 32;
-/// Bytes of compiled expression code over the whole grammar.
-pub const MAX_CODE: usize = 1024;
-/// Distinct numeric literals in expressions.
-pub const MAX_LITERALS: usize = 64;
 /// Formal parameters of one production (contexts and predecessor).
 pub const MAX_FORMALS: usize = 8;
 /// Named constants and settings.
@@ -80,12 +104,9 @@ pub const MAX_NAME: usize = 16;
 pub const MAX_EXPR_STACK: usize = 16;
 /// Nesting of parentheses and unary operators in one expression.
 pub const MAX_NESTING: usize = 16;
-/// Derivation steps `n` that [`Streaming`] derives (its frame arrays
-/// have `MAX_STEPS + 1` entries); [`Buffered`] derives up to
-/// [`MAX_BUFFERED_STEPS`].
-pub const MAX_STEPS: usize = 32;
 /// Derivation steps `n` any grammar may ask for: the 8-bit step field of
-/// [`stream_id`]. Beyond [`MAX_STEPS`] only [`Buffered`] derives it.
+/// [`stream_id`]. Beyond a [`Streaming`]'s `STEPS` (32 by default) only
+/// [`Buffered`] derives it.
 pub const MAX_BUFFERED_STEPS: usize = 255;
 /// Nesting of decomposition rules applied to one module (`maximum depth:`
 /// of a `decomposition:` section, at most this).
@@ -134,11 +155,13 @@ pub enum ParseErrorKind {
     UnmatchedClose,
     /// A `[` that its successor does not close.
     UnclosedBranch,
-    /// A fixed capacity was exceeded.
+    /// A capacity was exceeded: a pool of the grammar's type or a limit
+    /// of the language.
     Capacity {
-        /// The limit's name (e.g. `MAX_PRODUCTIONS`).
+        /// The limit's name: the type and its parameter
+        /// (`Grammar<PRODUCTIONS>`) or the constant (`MAX_NAME`).
         limit: &'static str,
-        /// Its value.
+        /// Its value (in the grammar's type, for a parameter).
         capacity: u32,
     },
     /// `~` not followed by the letter of a predefined surface
@@ -215,7 +238,7 @@ impl core::fmt::Display for ParseErrorKind {
             }
             ParseErrorKind::Capacity { limit, capacity } => write!(
                 f,
-                "capacity {limit} = {capacity} exceeded (raise it in core/src/lsys/mod.rs)"
+                "capacity {limit} = {capacity} exceeded (see core/src/lsys/mod.rs)"
             ),
             ParseErrorKind::UnknownSurface => f.write_str(
                 "`~` must be followed by a predefined surface: `~L` (leaf) or `~P` (petal), optionally `(scale)`",
@@ -246,7 +269,9 @@ pub enum LsysError {
     Parse(ParseError),
     /// A derivation capacity was exceeded.
     Capacity {
-        /// The limit's name (e.g. `BUFFER_MODULES`).
+        /// The limit's name: the type and its parameter
+        /// (`Streaming<STEPS>`), `BUFFER_MODULES` (a [`Buffered`]'s buffers)
+        /// or the constant (`MAX_PLANT_MODULES`).
         limit: &'static str,
         /// Its value.
         capacity: u32,

@@ -11,9 +11,8 @@ use crate::fx::Fx;
 use super::expr::{self, FUNCTIONS};
 use super::grammar::{Grammar, Pattern, Production, Section, Span, Template};
 use super::{
-    Definition, MAX_BUFFERED_STEPS, MAX_CODE, MAX_CONSTANTS, MAX_CONTEXT_MODULES,
-    MAX_DECOMPOSITION_DEPTH, MAX_EXPR_STACK, MAX_FORMALS, MAX_INTERPRETATION_DEPTH, MAX_LITERALS,
-    MAX_NAME, MAX_NESTING, MAX_PARAMS, MAX_PRODUCTIONS, MAX_SUCCESSOR_MODULES, ParseError,
+    Definition, MAX_BUFFERED_STEPS, MAX_CONSTANTS, MAX_DECOMPOSITION_DEPTH, MAX_EXPR_STACK,
+    MAX_FORMALS, MAX_INTERPRETATION_DEPTH, MAX_NAME, MAX_NESTING, MAX_PARAMS, ParseError,
     ParseErrorKind, UNSUPPORTED_SYMBOLS,
 };
 use crate::turtle::SURFACES;
@@ -159,22 +158,37 @@ fn find(hay: &[u8], from: usize, to: usize, needle: &[u8]) -> Option<usize> {
 }
 
 /// Compiles one expression into the grammar's code pool.
-struct Compiler<'g, 'c> {
-    grammar: &'g mut Grammar,
+struct Compiler<
+    'g,
+    'c,
+    const PRODUCTIONS: usize,
+    const SUCCESSORS: usize,
+    const CONTEXTS: usize,
+    const CODE: usize,
+    const LITERALS: usize,
+> {
+    grammar: &'g mut Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
     formals: &'c [Name],
     constants: &'c [Constant],
     depth: usize,
     nesting: usize,
 }
 
-impl Compiler<'_, '_> {
+impl<
+    const PRODUCTIONS: usize,
+    const SUCCESSORS: usize,
+    const CONTEXTS: usize,
+    const CODE: usize,
+    const LITERALS: usize,
+> Compiler<'_, '_, PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>
+{
     fn emit(&mut self, c: &Cursor<'_>, op: u8, operand: Option<u8>) -> Result<(), ParseError> {
         let (pops, pushes) = expr::arity(op);
         self.depth = self.depth.saturating_sub(pops) + pushes;
         if self.depth > MAX_EXPR_STACK {
             return Err(c.err(capacity("MAX_EXPR_STACK", MAX_EXPR_STACK)));
         }
-        let full = || c.err(capacity("MAX_CODE", MAX_CODE));
+        let full = || c.err(capacity("Grammar<CODE>", CODE));
         self.grammar.code.push(op).map_err(|_| full())?;
         if let Some(b) = operand {
             self.grammar.code.push(b).map_err(|_| full())?;
@@ -189,7 +203,7 @@ impl Compiler<'_, '_> {
                 self.grammar
                     .literals
                     .push(v)
-                    .map_err(|_| c.err_at(at, capacity("MAX_LITERALS", MAX_LITERALS)))?;
+                    .map_err(|_| c.err_at(at, capacity("Grammar<LITERALS>", LITERALS)))?;
                 self.grammar.literals.len() - 1
             }
         };
@@ -402,7 +416,14 @@ struct State {
     section: Section,
 }
 
-impl Grammar {
+impl<
+    const PRODUCTIONS: usize,
+    const SUCCESSORS: usize,
+    const CONTEXTS: usize,
+    const CODE: usize,
+    const LITERALS: usize,
+> Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>
+{
     /// Parses `text` into `self`, replacing what it held.
     ///
     /// # Errors
@@ -426,7 +447,7 @@ impl Grammar {
         text: &str,
         mut constant: impl FnMut(Definition<'_>),
     ) -> Result<(), ParseError> {
-        *self = Grammar::new();
+        *self = Self::empty();
         let mut state = State {
             constants: Vec::new(),
             axiom_seen: false,
@@ -574,7 +595,7 @@ impl Grammar {
         match word {
             "n" => {
                 s.steps = integer(0, MAX_BUFFERED_STEPS as i32).ok_or(invalid(
-                    "`n` must be a whole number from 0 to MAX_BUFFERED_STEPS = 255 (above MAX_STEPS = 32 only buffered derivation derives it)",
+                    "`n` must be a whole number from 0 to MAX_BUFFERED_STEPS = 255 (above Streaming<STEPS>, 32 by default, only buffered derivation derives it)",
                 ))? as u8;
                 state.steps_seen = true;
             }
@@ -771,13 +792,13 @@ impl Grammar {
         &mut self,
         c: &mut Cursor<'_>,
         formals: &mut Formals,
-    ) -> Result<Vec<Pattern, MAX_CONTEXT_MODULES>, ParseError> {
+    ) -> Result<Vec<Pattern, CONTEXTS>, ParseError> {
         let mut list = Vec::new();
         while !c.at_end() && !matches!(c.peek(), Some(b'<' | b'>')) {
             let at = c.pos;
             let p = self.pattern(c, formals)?;
             list.push(p)
-                .map_err(|_| c.err_at(at, capacity("MAX_CONTEXT_MODULES", MAX_CONTEXT_MODULES)))?;
+                .map_err(|_| c.err_at(at, capacity("Grammar<CONTEXTS>", CONTEXTS)))?;
         }
         Ok(list)
     }
@@ -787,7 +808,7 @@ impl Grammar {
         for &p in list {
             self.contexts
                 .push(p)
-                .map_err(|_| c.err_at(at, capacity("MAX_CONTEXT_MODULES", MAX_CONTEXT_MODULES)))?;
+                .map_err(|_| c.err_at(at, capacity("Grammar<CONTEXTS>", CONTEXTS)))?;
         }
         Ok(Span {
             start,
@@ -835,7 +856,7 @@ impl Grammar {
                 ParseErrorKind::Expected("one predecessor module before `->`"),
             ));
         };
-        let mut right = Vec::<Pattern, MAX_CONTEXT_MODULES>::new();
+        let mut right = Vec::<Pattern, CONTEXTS>::new();
         if c.peek() == Some(b'>') {
             c.bump();
             right = self.patterns(c, &mut formals)?;
@@ -920,7 +941,7 @@ impl Grammar {
                 weight,
                 successor,
             })
-            .map_err(|_| c.err_at(first_at, capacity("MAX_PRODUCTIONS", MAX_PRODUCTIONS)))
+            .map_err(|_| c.err_at(first_at, capacity("Grammar<PRODUCTIONS>", PRODUCTIONS)))
     }
 
     fn compile(
@@ -1011,9 +1032,9 @@ impl Grammar {
                     }
                 }
             }
-            self.templates.push(t).map_err(|_| {
-                c.err_at(at, capacity("MAX_SUCCESSOR_MODULES", MAX_SUCCESSOR_MODULES))
-            })?;
+            self.templates
+                .push(t)
+                .map_err(|_| c.err_at(at, capacity("Grammar<SUCCESSORS>", SUCCESSORS)))?;
         }
         if depth > 0 {
             return Err(c.err_at(outermost, ParseErrorKind::UnclosedBranch));

@@ -37,10 +37,30 @@ pub const MODULES_PER_STEP: usize = 512;
 /// modules.
 pub const MAX_PLANT_MODULES: u32 = 1 << 22;
 
-/// A grammar being derived and drawn.
+/// A grammar being derived and drawn: by `D` ([`Streaming`] or
+/// [`super::Buffered`]), the grammar parsed into the pools of a
+/// [`Grammar`] of the same sizes.
+///
+/// ```
+/// use morphogen::lsys::{LSystem, Streaming};
+/// // The defaults: 32 steps streaming, the default grammar pools.
+/// static PLANT: LSystem = LSystem::new();
+/// // A smaller one: 8 steps, 8 productions, 64 successor modules, 8
+/// // context modules, 256 bytes of code, 16 literals.
+/// static SMALL: LSystem<Streaming<8>, 8, 64, 8, 256, 16> =
+///     LSystem::with_derivation(Streaming::empty());
+/// assert!(core::mem::size_of_val(&SMALL) < core::mem::size_of_val(&PLANT) / 2);
+/// ```
 #[derive(Debug)]
-pub struct LSystem<D: Derivation = Streaming> {
-    grammar: Grammar,
+pub struct LSystem<
+    D: Derivation = Streaming,
+    const PRODUCTIONS: usize = 32,
+    const SUCCESSORS: usize = 256,
+    const CONTEXTS: usize = 32,
+    const CODE: usize = 1024,
+    const LITERALS: usize = 64,
+> {
+    grammar: Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
     derivation: D,
     /// Interpretation rules being expanded for the turtle (L-Py's
     /// `interpretation:`, a homomorphism): one frame per nested rule.
@@ -56,7 +76,15 @@ pub struct LSystem<D: Derivation = Streaming> {
     failed: Deferred,
 }
 
-pub(crate) fn turtle_params(g: &Grammar) -> Params<Fx> {
+pub(crate) fn turtle_params<
+    const PRODUCTIONS: usize,
+    const SUCCESSORS: usize,
+    const CONTEXTS: usize,
+    const CODE: usize,
+    const LITERALS: usize,
+>(
+    g: &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
+) -> Params<Fx> {
     let s = g.settings();
     Params {
         step: s.step,
@@ -84,12 +112,21 @@ impl Default for LSystem<Streaming> {
     }
 }
 
-impl<D: Derivation> LSystem<D> {
-    /// An empty simulation over `derivation` (e.g. [`super::Buffered`]).
-    /// Apart from `derivation` it is all zero bytes, so that a runner slot
-    /// holding one is written in place by a memset.
+impl<
+    D: Derivation,
+    const PRODUCTIONS: usize,
+    const SUCCESSORS: usize,
+    const CONTEXTS: usize,
+    const CODE: usize,
+    const LITERALS: usize,
+> LSystem<D, PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>
+{
+    /// An empty simulation over `derivation` (e.g. [`super::Buffered`]),
+    /// its grammar pools those of the type (`LSystem<Buffered>` for the
+    /// defaults). Apart from `derivation` it is all zero bytes, so that a
+    /// runner slot holding one is written in place by a memset.
     #[must_use]
-    pub const fn with_derivation(derivation: D) -> LSystem<D> {
+    pub const fn with_derivation(derivation: D) -> Self {
         LSystem {
             grammar: Grammar::zeroed(),
             derivation,
@@ -107,7 +144,7 @@ impl<D: Derivation> LSystem<D> {
 
     /// The parsed grammar.
     #[must_use]
-    pub fn grammar(&self) -> &Grammar {
+    pub fn grammar(&self) -> &Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS> {
         &self.grammar
     }
 
@@ -263,7 +300,15 @@ impl<D: Derivation> LSystem<D> {
     }
 }
 
-impl<D: Derivation> Start<'_> for LSystem<D> {
+impl<
+    D: Derivation,
+    const PRODUCTIONS: usize,
+    const SUCCESSORS: usize,
+    const CONTEXTS: usize,
+    const CODE: usize,
+    const LITERALS: usize,
+> Start<'_> for LSystem<D, PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>
+{
     /// The grammar's text (docs/lsystems.md).
     type Params = str;
 
@@ -283,7 +328,15 @@ impl<D: Derivation> Start<'_> for LSystem<D> {
     }
 }
 
-impl<D: Derivation> Simulation for LSystem<D> {
+impl<
+    D: Derivation,
+    const PRODUCTIONS: usize,
+    const SUCCESSORS: usize,
+    const CONTEXTS: usize,
+    const CODE: usize,
+    const LITERALS: usize,
+> Simulation for LSystem<D, PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>
+{
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
         self.failed.check()?;
         let total = self.total();

@@ -97,7 +97,7 @@ fn shrub_symbol_counts_match_the_hand_computed_reference() {
     let mut count = 0u64;
     each_module(&mut d, &g, |_| count += 1);
     assert_eq!(count, SHRUB_LENGTHS[7]);
-    assert_eq!(d.positions(), SHRUB_LENGTHS);
+    assert!(d.positions().eq(SHRUB_LENGTHS));
     for k in 0..=7u8 {
         assert_eq!(buffered(&g, k, 0).len() as u64, SHRUB_LENGTHS[k as usize]);
     }
@@ -143,7 +143,7 @@ impl Sink for Records {
     }
 }
 
-fn run_sim<D: Derivation>(sim: &mut LSystem<D>) -> Vec<Record> {
+fn run_sim(sim: &mut impl Simulation) -> Vec<Record> {
     let mut sink = Records::default();
     loop {
         let p = sim.step(&mut sink).unwrap();
@@ -163,7 +163,8 @@ fn streaming_and_buffered_simulations_emit_identical_streams() {
             let mut a = vec![Module::default(); 100_000];
             let mut b = vec![Module::default(); 100_000];
             let mut links = vec![Neighbours::default(); 100_000];
-            let mut buffered = LSystem::with_derivation(Buffered::new(&mut a, &mut b, &mut links));
+            let mut buffered =
+                LSystem::<_>::with_derivation(Buffered::new(&mut a, &mut b, &mut links));
             buffered.start(source, seed).unwrap();
             let b = run_sim(&mut buffered);
             assert!(s.len() > 100, "{name}");
@@ -448,7 +449,7 @@ fn malformed_grammars_get_located_errors() {
             1,
             5,
             K::InvalidValue(
-                "`n` must be a whole number from 0 to MAX_BUFFERED_STEPS = 255 (above MAX_STEPS = 32 only buffered derivation derives it)",
+                "`n` must be a whole number from 0 to MAX_BUFFERED_STEPS = 255 (above Streaming<STEPS>, 32 by default, only buffered derivation derives it)",
             ),
         ),
         ("n = 1\naxiom: F(40000)", 2, 10, K::NumberOutOfRange),
@@ -1051,7 +1052,7 @@ fn surfaces_are_polygons_in_the_turtle_frame() {
 }
 
 #[test]
-fn more_than_max_steps_derive_buffered_and_streaming_names_its_limit() {
+fn more_than_streaming_steps_derive_buffered_and_streaming_names_its_limit() {
     // A counter and a stochastic choice at every one of 200 steps: the
     // buffered derivation reaches A(200), keyed to the last step.
     let g = grammar("n = 200\naxiom: A(0) B\nA(k) -> A(k + 1)\nB -> (1) B\nB -> (1) C");
@@ -1066,18 +1067,18 @@ fn more_than_max_steps_derive_buffered_and_streaming_names_its_limit() {
     assert_eq!(
         Streaming::new().restart(&g, 200, 0),
         Err(LsysError::Capacity {
-            limit: "MAX_STEPS",
-            capacity: MAX_STEPS as u32
+            limit: "Streaming<STEPS>",
+            capacity: <Streaming>::STEPS as u32
         })
     );
     assert_eq!(
         sim_error("n = 33\naxiom: F"),
         crate::Error::Lsys(LsysError::Capacity {
-            limit: "MAX_STEPS",
+            limit: "Streaming<STEPS>",
             capacity: 32
         })
     );
-    // At MAX_STEPS both still agree.
+    // At the default STEPS both still agree.
     let g = grammar("n = 32\naxiom: A\nA -> (1) A B\nA -> (1) B A\nB -> C");
     assert!(!g.needs_buffer());
     assert!(streamed(&g, 32, 3) == buffered(&g, 32, 3));
@@ -1092,7 +1093,7 @@ fn buffered_segments(source: &str) -> Vec<([Fx; 3], [Fx; 3])> {
     let mut a = vec![Module::default(); 1000];
     let mut b = vec![Module::default(); 1000];
     let mut links = vec![Neighbours::default(); 1000];
-    let mut sim = LSystem::with_derivation(Buffered::new(&mut a, &mut b, &mut links));
+    let mut sim = LSystem::<_>::with_derivation(Buffered::new(&mut a, &mut b, &mut links));
     sim.start(source, 0).unwrap();
     run_sim(&mut sim)
         .into_iter()
@@ -1213,4 +1214,118 @@ fn lpy_training_fibonacci_decomposes_then_sums_its_left_context() {
         distance(end, [Fx::from_int(105), Fx::ZERO, Fx::ZERO]) < 1e-3,
         "{end:?}"
     );
+}
+
+/// A grammar for small pools, `Grammar::<2, 12, 2, 24, 4>`: 2
+/// productions, 9 successor modules, 1 context module, 15 bytes of code
+/// (`A(1)` 3, `x < k` 6, `A(x + 1)` 6), 2 literals (1 and k's 2).
+const SMALL: &str = "n = 3\nk = 2\naxiom: b A(1)\nb < A(x) : x < k -> A(x + 1) F\nA(x) -> B[+F]\n";
+
+type Small = Grammar<2, 12, 2, 24, 4>;
+
+fn small_err(text: &str) -> (u32, ParseErrorKind) {
+    let mut g = Small::empty();
+    let e = g.parse(text).unwrap_err();
+    (e.line, e.kind)
+}
+
+#[test]
+fn smaller_pools_parse_what_fits_and_name_their_capacity() {
+    let mut small = Small::empty();
+    small.parse(SMALL).unwrap();
+    assert_eq!(small.production_count(), 2);
+    // What the module doc says of the pools' memory.
+    assert!(core::mem::size_of::<Grammar<8, 64, 8, 256, 16>>() < 1024);
+    assert!(core::mem::size_of::<Grammar>() < 3400);
+    // The same grammar in the default pools derives the same string.
+    let big = grammar(SMALL);
+    assert_eq!(big.production_count(), 2);
+    let derive = |g: &Small| {
+        let mut a = vec![Module::default(); 64];
+        let mut b = vec![Module::default(); 64];
+        let mut links = vec![Neighbours::default(); 64];
+        let mut d = Buffered::new(&mut a, &mut b, &mut links);
+        d.restart(g, 3, 0).unwrap();
+        let mut out = Vec::new();
+        loop {
+            match d.next_module(g).unwrap() {
+                Next::Module(m) => out.push(m),
+                Next::Pending => {}
+                Next::End => return out,
+            }
+        }
+    };
+    assert_eq!(derive(&small), buffered(&big, 3, 0));
+    assert_eq!(text(&derive(&small)), "bB[+F]F");
+    let capacity = |limit, capacity| ParseErrorKind::Capacity { limit, capacity };
+    // A third production.
+    assert_eq!(
+        small_err(&format!("{SMALL}C -> F")),
+        (6, capacity("Grammar<PRODUCTIONS>", 2))
+    );
+    // A 13th successor module (the axiom's and the successors' 9, and 4).
+    assert_eq!(
+        small_err(&SMALL.replace("B[+F]", "B[+F]FFFF")),
+        (5, capacity("Grammar<SUCCESSORS>", 12))
+    );
+    // A third context module.
+    assert_eq!(
+        small_err(&SMALL.replace("b < A", "b b b < A")),
+        (4, capacity("Grammar<CONTEXTS>", 2))
+    );
+    // More than 24 bytes of expression code (15, and 4 × 3).
+    assert_eq!(
+        small_err(&SMALL.replace("A(x + 1)", "A(x + 1 + x + x + x + x)")),
+        (4, capacity("Grammar<CODE>", 24))
+    );
+    // A fifth distinct literal (in 24 bytes of code).
+    assert_eq!(
+        small_err(&SMALL.replace("A(x + 1) F", "A(x + 1) F(3, 4, 5)")),
+        (4, capacity("Grammar<LITERALS>", 4))
+    );
+    // The error reads as the limit of that type.
+    let e = Small::empty().parse(&format!("{SMALL}C -> F")).unwrap_err();
+    assert_eq!(
+        std::format!("{e}"),
+        "6:1: capacity Grammar<PRODUCTIONS> = 2 exceeded (see core/src/lsys/mod.rs)"
+    );
+}
+
+#[test]
+fn a_smaller_streaming_derives_as_many_steps_as_its_type_holds() {
+    let g = grammar(PLANT_2D);
+    let mut four = Streaming::<4>::empty();
+    assert_eq!(
+        four.restart(&g, 4, 0),
+        Err(LsysError::Capacity {
+            limit: "Streaming<STEPS>",
+            capacity: 4
+        })
+    );
+    let g = grammar(&PLANT_2D.replace("n = 5", "n = 4"));
+    four.restart(&g, 4, 0).unwrap();
+    let mut out = Vec::new();
+    each_module(&mut four, &g, |m| out.push(m));
+    assert_eq!(out, streamed(&g, 4, 0));
+    assert!(four.positions().eq([2, 12, 62, 312, 1562]));
+    assert!(core::mem::size_of::<Streaming<4>>() < core::mem::size_of::<Streaming>() / 4);
+}
+
+#[test]
+fn a_small_lsystem_streams_the_records_of_the_default_one() {
+    // The 2D plant in 4 steps, 2 productions and small pools: the same
+    // records as the default simulation, in a fraction of its RAM.
+    let text = PLANT_2D.replace("n = 5", "n = 4");
+    let mut small = LSystem::<Streaming<4>, 2, 16, 2, 32, 8>::with_derivation(Streaming::empty());
+    let mut default = LSystem::new();
+    small.start(&text, 1).unwrap();
+    default.start(&text, 1).unwrap();
+    let records = run_sim(&mut small);
+    assert!(records.len() > 400);
+    assert_eq!(records, run_sim(&mut default));
+    let (small, default) = (
+        core::mem::size_of_val(&small),
+        core::mem::size_of::<LSystem>(),
+    );
+    assert!(small * 2 < default, "{small} of {default} bytes");
 }
