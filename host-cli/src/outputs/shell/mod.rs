@@ -16,8 +16,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use morphogen::fx::Real as _;
+use morphogen::mosaic::ControlMap;
 use morphogen::mosaic::Params;
-use morphogen::mosaic::surface::ControlMap;
 use morphogen::stream::Record;
 use nalgebra::Vector3;
 use rayon::prelude::*;
