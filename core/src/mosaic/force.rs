@@ -69,8 +69,8 @@ pub(super) fn push<const D: usize>(
     r: i64,
     repel: i64,
 ) -> [i64; D] {
+    let mut f = [0; D];
     if d2 == 0 {
-        let mut f = [0; D];
         if let Some(f) = f.first_mut() {
             *f = coincident(i, j) * repel * r;
         }
@@ -78,7 +78,10 @@ pub(super) fn push<const D: usize>(
     }
     let k = ratio(d2, r);
     // |k·d| ≤ (r − d)·2^16·(1 + 1/d) < 2^47 since |d_c| ≤ d.
-    d.map(|x| ((k * x) >> 16) * repel)
+    for (f, d) in f.iter_mut().zip(&d) {
+        *f = ((k * d) >> 16) * repel;
+    }
+    f
 }
 
 /// The pushes of a pair on each other, exactly [`push`] from both sides:
@@ -95,22 +98,23 @@ pub(super) fn pair_pushes<const D: usize>(
     r: i64,
     repel: [i32; 2],
 ) -> [[i64; D]; 2] {
-    let repel = repel.map(i64::from);
+    let (on_p, on_q) = (i64::from(repel[0]), i64::from(repel[1]));
+    let mut f = [[0; D]; 2];
+    let [p, q] = &mut f;
     if d2 == 0 {
         let s = coincident(i, j) * r;
-        let (mut on_p, mut on_q) = ([0; D], [0; D]);
-        if let (Some(p), Some(q)) = (on_p.first_mut(), on_q.first_mut()) {
-            (*p, *q) = (s * repel[0], -s * repel[1]);
+        if let (Some(p), Some(q)) = (p.first_mut(), q.first_mut()) {
+            (*p, *q) = (s * on_p, -s * on_q);
         }
-        return [on_p, on_q];
+        return f;
     }
     let k = ratio(d2, r);
     // Range as in [`push`]: |k·d| < 2^47, so −k·d fits.
-    let m = d.map(|x| k * x);
-    [
-        m.map(|x| (x >> 16) * repel[0]),
-        m.map(|x| ((-x) >> 16) * repel[1]),
-    ]
+    for ((p, q), d) in p.iter_mut().zip(q.iter_mut()).zip(&d) {
+        let m = k * d;
+        (*p, *q) = ((m >> 16) * on_p, ((-m) >> 16) * on_q);
+    }
+    f
 }
 
 /// The weights that turn a cell's summed pushes into its step (Q16).
@@ -138,28 +142,29 @@ impl Step {
         v: Option<[i32; D]>,
     ) -> [i64; D] {
         let (r, wd, wa) = (self.r, self.push_weight, self.anisotropy_weight);
-        let s = sum.map(|x| (x + HALF) >> 16); // Q16
-        let blend = match v {
-            None => s,
-            Some(v) => {
-                // (Σ·v)·v: Σ's part along the field (Q16; |v| ≤ 1 as Q14).
-                let along = s
-                    .iter()
-                    .zip(&v)
-                    .map(|(s, v)| s * i64::from(*v))
-                    .sum::<i64>()
-                    >> 14;
-                let mut blend = s;
-                for (b, (s, v)) in blend.iter_mut().zip(s.iter().zip(&v)) {
-                    let steer = (along * i64::from(*v)) >> 14;
-                    *b = ((ONE - wa) * s + wa * steer + HALF) >> 16;
-                }
-                blend
+        let mut s = [0; D]; // Q16
+        for (s, x) in s.iter_mut().zip(&sum) {
+            *s = (x + HALF) >> 16;
+        }
+        let mut out = s;
+        if let Some(v) = v {
+            // (Σ·v)·v: Σ's part along the field (Q16; |v| ≤ 1 as Q14).
+            let mut along = 0;
+            for (s, v) in s.iter().zip(&v) {
+                along += s * i64::from(*v);
             }
-        };
-        // max/min, not clamp: the same for r ≥ 1, and no panic path (with
-        // its formatting code) for reversed bounds.
-        blend.map(|b| ((wd * b + HALF) >> 16).max(-r).min(r))
+            let along = along >> 14;
+            for (o, (s, v)) in out.iter_mut().zip(s.iter().zip(&v)) {
+                let steer = (along * i64::from(*v)) >> 14;
+                *o = ((ONE - wa) * s + wa * steer + HALF) >> 16;
+            }
+        }
+        for o in &mut out {
+            // max/min, not clamp: the same for r ≥ 1, and no panic path
+            // (with its formatting code) for reversed bounds.
+            *o = ((wd * *o + HALF) >> 16).max(-r).min(r);
+        }
+        out
     }
 
     /// The displacement `d` (within ±r) plus β times the cell's `last`
@@ -168,9 +173,9 @@ impl Step {
     pub(super) fn carried<const D: usize>(&self, d: [i64; D], last: [i32; D]) -> [i64; D] {
         let (beta, r) = (self.momentum, self.r);
         let mut out = d;
-        for (o, last) in out.iter_mut().zip(last) {
+        for (o, last) in out.iter_mut().zip(&last) {
             // |d| ≤ r and |β·last| < r: the sum fits easily in i64.
-            let carry = (beta * i64::from(last) + HALF) >> 16;
+            let carry = (beta * i64::from(*last) + HALF) >> 16;
             *o = (*o + carry).max(-r).min(r);
         }
         out

@@ -66,9 +66,12 @@ impl Forces<'_> {
     /// the field at `p`).
     #[inline]
     fn displacement(&self, sum: [i64; 2], p: [i32; 2]) -> [i32; 2] {
-        let v = self.field.map(|f| f.at(self.domain, p).map(i32::from));
-        // Within ±r < 2^31.
-        self.step().displacement(sum, v).map(|d| d as i32)
+        let v = self.field.map(|f| {
+            let v = f.at(self.domain, p);
+            [i32::from(v[0]), i32::from(v[1])]
+        });
+        let d = self.step().displacement(sum, v);
+        [d[0] as i32, d[1] as i32] // within ±r < 2^31
     }
 }
 
@@ -133,7 +136,7 @@ impl Snapshot<'_> {
     #[inline(always)]
     fn carry(&self, p: [i32; 2], d: [i32; 2], last: [i32; 2]) -> ([i32; 2], [i32; 2]) {
         let domain = self.forces.domain;
-        let s = self.forces.step().carried(d.map(i64::from), last);
+        let s = (self.forces.step()).carried([i64::from(d[0]), i64::from(d[1])], last);
         let mut to = [0; 2];
         let mut step = [0; 2];
         for c in 0..2 {
