@@ -82,7 +82,10 @@ pub use control::{
     Anisotropy, ControlError, ControlVector, FIELD_LATTICE, Field, MAX_CONTROL_VECTORS, Mask,
 };
 pub use domain::Domain;
-pub use mesh::{MAX_FACES, MAX_VERTICES, Mesh, MeshArrays, MeshError, MeshInfo, MeshParts, Place};
+pub use mesh::{
+    MAX_COORD, MAX_CROSSINGS, MAX_FACES, MAX_VERTICES, Mesh, MeshArrays, MeshError, MeshInfo,
+    MeshParts, NO_FACE, Place,
+};
 pub use params::{
     CellType, Frames, MAX_MOMENTUM, MAX_SELF_ADHESION, MAX_TYPES, NO_MUTATION,
     ORIGINAL_PUSH_WEIGHT, Params, pair_table,
@@ -230,7 +233,7 @@ pub type McuStore = ArrayStore<2048, 513>;
 /// outgrows it stops with [`crate::Error::Capacity`]. The
 /// core has no heap: the big mosaics are host presets, run by the host CLI
 /// on a `Vec`-backed
-/// [`CellStore`](store::CellStore) of this many cells and
+/// [`CellStore`] of this many cells and
 /// `cells / 4 + 1` bin offsets.
 #[must_use]
 pub fn host_capacity(params: &Params) -> usize {
