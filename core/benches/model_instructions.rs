@@ -30,14 +30,12 @@ use std::hint::black_box;
 
 use gungraun::{library_benchmark, library_benchmark_group, main};
 use morphogen::lsys::LSystem;
-use morphogen::mosaic::grid::Grid;
-use morphogen::mosaic::mesh::{Mesh, MeshParts};
-use morphogen::mosaic::relaxation::{self, Forces};
-use morphogen::mosaic::store::CellStore;
-use morphogen::mosaic::surface::relaxation::{self as surface_relaxation, SurfaceForces};
-use morphogen::mosaic::surface::store::SurfaceStore;
-use morphogen::mosaic::surface::{MeshBuffers, Surface, SurfaceMesh, SurfaceMosaic, build_mesh};
-use morphogen::mosaic::{MAX_TYPES, Mosaic, Params};
+use morphogen::mosaic::kernels::mesh as surface_relaxation;
+use morphogen::mosaic::kernels::plane::{self as relaxation, Grid};
+use morphogen::mosaic::{
+    CellStore, Forces, MAX_TYPES, Mesh, MeshBuffers, MeshParts, Mosaic, Params, Surface,
+    SurfaceForces, SurfaceMesh, SurfaceMosaic, build_mesh,
+};
 use morphogen::preset::Model;
 use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError};
@@ -58,7 +56,6 @@ impl Sink for Null {
 /// the grid and the forces.
 struct Relaxation {
     mosaic: Mosaic<'static, VecStore>,
-    grid: Grid,
     forces: Forces<'static>,
     /// The host's sums of pair pushes ([`relaxation::relax_pairs`]).
     sums: Vec<[i64; 2]>,
@@ -95,10 +92,11 @@ fn croton_cells() -> Relaxation {
     while !mosaic.step(&mut Null).expect("runs").finished() {}
     let radius = mosaic.radius().to_bits();
     let bins = mosaic.store_mut().slices().bins.len() - 1;
+    let grid: &'static Grid = Box::leak(Box::new(Grid::plan(&params.domain, radius, bins)));
     Relaxation {
-        grid: Grid::plan(&params.domain, radius, bins),
         forces: Forces {
             domain: &params.domain,
+            grid,
             radius,
             repel: [[1 << 16; MAX_TYPES]; MAX_TYPES],
             push_weight: params.push_weight.to_bits(),
@@ -118,7 +116,6 @@ fn relaxation_step(mut r: Relaxation) -> Relaxation {
     relaxation::relax_pairs(
         &mut r.mosaic.store_mut().slices(),
         black_box(len),
-        &r.grid,
         &r.forces,
         &mut r.sums,
     );
@@ -132,7 +129,6 @@ fn relaxation_step_per_cell(mut r: Relaxation) -> Relaxation {
     relaxation::relax(
         &mut r.mosaic.store_mut().slices(),
         black_box(len),
-        &r.grid,
         &r.forces,
     );
     r

@@ -23,10 +23,8 @@ use std::time::Instant;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use morphogen::embedded_io::{ErrorType, Write};
-use morphogen::mosaic::grid::Grid;
-use morphogen::mosaic::relaxation::{self, Forces};
-use morphogen::mosaic::store::{self, CellStore};
-use morphogen::mosaic::{MAX_TYPES, McuStore, Mosaic, Params, host_capacity};
+use morphogen::mosaic::kernels::plane::{self as relaxation, Grid};
+use morphogen::mosaic::{CellStore, Forces, MAX_TYPES, McuStore, Mosaic, Params, host_capacity};
 use morphogen::preset::{Model, Preset};
 use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Encoder, Record, Sink, SinkError};
@@ -117,7 +115,7 @@ fn end_to_end() {
     });
     println!(
         "RAM per cell: {} B in the arrays + 4 B per grid bin; MCU store ArrayStore<2048, 513> = {} B = {:.3} B/cell",
-        store::CELL_BYTES,
+        relaxation::CELL_BYTES,
         core::mem::size_of::<McuStore>(),
         core::mem::size_of::<McuStore>() as f64 / 2048.0
     );
@@ -158,8 +156,12 @@ fn grid_vs_naive(c: &mut Criterion) {
             let mut m = relaxed(&params);
             let radius = m.radius().to_bits();
             let len = m.len();
+            let store = m.store_mut();
+            let bins = store.slices().bins.len() - 1;
+            let grid = Grid::plan(&params.domain, radius, bins);
             let forces = Forces {
                 domain: &params.domain,
+                grid: &grid,
                 radius,
                 repel: [[1 << 16; MAX_TYPES]; MAX_TYPES],
                 push_weight: params.push_weight.to_bits(),
@@ -167,11 +169,8 @@ fn grid_vs_naive(c: &mut Criterion) {
                 field: None,
                 momentum: 0,
             };
-            let store = m.store_mut();
-            let bins = store.slices().bins.len() - 1;
-            let grid = Grid::plan(&params.domain, radius, bins);
             g.bench_function(format!("grid {n}"), |b| {
-                b.iter(|| relaxation::relax(&mut store.slices(), black_box(len), &grid, &forces));
+                b.iter(|| relaxation::relax(&mut store.slices(), black_box(len), &forces));
             });
             g.bench_function(format!("naive {n}"), |b| {
                 b.iter(|| relaxation::relax_naive(&mut store.slices(), black_box(len), &forces));

@@ -15,10 +15,7 @@
 
 use std::time::{Duration, Instant};
 
-use morphogen::mosaic::grid::Grid;
-use morphogen::mosaic::relaxation::{Forces, Relax};
-use morphogen::mosaic::store::{CellSlices, CellStore};
-use morphogen::mosaic::{Mosaic, host_capacity};
+use morphogen::mosaic::{CellSlices, CellStore, Forces, Mosaic, Relax, host_capacity};
 use morphogen::preset::Model;
 use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError};
@@ -57,9 +54,9 @@ impl CellStore for Timed {
 }
 
 impl Relax for Timed {
-    fn relax(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>, times: u16) {
+    fn relax(&mut self, n: usize, forces: &Forces<'_>, times: u16) {
         let t = Instant::now();
-        self.store.relax(n, grid, forces, times);
+        self.store.relax(n, forces, times);
         self.relaxing += t.elapsed();
     }
 }

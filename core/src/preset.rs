@@ -47,9 +47,10 @@ use crate::growth_curve::{self, GrowthCurve};
 use crate::horn::{Horn, HornParams};
 use crate::lsys::LSystem;
 #[cfg(feature = "surface-runner")]
-use crate::mosaic::surface::SurfaceMosaic;
-use crate::mosaic::surface::{McuMeshStore, McuSurfaceStore};
-use crate::mosaic::{self, McuStore, Mosaic, Params as MosaicParams};
+use crate::mosaic::SurfaceMosaic;
+use crate::mosaic::{
+    self, McuMeshStore, McuStore, McuSurfaceStore, Mosaic, Params as MosaicParams,
+};
 use crate::sim::{Progress, Simulation, Start};
 use crate::stream::{FORMAT_VERSION, Header, PresetName, Record, Sink, params_digest};
 

@@ -9,9 +9,10 @@
 
 use morphogen::Error;
 use morphogen::fx::Fx;
-use morphogen::mosaic::params::{MAX_TYPES, NO_MUTATION};
-use morphogen::mosaic::store::ArrayStore;
-use morphogen::mosaic::{CELL_LIMIT, CellType, Domain, Frames, McuStore, Mosaic, Params};
+use morphogen::mosaic::{
+    ArrayStore, CELL_LIMIT, CellType, Domain, Frames, MAX_TYPES, McuStore, Mosaic, NO_MUTATION,
+    Params,
+};
 use morphogen::preset::Model;
 use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError, StreamDigest};

@@ -155,10 +155,10 @@ fn main() -> ! {
     defmt::info!(
         "report surface-state surface-mosaic={=usize}",
         core::mem::size_of::<
-            morphogen::mosaic::surface::SurfaceMosaic<
+            morphogen::mosaic::SurfaceMosaic<
                 'static,
-                morphogen::mosaic::surface::McuSurfaceStore,
-                morphogen::mosaic::surface::McuMeshStore,
+                morphogen::mosaic::McuSurfaceStore,
+                morphogen::mosaic::McuMeshStore,
             >,
         >()
     );

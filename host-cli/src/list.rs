@@ -52,7 +52,7 @@ pub fn show(preset: &str) -> Result<Outcome> {
 
 /// Why the mosaic `m` is host only (it does not fit the MCU's stores).
 fn mcu_note(m: &morphogen::mosaic::Params<'_>) -> String {
-    use morphogen::mosaic::surface::{McuMeshStore, McuSurfaceStore};
+    use morphogen::mosaic::{McuMeshStore, McuSurfaceStore};
     let peak = morphogen::mosaic::expected_peak_cells(m);
     let capacity = match m.surface {
         Some(_) => McuSurfaceStore::CAPACITY,

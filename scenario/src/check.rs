@@ -860,13 +860,13 @@ fn mosaic(m: &schema::Mosaic, files: &dyn Files) -> Result<Checked> {
     let anisotropy = match &m.anisotropy {
         None => None,
         Some(a) => {
-            if a.vectors.len() > mosaic::control::MAX_CONTROL_VECTORS {
+            if a.vectors.len() > mosaic::MAX_CONTROL_VECTORS {
                 return invalid(
                     "mosaic.anisotropy.vectors",
                     format!(
-                        "{} vectors (allowed: 0 to {}, mosaic::control::MAX_CONTROL_VECTORS)",
+                        "{} vectors (allowed: 0 to {}, mosaic::MAX_CONTROL_VECTORS)",
                         a.vectors.len(),
-                        mosaic::control::MAX_CONTROL_VECTORS
+                        mosaic::MAX_CONTROL_VECTORS
                     ),
                 );
             }

@@ -11,9 +11,7 @@ use morphogen::bones::{self, BonesParams};
 use morphogen::fx::{Angle, Fx};
 use morphogen::growth::Sigmoid;
 use morphogen::horn::HornParams;
-use morphogen::mosaic::shapes::Shape;
-use morphogen::mosaic::surface::{Surface, SurfaceMesh};
-use morphogen::mosaic::{self, Params as MosaicParams};
+use morphogen::mosaic::{self, Params as MosaicParams, Shape, Surface, SurfaceMesh};
 use morphogen::preset::{Model, Preset};
 
 use crate::Scenario;
@@ -41,9 +39,7 @@ pub fn presets(scenarios: &[Scenario]) -> Result<String, String> {
          #[allow(unused_imports)]\n\
          use morphogen::mosaic::{self, Anisotropy, CellType, ControlVector, Domain, Mask};\n\
          #[allow(unused_imports)]\n\
-         use morphogen::mosaic::shapes::{Shape, Tessellation};\n\
-         #[allow(unused_imports)]\n\
-         use morphogen::mosaic::surface::{ControlMap, Surface, SurfaceMesh};\n\
+         use morphogen::mosaic::{ControlMap, Shape, Surface, SurfaceMesh, Tessellation};\n\
          #[allow(unused_imports)]\n\
          use morphogen::shrinkwrap::WrapParams;\n\
          use morphogen::preset::{Model, Preset};\n\n\

@@ -11,17 +11,13 @@
 use morphogen::body::Body;
 use morphogen::bones::{Bones, HOST_FIELD_CACHE, MCU_TRIANGLES, MCU_VERTICES};
 use morphogen::lsys::{Buffered, Grammar, LSystem, LsysError, Module, Neighbours};
-use morphogen::mosaic::grid::Grid;
-use morphogen::mosaic::mesh::{MAX_FACES, MAX_VERTICES, MeshArrays, MeshError, MeshParts, Place};
-use morphogen::mosaic::relaxation::{self, Forces, Relax};
-use morphogen::mosaic::store::{CellSlices, CellStore};
-use morphogen::mosaic::surface::meshes::MeshStore;
-use morphogen::mosaic::surface::relaxation::{
-    self as surface_relaxation, CubeGrid, SurfaceForces, SurfaceRelax,
+use morphogen::mosaic::kernels::mesh::{self as surface_relaxation, CubeGrid};
+use morphogen::mosaic::kernels::plane::{self as relaxation, Grid};
+use morphogen::mosaic::{
+    CellSlices, CellStore, Forces, MAX_FACES, MAX_VERTICES, MeshArrays, MeshBuffers, MeshError,
+    MeshParts, MeshStore, Mosaic, MosaicError, OnMesh, Params as MosaicParams, Place, Relax,
+    SurfaceForces, SurfaceMosaic, host_capacity,
 };
-use morphogen::mosaic::surface::store::{SurfaceSlices, SurfaceStore};
-use morphogen::mosaic::surface::{MeshBuffers, SurfaceMosaic};
-use morphogen::mosaic::{Mosaic, MosaicError, Params as MosaicParams, host_capacity};
 use morphogen::preset::{self, Model, Preset, Runner};
 use morphogen::sim::{Progress, Start};
 use morphogen::stream::Sink;
@@ -62,7 +58,7 @@ impl Cells {
             kind: &mut self.kind,
             next_division: &mut self.next_division,
             order: &mut self.order,
-            push: &mut self.push,
+            sorted: &mut self.push,
             bins: &mut self.bins,
             velocity: &mut self.velocity,
         }
@@ -254,12 +250,13 @@ impl VecStore {
     /// moves): the grid built from their order, each pair of neighbours
     /// once into the slots' sums (in shares on several threads), the
     /// cells moved and carried on in the new slot order.
-    fn relax_carried(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>, momentum: bool) {
+    fn relax_carried(&mut self, n: usize, forces: &Forces<'_>, momentum: bool) {
+        let grid: &Grid = forces.grid;
         let carried = &mut self.carried;
         let mut cells = self.cells.slices();
         // The bin of each carried cell into `order`, its slot's cell
         // (index into the carried arrays) into the push scratch...
-        let (order, sorted) = (&mut cells.order[..n], &mut cells.push[..n]);
+        let (order, sorted) = (&mut cells.order[..n], &mut cells.sorted[..n]);
         order
             .par_chunks_mut(RELAX_CHUNK)
             .zip(carried.pos[..n].par_chunks(RELAX_CHUNK))
@@ -288,7 +285,7 @@ impl VecStore {
                     }
                 }
             });
-        let (snapshot, _) = relaxation::sorted_snapshot(&mut cells, n, grid, forces);
+        let (snapshot, _) = relaxation::sorted_snapshot(&mut cells, n, forces);
         let sums = &mut self.sums[..n];
         sum_in_shares(sums, |slots, sums, past| {
             snapshot.pair_sums(slots, sums, &mut |slot, push| past.push((slot, push)));
@@ -342,14 +339,14 @@ impl Relax for VecStore {
     /// pushes past its end kept aside and added after) and the moves run
     /// side by side. Integer sums: the same bits in any order of the cells
     /// and on any number of threads.
-    fn relax(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>, times: u16) {
+    fn relax(&mut self, n: usize, forces: &Forces<'_>, times: u16) {
         if self.sums.len() < n {
             self.sums.resize(n, [0; 2]);
         }
         if n < RELAX_CHUNK {
             for _ in 0..times {
                 let mut cells = self.cells.slices();
-                relaxation::relax_pairs(&mut cells, n, grid, forces, &mut self.sums);
+                relaxation::relax_pairs(&mut cells, n, forces, &mut self.sums);
             }
             return;
         }
@@ -374,7 +371,7 @@ impl Relax for VecStore {
             *id = k;
         }
         for _ in 0..times {
-            self.relax_carried(n, grid, forces, momentum);
+            self.relax_carried(n, forces, momentum);
         }
         let (carried, cells) = (&self.carried, &mut self.cells);
         for ((&i, p), v) in carried.id[..n]
@@ -513,24 +510,24 @@ impl VecSurfaceStore {
     }
 }
 
-impl SurfaceStore for VecSurfaceStore {
+impl CellStore<OnMesh> for VecSurfaceStore {
     fn capacity(&self) -> usize {
         self.place.len()
     }
 
-    fn slices(&mut self) -> SurfaceSlices<'_> {
-        SurfaceSlices {
-            place: &mut self.place,
+    fn slices(&mut self) -> CellSlices<'_, OnMesh> {
+        CellSlices {
+            pos: &mut self.place,
             kind: &mut self.kind,
             next_division: &mut self.next_division,
             order: &mut self.order,
             sorted: &mut self.sorted,
-            buckets: &mut self.buckets,
+            bins: &mut self.buckets,
             velocity: &mut self.velocity,
         }
     }
 
-    fn places(&self) -> &[Place] {
+    fn positions(&self) -> &[Place] {
         &self.place
     }
 
@@ -539,7 +536,7 @@ impl SurfaceStore for VecSurfaceStore {
     }
 }
 
-impl SurfaceRelax for VecSurfaceStore {
+impl Relax<OnMesh> for VecSurfaceStore {
     /// Each pair of neighbours once, the cells kept in the bucket order
     /// of the last step from one step to the next and put back in index
     /// order after the last, on one thread or side by side, as on the

@@ -3,11 +3,10 @@
 //! checked into what the core's [`Surface`] borrows.
 
 use morphogen::fx::Fx;
-use morphogen::mosaic::MosaicError;
-use morphogen::mosaic::mesh::MeshError;
-use morphogen::mosaic::shapes::{Shape, Tessellation};
-use morphogen::mosaic::surface::meshes::MeshStore;
-use morphogen::mosaic::surface::{ControlMap, Surface, SurfaceMesh, build_mesh};
+use morphogen::mosaic::{
+    ControlMap, MeshError, MeshStore, MosaicError, Shape, Surface, SurfaceMesh, Tessellation,
+    build_mesh,
+};
 
 use crate::run::MeshVecs;
 use crate::schema::{self, Include};

@@ -5,10 +5,8 @@
 //! bit.
 
 use morphogen::fx::Fx;
-use morphogen::mosaic::grid::Grid;
-use morphogen::mosaic::relaxation::{self, Forces, Relax};
-use morphogen::mosaic::store::{CellSlices, CellStore};
-use morphogen::mosaic::{Domain, MAX_TYPES};
+use morphogen::mosaic::kernels::plane::{self as relaxation, Grid};
+use morphogen::mosaic::{CellSlices, CellStore, Domain, Forces, MAX_TYPES, Relax};
 use morphogen_scenario::run::VecStore;
 
 /// Cells: enough for the store's grid-order path and several chunks.
@@ -56,8 +54,10 @@ fn a_days_steps_in_grid_order_move_cells_as_the_per_cell_step_does() {
         // the torus: displacements wrap per pair).
         for max_bins in [CELLS / 2, 9] {
             for momentum in [0, Fx::from_ratio(7, 10).to_bits()] {
+                let grid = Grid::plan(&domain, Fx::ONE.to_bits(), max_bins);
                 let forces = Forces {
                     domain: &domain,
+                    grid: &grid,
                     radius: Fx::ONE.to_bits(),
                     repel,
                     push_weight: Fx::ONE.to_bits(),
@@ -65,7 +65,6 @@ fn a_days_steps_in_grid_order_move_cells_as_the_per_cell_step_does() {
                     field: None,
                     momentum,
                 };
-                let grid = Grid::plan(&domain, forces.radius, max_bins);
                 let (pos, kind, velocity) = cells(&domain);
 
                 // The reference: the per-cell step, STEPS times.
@@ -79,11 +78,11 @@ fn a_days_steps_in_grid_order_move_cells_as_the_per_cell_step_does() {
                         kind: &mut want_kind,
                         next_division: &mut next_division,
                         order: &mut order,
-                        push: &mut push,
+                        sorted: &mut push,
                         bins: &mut bins,
                         velocity: &mut want_velocity,
                     };
-                    relaxation::relax(&mut slices, CELLS, &grid, &forces);
+                    relaxation::relax(&mut slices, CELLS, &forces);
                 }
                 assert_ne!(want, pos, "the cells move");
 
@@ -97,7 +96,7 @@ fn a_days_steps_in_grid_order_move_cells_as_the_per_cell_step_does() {
                         .num_threads(threads)
                         .build()
                         .unwrap()
-                        .install(|| store.relax(CELLS, &grid, &forces, STEPS));
+                        .install(|| store.relax(CELLS, &forces, STEPS));
                     let case = format!(
                         "{:?}, {}×{} bins, β {momentum}, {threads} threads",
                         domain.periodic, grid.cols, grid.rows
@@ -115,11 +114,10 @@ fn a_days_steps_in_grid_order_move_cells_as_the_per_cell_step_does() {
 
 #[test]
 fn a_days_steps_in_bucket_order_move_cells_on_a_mesh_as_the_per_cell_step_does() {
-    use morphogen::mosaic::mesh::MeshParts;
-    use morphogen::mosaic::surface::relaxation::{self as surface, SurfaceForces, SurfaceRelax};
-    use morphogen::mosaic::surface::store::SurfaceStore;
-    use morphogen::mosaic::surface::{MeshBuffers, SurfaceMosaic, build_mesh};
-    use morphogen::mosaic::{Frames, Params};
+    use morphogen::mosaic::kernels::mesh as surface;
+    use morphogen::mosaic::{
+        Frames, MeshBuffers, MeshParts, Params, SurfaceForces, SurfaceMosaic, build_mesh,
+    };
     use morphogen::preset::Model;
     use morphogen::sim::{Simulation, Start};
     use morphogen::stream::{Record, Sink, SinkError};
@@ -153,7 +151,7 @@ fn a_days_steps_in_bucket_order_move_cells_on_a_mesh_as_the_per_cell_step_does()
         let n = spread.len();
         let (places, kinds) = {
             let store = spread.store_mut();
-            (store.places()[..n].to_vec(), store.kinds()[..n].to_vec())
+            (store.positions()[..n].to_vec(), store.kinds()[..n].to_vec())
         };
         // A child on its parent, and last moves to carry.
         let mut places = places;
@@ -194,7 +192,7 @@ fn a_days_steps_in_bucket_order_move_cells_on_a_mesh_as_the_per_cell_step_does()
             };
             let fill = |store: &mut VecSurfaceStore| {
                 let cells = store.slices();
-                cells.place[..n].copy_from_slice(&places);
+                cells.pos[..n].copy_from_slice(&places);
                 cells.kind[..n].copy_from_slice(&kinds);
                 cells.velocity[..n].copy_from_slice(&velocity);
             };
@@ -203,7 +201,7 @@ fn a_days_steps_in_bucket_order_move_cells_on_a_mesh_as_the_per_cell_step_does()
             for _ in 0..STEPS {
                 surface::relax(&mut want.slices(), n, &forces);
             }
-            assert_ne!(want.places()[..n], places[..], "the cells move");
+            assert_ne!(want.positions()[..n], places[..], "the cells move");
             for threads in [1, 2, 3] {
                 let mut store = VecSurfaceStore::new(n);
                 fill(&mut store);
@@ -213,7 +211,10 @@ fn a_days_steps_in_bucket_order_move_cells_on_a_mesh_as_the_per_cell_step_does()
                     .unwrap()
                     .install(|| store.relax(n, &forces, STEPS));
                 let case = format!("β {momentum}, {threads} threads");
-                assert!(store.places()[..n] == want.places()[..n], "places: {case}");
+                assert!(
+                    store.positions()[..n] == want.positions()[..n],
+                    "places: {case}"
+                );
                 assert!(
                     store.slices().velocity[..n] == want.slices().velocity[..n],
                     "last moves: {case}"

@@ -79,7 +79,8 @@ impl Domain {
     #[inline]
     #[must_use]
     pub fn confine(&self, axis: usize, p: i64) -> i32 {
-        let size = i64::from(self.size[axis].to_bits());
+        // At least 1 (a valid size is): the remainder below cannot fail.
+        let size = i64::from(self.size[axis].to_bits().max(1));
         let q = if (0..size).contains(&p) {
             p // already inside: no division (a library call on a Cortex-M)
         } else if self.periodic[axis] {

@@ -1,18 +1,25 @@
 //! Clonal mosaics: the MClone model of Walter et al. as used for plant
-//! patterns in the MClone thesis (Secs. 3.2 and 4.1; docs/mosaics.md), in bounded memory and fixed point.
+//! patterns in the MClone thesis (Secs. 3.2 and 4.1; docs/mosaics.md), in
+//! bounded memory and fixed point.
 //!
-//! Cells are points with a type on a [`Domain`]. Day 0 spreads
-//! [`Params::initial_cells`] cells uniformly at random (types by their
-//! initial probabilities, foreground only where the [`Mask`] allows) and
-//! relaxes them ρ_i times ignoring adhesion. Each following day first
-//! divides the cells whose division day has come ([`division`]), then
-//! recomputes the repulsion radius r = w_r·√(area/N) and relaxes ρ_s times
-//! ([`relaxation`]). Selected days are streamed as frames of
-//! [`Record::Cell`]s; the host draws them as Voronoi regions.
+//! Cells are points with a type on a [`Ground`]: the [`Plane`] of a
+//! [`Domain`] ([`Mosaic`]) or a triangle mesh ([`OnMesh`],
+//! [`SurfaceMosaic`]). Day 0 spreads [`Params::initial_cells`] cells
+//! uniformly at random (types by their initial probabilities, foreground
+//! only where the [`Mask`] allows) and relaxes them ρ_i times ignoring
+//! adhesion. Each following day first divides the cells whose division day
+//! has come, then recomputes the repulsion radius r = w_r·√(area/N) and
+//! relaxes ρ_s times (Sec. 3.2.1.1). Both grounds keep their cells in one
+//! kind of store ([`CellStore`], inline: [`ArrayStore`]) and relax them
+//! through one trait ([`Relax`]) with one force law; only the neighbour
+//! search and how a cell moves differ. Selected days are streamed as
+//! frames of [`Record::Cell`]s (on a mesh, [`Record::SurfaceCell`]s after
+//! the mesh); the host draws them as Voronoi regions.
 //!
 //! ```
-//! use morphogen::mosaic::{Mosaic, store::ArrayStore};
-//! use morphogen::preset::Model;
+//! use morphogen::fx::Fx;
+//! use morphogen::mosaic::{CellType, Domain, Frames, McuStore, Mosaic, NO_MUTATION, Params};
+//! use morphogen::mosaic::{ORIGINAL_PUSH_WEIGHT, pair_table};
 //! use morphogen::sim::{Simulation, Start};
 //! use morphogen::stream::{Record, Sink, SinkError};
 //!
@@ -25,33 +32,97 @@
 //!     }
 //! }
 //!
-//! let scenario = morphogen_scenario::builtin("croton-mcu").unwrap();
-//! scenario.with_preset(|preset| {
-//!     let Model::Mosaic(params) = preset.model else { unreachable!() };
-//!     let mut m = Mosaic::new(ArrayStore::<2048, 513>::EMPTY);
-//!     m.start(params, 7).unwrap();
-//!     let mut sink = Cells(0);
-//!     while !m.step(&mut sink).unwrap().finished() {}
-//!     assert!(m.len() > params.initial_cells as usize * 5);
-//!     assert!(sink.0 > m.len());
-//! });
+//! // A croton leaf (thesis Table 4.1) on a small torus: background B and
+//! // foreground F, both dividing every 10 days on average.
+//! const TYPES: [CellType; 2] = [
+//!     CellType { colour: [40, 105, 45], division_days: 10, initial_probability: Fx::from_ratio(7, 10) },
+//!     CellType { colour: [236, 200, 48], division_days: 10, initial_probability: Fx::from_ratio(3, 10) },
+//! ];
+//! // α_BB 0.8, α_FF 0.5, α_BF 0.
+//! let alpha = [Fx::from_ratio(8, 10), Fx::from_ratio(5, 10), Fx::ZERO, Fx::ZERO];
+//! let params = Params {
+//!     domain: Domain::periodic(Fx::from_int(15), Fx::from_int(12)),
+//!     initial_cells: 180,
+//!     types: &TYPES,
+//!     adhesion: pair_table(alpha, Fx::ZERO),
+//!     mutation: NO_MUTATION,
+//!     radius_weight: Fx::ONE,
+//!     push_weight: ORIGINAL_PUSH_WEIGHT,
+//!     initial_relaxations: 40,
+//!     daily_relaxations: 8,
+//!     momentum: Fx::ZERO,
+//!     days: 35,
+//!     mask: None,
+//!     anisotropy: None,
+//!     frames: Frames::EveryDay,
+//!     surface: None,
+//! };
+//! let mut m = Mosaic::new(McuStore::EMPTY);
+//! m.start(&params, 7).unwrap();
+//! let mut sink = Cells(0);
+//! while !m.step(&mut sink).unwrap().finished() {}
+//! assert!(m.len() > params.initial_cells as usize * 5);
+//! assert!(sink.0 > m.len());
 //! ```
 
-pub mod control;
+mod control;
 mod day;
-pub mod division;
-pub mod domain;
-pub mod grid;
-pub mod mesh;
-pub mod params;
-pub mod relaxation;
-pub mod shapes;
-pub mod store;
-pub mod surface;
+mod division;
+mod domain;
+mod force;
+mod grid;
+mod mesh;
+mod params;
+mod relaxation;
+mod shapes;
+mod store;
+mod surface;
 
-pub use control::{Anisotropy, ControlError, ControlVector, Field, Mask};
+pub use control::{
+    Anisotropy, ControlError, ControlVector, FIELD_LATTICE, Field, MAX_CONTROL_VECTORS, Mask,
+};
 pub use domain::Domain;
-pub use params::{CellType, Frames, MAX_MOMENTUM, MAX_SELF_ADHESION, MAX_TYPES, Params};
+pub use mesh::{
+    MAX_COORD, MAX_CROSSINGS, MAX_FACES, MAX_VERTICES, Mesh, MeshArrays, MeshError, MeshInfo,
+    MeshParts, NO_FACE, Place,
+};
+pub use params::{
+    CellType, Frames, MAX_MOMENTUM, MAX_SELF_ADHESION, MAX_TYPES, NO_MUTATION,
+    ORIGINAL_PUSH_WEIGHT, Params, pair_table,
+};
+pub use relaxation::{Forces, Plane};
+pub use shapes::{Shape, Tessellation};
+pub use store::{ArrayStore, CellSlices, CellStore, Ground, Relax};
+pub use surface::meshes::{ArrayMeshStore, MESH_FACE_LIMIT, MESH_VERTEX_LIMIT, MeshStore};
+pub use surface::relaxation::{OnMesh, SurfaceForces};
+pub use surface::{
+    ControlMap, FIELD_LIMIT, McuMeshStore, McuSurfaceStore, MeshBuffers, Surface, SurfaceMesh,
+    SurfaceMosaic, build_mesh,
+};
+
+/// The relaxation's kernels: one step on the plane ([`kernels::plane`])
+/// or on a mesh ([`kernels::mesh`]), their grids and snapshots, and the
+/// brute-force reference. Not part of the curated interface: public for
+/// the benches, which time the grids against the reference, and for the
+/// host's stores (`morphogen-scenario`), which run the same steps on
+/// several threads; a [`Mosaic`] or [`SurfaceMosaic`] needs none of it.
+#[doc(hidden)]
+pub mod kernels {
+    /// On the plane.
+    pub mod plane {
+        pub use crate::mosaic::grid::{BinRun, Grid};
+        pub use crate::mosaic::relaxation::{
+            Moves, Snapshot, relax, relax_naive, relax_pairs, snapshot, sorted_snapshot,
+        };
+        pub use crate::mosaic::store::{CELL_BYTES, bytes_per_cell_milli};
+    }
+    /// On a mesh.
+    pub mod mesh {
+        pub use crate::mosaic::surface::relaxation::{
+            CubeGrid, Snapshot, relax, relax_pairs, snapshot, sorted_snapshot,
+        };
+    }
+}
 
 use crate::Error;
 use crate::fx::Fx;
@@ -61,7 +132,6 @@ use crate::stream::{Record, Sink};
 use day::{Day, Run};
 use division::{Purpose, stream_id};
 use grid::Grid;
-use relaxation::{Forces, Relax};
 
 /// The name of the cell-store limit in [`Error::Capacity`].
 pub const CELL_LIMIT: &str = "mosaic cell store (capacity of the preset's CellStore)";
@@ -156,14 +226,14 @@ fn repulsion(alpha: &[[Fx; MAX_TYPES]; MAX_TYPES]) -> [[i32; MAX_TYPES]; MAX_TYP
 
 /// The inline store of the MCU presets: 2 048 cells, 512 grid bins, 24 B
 /// per cell (49 156 B).
-pub type McuStore = store::ArrayStore<2048, 513>;
+pub type McuStore = ArrayStore<2048, 513>;
 
 /// The capacity (cells) of a host preset's store: comfortably above the
 /// final count of its runs (checked over seeds by the tests); a run that
 /// outgrows it stops with [`crate::Error::Capacity`]. The
 /// core has no heap: the big mosaics are host presets, run by the host CLI
 /// on a `Vec`-backed
-/// [`CellStore`](store::CellStore) of this many cells and
+/// [`CellStore`] of this many cells and
 /// `cells / 4 + 1` bin offsets.
 #[must_use]
 pub fn host_capacity(params: &Params) -> usize {
@@ -382,8 +452,11 @@ impl<'a, S: Relax> Day<'a> for Mosaic<'a, S> {
         } else {
             [[1 << 16; MAX_TYPES]; MAX_TYPES]
         };
+        let max_bins = self.store.slices().bins.len().saturating_sub(1);
+        let grid = Grid::plan(&params.domain, self.run.radius, max_bins);
         let forces = Forces {
             domain: &params.domain,
+            grid: &grid,
             radius: self.run.radius,
             repel,
             push_weight: params.push_weight.to_bits(),
@@ -394,9 +467,7 @@ impl<'a, S: Relax> Day<'a> for Mosaic<'a, S> {
             momentum: params.momentum.to_bits(),
         };
         let n = self.run.cells as usize;
-        let max_bins = self.store.slices().bins.len().saturating_sub(1);
-        let grid = Grid::plan(&params.domain, self.run.radius, max_bins);
-        self.store.relax(n, &grid, &forces, times);
+        self.store.relax(n, &forces, times);
     }
 
     fn records(&mut self, sink: &mut dyn Sink) -> Result<(), Error> {

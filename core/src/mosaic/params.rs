@@ -88,7 +88,7 @@ pub struct Params<'a> {
     pub anisotropy: Option<Anisotropy<'a>>,
     /// Which days are streamed.
     pub frames: Frames<'a>,
-    /// The mesh the cells live on ([`super::surface`]); `None` on the
+    /// The mesh the cells live on ([`SurfaceMosaic`](super::SurfaceMosaic)); `None` on the
     /// domain itself. The domain then gives the (u, v) the mask is read in.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub surface: Option<Surface<'a>>,

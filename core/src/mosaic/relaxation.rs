@@ -1,30 +1,19 @@
-//! Relaxation (thesis Sec. 3.2.1.1, docs/mosaics.md): every
-//! neighbour q of p within the repulsion radius r pushes p by
-//! (1 − d/r)·ρ_pq·r·(p − q)/d = ρ_pq·(r − d)·(p − q)/d, with the pair's
-//! repulsion ρ_pq from the adhesion (1 − α_pq in the thesis; 1 for like
-//! pairs here, [`Params::adhesion`](super::Params::adhesion)); the sum
-//! Σ is blended by w_a with its part along the anisotropy field v and
-//! scaled by w_d: Δp = w_d·((1 − w_a)·Σ + w_a·(Σ·v)·v). Cells move more
-//! easily along v, so clones stretch along it, and a cell at rest stays at
-//! rest (the thesis's sum with v itself, Sec. 3.2.4, moves every cell by
-//! w_a·v each step: a drift that packs the clones the field points to;
-//! the original MClone code scales the force per component instead). With momentum β (heavy-ball
-//! relaxation) a cell also moves β times its last move, the sum held
-//! within ±r. All pushes are computed (a Jacobi step) before any cell
-//! moves, so the order of the loops does not matter and integer sums make
-//! the result exact on every machine.
+//! Relaxation on the plane (thesis Sec. 3.2.1.1, docs/mosaics.md): the
+//! pushes of the force law ([`super::force`]) of every neighbour within
+//! the repulsion radius r, found through a grid of bins at least r wide
+//! ([`Grid`]) on the periodic or walled domain, summed into each cell's
+//! step. All pushes are computed (a Jacobi step) before any cell moves, so
+//! the order of the loops does not matter and integer sums make the result
+//! exact on every machine.
 
 use core::ops::Range;
 
 use super::control::Field;
 use super::domain::Domain;
+use super::force::{self, Step};
 use super::grid::Grid;
 use super::params::MAX_TYPES;
-use super::store::{ArrayStore, CellSlices, CellStore};
-use crate::fx::root::isqrt_u32;
-
-/// Q16 one.
-const ONE: i64 = 1 << 16;
+use super::store::{CellSlices, Ground};
 
 /// The constants of one relaxation step (all fixed point, Q16 unless
 /// noted).
@@ -32,6 +21,8 @@ const ONE: i64 = 1 << 16;
 pub struct Forces<'a> {
     /// The domain (for periodic distances and walls).
     pub domain: &'a Domain,
+    /// The grid of bins, planned for `radius` ([`Grid::plan`]).
+    pub grid: &'a Grid,
     /// The repulsion radius r.
     pub radius: i32,
     /// The repulsion ρ of each pair of types (from the adhesion; 1 during
@@ -48,135 +39,47 @@ pub struct Forces<'a> {
 }
 
 impl Forces<'_> {
-    /// The push on cell `i` of cell `j` displaced by `(dx, dy)` from it,
-    /// `(1 − α)·(r − d)·(p − q)/d` as Q32 (the product of Q16 repulsion
-    /// and Q16 displacement), for `d2 = dx² + dy²` below `r²`.
+    /// The weights of a cell's step ([`force::Step`]).
     #[inline(always)]
-    fn push(&self, i: usize, j: usize, dx: i64, dy: i64, d2: i64, repel: i32) -> [i64; 2] {
-        let repel = i64::from(repel);
-        if d2 == 0 {
-            return [coincident(i, j) * repel * i64::from(self.radius), 0];
-        }
-        let k = self.ratio(d2);
-        // |k·dx| ≤ (r − d)·2^16·(1 + 1/d) < 2^47 since |dx| ≤ d.
-        let fx = (k * dx) >> 16;
-        let fy = (k * dy) >> 16;
-        [fx * repel, fy * repel]
-    }
-
-    /// The pushes of a pair on each other, exactly [`Forces::push`] from
-    /// both sides: on cell `i` by `j` displaced by `(dx, dy)` from it (with
-    /// the repulsion `repel[0]`), and on `j` by `i` (`repel[1]`), one root
-    /// and one division for both. The floor of `k·(−dx)/2^16` is taken
-    /// from `−k·dx` itself, not as the negated floor of `k·dx`, so the
-    /// bits are those of `j`'s own computation.
-    #[inline(always)]
-    fn pair_pushes(
-        &self,
-        i: usize,
-        j: usize,
-        dx: i64,
-        dy: i64,
-        d2: i64,
-        repel: [i32; 2],
-    ) -> [[i64; 2]; 2] {
-        let repel = repel.map(i64::from);
-        if d2 == 0 {
-            let s = coincident(i, j) * i64::from(self.radius);
-            return [[s * repel[0], 0], [-s * repel[1], 0]];
-        }
-        let k = self.ratio(d2);
-        // Range as in [`Forces::push`]: |k·dx| < 2^47, so −k·dx fits.
-        let (mx, my) = (k * dx, k * dy);
-        [
-            [(mx >> 16) * repel[0], (my >> 16) * repel[0]],
-            [((-mx) >> 16) * repel[1], ((-my) >> 16) * repel[1]],
-        ]
-    }
-
-    /// (r − d)/d as Q16 for a pair at squared distance `d2` (Q32), with
-    /// 0 < d2 < r².
-    #[inline(always)]
-    fn ratio(&self, d2: i64) -> i64 {
-        let r = i64::from(self.radius);
-        // Q16, 1 ≤ d < r (the max only tells the compiler: no division by
-        // zero below); the 32-bit root is much cheaper when it fits.
-        let d = match u32::try_from(d2) {
-            Ok(d2) => i64::from(isqrt_u32(d2)),
-            Err(_) => crate::fx::root::isqrt_u64(d2 as u64) as i64,
-        }
-        .max(1);
-        // (r − d)/d as Q16: (r − d) < 2^30, so the shift fits in i64. A
-        // 64-bit division is one instruction on a 64-bit machine, where
-        // ⌊(r − d)·2^16/d⌋ = ⌊r·2^16/d⌋ − 2^16 (0 < d < r) spares the
-        // subtraction and shift per pair (r·2^16 is the same for every
-        // pair); elsewhere (a library call on a Cortex-M) 32 bits when the
-        // numerator fits, as it does for r below 1.0.
-        if cfg!(target_pointer_width = "64") {
-            ((r << 16) / d) - ONE // d ≥ 1: no overflow
-        } else {
-            let n = (r - d) << 16;
-            match u32::try_from(n) {
-                Ok(n) => i64::from(n / d as u32),
-                Err(_) => n / d,
-            }
+    fn step(&self) -> Step {
+        Step {
+            r: i64::from(self.radius),
+            push_weight: i64::from(self.push_weight),
+            anisotropy_weight: i64::from(self.anisotropy_weight),
+            momentum: i64::from(self.momentum),
         }
     }
 
     /// The push of q (index `j`) on p (index `i`), or `None` beyond the
-    /// radius ([`Forces::push`]).
+    /// radius ([`force::push`]).
     #[inline(always)]
     fn pair(&self, i: usize, j: usize, p: [i32; 2], q: [i32; 2], repel: i32) -> Option<[i64; 2]> {
         let dx = i64::from(self.domain.delta(0, p[0], q[0]));
         let dy = i64::from(self.domain.delta(1, p[1], q[1]));
         let d2 = dx * dx + dy * dy; // < 2·(2^30)², Q32
         let r = i64::from(self.radius);
-        (d2 < r * r).then(|| self.push(i, j, dx, dy, d2, repel))
+        (d2 < r * r).then(|| force::push(i, j, [dx, dy], d2, r, i64::from(repel)))
     }
 
     /// Turns the sum of pair pushes (Q32) at position `p` into the cell's
-    /// displacement (Q16), held within ±r.
+    /// displacement (Q16), held within ±r ([`Step::displacement`], with
+    /// the field at `p`).
     #[inline]
     fn displacement(&self, sum: [i64; 2], p: [i32; 2]) -> [i32; 2] {
-        let r = i64::from(self.radius);
-        let wa = i64::from(self.anisotropy_weight);
-        let wd = i64::from(self.push_weight);
-        let v = match self.field {
-            Some(f) => f.at(self.domain, p),
-            None => [0, 0],
-        };
-        let s = sum.map(|x| (x + (ONE >> 1)) >> 16); // Q16
-        // (Σ·v)·v: Σ's part along the field (Q16; |v| ≤ 1 as Q14).
-        let along = (s[0] * i64::from(v[0]) + s[1] * i64::from(v[1])) >> 14;
-        let mut out = [0i32; 2];
-        for c in 0..2 {
-            let blend = if self.field.is_some() {
-                let steer = (along * i64::from(v[c])) >> 14;
-                ((ONE - wa) * s[c] + wa * steer + (ONE >> 1)) >> 16
-            } else {
-                s[c] // w_a = 0 without a field
-            };
-            let delta = (wd * blend + (ONE >> 1)) >> 16;
-            // max/min, not clamp: the same for r ≥ 1, and no panic path
-            // (with its formatting code) for reversed bounds.
-            out[c] = delta.max(-r).min(r) as i32;
-        }
-        out
+        let v = self.field.map(|f| {
+            let v = f.at(self.domain, p);
+            [i32::from(v[0]), i32::from(v[1])]
+        });
+        let d = self.step().displacement(sum, v);
+        [d[0] as i32, d[1] as i32] // within ±r < 2^31
     }
-}
-
-/// The sign of the push between coincident cells `i` and `j` (a child on
-/// its parent): apart along u, the lower index towards −u.
-#[inline(always)]
-fn coincident(i: usize, j: usize) -> i64 {
-    if i < j { -1 } else { 1 }
 }
 
 /// What one relaxation step reads: the old positions in grid-bin order
 /// (so neighbours are read from contiguous memory), the grid and the
 /// forces. Each cell's new position is a function of the snapshot alone,
 /// so the cells can move in any order, or side by side on several threads
-/// ([`Relax`]), with the same result.
+/// ([`Relax`](super::store::Relax)), with the same result.
 #[derive(Debug)]
 pub struct Snapshot<'s> {
     sorted: &'s [[i32; 2]],
@@ -232,15 +135,12 @@ impl Snapshot<'_> {
     /// which it would slow by 4 % (the croton bench).
     #[inline(always)]
     fn carry(&self, p: [i32; 2], d: [i32; 2], last: [i32; 2]) -> ([i32; 2], [i32; 2]) {
-        let (domain, beta) = (self.forces.domain, i64::from(self.forces.momentum));
-        let r = i64::from(self.forces.radius);
+        let domain = self.forces.domain;
+        let s = (self.forces.step()).carried([i64::from(d[0]), i64::from(d[1])], last);
         let mut to = [0; 2];
         let mut step = [0; 2];
         for c in 0..2 {
-            // |d| ≤ r and |β·last| < r: the sum fits easily in i64.
-            let carry = (beta * i64::from(last[c]) + (ONE >> 1)) >> 16;
-            let s = (i64::from(d[c]) + carry).max(-r).min(r);
-            to[c] = domain.confine(c, i64::from(p[c]) + s);
+            to[c] = domain.confine(c, i64::from(p[c]) + s[c]);
             // The move made: less than s against a wall.
             step[c] = domain.delta(c, to[c], p[c]);
         }
@@ -541,7 +441,7 @@ impl Snapshot<'_> {
                 continue; // the cell itself
             }
             let repel = probe.repel[self.kind_of(j)];
-            let f = self.forces.push(probe.cell, j, dx, dy, d2, repel);
+            let f = force::push(probe.cell, j, [dx, dy], d2, self.radius(), i64::from(repel));
             sum = [sum[0] + f[0], sum[1] + f[1]];
         }
         sum
@@ -587,7 +487,20 @@ impl Snapshot<'_> {
         let j = j as usize;
         let kind = self.kind_of(j);
         let repel = [probe.repel[kind], self.forces.repel[kind][probe.kind]];
-        Some(self.forces.pair_pushes(probe.cell, j, dx, dy, d2, repel))
+        Some(force::pair_pushes(
+            probe.cell,
+            j,
+            [dx, dy],
+            d2,
+            self.radius(),
+            repel,
+        ))
+    }
+
+    /// The repulsion radius r (Q16).
+    #[inline(always)]
+    fn radius(&self) -> i64 {
+        i64::from(self.forces.radius)
     }
 
     /// The type of cell `i`, as an index into the repulsion table.
@@ -649,36 +562,34 @@ impl Moves<'_> {
 }
 
 /// Takes the snapshot of one relaxation step over the first `n` cells with
-/// the grid `grid` (already planned for `forces.radius`): builds the grid
+/// the forces' grid: builds the grid
 /// and gathers the positions in bin order into the push scratch. Returns it
 /// with what the step writes.
 pub fn snapshot<'s>(
     cells: &'s mut CellSlices<'_>,
     n: usize,
-    grid: &'s Grid,
     forces: &'s Forces<'s>,
 ) -> (Snapshot<'s>, Moves<'s>) {
-    grid.build(
+    forces.grid.build(
         &cells.pos[..n],
         &mut cells.order[..n],
         cells.bins,
-        &mut cells.push[..n],
+        &mut cells.sorted[..n],
     );
-    sorted_snapshot(cells, n, grid, forces)
+    sorted_snapshot(cells, n, forces)
 }
 
-/// [`snapshot`] of cells already sorted into the grid ([`Grid::build`]
-/// into `order`, `bins` and the push scratch), as a computer does it on
-/// several threads.
+/// [`snapshot`] of cells already sorted into the forces' grid
+/// ([`Grid::build`] into `order`, `bins` and `sorted`), as a computer
+/// does it on several threads.
 pub fn sorted_snapshot<'s>(
     cells: &'s mut CellSlices<'_>,
     n: usize,
-    grid: &'s Grid,
     forces: &'s Forces<'s>,
 ) -> (Snapshot<'s>, Moves<'s>) {
-    let order = &cells.order[..n];
+    let (order, grid) = (&cells.order[..n], forces.grid);
     let snapshot = Snapshot {
-        sorted: &cells.push[..n],
+        sorted: &cells.sorted[..n],
         order,
         bins: &cells.bins[..=grid.bins()],
         kind: &cells.kind[..n],
@@ -698,8 +609,8 @@ pub fn sorted_snapshot<'s>(
 }
 
 /// One relaxation step over the first `n` cells, one cell after another.
-pub fn relax(cells: &mut CellSlices<'_>, n: usize, grid: &Grid, forces: &Forces<'_>) {
-    let (snapshot, mut moves) = snapshot(cells, n, grid, forces);
+pub fn relax(cells: &mut CellSlices<'_>, n: usize, forces: &Forces<'_>) {
+    let (snapshot, mut moves) = snapshot(cells, n, forces);
     // One closure for both cases: one copy of the sweep on an MCU.
     snapshot.sweep(0..snapshot.len(), |slot, p, d| {
         moves.settle(&snapshot, slot, p, d);
@@ -715,15 +626,14 @@ pub fn relax(cells: &mut CellSlices<'_>, n: usize, grid: &Grid, forces: &Forces<
 pub fn relax_pairs(
     cells: &mut CellSlices<'_>,
     n: usize,
-    grid: &Grid,
     forces: &Forces<'_>,
     sums: &mut [[i64; 2]],
 ) {
     let Some(sums) = sums.get_mut(..n) else {
-        relax(cells, n, grid, forces);
+        relax(cells, n, forces);
         return;
     };
-    let (snapshot, mut moves) = snapshot(cells, n, grid, forces);
+    let (snapshot, mut moves) = snapshot(cells, n, forces);
     sums.fill([0; 2]);
     // Every later slot's sum is in `sums`: nothing goes beyond.
     snapshot.pair_sums(0..n, sums, &mut |_, _| {});
@@ -733,23 +643,24 @@ pub fn relax_pairs(
     }
 }
 
-/// How a cell store runs relaxation steps: one cell after another (the
-/// default, [`relax`]), or, on a computer, side by side on several threads
-/// through the [`Snapshot`], with the same result.
-pub trait Relax: CellStore {
-    /// `times` relaxation steps in a row over the first `n` cells with the
-    /// grid `grid` (already planned for `forces.radius`): a day's ρ_s
-    /// ([`Params::daily_relaxations`](super::Params)) or the initial ones.
-    /// A store may keep the cells in an order of its own between them, as
-    /// long as each cell ends where the steps one after another put it.
-    fn relax(&mut self, n: usize, grid: &Grid, forces: &Forces<'_>, times: u16) {
-        for _ in 0..times {
-            relax(&mut self.slices(), n, grid, forces);
-        }
+/// The plane, or a cylinder's side, or a torus: the [`Domain`] of
+/// [`Params`](super::Params), its cells points (u, v) found through a
+/// grid of bins ([`Grid`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Plane;
+
+impl Ground for Plane {
+    type At = [i32; 2];
+    type Point = [i32; 2];
+    type Forces<'f> = Forces<'f>;
+    const NO_PLACE: [i32; 2] = [0; 2];
+    const ZERO: [i32; 2] = [0; 2];
+    const NAME: &'static str = "Plane";
+
+    fn relax_step(cells: &mut CellSlices<'_>, n: usize, forces: &Forces<'_>) {
+        relax(cells, n, forces);
     }
 }
-
-impl<const N: usize, const G: usize> Relax for ArrayStore<N, G> {}
 
 /// The same step by brute force, O(N²), without momentum: the reference
 /// for tests and the bench. Integer sums are exact, so it gives
@@ -770,13 +681,13 @@ pub fn relax_naive(cells: &mut CellSlices<'_>, n: usize, forces: &Forces<'_>) {
                 sum[1] += f[1];
             }
         }
-        cells.push[i] = forces.displacement(sum, pos[i]);
+        cells.sorted[i] = forces.displacement(sum, pos[i]);
     }
     apply(cells, n, forces.domain);
 }
 
 fn apply(cells: &mut CellSlices<'_>, n: usize, domain: &Domain) {
-    for (p, d) in cells.pos[..n].iter_mut().zip(&cells.push[..n]) {
+    for (p, d) in cells.pos[..n].iter_mut().zip(&cells.sorted[..n]) {
         for c in 0..2 {
             p[c] = domain.confine(c, i64::from(p[c]) + i64::from(d[c]));
         }

@@ -1,108 +1,157 @@
-//! Fixed-capacity cell storage: structure-of-arrays slices that the
-//! relaxation and division kernels borrow (MClone cells are points with a
-//! type; thesis Sec. 3.2.1).
+//! Fixed-capacity cell storage, one for the plane and for a mesh:
+//! structure-of-arrays slices that the relaxation and division kernels
+//! borrow (MClone cells are points with a type; thesis Sec. 3.2.1). The
+//! [`Ground`] says what a cell's place is there and how one relaxation
+//! step runs on it.
 //!
-//! Per cell: position (2 × i32, Q16 = [`Fx`](crate::fx::Fx) bits) 8 B, type
-//! 1 B, next division day 2 B, grid order (counting-sort permutation) 4 B,
-//! push scratch (2 × i32, every force is computed before any cell moves) 8 B
-//! = 23 B, plus the grid's bin offsets (4 B each, a quarter as many bins as
-//! cells in the presets) = **24 B per cell**. A store may also keep each
-//! cell's last move (2 × i32) for the heavy-ball relaxation
-//! ([`Params::momentum`](super::Params::momentum)); [`ArrayStore`] does
-//! not, to stay within an MCU's RAM.
+//! Per cell: where it is ([`Ground::At`]: a point of the plane, 2 × i32
+//! Q16 = [`Fx`](crate::fx::Fx) bits, 8 B; a [`Place`](super::mesh::Place)
+//! on a mesh, 16 B), type 1 B, next division day 2 B, grid order
+//! (counting-sort permutation) 4 B, the points in grid order (scratch,
+//! every force is computed before any cell moves; 8 B, 12 B on a mesh),
+//! plus the grid's bin offsets (4 B each, a quarter as many bins as cells
+//! in the plane's presets): **24 B per cell** on the plane, 35 B on a
+//! mesh. A store may also keep each cell's last move for the heavy-ball
+//! relaxation ([`Params::momentum`](super::Params::momentum));
+//! [`ArrayStore`] does not, to stay within an MCU's RAM.
+
+use core::fmt::Debug;
+
+use super::relaxation::Plane;
+
+/// What a mosaic's cells live on — the plane with its grid of bins, or a
+/// mesh with its grid of cubes — and one relaxation step there.
+pub trait Ground: Sized {
+    /// Where a cell is.
+    type At: Copy + Debug;
+    /// A point as the neighbour search reads it, and a move (Q16).
+    type Point: Copy + Debug;
+    /// What one relaxation step needs besides the cells: the radius, the
+    /// repulsions and weights, the grid or mesh.
+    type Forces<'f>: Debug;
+    /// An empty [`Ground::At`].
+    const NO_PLACE: Self::At;
+    /// The zero [`Ground::Point`].
+    const ZERO: Self::Point;
+    /// The ground's name (in a store's `Debug`).
+    const NAME: &'static str;
+
+    /// One relaxation step over the first `n` cells, one cell after
+    /// another.
+    fn relax_step(cells: &mut CellSlices<'_, Self>, n: usize, forces: &Self::Forces<'_>);
+}
 
 /// The arrays of a cell store, borrowed for one operation.
 #[derive(Debug)]
-pub struct CellSlices<'a> {
-    /// Positions `(u, v)` as Q16 bits.
-    pub pos: &'a mut [[i32; 2]],
+pub struct CellSlices<'a, G: Ground = Plane> {
+    /// Where each cell is.
+    pub pos: &'a mut [G::At],
     /// Type index of each cell.
     pub kind: &'a mut [u8],
     /// The day on which each cell next divides.
     pub next_division: &'a mut [u16],
     /// Cell indices sorted by grid bin (the counting sort's output).
     pub order: &'a mut [u32],
-    /// Displacement of each cell in the current relaxation, Q16 bits.
-    pub push: &'a mut [[i32; 2]],
+    /// The cells' points in grid-bin order during a relaxation step
+    /// (scratch).
+    pub sorted: &'a mut [G::Point],
     /// Grid bin offsets into `order` (`bins.len() − 1` bins at most).
     pub bins: &'a mut [u32],
     /// The last move of each cell, Q16 bits; empty in a store without
     /// momentum.
-    pub velocity: &'a mut [[i32; 2]],
+    pub velocity: &'a mut [G::Point],
 }
 
-/// Storage for cells: capacity is fixed when the store is made.
-pub trait CellStore {
+/// Storage for cells on the ground `G`: capacity is fixed when the store
+/// is made.
+pub trait CellStore<G: Ground = Plane> {
     /// The largest number of cells.
     fn capacity(&self) -> usize;
     /// Borrows every array.
-    fn slices(&mut self) -> CellSlices<'_>;
-    /// The positions (Q16 bits), all `capacity` slots.
-    fn positions(&self) -> &[[i32; 2]];
+    fn slices(&mut self) -> CellSlices<'_, G>;
+    /// Where the cells are, all `capacity` slots.
+    fn positions(&self) -> &[G::At];
     /// The types, all `capacity` slots.
     fn kinds(&self) -> &[u8];
 }
 
+/// How a cell store runs relaxation steps: one cell after another (the
+/// default, [`Ground::relax_step`]), or, on a computer, side by side on
+/// several threads through the ground's snapshot, with the same result.
+pub trait Relax<G: Ground = Plane>: CellStore<G> {
+    /// `times` relaxation steps in a row over the first `n` cells: a day's
+    /// ρ_s ([`Params::daily_relaxations`](super::Params)) or the initial
+    /// ones. A store may keep the cells in an order of its own between
+    /// them, as long as each cell ends where the steps one after another
+    /// put it.
+    fn relax(&mut self, n: usize, forces: &G::Forces<'_>, times: u16) {
+        for _ in 0..times {
+            G::relax_step(&mut self.slices(), n, forces);
+        }
+    }
+}
+
 /// Bytes of RAM per cell for a store of `cells` cells and `bins` bin offsets
-/// (the figure quoted in the benches: 23 B per cell plus 4 B per bin).
+/// on the plane (the figure quoted in the benches: 23 B per cell plus 4 B
+/// per bin).
 #[must_use]
 pub const fn bytes_per_cell_milli(cells: usize, bins: usize) -> usize {
     (cells * CELL_BYTES + bins * 4) * 1000 / cells
 }
 
-/// Bytes per cell held in the per-cell arrays.
+/// Bytes per cell held in the per-cell arrays on the plane.
 pub const CELL_BYTES: usize = 8 + 1 + 2 + 4 + 8;
 
-/// A store held inline: `N` cells and `G` grid bin offsets (`G − 1` bins);
-/// it lives in a `static` on the MCU.
-pub struct ArrayStore<const N: usize, const G: usize> {
-    pos: [[i32; 2]; N],
+/// A store held inline: `N` cells and `B` grid bin offsets (`B − 1`
+/// bins) on the ground `G`; it lives in a `static` on the MCU.
+pub struct ArrayStore<const N: usize, const B: usize, G: Ground = Plane> {
+    pos: [G::At; N],
     kind: [u8; N],
     next_division: [u16; N],
     order: [u32; N],
-    push: [[i32; 2]; N],
-    bins: [u32; G],
+    sorted: [G::Point; N],
+    bins: [u32; B],
 }
 
-impl<const N: usize, const G: usize> ArrayStore<N, G> {
+impl<const N: usize, const B: usize, G: Ground> ArrayStore<N, B, G> {
     /// The cells it holds.
     pub const CAPACITY: usize = N;
 
     /// An empty store (all zeros, `const` so that it can be written in place).
     pub const EMPTY: Self = ArrayStore {
-        pos: [[0; 2]; N],
+        pos: [G::NO_PLACE; N],
         kind: [0; N],
         next_division: [0; N],
         order: [0; N],
-        push: [[0; 2]; N],
-        bins: [0; G],
+        sorted: [G::ZERO; N],
+        bins: [0; B],
     };
 }
 
-impl<const N: usize, const G: usize> core::fmt::Debug for ArrayStore<N, G> {
+impl<const N: usize, const B: usize, G: Ground> Debug for ArrayStore<N, B, G> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "ArrayStore<{N}, {G}>")
+        write!(f, "ArrayStore<{N}, {B}, {}>", G::NAME)
     }
 }
 
-impl<const N: usize, const G: usize> CellStore for ArrayStore<N, G> {
+impl<const N: usize, const B: usize, G: Ground> CellStore<G> for ArrayStore<N, B, G> {
     fn capacity(&self) -> usize {
         N
     }
 
-    fn slices(&mut self) -> CellSlices<'_> {
+    fn slices(&mut self) -> CellSlices<'_, G> {
         CellSlices {
             pos: &mut self.pos,
             kind: &mut self.kind,
             next_division: &mut self.next_division,
             order: &mut self.order,
-            push: &mut self.push,
+            sorted: &mut self.sorted,
             bins: &mut self.bins,
             velocity: &mut [],
         }
     }
 
-    fn positions(&self) -> &[[i32; 2]] {
+    fn positions(&self) -> &[G::At] {
         &self.pos
     }
 
@@ -111,19 +160,26 @@ impl<const N: usize, const G: usize> CellStore for ArrayStore<N, G> {
     }
 }
 
+impl<const N: usize, const B: usize, G: Ground> Relax<G> for ArrayStore<N, B, G> {}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mosaic::OnMesh;
 
     #[test]
-    fn array_store_is_24_bytes_per_cell() {
+    fn array_store_is_24_bytes_per_cell_on_the_plane_and_35_on_a_mesh() {
         assert_eq!(
             core::mem::size_of::<ArrayStore<2048, 513>>(),
             2048 * 23 + 513 * 4
         );
         assert!(bytes_per_cell_milli(2048, 513) <= 24_010);
-        let mut s = ArrayStore::<4, 2>::EMPTY;
-        assert_eq!(s.capacity(), 4);
+        assert_eq!(
+            core::mem::size_of::<ArrayStore<1024, 257, OnMesh>>(),
+            1024 * 35 + 257 * 4
+        );
+        let mut s = <ArrayStore<4, 2>>::EMPTY;
+        assert_eq!(CellStore::<Plane>::capacity(&s), 4);
         assert_eq!(s.slices().bins.len(), 2);
     }
 }

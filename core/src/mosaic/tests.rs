@@ -2,8 +2,6 @@
 //! built-in scenarios, are in `core/tests/mosaic.rs`).
 
 use super::*;
-use params::{NO_MUTATION, ORIGINAL_PUSH_WEIGHT, pair_table};
-use store::{ArrayStore, CellStore};
 
 /// The two cell types of the croton (thesis Fig. 4.1): green background,
 /// yellow foreground, both dividing every 10 days.
@@ -61,21 +59,21 @@ fn grid_and_naive_relaxation_agree_bit_for_bit() {
     b.start(params, 3).unwrap();
     b.place(params).unwrap();
     b.update_radius(params);
-    let forces = |r| Forces {
-        domain: &params.domain,
-        radius: r,
-        repel: [[40_000; MAX_TYPES]; MAX_TYPES],
-        push_weight: params.push_weight.to_bits(),
-        anisotropy_weight: 0,
-        field: None,
-        momentum: 0,
-    };
     for _ in 0..5 {
-        let f = forces(a.run.radius);
         let n = a.len();
         let mut s = a.store.slices();
         let grid = Grid::plan(&params.domain, a.run.radius, s.bins.len() - 1);
-        relaxation::relax(&mut s, n, &grid, &f);
+        let f = Forces {
+            domain: &params.domain,
+            grid: &grid,
+            radius: a.run.radius,
+            repel: [[40_000; MAX_TYPES]; MAX_TYPES],
+            push_weight: params.push_weight.to_bits(),
+            anisotropy_weight: 0,
+            field: None,
+            momentum: 0,
+        };
+        relaxation::relax(&mut s, n, &f);
         relaxation::relax_naive(&mut b.store.slices(), n, &f);
     }
     assert_eq!(a.positions(), b.positions());
@@ -107,19 +105,21 @@ fn coarse_grids_find_every_neighbour_on_both_sides_of_the_wrap() {
             b.start(params, 5).unwrap();
             b.place(params).unwrap();
             // A radius of 4.5 in a 15 × 12 domain: up to 3 bins per axis.
+            let radius = Fx::from_ratio(9, 2).to_bits();
+            let grid = Grid::plan(&params.domain, radius, max_bins);
             let f = Forces {
                 domain: &params.domain,
-                radius: Fx::from_ratio(9, 2).to_bits(),
+                grid: &grid,
+                radius,
                 repel: [[40_000; MAX_TYPES]; MAX_TYPES],
                 push_weight: params.push_weight.to_bits(),
                 anisotropy_weight: 0,
                 field: None,
                 momentum: 0,
             };
-            let grid = Grid::plan(&params.domain, f.radius, max_bins);
             let n = a.len();
             for _ in 0..3 {
-                relaxation::relax(&mut a.store.slices(), n, &grid, &f);
+                relaxation::relax(&mut a.store.slices(), n, &f);
                 relaxation::relax_naive(&mut b.store.slices(), n, &f);
             }
             assert_eq!(
@@ -170,7 +170,7 @@ impl CellStore for Box<Moving> {
             kind: &mut self.kind,
             next_division: &mut self.next_division,
             order: &mut self.order,
-            push: &mut self.push,
+            sorted: &mut self.push,
             bins: &mut self.bins,
             velocity: &mut self.velocity,
         }
@@ -215,8 +215,10 @@ fn a_heavy_ball_step_adds_beta_times_the_last_move_to_the_plain_step() {
     m.start(params, 3).unwrap();
     m.place(params).unwrap();
     m.update_radius(params);
+    let grid = Grid::plan(&params.domain, m.run.radius, 128);
     let forces = |momentum| Forces {
         domain: &params.domain,
+        grid: &grid,
         radius: m.run.radius,
         repel: [[40_000; MAX_TYPES]; MAX_TYPES],
         push_weight: params.push_weight.to_bits(),
@@ -227,7 +229,6 @@ fn a_heavy_ball_step_adds_beta_times_the_last_move_to_the_plain_step() {
     let (heavy, plain) = (forces(beta), forces(0));
     let n = m.len();
     let mut store = m.store;
-    let grid = Grid::plan(&params.domain, m.run.radius, 128);
     for step in 0..4 {
         let before = store.cells;
         let last = store.velocity;
@@ -235,8 +236,8 @@ fn a_heavy_ball_step_adds_beta_times_the_last_move_to_the_plain_step() {
         let mut copy = Moving::new();
         copy.cells = before;
         copy.kind = store.kind;
-        relaxation::relax(&mut copy.slices(), n, &grid, &plain);
-        relaxation::relax(&mut store.slices(), n, &grid, &heavy);
+        relaxation::relax(&mut copy.slices(), n, &plain);
+        relaxation::relax(&mut store.slices(), n, &heavy);
         for i in 0..n {
             for c in 0..2 {
                 let d = i64::from(params.domain.delta(c, copy.cells[i][c], before[i][c]));
@@ -316,8 +317,10 @@ fn pairs_found_once_move_cells_as_the_per_cell_step_does() {
                 b.start(params, 7).unwrap();
                 b.place(params).unwrap();
                 b.store.cells[n - 1] = b.store.cells[0];
+                let grid = Grid::plan(&params.domain, radius.to_bits(), max_bins);
                 let f = Forces {
                     domain: &params.domain,
+                    grid: &grid,
                     radius: radius.to_bits(),
                     repel,
                     push_weight: params.push_weight.to_bits(),
@@ -325,12 +328,11 @@ fn pairs_found_once_move_cells_as_the_per_cell_step_does() {
                     field: None,
                     momentum,
                 };
-                let grid = Grid::plan(&params.domain, f.radius, max_bins);
                 let mut sums = [[0i64; 2]; 512];
                 for step in 0..3 {
                     let before = a.store.cells;
-                    relaxation::relax(&mut a.store.slices(), n, &grid, &f);
-                    relaxation::relax_pairs(&mut b.store.slices(), n, &grid, &f, &mut sums);
+                    relaxation::relax(&mut a.store.slices(), n, &f);
+                    relaxation::relax_pairs(&mut b.store.slices(), n, &f, &mut sums);
                     assert_eq!(
                         a.store.cells[..n],
                         b.store.cells[..n],
@@ -362,8 +364,10 @@ fn shares_of_the_slots_and_their_spills_give_the_sums_of_one_pass() {
         m.start(params, 9).unwrap();
         m.place(params).unwrap();
         m.update_radius(params);
+        let grid = Grid::plan(&params.domain, m.run.radius, max_bins);
         let f = Forces {
             domain: &params.domain,
+            grid: &grid,
             radius: m.run.radius,
             repel: [[40_000; MAX_TYPES]; MAX_TYPES],
             push_weight: params.push_weight.to_bits(),
@@ -372,9 +376,8 @@ fn shares_of_the_slots_and_their_spills_give_the_sums_of_one_pass() {
             momentum: 0,
         };
         let n = m.len();
-        let grid = Grid::plan(&params.domain, m.run.radius, max_bins);
         let mut cells = m.store.slices();
-        let (snapshot, _) = relaxation::snapshot(&mut cells, n, &grid, &f);
+        let (snapshot, _) = relaxation::snapshot(&mut cells, n, &f);
         let mut whole = vec![[0i64; 2]; n];
         snapshot.pair_sums(0..n, &mut whole, &mut |slot, _| {
             panic!("slot {slot} is in the sums")

@@ -14,13 +14,13 @@
 pub mod meshes;
 pub mod relaxation;
 pub mod spec;
-pub mod store;
 
 use super::control::{Anisotropy, Field};
 use super::day::{self, Day, Run};
 use super::division::{self, Purpose, stream_id};
 use super::mesh::{Mesh, MeshError, MeshInfo, MeshParts, Place, along_plane};
 use super::params::{MAX_TYPES, Params};
+use super::store::{ArrayStore, Relax};
 use super::{CELL_LIMIT, MosaicError, repulsion, validate};
 use crate::Error;
 use crate::fx::{Fx, Real};
@@ -28,7 +28,7 @@ use crate::rng::KeyedRng;
 use crate::sim::{Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 use meshes::MeshStore;
-use relaxation::{SurfaceForces, SurfaceRelax};
+use relaxation::{OnMesh, SurfaceForces};
 pub use spec::{ControlMap, Surface, SurfaceMesh};
 
 /// The name of the limit in [`Error::Capacity`] when the buffer for the
@@ -37,7 +37,7 @@ pub const FIELD_LIMIT: &str = "surface anisotropy field (one vector per face of 
 
 /// The MCU's surface cell store: 1 024 cells and 256 grid buckets
 /// (36 868 B).
-pub type McuSurfaceStore = store::ArraySurfaceStore<1024, 257>;
+pub type McuSurfaceStore = ArrayStore<1024, 257, OnMesh>;
 /// The MCU's mesh store: up to 132 vertices and 256 faces (10 800 B; an
 /// ellipsoid of 10 rings × 14 segments has 128 and 252). With the cells,
 /// a surface mosaic on the MCU holds 47 768 B.
@@ -87,7 +87,7 @@ pub fn build_mesh<'m>(surface: &Surface<'_>, buffers: MeshBuffers<'m>) -> Result
 /// A running mosaic over the cell store `S`, on a mesh built at each
 /// start in the mesh store `M`.
 #[derive(Debug)]
-pub struct SurfaceMosaic<'a, S: SurfaceRelax, M: MeshStore> {
+pub struct SurfaceMosaic<'a, S: Relax<OnMesh>, M: MeshStore> {
     store: S,
     meshes: M,
     /// The counts, area and bounds of the mesh in `meshes`.
@@ -119,7 +119,7 @@ fn control_uv(params: &Params, [lo, hi]: [[i32; 3]; 2], p: [i32; 3]) -> [i32; 2]
     }
 }
 
-impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
+impl<'a, S: Relax<OnMesh>, M: MeshStore> SurfaceMosaic<'a, S, M> {
     /// A mosaic over `store`, its mesh (and the anisotropy field's vector
     /// at each face, in its plane, Q14) built in `meshes` at each start;
     /// not yet started.
@@ -165,7 +165,7 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
     /// Where the cells are, by id.
     #[must_use]
     pub fn places(&self) -> &[Place] {
-        &self.store.places()[..self.len()]
+        &self.store.positions()[..self.len()]
     }
 
     /// The (u, v) of `p` in the domain, through the control map.
@@ -263,7 +263,7 @@ impl<'a, S: SurfaceRelax, M: MeshStore> SurfaceMosaic<'a, S, M> {
     }
 }
 
-impl<'a, S: SurfaceRelax, M: MeshStore> Day<'a> for SurfaceMosaic<'a, S, M> {
+impl<'a, S: Relax<OnMesh>, M: MeshStore> Day<'a> for SurfaceMosaic<'a, S, M> {
     fn run(&mut self) -> &mut Run<'a> {
         &mut self.run
     }
@@ -312,7 +312,7 @@ impl<'a, S: SurfaceRelax, M: MeshStore> Day<'a> for SurfaceMosaic<'a, S, M> {
             }
             let next = division::interval(&mut rng, &params.types[kind as usize])?;
             let cells = self.store.slices();
-            cells.place[id as usize] = at;
+            cells.pos[id as usize] = at;
             cells.kind[id as usize] = kind;
             cells.next_division[id as usize] = next;
             if let Some(v) = cells.velocity.get_mut(id as usize) {
@@ -343,10 +343,10 @@ impl<'a, S: SurfaceRelax, M: MeshStore> Day<'a> for SurfaceMosaic<'a, S, M> {
             }
             let split = division::split(seed, day, id as u32, cells.kind[id], params, disc)?;
             let off = split.offset.map(i64::from);
-            let at = cells.place[id];
+            let at = cells.pos[id];
             let [along, across] = mesh.frame(at.face);
             let d = [0, 1, 2].map(|c| (along[c] * off[0] + across[c] * off[1]) >> 16);
-            cells.place[n] = mesh.walk(at, d);
+            cells.pos[n] = mesh.walk(at, d);
             cells.kind[n] = split.child;
             if let Some(v) = cells.velocity.get_mut(n) {
                 *v = [0; 3];
@@ -396,7 +396,7 @@ impl<'a, S: SurfaceRelax, M: MeshStore> Day<'a> for SurfaceMosaic<'a, S, M> {
             }
         }
         let n = self.len();
-        let (places, kinds) = (self.store.places(), self.store.kinds());
+        let (places, kinds) = (self.store.positions(), self.store.kinds());
         for (id, (at, k)) in places[..n].iter().zip(&kinds[..n]).enumerate() {
             sink.record(&Record::SurfaceCell {
                 id: id as u32,
@@ -408,7 +408,7 @@ impl<'a, S: SurfaceRelax, M: MeshStore> Day<'a> for SurfaceMosaic<'a, S, M> {
     }
 }
 
-impl<'a, S: SurfaceRelax, M: MeshStore> Start<'a> for SurfaceMosaic<'a, S, M> {
+impl<'a, S: Relax<OnMesh>, M: MeshStore> Start<'a> for SurfaceMosaic<'a, S, M> {
     type Params = Params<'a>;
 
     /// (Re)starts a run of `params` with `seed`, in place.
@@ -421,7 +421,7 @@ impl<'a, S: SurfaceRelax, M: MeshStore> Start<'a> for SurfaceMosaic<'a, S, M> {
     }
 }
 
-impl<S: SurfaceRelax, M: MeshStore> Simulation for SurfaceMosaic<'_, S, M> {
+impl<S: Relax<OnMesh>, M: MeshStore> Simulation for SurfaceMosaic<'_, S, M> {
     /// Step 0 places and relaxes the initial cells; step d ≥ 1 simulates
     /// day d, as on the plane.
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {

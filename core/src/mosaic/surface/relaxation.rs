@@ -1,11 +1,11 @@
 //! Relaxation on a surface (MClone thesis, Secs. 3.2.1.1 and 4.1: the cells
-//! on the object itself): the plane's pushes
-//! ρ_pq·(r − d)·(p − q)/d by 3D distance d < r
-//! ([`crate::mosaic::relaxation`]), summed over the neighbours a cube
-//! grid finds, blended with the anisotropy field of the cell's face
-//! (w_a) and scaled by w_d as on the plane, taken into the cell's tangent
-//! plane and walked along the mesh ([`Mesh::walk`]). A Jacobi step on integer sums:
-//! the same result in any order.
+//! on the object itself): the plane's force law
+//! ρ_pq·(r − d)·(p − q)/d ([`crate::mosaic::force`]) by 3D distance
+//! d < r, summed over the neighbours a cube grid finds, blended with the
+//! anisotropy field of the cell's face (w_a) and scaled by w_d as on the
+//! plane, taken into the cell's tangent plane and walked along the mesh
+//! ([`Mesh::walk`]). A Jacobi step on integer sums: the same result in any
+//! order.
 //!
 //! The grid bins space into cubes at least r wide, so a cell's neighbours
 //! lie in the (at most 27) cubes its sphere of radius r touches; the cubes
@@ -16,14 +16,11 @@
 use core::num::NonZeroU32;
 use core::ops::Range;
 
-use crate::fx::root::{isqrt_u32, isqrt_u64};
+use crate::mosaic::force::{self, Step};
 use crate::mosaic::mesh::{Mesh, Place, per_axis};
 use crate::mosaic::params::MAX_TYPES;
 
-use super::store::{ArraySurfaceStore, SurfaceSlices, SurfaceStore};
-
-/// Q16 one.
-const ONE: i64 = 1 << 16;
+use crate::mosaic::store::{CellSlices, Ground};
 
 /// The constants of one relaxation step on a surface.
 #[derive(Clone, Copy, Debug)]
@@ -429,7 +426,7 @@ impl Snapshot<'_> {
                 continue;
             }
             let repel = i64::from(probe.repel[self.kind_of(j)]);
-            let f = push(probe.cell, j, d, d2, probe.r, repel);
+            let f = force::push(probe.cell, j, d, d2, probe.r, repel);
             sum = [sum[0] + f[0], sum[1] + f[1], sum[2] + f[2]];
         }
         sum
@@ -468,7 +465,7 @@ impl Snapshot<'_> {
         let j = j as usize;
         let kind = self.kind_of(j);
         let repel = [probe.repel[kind], self.forces.repel[kind][probe.kind]];
-        Some(pair_pushes(probe.cell, j, d, d2, probe.r, repel))
+        Some(force::pair_pushes(probe.cell, j, d, d2, probe.r, repel))
     }
 
     /// The new place of the cell in slot `slot`, which was at `from` and
@@ -484,33 +481,25 @@ impl Snapshot<'_> {
     #[must_use]
     pub fn moved_by(&self, sum: [i64; 3], from: Place, last: [i32; 3]) -> (Place, [i32; 3]) {
         let forces = self.forces;
-        let r = i64::from(forces.radius);
-        let (wd, beta) = (i64::from(forces.push_weight), i64::from(forces.momentum));
-        let wa = i64::from(forces.anisotropy_weight);
-        let s = per_axis(|c| (sum[c] + (ONE >> 1)) >> 16); // Q16
-        let blend = if wa == 0 {
-            s // (2^16·s + 2^15) >> 16 = s
-        } else {
-            let v = forces
+        let step = Step {
+            r: i64::from(forces.radius),
+            push_weight: i64::from(forces.push_weight),
+            anisotropy_weight: i64::from(forces.anisotropy_weight),
+            momentum: i64::from(forces.momentum),
+        };
+        // Without w_a the blend is Σ itself, whatever the field.
+        let v = (step.anisotropy_weight != 0).then(|| {
+            forces
                 .field
                 .and_then(|f| f.get(from.face as usize))
                 .copied()
-                .unwrap_or([0; 3]);
-            // (Σ·v)·v as on the plane ([`crate::mosaic::relaxation`]).
-            let along = (0..3).map(|c| s[c] * i64::from(v[c])).sum::<i64>() >> 14;
-            [0, 1, 2].map(|c| {
-                let steer = (along * i64::from(v[c])) >> 14;
-                ((ONE - wa) * s[c] + wa * steer + (ONE >> 1)) >> 16
-            })
-        };
-        let push = per_axis(|c| ((wd * blend[c] + (ONE >> 1)) >> 16).max(-r).min(r));
-        let d = if beta == 0 {
+                .unwrap_or([0; 3])
+        });
+        let push = step.displacement(sum, v);
+        let d = if step.momentum == 0 {
             push // no carry: (0 + 2^15) >> 16 = 0
         } else {
-            per_axis(|c| {
-                let carry = (beta * i64::from(last[c]) + (ONE >> 1)) >> 16;
-                (push[c] + carry).max(-r).min(r)
-            })
+            step.carried(push, last)
         };
         let to = forces.mesh.walk(from, d);
         let step = per_axis(|c| to.p[c].wrapping_sub(from.p[c]));
@@ -561,74 +550,29 @@ impl Window {
     }
 }
 
-/// The push on cell `i` of cell `j` displaced by `d` (Q16) from it, at
-/// squared distance `d2` < r² (Q32): ρ·(r − d)·d⃗/d as Q32.
-#[inline]
-fn push(i: usize, j: usize, d: [i64; 3], d2: i64, r: i64, repel: i64) -> [i64; 3] {
-    if d2 == 0 {
-        // Coincident cells: apart along x, the lower index towards −x.
-        let s = if i < j { -1 } else { 1 };
-        return [s * repel * r, 0, 0];
-    }
-    let k = ratio(d2, r);
-    per_axis(|c| ((k * d[c]) >> 16) * repel)
-}
-
-/// The pushes of a pair on each other, exactly [`push`] from both sides:
-/// on cell `i` by `j` displaced by `d` from it (repulsion `repel[0]`) and
-/// on `j` by `i` (`repel[1]`), with one root and one division. The floor
-/// of `k·(−d)/2^16` is taken from `−k·d` itself, so the bits are those of
-/// `j`'s own [`push`].
-#[inline]
-fn pair_pushes(i: usize, j: usize, d: [i64; 3], d2: i64, r: i64, repel: [i32; 2]) -> [[i64; 3]; 2] {
-    let repel = repel.map(i64::from);
-    if d2 == 0 {
-        let s = if i < j { -r } else { r };
-        return [[s * repel[0], 0, 0], [-s * repel[1], 0, 0]];
-    }
-    let k = ratio(d2, r);
-    // |k·d| < 2^47 as in [`push`]: −k·d fits.
-    let m = per_axis(|c| k * d[c]);
-    [
-        per_axis(|c| (m[c] >> 16) * repel[0]),
-        per_axis(|c| ((-m[c]) >> 16) * repel[1]),
-    ]
-}
-
-/// (r − d)/d as Q16 for a pair at squared distance 0 < `d2` < r² (Q32).
-#[inline(always)]
-fn ratio(d2: i64, r: i64) -> i64 {
-    let dist = match u32::try_from(d2) {
-        Ok(d2) => i64::from(isqrt_u32(d2)),
-        Err(_) => isqrt_u64(d2 as u64) as i64,
-    };
-    let dist = dist.max(1);
-    ((r - dist) << 16) / dist
-}
-
 /// Takes the snapshot of one step over the first `n` cells: plans the
 /// grid, sorts the points into it.
 pub fn snapshot<'s>(
-    cells: &'s mut SurfaceSlices<'_>,
+    cells: &'s mut CellSlices<'_, OnMesh>,
     n: usize,
     forces: &'s SurfaceForces<'s>,
 ) -> (Snapshot<'s>, &'s mut [Place], &'s mut [[i32; 3]]) {
     let grid = CubeGrid::plan(
         forces.mesh,
         forces.radius,
-        cells.buckets.len().saturating_sub(1),
+        cells.bins.len().saturating_sub(1),
     );
-    let buckets = grid.buckets().min(cells.buckets.len().saturating_sub(1));
+    let buckets = grid.buckets().min(cells.bins.len().saturating_sub(1));
     grid.build(
-        &cells.place[..n],
+        &cells.pos[..n],
         &mut cells.order[..n],
-        cells.buckets,
+        cells.bins,
         &mut cells.sorted[..n],
     );
     let snapshot = Snapshot {
         sorted: &cells.sorted[..n],
         order: &cells.order[..n],
-        offsets: &cells.buckets[..=buckets],
+        offsets: &cells.bins[..=buckets],
         kind: &cells.kind[..n],
         grid,
         forces,
@@ -638,7 +582,7 @@ pub fn snapshot<'s>(
         Some(v) => v,
         None => &mut [],
     };
-    (snapshot, &mut cells.place[..n], velocity)
+    (snapshot, &mut cells.pos[..n], velocity)
 }
 
 /// [`snapshot`] of cells the caller has sorted into `grid`'s buckets
@@ -667,25 +611,27 @@ pub fn sorted_snapshot<'s>(
     }
 }
 
-/// How a surface cell store runs relaxation steps: one cell after
-/// another (the default, [`relax`]), or side by side on several threads
-/// through the [`Snapshot`], with the same result.
-pub trait SurfaceRelax: SurfaceStore {
-    /// `times` relaxation steps in a row over the first `n` cells (a
-    /// day's ρ_s or the initial ones); a store may keep the cells in an
-    /// order of its own between them, as long as each cell ends where the
-    /// steps one after another put it.
-    fn relax(&mut self, n: usize, forces: &SurfaceForces<'_>, times: u16) {
-        for _ in 0..times {
-            relax(&mut self.slices(), n, forces);
-        }
+/// A triangle mesh: its cells [`Place`]s on the faces, found through a
+/// grid of cubes ([`CubeGrid`]), pushed in their tangent planes and walked
+/// along the surface ([`Mesh::walk`]).
+#[derive(Clone, Copy, Debug)]
+pub struct OnMesh;
+
+impl Ground for OnMesh {
+    type At = Place;
+    type Point = [i32; 3];
+    type Forces<'f> = SurfaceForces<'f>;
+    const NO_PLACE: Place = Place { face: 0, p: [0; 3] };
+    const ZERO: [i32; 3] = [0; 3];
+    const NAME: &'static str = "OnMesh";
+
+    fn relax_step(cells: &mut CellSlices<'_, OnMesh>, n: usize, forces: &SurfaceForces<'_>) {
+        relax(cells, n, forces);
     }
 }
 
-impl<const N: usize, const B: usize> SurfaceRelax for ArraySurfaceStore<N, B> {}
-
 /// One relaxation step over the first `n` cells, one after another.
-pub fn relax(cells: &mut SurfaceSlices<'_>, n: usize, forces: &SurfaceForces<'_>) {
+pub fn relax(cells: &mut CellSlices<'_, OnMesh>, n: usize, forces: &SurfaceForces<'_>) {
     let (snapshot, places, velocity) = snapshot(cells, n, forces);
     for slot in 0..snapshot.len() {
         let i = snapshot.cell(slot);
@@ -703,7 +649,7 @@ pub fn relax(cells: &mut SurfaceSlices<'_>, n: usize, forces: &SurfaceForces<'_>
 /// (one per cell, 24 B, which a computer has and an MCU's store does not;
 /// fewer than `n`: as [`relax`]). The same places as [`relax`].
 pub fn relax_pairs(
-    cells: &mut SurfaceSlices<'_>,
+    cells: &mut CellSlices<'_, OnMesh>,
     n: usize,
     forces: &SurfaceForces<'_>,
     sums: &mut [[i64; 3]],
@@ -736,11 +682,12 @@ mod tests {
     use crate::fx::Fx;
     use crate::mosaic::mesh::{MeshParts, Place};
     use crate::mosaic::shapes::{Shape, Tessellation};
+    use crate::mosaic::store::{ArrayStore, CellStore};
     use crate::rng::KeyedRng;
 
     /// Calls `test` with a ribbed stem's mesh and a store of 600 cells
     /// placed at random on it, of types 0 and 1 in turn.
-    fn on_a_stem(test: impl FnOnce(&Mesh<'_>, &mut ArraySurfaceStore<600, 97>)) {
+    fn on_a_stem(test: impl FnOnce(&Mesh<'_>, &mut ArrayStore<600, 97, OnMesh>)) {
         let t = Tessellation {
             shape: Shape::Stem {
                 radius: Fx::from_int(4),
@@ -764,14 +711,14 @@ mod tests {
             edges: &mut edges,
         };
         let mesh = Mesh::new_checked(&v, &f, parts).unwrap();
-        let mut store = ArraySurfaceStore::<600, 97>::EMPTY;
+        let mut store = <ArrayStore<600, 97, OnMesh>>::EMPTY;
         let mut rng = KeyedRng::new(5, 1);
         {
             let cells = store.slices();
             for i in 0..600 {
                 let face = rng.below(nf as u32);
                 let (a, b) = (i64::from(rng.below(1 << 15)), i64::from(rng.below(1 << 15)));
-                cells.place[i] = Place {
+                cells.pos[i] = Place {
                     face,
                     p: mesh.at(face, [(1 << 16) - a - b, a, b]),
                 };
@@ -790,11 +737,11 @@ mod tests {
         for radius in [3 << 16, 1 << 15] {
             on_a_stem(|mesh, store| {
                 let n = 600;
-                store.slices().place[n - 1] = store.places()[0];
-                let mut other = ArraySurfaceStore::<600, 97>::EMPTY;
+                store.slices().pos[n - 1] = store.positions()[0];
+                let mut other = <ArrayStore<600, 97, OnMesh>>::EMPTY;
                 {
                     let (copy, cells) = (other.slices(), store.slices());
-                    copy.place.copy_from_slice(cells.place);
+                    copy.pos.copy_from_slice(cells.pos);
                     copy.kind.copy_from_slice(cells.kind);
                 }
                 let forces = SurfaceForces {
@@ -813,15 +760,15 @@ mod tests {
                 };
                 let mut sums = vec![[0i64; 3]; n];
                 for step in 0..3 {
-                    let before = store.places()[..n].to_vec();
+                    let before = store.positions()[..n].to_vec();
                     relax(&mut store.slices(), n, &forces);
                     relax_pairs(&mut other.slices(), n, &forces, &mut sums);
                     assert_eq!(
-                        store.places()[..n],
-                        other.places()[..n],
+                        store.positions()[..n],
+                        other.positions()[..n],
                         "r {radius} step {step}"
                     );
-                    assert_ne!(store.places()[..n], before[..], "the cells move");
+                    assert_ne!(store.positions()[..n], before[..], "the cells move");
                 }
             });
         }
@@ -884,7 +831,7 @@ mod tests {
                 field: None,
                 momentum: 0,
             };
-            let places: Vec<Place> = store.places()[..n].to_vec();
+            let places: Vec<Place> = store.positions()[..n].to_vec();
             let mut cells = store.slices();
             let (snapshot, _, _) = snapshot(&mut cells, n, &forces);
             let r = i64::from(forces.radius);
@@ -898,7 +845,7 @@ mod tests {
                         continue;
                     }
                     let repel = i64::from(forces.repel[i % 2][j % 2]);
-                    let f = push(i, j, d, d2, r, repel);
+                    let f = force::push(i, j, d, d2, r, repel);
                     naive = [0, 1, 2].map(|c| naive[c] + f[c]);
                 }
                 assert_eq!(snapshot.pushes(slot), naive, "cell {i}");

@@ -5,11 +5,11 @@
 #![allow(clippy::float_arithmetic)] // f64 measures the fixed-point results
 
 use super::meshes::ArrayMeshStore;
-use super::store::ArraySurfaceStore;
 use super::*;
 use crate::mosaic::mesh::MeshArrays;
 use crate::mosaic::params::{CellType, Frames, NO_MUTATION, pair_table};
 use crate::mosaic::shapes::{Shape, Tessellation};
+use crate::mosaic::{ArrayStore, OnMesh};
 use crate::mosaic::{Domain, VELOCITY_LIMIT};
 use crate::stream::Encoder;
 use crate::stream::SinkError;
@@ -145,7 +145,7 @@ impl Sink for Last {
     }
 }
 
-type Store = ArraySurfaceStore<2048, 1025>;
+type Store = ArrayStore<2048, 1025, OnMesh>;
 
 /// The distance (units, f64) from a cell to its face's triangle.
 fn off_triangle(mesh: &Mesh<'_>, at: Place) -> f64 {

@@ -5,8 +5,8 @@
 //! type most of the surface's sample points that land on it have.
 
 use morphogen::fx::Real as _;
+use morphogen::mosaic::ControlMap;
 use morphogen::mosaic::Params;
-use morphogen::mosaic::surface::ControlMap;
 
 use super::Shell;
 use super::nearest::{Along, Nearest};

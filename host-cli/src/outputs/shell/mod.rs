@@ -18,8 +18,8 @@ use std::sync::Mutex;
 
 use anyhow::{Context, Result, anyhow};
 use morphogen::fx::Real as _;
+use morphogen::mosaic::ControlMap;
 use morphogen::mosaic::Params;
-use morphogen::mosaic::surface::ControlMap;
 use morphogen::stream::Record;
 use nalgebra::Vector3;
 use rayon::prelude::*;
