@@ -39,9 +39,7 @@ pub mod picture;
 pub(crate) mod pipeline;
 pub mod plant;
 pub mod raster;
-pub mod shell;
 pub(crate) mod slots;
-pub mod surface;
 pub mod text;
 pub mod tip_bend;
 
@@ -95,7 +93,9 @@ fn write_preset<R: Records + ?Sized>(
             body::write(preset.name, records, dir, binding, Some(p.table), kinds)
         }
         Model::Bones(p) => bones::write(preset.name, p, records, dir, kinds),
-        Model::Mosaic(p) if p.surface.is_some() => shell::write(p, names, records, dir, kinds),
+        Model::Mosaic(p) if p.surface.is_some() => {
+            mosaic::on_mesh::write(p, names, records, dir, kinds)
+        }
         Model::Mosaic(p) => mosaic::write(p, names, records, dir, kinds),
     }
 }

@@ -11,6 +11,8 @@
 //! the types' colours; the control mask, if any, as `mask.pbm`. Days are
 //! written in parallel.
 
+mod object;
+pub mod on_mesh;
 mod pattern;
 mod voronoi;
 
@@ -31,10 +33,10 @@ use super::mesh::{Mesh, ObjStyle, write_obj};
 use super::numbered::{FileSeries, Numbering};
 use super::picture;
 use super::slots::OrderedAnimation;
-use super::surface::{Surface, SurfaceView};
 use super::text;
 use crate::atomic::{self, OutputFile, write_atomic};
 use crate::records::Records;
+use object::{Surface, SurfaceView};
 
 pub use pattern::{Figures, Raster};
 pub use voronoi::{Indexed, voronoi};

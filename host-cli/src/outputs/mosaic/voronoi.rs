@@ -16,10 +16,10 @@ use morphogen::fx::Fx;
 use morphogen::fx::Real as _;
 use morphogen::mosaic::Domain;
 
+use super::object::pattern_pixel;
 use crate::outputs::driver::Still;
 use crate::outputs::picture::pack_rgb;
 use crate::outputs::picture::save_indexed;
-use crate::outputs::surface::pattern_pixel;
 
 use super::pattern::Raster;
 

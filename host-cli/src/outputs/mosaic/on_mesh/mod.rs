@@ -1,5 +1,5 @@
 //! Mosaics grown on a mesh (MClone thesis Secs. 3.2, 4.1; the core's
-//! `mosaic::surface`): per streamed day `cells_dayNN.csv` (`id,type,x,y,z`)
+//! `SurfaceMosaic`): per streamed day `cells_dayNN.csv` (`id,type,x,y,z`)
 //! and a shaded picture of the object with every point coloured by its
 //! nearest cell (`surface_dayNN.png`; `surface.png` the last day);
 //! `surface.obj` the mesh the cells live on, `mosaic.obj` the last day
@@ -24,14 +24,12 @@ use morphogen::stream::Record;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use super::driver::{self, Closing, Products, Still};
-use super::kinds::{Kind, Kinds};
-use super::mesh::{Mesh, ObjStyle, Rgb, write_obj};
-use super::mosaic::{
-    Measured, by_type, write_counts_and_mask, write_csv, write_mosaic_obj, write_tables,
-};
-use super::numbered::{FileSeries, Numbering};
+use super::{Measured, by_type, write_counts_and_mask, write_csv, write_mosaic_obj, write_tables};
 use crate::atomic;
+use crate::outputs::driver::{self, Closing, Products, Still};
+use crate::outputs::kinds::{Kind, Kinds};
+use crate::outputs::mesh::{Mesh, ObjStyle, Rgb, write_obj};
+use crate::outputs::numbered::{FileSeries, Numbering};
 use crate::records::{Place, Records};
 use control::Unrolled;
 use nearest::{Along, Nearest};

@@ -14,11 +14,11 @@ use morphogen::fx::Real as _;
 use morphogen::mosaic::Domain;
 use tiny_skia::{Pixmap, PremultipliedColorU8};
 
-use super::mesh::{Mesh, Rgb};
-use super::picture;
+use crate::outputs::mesh::{Mesh, Rgb};
+use crate::outputs::picture;
 use nalgebra::Vector3;
 
-use super::normals::unit;
+use crate::outputs::normals::unit;
 
 /// The colour of the mosaic at the fractions (u, v) of the domain's
 /// width and height (its Voronoi picture).
@@ -59,12 +59,6 @@ impl Surface {
             _ => None,
         };
         Surface { size, wrap }
-    }
-
-    /// Whether it is a cylinder.
-    #[must_use]
-    pub fn is_cylinder(&self) -> bool {
-        self.wrap.is_some()
     }
 
     /// The 3D point of the domain position (u, v): (u, v, 0) on the plane;
