@@ -273,8 +273,7 @@ pub fn render_rig<R: Records + ?Sized>(
 }
 
 /// Writes `chain`'s bytes of every frame of `records` on `rig` (as
-/// [`render_rig`] draws them) into `dir`; returns the file's path and the
-/// number of frames.
+/// [`render_rig`] draws them) into `dir`; returns the file's path.
 ///
 /// # Errors
 /// As [`render_rig`], or a failed write.
@@ -284,7 +283,7 @@ pub fn render_chain<R: Records + ?Sized>(
     chain: Chain,
     inks: Option<&[[u8; 3]]>,
     dir: &Path,
-) -> Result<(PathBuf, u32)> {
+) -> Result<PathBuf> {
     let (fitted, _) = Fitted::new(records, rig, inks)?;
     let mut screen = Framebuffer::new(rig.width, rig.height);
     let mut file = ChainFile::create(dir, &rig.chain_name(), chain)?;

@@ -209,7 +209,7 @@ fn run_scenario(
             let inks = outputs::rig_inks(scenario);
             files.extend(rig::render_rig_png(records, rig, inks.as_deref(), dir)?);
             if let Some(chain) = rig.chain {
-                let (path, _) = rig::render_chain(records, rig, chain, inks.as_deref(), dir)?;
+                let path = rig::render_chain(records, rig, chain, inks.as_deref(), dir)?;
                 files.push(path);
             }
         }

@@ -105,7 +105,6 @@ pub struct ChainFile {
     chain: Chain,
     out: OutputFile,
     path: PathBuf,
-    frames: u32,
 }
 
 impl ChainFile {
@@ -119,7 +118,6 @@ impl ChainFile {
             chain,
             out: OutputFile::create(&path)?,
             path,
-            frames: 0,
         })
     }
 
@@ -129,19 +127,18 @@ impl ChainFile {
     /// # Errors
     /// When the file cannot be written.
     pub fn frame(&mut self, size: (u32, u32), colour: impl Fn(u32, u32) -> [u8; 3]) -> Result<()> {
-        self.frames += 1;
         self.out
             .write_all(&self.chain.bytes(size, colour))
             .with_context(|| format!("cannot write {}", self.path.display()))
     }
 
-    /// Ends the file; returns its path and how many frames it holds.
+    /// Ends the file; returns its path.
     ///
     /// # Errors
     /// When the file cannot be written.
-    pub fn finish(self) -> Result<(PathBuf, u32)> {
+    pub fn finish(self) -> Result<PathBuf> {
         self.out.finish()?;
-        Ok((self.path, self.frames))
+        Ok(self.path)
     }
 }
 

@@ -364,7 +364,7 @@ mod tests {
             periodic: [true, false],
         };
         let s = Surface::of(&d);
-        assert!(s.is_cylinder());
+        assert!(s.wrap.is_some());
         let r = 50.0 / TAU;
         for (u, v) in [(0.0, 0.0), (12.5, 30.0), (37.0, 99.0)] {
             let p = s.point(u, v);
