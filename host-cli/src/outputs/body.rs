@@ -555,7 +555,7 @@ impl Products for Body<'_> {
     }
 }
 
-/// Writes (those of `kinds`) a body run's files ([`Body`]), its title
+/// Writes (those of `kinds`) a body run's files (`Body`), its title
 /// `title`, with its cylinders' `binding` and growth `table` when known.
 ///
 /// # Errors

@@ -405,7 +405,7 @@ impl Products for Bones<'_> {
     }
 }
 
-/// Writes (those of `kinds`) a bones run's files ([`Bones`]).
+/// Writes (those of `kinds`) a bones run's files (`Bones`).
 ///
 /// # Errors
 /// When the records cannot be read or a file cannot be written.

@@ -700,7 +700,7 @@ impl Products for Horn<'_> {
     }
 }
 
-/// Writes (those of `kinds`) a horn run's files ([`Horn`]).
+/// Writes (those of `kinds`) a horn run's files (`Horn`).
 ///
 /// # Errors
 /// A malformed stream, unreadable records, or a file that cannot be

@@ -1,7 +1,7 @@
 //! Mosaic presets (MClone): per streamed day a CSV of the cells
-//! (`cells_dayNN.csv`: `id,type,x,y,z`, their points on the
-//! [`Surface`]) and a Voronoi picture (`day_NN.png`: every pixel takes the
-//! colour of the type of its nearest cell, distances periodic where the
+//! (`cells_dayNN.csv`: `id,type,x,y,z`, their points on the object the
+//! domain makes, `object`) and a Voronoi picture (`day_NN.png`: every
+//! pixel takes the colour of the type of its nearest cell, distances periodic where the
 //! domain wraps, the cylinder unrolled with u to the right and v down);
 //! on a cylinder also the shaded object (`surface_dayNN.png`);
 //! `mosaic.png` (and `surface.png`) is the last day; `surface.obj` the
@@ -396,7 +396,7 @@ pub(super) fn write_tables(
     Ok(vec![types, pattern])
 }
 
-/// Writes (those of `kinds`) the files of `params`' run ([`Plane`]), the
+/// Writes (those of `kinds`) the files of `params`' run (`Plane`), the
 /// types named `names` where given.
 ///
 /// # Errors

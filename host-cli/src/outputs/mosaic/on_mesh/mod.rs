@@ -394,7 +394,7 @@ impl Products for Surface<'_> {
 }
 
 /// Writes (those of `kinds`) the files of `params`' run on a mesh
-/// ([`Surface`]), the types named `names` where given.
+/// (`Surface`), the types named `names` where given.
 ///
 /// # Errors
 /// When the records cannot be read or a file cannot be written.
