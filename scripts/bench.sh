@@ -90,7 +90,7 @@ rss10="$(echo "$rss" | sed -n 's/.*n=10 \([0-9]*\) MB.*/\1/p')"
 say "relaxation on 1 and 2 threads (croton-ageing)"
 # The bench times the relaxation apart from the run, pair by pair; the
 # whole `verify` (start-up, divisions, the digest: one thread) beside it.
-threads="$(cargo bench -q -p morphogen --bench threads 2>/dev/null | sed -n 's/^croton-ageing relaxation: //p')"
+threads="$(cargo bench -q -p morphogen-benches --bench threads 2>/dev/null | sed -n 's/^croton-ageing relaxation: //p')"
 relax1="$(median wall RAYON_NUM_THREADS=1 "$bin" verify croton-ageing)"
 relax2="$(median wall RAYON_NUM_THREADS=2 "$bin" verify croton-ageing)"
 say "verify every preset, --jobs 1 and --jobs 2"
@@ -100,7 +100,7 @@ verify2="$(median wall "$bin" verify --jobs 2)"
 # ---- kernels ------------------------------------------------------------------
 say "instruction counts (valgrind, gungraun)"
 counts="$work/instructions.txt"
-cargo bench -p morphogen --bench model_instructions 2>&1 | tee "$counts" >&2
+cargo bench -p morphogen-benches --bench model_instructions 2>&1 | tee "$counts" >&2
 instructions() { # the Instructions line after the bench named $1
   awk -v b="$1" 'index($0, b) {found = 1} found && /Instructions:/ {gsub(/\|.*/, "", $2); print $2; exit}' "$counts"
 }
@@ -123,7 +123,7 @@ cat <<EOF2
 | \`run\` ÷ \`verify\` CPU, every preset | $(summary "$ratios") | ≤ 1.3× |
 | \`run\` ÷ \`verify\` instructions, presets simulating in < 0.1 s | $(summary "$work/ratios-ir.md") | ≤ 1.3× |
 | peak RSS, \`run --grammar\` shrub n = 10 | $rss10 MB ($rss) | < 24 MB, flat in n |
-| relaxation, 2 threads ÷ 1 thread (croton-ageing) | relaxation alone (\`cargo bench -p morphogen --bench threads\`): $threads; the whole \`verify\`: $(ratio "$relax1" "$relax2")× ($relax1 s / $relax2 s) | ≥ 1.7×, same bytes |
+| relaxation, 2 threads ÷ 1 thread (croton-ageing) | relaxation alone (\`cargo bench -p morphogen-benches --bench threads\`): $threads; the whole \`verify\`: $(ratio "$relax1" "$relax2")× ($relax1 s / $relax2 s) | ≥ 1.7×, same bytes |
 | \`verify\` of all presets, 2 cores | $(ratio "$verify1" "$verify2")× faster ($verify1 s / $verify2 s) | ≥ 1.7× faster |
 | instructions per cell-relaxation step (croton, 2 000 cells) | $per_cell (each pair once, the host's step); $(python3 -c "print(round($relax_mcu_ir / 2000))") per cell one after another (the MCU's) | ≤ 700 |
 | the same on a mesh (2 000 cells on watermelon-fruit's ellipsoid, w_r 1) | $surface_per_cell: $(python3 -c "print(f'{$surface_ir / $relax_ir:.2f}')")× the plane's; per cell (the MCU's) $(python3 -c "print(round($surface_mcu_ir / 2000))"): $(python3 -c "print(f'{$surface_mcu_ir / $relax_mcu_ir:.2f}')")× the plane's per cell | ≤ 2× |

@@ -39,6 +39,8 @@ cargo fmt --all --check
 step "lint"
 cargo clippy --workspace --all-targets -- -D warnings
 cargo clippy -p morphogen --all-targets --features rig,defmt,surface-runner -- -D warnings
+# The end-to-end mosaic test's runner on a surface (the core's feature).
+cargo clippy -p morphogen-tests --all-targets --features surface-runner -- -D warnings
 (cd firmware-example && cargo clippy --release --lib --bins --examples -- -D warnings)
 (cd firmware-example && cargo clippy --release --no-default-features --features semihosting,bitwise-crc -- -D warnings)
 (cd firmware-example && cargo clippy --release --features surface -- -D warnings)
@@ -61,7 +63,7 @@ cargo check -p morphogen --target riscv32imac-unknown-none-elf --features rig
 
 step "the embedding examples build for Cortex-M0+ (firmware-example/examples, profile small: docs/embedding.md's flash and RAM table), the directly driven horn under 32 KB of flash"
 # One build of the four examples, as docs/embedding.md measures them (the
-# streams are checked on the host by core/tests/embedding.rs). `size` is
+# streams are checked on the host by tests/tests/embedding.rs). `size` is
 # binutils', which links every host build.
 # The checkout's path mapped to a fixed name, as the firmware check builds
 # (scripts/fixed-paths.sh): the same flash on any machine.
@@ -85,7 +87,7 @@ export MORPHOGEN_RELEASE_BIN="$morphogen"
 step "tests"
 cargo test --workspace
 # The runner with a surface mosaic (the firmware's feature `surface`).
-cargo test -p morphogen --features surface-runner --test mosaic
+cargo test -p morphogen-tests --features surface-runner --test mosaic
 
 step "golden fixtures: every built-in scenario re-run (release build)"
 "$morphogen" verify

@@ -1,7 +1,7 @@
 //! Bones against the paper: every wrapped mesh a closed genus-0 manifold
 //! wound outwards, and the skeleton's limits. The built-in scenarios'
 //! other checks (the iso-surface, the f64 reference, the stream) are in
-//! `core/tests/bones.rs`.
+//! `tests/tests/bones.rs`.
 
 use nalgebra::Vector3;
 

@@ -1,7 +1,7 @@
 //! The ram horn of the horn paper (Stępień & Prolejko, Table 1 and Sec. 6),
 //! its parameters written in Rust with the core alone: the same bits as the
 //! built-in scenario `scenarios/ram-horn.toml`, so the same stream.
-//! `core/tests/embedding.rs` proves it (parameter digest and stream digest
+//! `tests/tests/embedding.rs` proves it (parameter digest and stream digest
 //! against `fixtures/ram-horn/summary.toml`, and field by field against the
 //! scenario reader's parameters); the firmware examples `horn_direct`,
 //! `horn_runner` and `horn_draw` include this file.

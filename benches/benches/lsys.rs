@@ -3,7 +3,7 @@
 //! a counting sink), on ABOP Fig. 1.25's shrub (77 399 modules, 3 891
 //! segments, 1 284 polygons at n = 7).
 //!
-//! `CARGO_TARGET_DIR=… cargo bench -p morphogen --bench lsys`
+//! `CARGO_TARGET_DIR=… cargo bench -p morphogen-benches --bench lsys`
 
 #![allow(
     clippy::unwrap_used,

@@ -1,7 +1,7 @@
 //! Body deformation speed: one frame of each body preset (every vertex
 //! bound and blended), and a whole run into a counting sink.
 //!
-//! `CARGO_TARGET_DIR=… cargo bench -p morphogen --bench body`
+//! `CARGO_TARGET_DIR=… cargo bench -p morphogen-benches --bench body`
 
 #![allow(
     clippy::unwrap_used,

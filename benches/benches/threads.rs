@@ -3,7 +3,7 @@
 //! steps of 50 000 cells on average) as the host runs it, on a pool of one
 //! thread and one of two, in turn, with the time spent relaxing counted
 //! apart from the run's. Prints the medians and, pair by pair, the ratios'
-//! median. Run with `cargo bench -p morphogen --bench threads`.
+//! median. Run with `cargo bench -p morphogen-benches --bench threads`.
 
 #![allow(
     clippy::unwrap_used,

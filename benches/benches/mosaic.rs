@@ -1,5 +1,5 @@
 //! Clonal mosaic costs. Run with
-//! `cargo bench -p morphogen --bench mosaic`. The big mosaics run on the
+//! `cargo bench -p morphogen-benches --bench mosaic`. The big mosaics run on the
 //! host (the core has no heap): this bench runs them as the host does, on
 //! the scenario crate's `Vec`-backed store
 //! ([`morphogen_scenario::run::VecStore`]).

@@ -1,7 +1,7 @@
 //! Instruction counts of the models' hot paths under Valgrind (gungraun):
 //! the speed figures that a noisy machine cannot time. Needs valgrind and
 //! `cargo install gungraun-runner --version 0.20.0`; run by
-//! `scripts/bench.sh`, or `cargo bench -p morphogen --bench
+//! `scripts/bench.sh`, or `cargo bench -p morphogen-benches --bench
 //! model_instructions`. Setup (parsing, the initial relaxations) is not
 //! counted.
 //!

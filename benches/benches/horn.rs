@@ -1,6 +1,6 @@
 //! Rings per second for a full `ram-horn` frame (t = 8 years: 8 complete
 //! modules, 200 rings of 24 points), in fixed point and in the f64
-//! reference. Run: `cargo bench -p morphogen --bench horn`.
+//! reference. Run: `cargo bench -p morphogen-benches --bench horn`.
 
 #![allow(
     clippy::unwrap_used,

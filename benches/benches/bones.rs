@@ -5,7 +5,7 @@
 //! `f64`.
 //! The state's size (the peak memory, which is all static) is printed.
 //!
-//! `CARGO_TARGET_DIR=… cargo bench -p morphogen --bench bones`
+//! `CARGO_TARGET_DIR=… cargo bench -p morphogen-benches --bench bones`
 
 #![allow(
     clippy::unwrap_used,
