@@ -184,7 +184,8 @@ fn fruit_cells() -> SurfaceRelaxation {
     };
     let mesh: &'static Mesh<'static> =
         Box::leak(Box::new(build_mesh(surface, buffers).expect("a mesh")));
-    let mut mosaic = SurfaceMosaic::new(VecSurfaceStore::new(CELLS as usize), MeshVecs::default());
+    let mut mosaic =
+        SurfaceMosaic::on_mesh(VecSurfaceStore::new(CELLS as usize), MeshVecs::default());
     mosaic.start(params, 1).expect("valid");
     while !mosaic.step(&mut Null).expect("runs").finished() {}
     let radius = mosaic.radius().to_bits();

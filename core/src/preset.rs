@@ -233,7 +233,7 @@ pub const SURFACE_MOSAICS: &str =
 /// An idle mosaic on a surface.
 #[cfg(feature = "surface-runner")]
 const IDLE_SURFACE_MOSAIC: SurfaceMosaic<'static, McuSurfaceStore, McuMeshStore> =
-    SurfaceMosaic::new(McuSurfaceStore::EMPTY, McuMeshStore::EMPTY);
+    SurfaceMosaic::on_mesh(McuSurfaceStore::EMPTY, McuMeshStore::EMPTY);
 /// An idle L-system.
 const IDLE_LSYSTEM: LSystem = LSystem::new();
 /// An idle body.

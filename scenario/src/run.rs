@@ -684,7 +684,7 @@ pub fn run(
             },
         ) => {
             let store = VecSurfaceStore::new(host_capacity(params));
-            let mut mosaic = SurfaceMosaic::new(store, MeshVecs::default());
+            let mut mosaic = SurfaceMosaic::on_mesh(store, MeshVecs::default());
             mosaic.start(params, seed)?;
             preset::drive(&mut mosaic, &header, sink, progress)
         }

@@ -145,7 +145,7 @@ fn a_days_steps_in_bucket_order_move_cells_on_a_mesh_as_the_per_cell_step_does()
             initial_relaxations: 3,
             ..*fruit
         };
-        let mut spread = SurfaceMosaic::new(VecSurfaceStore::new(2_000), MeshVecs::default());
+        let mut spread = SurfaceMosaic::on_mesh(VecSurfaceStore::new(2_000), MeshVecs::default());
         spread.start(&params, 1).unwrap();
         while !spread.step(&mut Null).unwrap().finished() {}
         let n = spread.len();

@@ -1,12 +1,14 @@
-//! The day of a clonal mosaic (thesis Sec. 3.2; docs/mosaics.md), the same on the plane ([`super::Mosaic`]) and on a mesh
-//! ([`super::surface::SurfaceMosaic`]): day 0 spreads the initial cells and
+//! The day of a clonal mosaic (thesis Sec. 3.2; docs/mosaics.md), the
+//! same on the plane and on a mesh ([`Mosaic`] on any [`Terrain`]): day 0 spreads the initial cells and
 //! relaxes them ρ_i times without adhesion; each following day divides the
 //! cells whose division day has come, works out the repulsion radius again
 //! and relaxes ρ_s times with adhesion. A day that [`Params::frames`]
 //! selects is streamed as a frame.
 
 use super::params::Params;
+use super::store::Relax;
 use super::{CELL_LIMIT, VELOCITY_LIMIT};
+use super::{Mosaic, Terrain};
 use crate::Error;
 use crate::fx::Fx;
 use crate::sim::{Deferred, Progress};
@@ -90,57 +92,20 @@ pub(crate) fn check_store(
     Ok(())
 }
 
-/// A mosaic's days on its ground (the plane or a mesh): what differs
-/// between them, and the day itself, which does not.
-pub(crate) trait Day<'a> {
-    /// Its run.
-    fn run(&mut self) -> &mut Run<'a>;
-
-    /// Checks `params` and the store and gets ready for them (the ground's
-    /// own part of a start).
-    ///
-    /// # Errors
-    /// The parameter or limit that refuses the run.
-    fn prepare(&mut self, params: &'a Params<'a>) -> Result<(), Error>;
-
-    /// Spreads the initial cells (day 0).
-    ///
-    /// # Errors
-    /// A division interval out of range.
-    fn place(&mut self, params: &Params) -> Result<(), Error>;
-
-    /// Divides every cell whose day has come (in id order; children are
-    /// appended and divide on later days only).
-    ///
-    /// # Errors
-    /// A full store ([`CELL_LIMIT`]).
-    fn divide(&mut self, params: &Params) -> Result<(), Error>;
-
-    /// Works out r = w_r·√(area/N) for the cells there are.
-    fn update_radius(&mut self, params: &Params);
-
-    /// `times` relaxation steps at the current radius, with or without
-    /// adhesion.
-    fn relax(&mut self, params: &Params, times: u16, adhesion: bool);
-
-    /// The records of a streamed day between its frame's start and end.
-    ///
-    /// # Errors
-    /// The sink's.
-    fn records(&mut self, sink: &mut dyn Sink) -> Result<(), Error>;
-
+/// The day itself, the same on every terrain.
+impl<'a, S: Relax<T::Ground>, T: Terrain> Mosaic<'a, S, T> {
     /// (Re)starts a run of `params` with `seed`, in place; a refusal is
-    /// also kept for the next [`Day::step_day`].
+    /// also kept for the next [`Mosaic::step_day`].
     ///
     /// # Errors
-    /// [`Day::prepare`]'s.
-    fn start_run(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
-        self.run().params = None;
+    /// An invalid run (`Mosaic::prepare`).
+    pub(crate) fn start_run(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
+        self.run.params = None;
         let result = self.prepare(params);
         if result.is_ok() {
-            self.run().begin(params, seed);
+            self.run.begin(params, seed);
         }
-        self.run().pending.keep(result)
+        self.run.pending.keep(result)
     }
 
     /// Step 0 places and relaxes the initial cells; step d ≥ 1 simulates
@@ -148,36 +113,37 @@ pub(crate) trait Day<'a> {
     ///
     /// # Errors
     /// A refused start, a full store or the sink's error.
-    fn step_day(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
-        let run = self.run();
+    pub(crate) fn step_day(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
+        let run = &mut self.run;
         run.pending.check()?;
         let params = run.params()?;
         let total = u32::from(params.days) + 1;
         if run.done >= total {
             return Ok(Progress { done: total, total });
         }
-        if run.done == 0 {
+        // Day 0 relaxes ρ_i times ignoring adhesion, later days ρ_s times.
+        let (times, adhesion) = if run.done == 0 {
             self.place(params)?;
-            self.update_radius(params);
-            self.relax(params, params.initial_relaxations, false);
+            (params.initial_relaxations, false)
         } else {
-            self.run().day += 1;
+            self.run.day += 1;
             self.divide(params)?;
-            self.update_radius(params);
-            self.relax(params, params.daily_relaxations, true);
-        }
-        let run = self.run();
+            (params.daily_relaxations, true)
+        };
+        self.update_radius(params);
+        self.relax(params, times, adhesion);
+        let run = &mut self.run;
         if params.frames.includes(run.day) {
             sink.record(&Record::FrameStart {
                 frame: run.frame,
                 time: Fx::from_int(i32::from(run.day)),
             })?;
             self.records(sink)?;
-            let run = self.run();
+            let run = &mut self.run;
             sink.record(&Record::FrameEnd { frame: run.frame })?;
             run.frame += 1;
         }
-        let run = self.run();
+        let run = &mut self.run;
         run.done += 1;
         Ok(Progress {
             done: run.done,

@@ -9,12 +9,16 @@
 //! only where the [`Mask`] allows) and relaxes them ρ_i times ignoring
 //! adhesion. Each following day first divides the cells whose division day
 //! has come, then recomputes the repulsion radius r = w_r·√(area/N) and
-//! relaxes ρ_s times (Sec. 3.2.1.1). Both grounds keep their cells in one
-//! kind of store ([`CellStore`], inline: [`ArrayStore`]) and relax them
-//! through one trait ([`Relax`]) with one force law; only the neighbour
-//! search and how a cell moves differ. Selected days are streamed as
-//! frames of [`Record::Cell`]s (on a mesh, [`Record::SurfaceCell`]s after
-//! the mesh); the host draws them as Voronoi regions.
+//! relaxes ρ_s times (Sec. 3.2.1.1). One [`Mosaic`] runs that day on
+//! either ground: its [`Terrain`] ([`PlaneTerrain`], [`MeshTerrain`]) says
+//! where cells land, how large the ground is and where the mask is read;
+//! both keep their cells in one kind of store ([`CellStore`], inline:
+//! [`ArrayStore`]) and relax them through one trait ([`Relax`]) with one
+//! force law; only the neighbour search and how a cell moves differ.
+//! Selected days are streamed as frames of cell records
+//! ([`Record::Cell`](crate::stream::Record::Cell); on a mesh,
+//! [`Record::SurfaceCell`](crate::stream::Record::SurfaceCell) after the
+//! mesh); the host draws them as Voronoi regions.
 //!
 //! ```
 //! use morphogen::fx::Fx;
@@ -77,6 +81,7 @@ mod relaxation;
 mod shapes;
 mod store;
 mod surface;
+mod terrain;
 
 pub use control::{
     Anisotropy, ControlError, ControlVector, FIELD_LATTICE, Field, MAX_CONTROL_VECTORS, Mask,
@@ -96,9 +101,10 @@ pub use store::{ArrayStore, CellSlices, CellStore, Ground, Relax};
 pub use surface::meshes::{ArrayMeshStore, MESH_FACE_LIMIT, MESH_VERTEX_LIMIT, MeshStore};
 pub use surface::relaxation::{OnMesh, SurfaceForces};
 pub use surface::{
-    ControlMap, FIELD_LIMIT, McuMeshStore, McuSurfaceStore, MeshBuffers, Surface, SurfaceMesh,
-    SurfaceMosaic, build_mesh,
+    ControlMap, FIELD_LIMIT, McuMeshStore, McuSurfaceStore, MeshBuffers, MeshTerrain, Surface,
+    SurfaceMesh, SurfaceMosaic, build_mesh,
 };
+pub use terrain::{PlaneTerrain, Push, Terrain};
 
 /// The relaxation's kernels: one step on the plane ([`kernels::plane`])
 /// or on a mesh ([`kernels::mesh`]), their grids and snapshots, and the
@@ -128,10 +134,9 @@ use crate::Error;
 use crate::fx::Fx;
 use crate::rng::KeyedRng;
 use crate::sim::{Progress, Simulation, Start};
-use crate::stream::{Record, Sink};
-use day::{Day, Run};
+use crate::stream::Sink;
+use day::Run;
 use division::{Purpose, stream_id};
-use grid::Grid;
 
 /// The name of the cell-store limit in [`Error::Capacity`].
 pub const CELL_LIMIT: &str = "mosaic cell store (capacity of the preset's CellStore)";
@@ -215,15 +220,6 @@ pub fn validate(params: &Params) -> Result<(), MosaicError> {
     Ok(())
 }
 
-/// The repulsion of each pair of types (Q16) for the adhesion `alpha`:
-/// 1 − α_pq (thesis Sec. 3.2.1.1, as the original MClone code computes
-/// it). A type with a higher self-adhesion is softer, so a growing clone
-/// of stiffer cells presses its softer neighbours into thin borders
-/// between the clones (docs/mosaics.md).
-fn repulsion(alpha: &[[Fx; MAX_TYPES]; MAX_TYPES]) -> [[i32; MAX_TYPES]; MAX_TYPES] {
-    alpha.map(|row| row.map(|a| (Fx::ONE - a.clamp(Fx::ZERO, Fx::ONE)).to_bits()))
-}
-
 /// The inline store of the MCU presets: 2 048 cells, 512 grid bins, 24 B
 /// per cell (49 156 B).
 pub type McuStore = ArrayStore<2048, 513>;
@@ -283,27 +279,36 @@ pub fn expected_peak_cells(params: &Params) -> u64 {
         .div_ceil(1 << 16)
 }
 
-/// A running mosaic over the cell store `S`.
+/// A running mosaic over the cell store `S` on the terrain `T`: the plane
+/// ([`PlaneTerrain`], the default) or a mesh ([`MeshTerrain`],
+/// [`SurfaceMosaic`]).
 ///
 /// `repr(C)`: the store first, at the offset where the MCU's relaxation
 /// loops reach its arrays with the shortest immediates (Rust's own layout
 /// put the run's counters first: croton-mcu 0.8 % more instructions).
 #[derive(Debug)]
 #[repr(C)]
-pub struct Mosaic<'a, S: Relax> {
+pub struct Mosaic<'a, S: Relax<T::Ground>, T: Terrain = PlaneTerrain> {
     store: S,
     run: Run<'a>,
-    field: Field,
+    terrain: T,
     divisions: [[u32; MAX_TYPES]; MAX_TYPES],
 }
 
 impl<'a, S: Relax> Mosaic<'a, S> {
-    /// A mosaic over `store`, not yet started.
+    /// A mosaic on the plane over `store`, not yet started.
     pub const fn new(store: S) -> Mosaic<'a, S> {
+        Mosaic::on(store, PlaneTerrain::EMPTY)
+    }
+}
+
+impl<'a, S: Relax<T::Ground>, T: Terrain> Mosaic<'a, S, T> {
+    /// A mosaic over `store` on `terrain`, not yet started.
+    pub const fn on(store: S, terrain: T) -> Mosaic<'a, S, T> {
         Mosaic {
             store,
             run: Run::new(),
-            field: Field::zero(),
+            terrain,
             divisions: [[0; MAX_TYPES]; MAX_TYPES],
         }
     }
@@ -326,15 +331,22 @@ impl<'a, S: Relax> Mosaic<'a, S> {
         &mut self.store
     }
 
+    /// The terrain (on a mesh: [`MeshTerrain::mesh`]).
+    #[must_use]
+    pub fn terrain(&self) -> &T {
+        &self.terrain
+    }
+
     /// The current repulsion radius (Q16 bits).
     #[must_use]
     pub fn radius(&self) -> Fx {
         Fx::from_bits(self.run.radius)
     }
 
-    /// The cells' positions (Q16 bits) by id.
+    /// Where the cells are, by id (Q16 bits on the plane, a [`Place`] on
+    /// a mesh).
     #[must_use]
-    pub fn positions(&self) -> &[[i32; 2]] {
+    pub fn positions(&self) -> &[<T::Ground as Ground>::At] {
         &self.store.positions()[..self.len()]
     }
 
@@ -355,59 +367,58 @@ impl<'a, S: Relax> Mosaic<'a, S> {
     pub fn day(&self) -> u16 {
         self.run.day
     }
-}
 
-impl<'a, S: Relax> Day<'a> for Mosaic<'a, S> {
-    fn run(&mut self) -> &mut Run<'a> {
-        &mut self.run
-    }
-
-    fn prepare(&mut self, params: &'a Params<'a>) -> Result<(), Error> {
+    /// Checks `params` and the store and gets the terrain ready for them.
+    fn prepare(&mut self, params: &Params) -> Result<(), Error> {
         validate(params)?;
         let velocities = self.store.slices().velocity.len();
         day::check_store(params, self.store.capacity(), velocities)?;
-        self.field = match &params.anisotropy {
-            Some(a) => Field::interpolate(&params.domain, a).map_err(MosaicError::Control)?,
-            None => Field::zero(),
-        };
+        self.terrain.prepare(params)?;
         self.divisions = [[0; MAX_TYPES]; MAX_TYPES];
         Ok(())
     }
 
-    /// r = w_r·√(area/N), held below half the smallest side (so that the
-    /// minimum image is unique).
+    /// Works out r = w_r·√(area/N) for the cells there are.
+    #[inline(never)]
     fn update_radius(&mut self, params: &Params) {
-        let n = i64::from(self.run.cells.max(1));
-        let spacing = ((params.domain.area_q32() / n) as u64).isqrt() as i64; // Q16
-        let r = (spacing * i64::from(params.radius_weight.to_bits())) >> 16;
-        let half = i64::from(params.domain.size[0].min(params.domain.size[1]).to_bits() / 2 - 1);
-        self.run.radius = r.clamp(1, half.max(1)) as i32;
+        self.run.radius = self.terrain.radius(params, self.run.cells);
     }
 
+    /// Spreads the initial cells uniformly at random (day 0).
     fn place(&mut self, params: &Params) -> Result<(), Error> {
+        let mut scatter = self.terrain.scatter(params);
         let cells = self.store.slices();
-        cells.velocity.fill([0; 2]);
-        let size = params.domain.size.map(|s| s.to_bits() as u32);
+        cells.velocity.fill(<T::Ground as Ground>::ZERO);
         for id in 0..params.initial_cells {
             let mut rng = KeyedRng::new(self.run.seed, stream_id(Purpose::Place, 0, id));
-            let p = [rng.below(size[0]) as i32, rng.below(size[1]) as i32];
+            let at = scatter(&mut rng);
+            // By the initial probabilities; the background where the mask
+            // does not allow the foreground.
             let mut kind = division::initial_type(&mut rng, params.types);
-            if kind != 0 && params.mask.is_some_and(|m| !m.allows(&params.domain, p)) {
+            let uv = |at| self.terrain.control_uv(params, at);
+            if kind != 0
+                && params
+                    .mask
+                    .is_some_and(|m| !m.allows(&params.domain, uv(&at)))
+            {
                 kind = 0;
             }
-            let t = &params.types[kind as usize];
-            cells.pos[id as usize] = p;
-            cells.kind[id as usize] = kind;
-            cells.next_division[id as usize] = division::interval(&mut rng, t)?;
+            let i = id as usize;
+            cells.pos[i] = at;
+            cells.kind[i] = kind;
+            cells.next_division[i] = division::interval(&mut rng, &params.types[kind as usize])?;
         }
         self.run.cells = params.initial_cells;
         Ok(())
     }
 
+    /// Divides every cell whose day has come (in id order; children are
+    /// appended and divide on later days only).
     fn divide(&mut self, params: &Params) -> Result<(), Error> {
         let (seed, day) = (self.run.seed, self.run.day);
         let capacity = self.store.capacity();
         let disc = self.run.radius / 200; // diameter 1 % of r
+        let offspring = self.terrain.offspring(params);
         let cells = self.store.slices();
         let existing = self.run.cells as usize;
         let mut n = existing;
@@ -423,84 +434,65 @@ impl<'a, S: Relax> Day<'a> for Mosaic<'a, S> {
             }
             let parent = cells.kind[id];
             let split = division::split(seed, day, id as u32, parent, params, disc)?;
-            let (child, off) = (split.child, split.offset);
-            let p = cells.pos[id];
-            cells.pos[n] = [
-                params
-                    .domain
-                    .confine(0, i64::from(p[0]) + i64::from(off[0])),
-                params
-                    .domain
-                    .confine(1, i64::from(p[1]) + i64::from(off[1])),
-            ];
-            cells.kind[n] = child;
+            cells.pos[n] = offspring(cells.pos[id], split.offset);
+            cells.kind[n] = split.child;
             if let Some(v) = cells.velocity.get_mut(n) {
-                *v = [0; 2]; // a newborn cell has not moved
+                *v = <T::Ground as Ground>::ZERO; // a newborn cell has not moved
             }
             cells.next_division[n] = split.child_next;
             cells.next_division[id] = split.parent_next;
-            self.divisions[parent as usize % MAX_TYPES][child as usize % MAX_TYPES] += 1;
+            self.divisions[parent as usize % MAX_TYPES][split.child as usize % MAX_TYPES] += 1;
             n += 1;
         }
         self.run.cells = n as u32;
         Ok(())
     }
 
+    /// `times` relaxation steps at the current radius, with or without
+    /// adhesion.
     fn relax(&mut self, params: &Params, times: u16, adhesion: bool) {
-        let repel = if adhesion {
-            repulsion(&params.adhesion)
-        } else {
-            [[1 << 16; MAX_TYPES]; MAX_TYPES]
-        };
-        let max_bins = self.store.slices().bins.len().saturating_sub(1);
-        let grid = Grid::plan(&params.domain, self.run.radius, max_bins);
-        let forces = Forces {
-            domain: &params.domain,
-            grid: &grid,
+        let push = Push {
             radius: self.run.radius,
-            repel,
+            repel: terrain::repulsion(&params.adhesion, adhesion),
             push_weight: params.push_weight.to_bits(),
             anisotropy_weight: params
                 .anisotropy
                 .map_or(0, |a| a.weight.clamp(Fx::ZERO, Fx::ONE).to_bits()),
-            field: params.anisotropy.as_ref().map(|_| &self.field),
             momentum: params.momentum.to_bits(),
         };
         let n = self.run.cells as usize;
-        self.store.relax(n, &forces, times);
+        self.terrain.relax(&mut self.store, n, push, params, times);
     }
 
+    /// The records of a streamed day between its frame's start and end.
     fn records(&mut self, sink: &mut dyn Sink) -> Result<(), Error> {
+        self.terrain.records(self.run.frame, sink)?;
         let n = self.len();
         let (pos, kind) = (self.store.positions(), self.store.kinds());
-        for (id, (p, k)) in pos[..n].iter().zip(&kind[..n]).enumerate() {
-            sink.record(&Record::Cell {
-                id: id as u32,
-                kind: *k,
-                p: [Fx::from_bits(p[0]), Fx::from_bits(p[1])],
-            })?;
+        for (id, (at, k)) in pos[..n].iter().zip(&kind[..n]).enumerate() {
+            sink.record(&T::cell(id as u32, *k, at))?;
         }
         Ok(())
     }
 }
 
-impl<'a, S: Relax> Start<'a> for Mosaic<'a, S> {
+impl<'a, S: Relax<T::Ground>, T: Terrain> Start<'a> for Mosaic<'a, S, T> {
     type Params = Params<'a>;
 
     /// (Re)starts a run of `params` with `seed`, in place.
     ///
     /// # Errors
-    /// Invalid parameters, or more initial cells than the store holds; the
-    /// error is also kept and returned by the next [`Simulation::step`].
+    /// Invalid parameters, an unusable mesh, or more initial cells than
+    /// the store holds; the error is also kept and returned by the next
+    /// [`Simulation::step`].
     fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
         self.start_run(params, seed)
     }
 }
 
-impl<S: Relax> Simulation for Mosaic<'_, S> {
+impl<S: Relax<T::Ground>, T: Terrain> Simulation for Mosaic<'_, S, T> {
     /// Step 0 places and relaxes the initial cells; step d ≥ 1 simulates
-    /// day d (the day cycle both mosaics share). A step streams its day if
-    /// [`Params::frames`] selects it.
+    /// day d. A step streams its day if [`Params::frames`] selects it.
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
         self.step_day(sink)
     }

@@ -2,6 +2,8 @@
 //! built-in scenarios, are in `core/tests/mosaic.rs`).
 
 use super::*;
+use grid::Grid;
+use terrain::repulsion;
 
 /// The two cell types of the croton (thesis Fig. 4.1): green background,
 /// yellow foreground, both dividing every 10 days.
@@ -271,7 +273,7 @@ fn a_pair_repels_with_one_minus_its_adhesion() {
         ],
         Fx::from_ratio(1, 10),
     );
-    let r = repulsion(&alpha);
+    let r = repulsion(&alpha, true);
     for (p, row) in r.iter().enumerate() {
         for (q, x) in row.iter().enumerate() {
             assert_eq!(*x, (Fx::ONE - alpha[p][q]).to_bits(), "{p},{q}");

@@ -16,16 +16,14 @@ pub mod relaxation;
 pub mod spec;
 
 use super::control::{Anisotropy, Field};
-use super::day::{self, Day, Run};
-use super::division::{self, Purpose, stream_id};
 use super::mesh::{Mesh, MeshError, MeshInfo, MeshParts, Place, along_plane};
-use super::params::{MAX_TYPES, Params};
+use super::params::Params;
 use super::store::{ArrayStore, Relax};
-use super::{CELL_LIMIT, MosaicError, repulsion, validate};
+use super::terrain::{Push, Terrain};
+use super::{Mosaic, MosaicError};
 use crate::Error;
 use crate::fx::{Fx, Real};
 use crate::rng::KeyedRng;
-use crate::sim::{Progress, Simulation, Start};
 use crate::stream::{Record, Sink};
 use meshes::MeshStore;
 use relaxation::{OnMesh, SurfaceForces};
@@ -84,20 +82,38 @@ pub fn build_mesh<'m>(surface: &Surface<'_>, buffers: MeshBuffers<'m>) -> Result
         .map_err(|e| MosaicError::Mesh(e).into())
 }
 
-/// A running mosaic over the cell store `S`, on a mesh built at each
-/// start in the mesh store `M`.
+/// A running mosaic on a mesh: over the cell store `S`, on a mesh built
+/// at each start in the mesh store `M`.
+pub type SurfaceMosaic<'a, S, M> = Mosaic<'a, S, MeshTerrain<M>>;
+
+impl<'a, S: Relax<OnMesh>, M: MeshStore> SurfaceMosaic<'a, S, M> {
+    /// A mosaic over `store`, its mesh (and the anisotropy field's vector
+    /// at each face, in its plane, Q14) built in `meshes` at each start;
+    /// not yet started.
+    pub const fn on_mesh(store: S, meshes: M) -> SurfaceMosaic<'a, S, M> {
+        Mosaic::on(
+            store,
+            MeshTerrain {
+                meshes,
+                mesh: MeshInfo::EMPTY,
+            },
+        )
+    }
+
+    /// The mesh (empty before a start).
+    #[must_use]
+    pub fn mesh(&self) -> Mesh<'_> {
+        self.terrain().mesh()
+    }
+}
+
+/// A triangle mesh built at each start in the mesh store `M`, with the
+/// anisotropy field at each face.
 #[derive(Debug)]
-pub struct SurfaceMosaic<'a, S: Relax<OnMesh>, M: MeshStore> {
-    store: S,
+pub struct MeshTerrain<M: MeshStore> {
     meshes: M,
     /// The counts, area and bounds of the mesh in `meshes`.
     mesh: MeshInfo,
-    run: Run<'a>,
-}
-
-/// The mesh in `meshes`, as `info` describes it.
-fn mesh_of<'m>(meshes: &'m impl MeshStore, info: &MeshInfo) -> Mesh<'m> {
-    Mesh::view(info, meshes.arrays().0)
 }
 
 /// The (u, v) in the domain of `p` on a mesh with `bounds`, through the
@@ -119,58 +135,11 @@ fn control_uv(params: &Params, [lo, hi]: [[i32; 3]; 2], p: [i32; 3]) -> [i32; 2]
     }
 }
 
-impl<'a, S: Relax<OnMesh>, M: MeshStore> SurfaceMosaic<'a, S, M> {
-    /// A mosaic over `store`, its mesh (and the anisotropy field's vector
-    /// at each face, in its plane, Q14) built in `meshes` at each start;
-    /// not yet started.
-    pub const fn new(store: S, meshes: M) -> SurfaceMosaic<'a, S, M> {
-        SurfaceMosaic {
-            store,
-            meshes,
-            mesh: MeshInfo::EMPTY,
-            run: Run::new(),
-        }
-    }
-
+impl<M: MeshStore> MeshTerrain<M> {
     /// The mesh (empty before a start).
     #[must_use]
     pub fn mesh(&self) -> Mesh<'_> {
-        mesh_of(&self.meshes, &self.mesh)
-    }
-
-    /// Number of cells.
-    #[must_use]
-    pub fn len(&self) -> usize {
-        self.run.cells as usize
-    }
-
-    /// Whether there are no cells (before day 0).
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.run.cells == 0
-    }
-
-    /// The cell store (for benches and tools that drive the kernels
-    /// directly; the first [`SurfaceMosaic::len`] cells are live).
-    pub fn store_mut(&mut self) -> &mut S {
-        &mut self.store
-    }
-
-    /// The current repulsion radius (Q16 bits).
-    #[must_use]
-    pub fn radius(&self) -> Fx {
-        Fx::from_bits(self.run.radius)
-    }
-
-    /// Where the cells are, by id.
-    #[must_use]
-    pub fn places(&self) -> &[Place] {
-        &self.store.positions()[..self.len()]
-    }
-
-    /// The (u, v) of `p` in the domain, through the control map.
-    fn control_uv(&self, params: &Params, p: [i32; 3]) -> [i32; 2] {
-        control_uv(params, self.mesh().bounds(), p)
+        Mesh::view(&self.mesh, self.meshes.arrays().0)
     }
 
     /// The anisotropy field `a` (defined over the domain's (u, v)) at each
@@ -263,13 +232,10 @@ impl<'a, S: Relax<OnMesh>, M: MeshStore> SurfaceMosaic<'a, S, M> {
     }
 }
 
-impl<'a, S: Relax<OnMesh>, M: MeshStore> Day<'a> for SurfaceMosaic<'a, S, M> {
-    fn run(&mut self) -> &mut Run<'a> {
-        &mut self.run
-    }
+impl<M: MeshStore> Terrain for MeshTerrain<M> {
+    type Ground = OnMesh;
 
-    fn prepare(&mut self, params: &'a Params<'a>) -> Result<(), Error> {
-        validate(params)?;
+    fn prepare(&mut self, params: &Params) -> Result<(), Error> {
         let Some(surface) = &params.surface else {
             return Err(MosaicError::Param("surface (a surface mosaic needs one)").into());
         };
@@ -277,17 +243,15 @@ impl<'a, S: Relax<OnMesh>, M: MeshStore> Day<'a> for SurfaceMosaic<'a, S, M> {
         let (nv, nf) = surface.counts();
         let (buffers, _) = self.meshes.buffers(nv, nf)?;
         self.mesh = build_mesh(surface, buffers)?.info();
-        let velocities = self.store.slices().velocity.len();
-        day::check_store(params, self.store.capacity(), velocities)?;
         if let Some(a) = &params.anisotropy {
             self.tabulate(params, a)?;
         }
         Ok(())
     }
 
-    /// r = w_r·√(area/N) for the mesh's area.
-    fn update_radius(&mut self, params: &Params) {
-        let n = u64::from(self.run.cells.max(1));
+    /// For the mesh's area.
+    fn radius(&self, params: &Params, cells: u32) -> i32 {
+        let n = u64::from(cells.max(1));
         let area = self.mesh().area_q16();
         // area/N as Q32: shifted first while it fits (2^47 square units
         // and more only on meshes of millions of large triangles).
@@ -297,93 +261,55 @@ impl<'a, S: Relax<OnMesh>, M: MeshStore> Day<'a> for SurfaceMosaic<'a, S, M> {
         };
         let spacing = per_cell.isqrt(); // Q16
         let r = (spacing * u64::from(params.radius_weight.to_bits().unsigned_abs())) >> 16;
-        self.run.radius = r.clamp(1, 1 << 28) as i32;
+        r.clamp(1, 1 << 28) as i32
     }
 
-    fn place(&mut self, params: &Params) -> Result<(), Error> {
+    fn scatter(&self, _: &Params) -> impl FnMut(&mut KeyedRng) -> Place {
         let largest = self.largest_double_area();
-        for id in 0..params.initial_cells {
-            let mut rng = KeyedRng::new(self.run.seed, stream_id(Purpose::Place, 0, id));
-            let at = self.random_place(&mut rng, largest);
-            let mut kind = division::initial_type(&mut rng, params.types);
-            let uv = self.control_uv(params, at.p);
-            if kind != 0 && params.mask.is_some_and(|m| !m.allows(&params.domain, uv)) {
-                kind = 0;
-            }
-            let next = division::interval(&mut rng, &params.types[kind as usize])?;
-            let cells = self.store.slices();
-            cells.pos[id as usize] = at;
-            cells.kind[id as usize] = kind;
-            cells.next_division[id as usize] = next;
-            if let Some(v) = cells.velocity.get_mut(id as usize) {
-                *v = [0; 3];
-            }
-        }
-        self.run.cells = params.initial_cells;
-        Ok(())
+        move |rng| self.random_place(rng, largest)
     }
 
-    fn divide(&mut self, params: &Params) -> Result<(), Error> {
-        let (seed, day) = (self.run.seed, self.run.day);
-        let capacity = self.store.capacity();
-        let disc = self.run.radius / 200;
-        let mesh = mesh_of(&self.meshes, &self.mesh);
-        let cells = self.store.slices();
-        let existing = self.run.cells as usize;
-        let mut n = existing;
-        for id in 0..existing {
-            if cells.next_division[id] > day {
-                continue;
-            }
-            if n >= capacity {
-                return Err(Error::Capacity {
-                    limit: CELL_LIMIT,
-                    capacity: capacity as u32,
-                });
-            }
-            let split = division::split(seed, day, id as u32, cells.kind[id], params, disc)?;
-            let off = split.offset.map(i64::from);
-            let at = cells.pos[id];
+    /// The offset in the plane of the mother's face, walked along the
+    /// surface.
+    fn offspring(&self, _: &Params) -> impl Fn(Place, [i32; 2]) -> Place {
+        let mesh = self.mesh();
+        move |at, off| {
+            let off = off.map(i64::from);
             let [along, across] = mesh.frame(at.face);
             let d = [0, 1, 2].map(|c| (along[c] * off[0] + across[c] * off[1]) >> 16);
-            cells.pos[n] = mesh.walk(at, d);
-            cells.kind[n] = split.child;
-            if let Some(v) = cells.velocity.get_mut(n) {
-                *v = [0; 3];
-            }
-            cells.next_division[n] = split.child_next;
-            cells.next_division[id] = split.parent_next;
-            n += 1;
+            mesh.walk(at, d)
         }
-        self.run.cells = n as u32;
-        Ok(())
     }
 
-    fn relax(&mut self, params: &Params, times: u16, adhesion: bool) {
-        let repel = if adhesion {
-            repulsion(&params.adhesion)
-        } else {
-            [[1 << 16; MAX_TYPES]; MAX_TYPES]
-        };
+    fn control_uv(&self, params: &Params, at: &Place) -> [i32; 2] {
+        control_uv(params, self.mesh().bounds(), at.p)
+    }
+
+    fn relax<S: Relax<OnMesh>>(
+        &self,
+        store: &mut S,
+        n: usize,
+        push: Push,
+        params: &Params,
+        times: u16,
+    ) {
         let (arrays, field) = self.meshes.arrays();
         let mesh = Mesh::view(&self.mesh, arrays);
         let forces = SurfaceForces {
             mesh: &mesh,
-            radius: self.run.radius,
-            repel,
-            push_weight: params.push_weight.to_bits(),
-            anisotropy_weight: params
-                .anisotropy
-                .map_or(0, |a| a.weight.clamp(Fx::ZERO, Fx::ONE).to_bits()),
+            radius: push.radius,
+            repel: push.repel,
+            push_weight: push.push_weight,
+            anisotropy_weight: push.anisotropy_weight,
             field: params.anisotropy.as_ref().map(|_| field),
-            momentum: params.momentum.to_bits(),
+            momentum: push.momentum,
         };
-        let n = self.run.cells as usize;
-        self.store.relax(n, &forces, times);
+        store.relax(n, &forces, times);
     }
 
-    fn records(&mut self, sink: &mut dyn Sink) -> Result<(), Error> {
-        if self.run.frame == 0 {
+    /// The mesh, in the first frame.
+    fn records(&self, frame: u32, sink: &mut dyn Sink) -> Result<(), Error> {
+        if frame == 0 {
             let mesh = self.mesh();
             for (id, v) in mesh.vertices().iter().enumerate() {
                 sink.record(&Record::MeshVertex {
@@ -395,37 +321,15 @@ impl<'a, S: Relax<OnMesh>, M: MeshStore> Day<'a> for SurfaceMosaic<'a, S, M> {
                 sink.record(&Record::Triangle { v: *f })?;
             }
         }
-        let n = self.len();
-        let (places, kinds) = (self.store.positions(), self.store.kinds());
-        for (id, (at, k)) in places[..n].iter().zip(&kinds[..n]).enumerate() {
-            sink.record(&Record::SurfaceCell {
-                id: id as u32,
-                kind: *k,
-                p: at.p.map(Fx::from_bits),
-            })?;
-        }
         Ok(())
     }
-}
 
-impl<'a, S: Relax<OnMesh>, M: MeshStore> Start<'a> for SurfaceMosaic<'a, S, M> {
-    type Params = Params<'a>;
-
-    /// (Re)starts a run of `params` with `seed`, in place.
-    ///
-    /// # Errors
-    /// Invalid parameters, a run without a surface, or more initial cells
-    /// than the store holds; also returned by the next step.
-    fn start(&mut self, params: &'a Params<'a>, seed: u64) -> Result<(), Error> {
-        self.start_run(params, seed)
-    }
-}
-
-impl<S: Relax<OnMesh>, M: MeshStore> Simulation for SurfaceMosaic<'_, S, M> {
-    /// Step 0 places and relaxes the initial cells; step d ≥ 1 simulates
-    /// day d, as on the plane.
-    fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
-        self.step_day(sink)
+    fn cell(id: u32, kind: u8, at: &Place) -> Record {
+        Record::SurfaceCell {
+            id,
+            kind,
+            p: at.p.map(Fx::from_bits),
+        }
     }
 }
 

@@ -11,6 +11,7 @@ use crate::mosaic::params::{CellType, Frames, NO_MUTATION, pair_table};
 use crate::mosaic::shapes::{Shape, Tessellation};
 use crate::mosaic::{ArrayStore, OnMesh};
 use crate::mosaic::{Domain, VELOCITY_LIMIT};
+use crate::sim::{Simulation, Start};
 use crate::stream::Encoder;
 use crate::stream::SinkError;
 
@@ -171,26 +172,26 @@ fn off_triangle(mesh: &Mesh<'_>, at: Place) -> f64 {
 #[test]
 fn cells_stay_on_the_mesh_and_spread_evenly() {
     let p = params(6);
-    let mut m = SurfaceMosaic::new(Store::EMPTY, MeshVecs::new());
+    let mut m = SurfaceMosaic::on_mesh(Store::EMPTY, MeshVecs::new());
     m.start(&p, 3).unwrap();
     let mut sink = Last::default();
     while !m.step(&mut sink).unwrap().finished() {}
     let mesh = m.mesh();
     assert_eq!(sink.1, mesh.faces().len(), "the mesh is streamed once");
     assert!(m.len() > 600, "{}", m.len());
-    for at in m.places() {
+    for at in m.positions() {
         // On its face, within 10⁻³ of the mesh's size (12 units).
         let d = off_triangle(&mesh, *at);
         assert!(d < 12e-3 / 10.0, "{at:?} is {d} off its face");
     }
     // Clark–Evans by 3D distance after the initial relaxation: mean
     // nearest-neighbour distance over 0.5/√density (1 for random points).
-    let mut m = SurfaceMosaic::new(Store::EMPTY, MeshVecs::new());
+    let mut m = SurfaceMosaic::on_mesh(Store::EMPTY, MeshVecs::new());
     let p0 = params(0);
     m.start(&p0, 3).unwrap();
     m.step(&mut Last::default()).unwrap();
     let pts: Vec<[f64; 3]> = m
-        .places()
+        .positions()
         .iter()
         .map(|at| at.p.map(|x| f64::from(x) / 65536.0))
         .collect();
@@ -215,14 +216,14 @@ fn cells_stay_on_the_mesh_and_spread_evenly() {
 fn a_surface_run_needs_a_surface_and_names_its_limits() {
     let mut plain = params(1);
     plain.surface = None;
-    let mut m = SurfaceMosaic::new(Store::EMPTY, MeshVecs::new());
+    let mut m = SurfaceMosaic::on_mesh(Store::EMPTY, MeshVecs::new());
     assert!(matches!(
         m.start(&plain, 1),
         Err(Error::Mosaic(MosaicError::Param(_)))
     ));
     let mut heavy = params(1);
     heavy.momentum = Fx::from_ratio(1, 2);
-    let mut m = SurfaceMosaic::new(Store::EMPTY, MeshVecs::new());
+    let mut m = SurfaceMosaic::on_mesh(Store::EMPTY, MeshVecs::new());
     assert!(matches!(
         m.start(&heavy, 1),
         Err(Error::Capacity {
@@ -234,7 +235,7 @@ fn a_surface_run_needs_a_surface_and_names_its_limits() {
 
 /// The digest of the stream of a run of `p` with seed 3 on `meshes`.
 fn digest(p: &Params<'_>, meshes: impl MeshStore) -> u64 {
-    let mut m = SurfaceMosaic::new(Store::EMPTY, meshes);
+    let mut m = SurfaceMosaic::on_mesh(Store::EMPTY, meshes);
     m.start(p, 3).unwrap();
     let mut sink = Encoder::new(Vec::new());
     while !m.step(&mut sink).unwrap().finished() {}
@@ -247,7 +248,7 @@ fn the_mcu_mesh_store_gives_the_same_run_without_inward_normals_or_edge_scratch(
     type Mcu = ArrayMeshStore<178, 352>;
     let p = params(3);
     assert_eq!(digest(&p, MeshVecs::new()), digest(&p, Mcu::EMPTY));
-    let mut m = SurfaceMosaic::new(Store::EMPTY, ArrayMeshStore::<177, 352>::EMPTY);
+    let mut m = SurfaceMosaic::on_mesh(Store::EMPTY, ArrayMeshStore::<177, 352>::EMPTY);
     assert!(matches!(
         m.start(&p, 3),
         Err(Error::Capacity {
@@ -255,7 +256,7 @@ fn the_mcu_mesh_store_gives_the_same_run_without_inward_normals_or_edge_scratch(
             capacity: 177
         })
     ));
-    let mut m = SurfaceMosaic::new(Store::EMPTY, ArrayMeshStore::<178, 351>::EMPTY);
+    let mut m = SurfaceMosaic::on_mesh(Store::EMPTY, ArrayMeshStore::<178, 351>::EMPTY);
     assert!(matches!(
         m.start(&p, 3),
         Err(Error::Capacity {
