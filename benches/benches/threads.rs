@@ -15,7 +15,7 @@
 
 use std::time::{Duration, Instant};
 
-use morphogen::mosaic::{CellSlices, CellStore, Forces, Mosaic, Relax, host_capacity};
+use morphogen::mosaic::{CellSlices, CellStore, Forces, Mosaic, Plane, Relax, host_capacity};
 use morphogen::preset::Model;
 use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError};
@@ -42,7 +42,7 @@ impl CellStore for Timed {
     fn capacity(&self) -> usize {
         self.store.capacity()
     }
-    fn slices(&mut self) -> CellSlices<'_> {
+    fn slices(&mut self) -> CellSlices<'_, Plane> {
         self.store.slices()
     }
     fn positions(&self) -> &[[i32; 2]] {

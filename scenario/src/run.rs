@@ -15,7 +15,7 @@ use morphogen::mosaic::kernels::mesh::{self as surface_relaxation, CubeGrid};
 use morphogen::mosaic::kernels::plane::{self as relaxation, Grid};
 use morphogen::mosaic::{
     CellSlices, CellStore, Forces, MAX_FACES, MAX_VERTICES, MeshArrays, MeshBuffers, MeshError,
-    MeshParts, MeshStore, Mosaic, MosaicError, OnMesh, Params as MosaicParams, Place, Relax,
+    MeshParts, MeshStore, Mosaic, MosaicError, OnMesh, Params as MosaicParams, Place, Plane, Relax,
     SurfaceForces, SurfaceMosaic, host_capacity,
 };
 use morphogen::preset::{self, Model, Preset, Runner};
@@ -52,7 +52,7 @@ struct Cells {
 }
 
 impl Cells {
-    fn slices(&mut self) -> CellSlices<'_> {
+    fn slices(&mut self) -> CellSlices<'_, Plane> {
         CellSlices {
             pos: &mut self.pos,
             kind: &mut self.kind,
@@ -316,7 +316,7 @@ impl CellStore for VecStore {
         self.cells.pos.len()
     }
 
-    fn slices(&mut self) -> CellSlices<'_> {
+    fn slices(&mut self) -> CellSlices<'_, Plane> {
         self.cells.slices()
     }
 

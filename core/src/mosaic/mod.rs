@@ -75,6 +75,7 @@ mod division;
 mod domain;
 mod force;
 mod grid;
+mod ground;
 mod mesh;
 mod params;
 mod relaxation;
@@ -87,6 +88,7 @@ pub use control::{
     Anisotropy, ControlError, ControlVector, FIELD_LATTICE, Field, MAX_CONTROL_VECTORS, Mask,
 };
 pub use domain::Domain;
+pub use ground::{CellSlices, Ground};
 pub use mesh::{
     MAX_COORD, MAX_CROSSINGS, MAX_FACES, MAX_VERTICES, Mesh, MeshArrays, MeshError, MeshInfo,
     MeshParts, NO_FACE, Place,
@@ -97,7 +99,7 @@ pub use params::{
 };
 pub use relaxation::{Forces, Plane};
 pub use shapes::{Shape, Tessellation};
-pub use store::{ArrayStore, CellSlices, CellStore, Ground, Relax};
+pub use store::{ArrayStore, CellStore, Relax};
 pub use surface::meshes::{ArrayMeshStore, MESH_FACE_LIMIT, MESH_VERTEX_LIMIT, MeshStore};
 pub use surface::relaxation::{OnMesh, SurfaceForces};
 pub use surface::{

@@ -12,8 +12,8 @@ use super::control::Field;
 use super::domain::Domain;
 use super::force::{self, Step};
 use super::grid::Grid;
+use super::ground::{CellSlices, Ground};
 use super::params::MAX_TYPES;
-use super::store::{CellSlices, Ground};
 
 /// The constants of one relaxation step (all fixed point, Q16 unless
 /// noted).
@@ -566,7 +566,7 @@ impl Moves<'_> {
 /// and gathers the positions in bin order into the push scratch. Returns it
 /// with what the step writes.
 pub fn snapshot<'s>(
-    cells: &'s mut CellSlices<'_>,
+    cells: &'s mut CellSlices<'_, Plane>,
     n: usize,
     forces: &'s Forces<'s>,
 ) -> (Snapshot<'s>, Moves<'s>) {
@@ -583,7 +583,7 @@ pub fn snapshot<'s>(
 /// ([`Grid::build`] into `order`, `bins` and `sorted`), as a computer
 /// does it on several threads.
 pub fn sorted_snapshot<'s>(
-    cells: &'s mut CellSlices<'_>,
+    cells: &'s mut CellSlices<'_, Plane>,
     n: usize,
     forces: &'s Forces<'s>,
 ) -> (Snapshot<'s>, Moves<'s>) {
@@ -609,7 +609,7 @@ pub fn sorted_snapshot<'s>(
 }
 
 /// One relaxation step over the first `n` cells, one cell after another.
-pub fn relax(cells: &mut CellSlices<'_>, n: usize, forces: &Forces<'_>) {
+pub fn relax(cells: &mut CellSlices<'_, Plane>, n: usize, forces: &Forces<'_>) {
     let (snapshot, mut moves) = snapshot(cells, n, forces);
     // One closure for both cases: one copy of the sweep on an MCU.
     snapshot.sweep(0..snapshot.len(), |slot, p, d| {
@@ -624,7 +624,7 @@ pub fn relax(cells: &mut CellSlices<'_>, n: usize, forces: &Forces<'_>) {
 /// [`relax`] with half its roots and candidates (642 instructions a cell
 /// for its 784 on the croton bench).
 pub fn relax_pairs(
-    cells: &mut CellSlices<'_>,
+    cells: &mut CellSlices<'_, Plane>,
     n: usize,
     forces: &Forces<'_>,
     sums: &mut [[i64; 2]],
@@ -657,7 +657,7 @@ impl Ground for Plane {
     const ZERO: [i32; 2] = [0; 2];
     const NAME: &'static str = "Plane";
 
-    fn relax_step(cells: &mut CellSlices<'_>, n: usize, forces: &Forces<'_>) {
+    fn relax_step(cells: &mut CellSlices<'_, Plane>, n: usize, forces: &Forces<'_>) {
         relax(cells, n, forces);
     }
 }
@@ -665,7 +665,7 @@ impl Ground for Plane {
 /// The same step by brute force, O(N²), without momentum: the reference
 /// for tests and the bench. Integer sums are exact, so it gives
 /// bit-identical positions.
-pub fn relax_naive(cells: &mut CellSlices<'_>, n: usize, forces: &Forces<'_>) {
+pub fn relax_naive(cells: &mut CellSlices<'_, Plane>, n: usize, forces: &Forces<'_>) {
     let pos = &cells.pos[..n];
     let kind = &cells.kind[..n];
     for i in 0..n {
@@ -686,7 +686,7 @@ pub fn relax_naive(cells: &mut CellSlices<'_>, n: usize, forces: &Forces<'_>) {
     apply(cells, n, forces.domain);
 }
 
-fn apply(cells: &mut CellSlices<'_>, n: usize, domain: &Domain) {
+fn apply(cells: &mut CellSlices<'_, Plane>, n: usize, domain: &Domain) {
     for (p, d) in cells.pos[..n].iter_mut().zip(&cells.sorted[..n]) {
         for c in 0..2 {
             p[c] = domain.confine(c, i64::from(p[c]) + i64::from(d[c]));

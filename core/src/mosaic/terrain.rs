@@ -9,9 +9,10 @@
 use super::MosaicError;
 use super::control::Field;
 use super::grid::Grid;
+use super::ground::Ground;
 use super::params::{MAX_TYPES, Params};
 use super::relaxation::{Forces, Plane};
-use super::store::{Ground, Relax};
+use super::store::Relax;
 use crate::Error;
 use crate::fx::Fx;
 use crate::rng::KeyedRng;

@@ -1,5 +1,5 @@
 //! Unit tests of the mosaic stepper (cross-crate ones, and those of the
-//! built-in scenarios, are in `core/tests/mosaic.rs`).
+//! built-in scenarios, are in `tests/tests/mosaic.rs`).
 
 use super::*;
 use grid::Grid;
@@ -166,8 +166,8 @@ impl CellStore for Box<Moving> {
     fn capacity(&self) -> usize {
         512
     }
-    fn slices(&mut self) -> store::CellSlices<'_> {
-        store::CellSlices {
+    fn slices(&mut self) -> CellSlices<'_, Plane> {
+        CellSlices {
             pos: &mut self.cells,
             kind: &mut self.kind,
             next_division: &mut self.next_division,

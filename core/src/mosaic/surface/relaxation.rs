@@ -20,7 +20,7 @@ use crate::mosaic::force::{self, Step};
 use crate::mosaic::mesh::{Mesh, Place, per_axis};
 use crate::mosaic::params::MAX_TYPES;
 
-use crate::mosaic::store::{CellSlices, Ground};
+use crate::mosaic::ground::{CellSlices, Ground};
 
 /// The constants of one relaxation step on a surface.
 #[derive(Clone, Copy, Debug)]
