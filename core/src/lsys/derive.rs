@@ -373,10 +373,6 @@ impl<T: Copy, const STEPS: usize> Levels<T, STEPS> {
     fn iter(&self) -> impl Iterator<Item = &T> {
         core::iter::once(&self.axiom).chain(&self.steps)
     }
-
-    fn iter_mut(&mut self) -> impl Iterator<Item = &mut T> {
-        core::iter::once(&mut self.axiom).chain(&mut self.steps)
-    }
 }
 
 /// Depth-first derivation of a context-free grammar: the string of step
@@ -384,7 +380,7 @@ impl<T: Copy, const STEPS: usize> Levels<T, STEPS> {
 /// position counter per step (for keying stochastic choices), never the
 /// string. It derives up to `STEPS` steps (the default 32; fewer than 64)
 /// in `STEPS + 1` levels of 44 bytes; more is the error `Capacity {
-/// limit: "Streaming<STEPS>", capacity: STEPS }`.
+/// limit: "STEPS", capacity: STEPS }`.
 ///
 /// Positions: the frames visit every level's string in order, so a running
 /// counter per level gives each module its index in its level's string —
@@ -410,7 +406,7 @@ impl<T: Copy, const STEPS: usize> Levels<T, STEPS> {
 /// assert_eq!(
 ///     d.restart(&g, 8, 0),
 ///     Err(LsysError::Capacity {
-///         limit: "Streaming<STEPS>",
+///         limit: "STEPS",
 ///         capacity: 8
 ///     })
 /// );
@@ -468,7 +464,7 @@ impl<const STEPS: usize> Streaming<STEPS> {
 
     fn capacity_error() -> LsysError {
         LsysError::Capacity {
-            limit: "Streaming<STEPS>",
+            limit: "STEPS",
             capacity: STEPS as u32,
         }
     }
@@ -532,8 +528,9 @@ impl<const STEPS: usize> Streaming<STEPS> {
     /// Adds to every level's counter the modules carried into it from the
     /// levels above, once the derivation is complete.
     fn settle_carried(&mut self) {
-        let mut above = 0u64;
-        for l in self.levels.iter_mut() {
+        // The axiom's level has none carried into it.
+        let mut above = core::mem::take(&mut self.levels.axiom.carried);
+        for l in &mut self.levels.steps {
             l.position = l.position.saturating_add(above);
             above = above.saturating_add(core::mem::take(&mut l.carried));
         }
@@ -642,12 +639,13 @@ impl<const STEPS: usize> Derivation for Streaming<STEPS> {
         if grammar.is_context_sensitive() || grammar.has_decomposition() {
             return Err(LsysError::NeedsBuffer);
         }
-        for l in self.levels.iter_mut() {
+        // Level by level, not through `Levels::iter_mut`'s chain: the
+        // smaller code in flash.
+        (self.levels.axiom.position, self.levels.axiom.carried) = (0, 0);
+        for l in &mut self.levels.steps {
             (l.position, l.carried) = (0, 0);
         }
-        for cut in self.cuts.iter_mut() {
-            *cut = 0;
-        }
+        self.cuts = Levels::filled(0);
         self.cutting = 0;
         self.steps = steps;
         self.seed = seed;

@@ -149,7 +149,7 @@ pub(crate) struct Production {
 /// let e = small.parse("n = 1\naxiom: F\nF -> FFFFFFFF[+FFFFFFFF]").unwrap_err();
 /// assert_eq!(
 ///     e.kind,
-///     ParseErrorKind::Capacity { limit: "Grammar<SUCCESSORS>", capacity: 16 }
+///     ParseErrorKind::Capacity { limit: "SUCCESSORS", capacity: 16 }
 /// );
 /// ```
 #[derive(Clone, Debug)]

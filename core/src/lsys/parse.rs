@@ -188,7 +188,7 @@ impl<
         if self.depth > MAX_EXPR_STACK {
             return Err(c.err(capacity("MAX_EXPR_STACK", MAX_EXPR_STACK)));
         }
-        let full = || c.err(capacity("Grammar<CODE>", CODE));
+        let full = || c.err(capacity("CODE", CODE));
         self.grammar.code.push(op).map_err(|_| full())?;
         if let Some(b) = operand {
             self.grammar.code.push(b).map_err(|_| full())?;
@@ -203,7 +203,7 @@ impl<
                 self.grammar
                     .literals
                     .push(v)
-                    .map_err(|_| c.err_at(at, capacity("Grammar<LITERALS>", LITERALS)))?;
+                    .map_err(|_| c.err_at(at, capacity("LITERALS", LITERALS)))?;
                 self.grammar.literals.len() - 1
             }
         };
@@ -798,7 +798,7 @@ impl<
             let at = c.pos;
             let p = self.pattern(c, formals)?;
             list.push(p)
-                .map_err(|_| c.err_at(at, capacity("Grammar<CONTEXTS>", CONTEXTS)))?;
+                .map_err(|_| c.err_at(at, capacity("CONTEXTS", CONTEXTS)))?;
         }
         Ok(list)
     }
@@ -808,7 +808,7 @@ impl<
         for &p in list {
             self.contexts
                 .push(p)
-                .map_err(|_| c.err_at(at, capacity("Grammar<CONTEXTS>", CONTEXTS)))?;
+                .map_err(|_| c.err_at(at, capacity("CONTEXTS", CONTEXTS)))?;
         }
         Ok(Span {
             start,
@@ -941,7 +941,7 @@ impl<
                 weight,
                 successor,
             })
-            .map_err(|_| c.err_at(first_at, capacity("Grammar<PRODUCTIONS>", PRODUCTIONS)))
+            .map_err(|_| c.err_at(first_at, capacity("PRODUCTIONS", PRODUCTIONS)))
     }
 
     fn compile(
@@ -1034,7 +1034,7 @@ impl<
             }
             self.templates
                 .push(t)
-                .map_err(|_| c.err_at(at, capacity("Grammar<SUCCESSORS>", SUCCESSORS)))?;
+                .map_err(|_| c.err_at(at, capacity("SUCCESSORS", SUCCESSORS)))?;
         }
         if depth > 0 {
             return Err(c.err_at(outermost, ParseErrorKind::UnclosedBranch));

@@ -1067,14 +1067,14 @@ fn more_than_streaming_steps_derive_buffered_and_streaming_names_its_limit() {
     assert_eq!(
         Streaming::new().restart(&g, 200, 0),
         Err(LsysError::Capacity {
-            limit: "Streaming<STEPS>",
+            limit: "STEPS",
             capacity: <Streaming>::STEPS as u32
         })
     );
     assert_eq!(
         sim_error("n = 33\naxiom: F"),
         crate::Error::Lsys(LsysError::Capacity {
-            limit: "Streaming<STEPS>",
+            limit: "STEPS",
             capacity: 32
         })
     );
@@ -1261,33 +1261,33 @@ fn smaller_pools_parse_what_fits_and_name_their_capacity() {
     // A third production.
     assert_eq!(
         small_err(&format!("{SMALL}C -> F")),
-        (6, capacity("Grammar<PRODUCTIONS>", 2))
+        (6, capacity("PRODUCTIONS", 2))
     );
     // A 13th successor module (the axiom's and the successors' 9, and 4).
     assert_eq!(
         small_err(&SMALL.replace("B[+F]", "B[+F]FFFF")),
-        (5, capacity("Grammar<SUCCESSORS>", 12))
+        (5, capacity("SUCCESSORS", 12))
     );
     // A third context module.
     assert_eq!(
         small_err(&SMALL.replace("b < A", "b b b < A")),
-        (4, capacity("Grammar<CONTEXTS>", 2))
+        (4, capacity("CONTEXTS", 2))
     );
     // More than 24 bytes of expression code (15, and 4 × 3).
     assert_eq!(
         small_err(&SMALL.replace("A(x + 1)", "A(x + 1 + x + x + x + x)")),
-        (4, capacity("Grammar<CODE>", 24))
+        (4, capacity("CODE", 24))
     );
     // A fifth distinct literal (in 24 bytes of code).
     assert_eq!(
         small_err(&SMALL.replace("A(x + 1) F", "A(x + 1) F(3, 4, 5)")),
-        (4, capacity("Grammar<LITERALS>", 4))
+        (4, capacity("LITERALS", 4))
     );
     // The error reads as the limit of that type.
     let e = Small::empty().parse(&format!("{SMALL}C -> F")).unwrap_err();
     assert_eq!(
         std::format!("{e}"),
-        "6:1: capacity Grammar<PRODUCTIONS> = 2 exceeded (see core/src/lsys/mod.rs)"
+        "6:1: capacity PRODUCTIONS = 2 exceeded (see core/src/lsys/mod.rs)"
     );
 }
 
@@ -1298,7 +1298,7 @@ fn a_smaller_streaming_derives_as_many_steps_as_its_type_holds() {
     assert_eq!(
         four.restart(&g, 4, 0),
         Err(LsysError::Capacity {
-            limit: "Streaming<STEPS>",
+            limit: "STEPS",
             capacity: 4
         })
     );

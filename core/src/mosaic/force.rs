@@ -44,7 +44,9 @@ pub(super) fn ratio(d2: i64, r: i64) -> i64 {
     } else {
         let n = (r - d) << 16;
         match u32::try_from(n) {
-            Ok(n) => i64::from(n / d as u32),
+            // d < r < 2^30 is d as u32, at least 1: no division by zero
+            // to check (nor its panic's place in flash).
+            Ok(n) => i64::from(n / (d as u32).max(1)),
             Err(_) => n / d,
         }
     }
