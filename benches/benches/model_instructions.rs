@@ -33,13 +33,14 @@ use morphogen::lsys::LSystem;
 use morphogen::mosaic::kernels::mesh as surface_relaxation;
 use morphogen::mosaic::kernels::plane::{self as relaxation, Grid};
 use morphogen::mosaic::{
-    CellStore, Forces, MAX_TYPES, Mesh, MeshBuffers, MeshParts, Mosaic, Params, Surface,
+    CellStore, Forces, MAX_TYPES, Mesh, MeshBuffers, MeshParts, Mosaic, OnMesh, Params, Surface,
     SurfaceForces, SurfaceMesh, SurfaceMosaic, build_mesh,
 };
 use morphogen::preset::Model;
 use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError};
-use morphogen_scenario::run::{MeshVecs, VecStore, VecSurfaceStore};
+use morphogen_scenario::run::MeshVecs;
+use morphogen_scenario::store::VecStore;
 
 /// Cells of the relaxation bench.
 const CELLS: u32 = 2_000;
@@ -136,7 +137,7 @@ fn relaxation_step_per_cell(mut r: Relaxation) -> Relaxation {
 
 /// A surface relaxation ready to run.
 struct SurfaceRelaxation {
-    mosaic: SurfaceMosaic<'static, VecSurfaceStore, MeshVecs>,
+    mosaic: SurfaceMosaic<'static, VecStore<OnMesh>, MeshVecs>,
     forces: SurfaceForces<'static>,
     /// The host's sums of pair pushes ([`surface_relaxation::relax_pairs`]).
     sums: Vec<[i64; 3]>,
@@ -184,8 +185,7 @@ fn fruit_cells() -> SurfaceRelaxation {
     };
     let mesh: &'static Mesh<'static> =
         Box::leak(Box::new(build_mesh(surface, buffers).expect("a mesh")));
-    let mut mosaic =
-        SurfaceMosaic::on_mesh(VecSurfaceStore::new(CELLS as usize), MeshVecs::default());
+    let mut mosaic = SurfaceMosaic::on_mesh(VecStore::new(CELLS as usize), MeshVecs::default());
     mosaic.start(params, 1).expect("valid");
     while !mosaic.step(&mut Null).expect("runs").finished() {}
     let radius = mosaic.radius().to_bits();

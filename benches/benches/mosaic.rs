@@ -2,7 +2,7 @@
 //! `cargo bench -p morphogen-benches --bench mosaic`. The big mosaics run on the
 //! host (the core has no heap): this bench runs them as the host does, on
 //! the scenario crate's `Vec`-backed store
-//! ([`morphogen_scenario::run::VecStore`]).
+//! ([`morphogen_scenario::store::VecStore`]).
 //!
 //! 1. `sansevieria` end to end on one core (the thesis's 25–30 minute run):
 //!    median of 5 wall-clock runs, with cell-relaxation steps per second.
@@ -28,7 +28,7 @@ use morphogen::mosaic::{CellStore, Forces, MAX_TYPES, McuStore, Mosaic, Params, 
 use morphogen::preset::{Model, Preset};
 use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Encoder, Record, Sink, SinkError};
-use morphogen_scenario::run::VecStore;
+use morphogen_scenario::store::VecStore;
 
 /// Calls `f` with the built-in mosaic scenario `name` and its parameters.
 fn with_mosaic<R>(name: &str, f: impl FnOnce(&Preset<'_>, &Params<'_>) -> R) -> R {

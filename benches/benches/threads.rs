@@ -19,7 +19,7 @@ use morphogen::mosaic::{CellSlices, CellStore, Forces, Mosaic, Plane, Relax, hos
 use morphogen::preset::Model;
 use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError};
-use morphogen_scenario::run::VecStore;
+use morphogen_scenario::store::VecStore;
 
 /// Pairs of runs (one thread, two threads).
 const PAIRS: usize = 7;

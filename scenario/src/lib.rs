@@ -28,6 +28,7 @@ pub mod mask;
 pub mod run;
 pub mod schema;
 mod spelling;
+pub mod store;
 pub mod surface;
 mod unsupported;
 mod value;

@@ -1,13 +1,12 @@
-//! The host's cell stores ([`VecStore`] on the plane, `VecSurfaceStore` on
-//! a mesh) relax a day's steps with the cells kept in grid order between
+//! The host's cell store ([`VecStore`] on the plane and on a mesh) relax a day's steps with the cells kept in grid order between
 //! them, each pair of neighbours once and in shares of the grid on several
 //! threads; the core's per-cell step (the MCU's) is the reference, bit for
 //! bit.
 
 use morphogen::fx::Fx;
 use morphogen::mosaic::kernels::plane::{self as relaxation, Grid};
-use morphogen::mosaic::{CellSlices, CellStore, Domain, Forces, MAX_TYPES, Relax};
-use morphogen_scenario::run::VecStore;
+use morphogen::mosaic::{CellSlices, CellStore, Domain, Forces, MAX_TYPES, OnMesh, Plane, Relax};
+use morphogen_scenario::store::VecStore;
 
 /// Cells: enough for the store's grid-order path and several chunks.
 const CELLS: usize = 3_000;
@@ -87,7 +86,7 @@ fn a_days_steps_in_grid_order_move_cells_as_the_per_cell_step_does() {
                 assert_ne!(want, pos, "the cells move");
 
                 for threads in [1, 2, 3] {
-                    let mut store = VecStore::new(CELLS + 100);
+                    let mut store = VecStore::<Plane>::new(CELLS + 100);
                     let slices = store.slices();
                     slices.pos[..CELLS].copy_from_slice(&pos);
                     slices.kind[..CELLS].copy_from_slice(&kind);
@@ -121,7 +120,11 @@ fn a_days_steps_in_bucket_order_move_cells_on_a_mesh_as_the_per_cell_step_does()
     use morphogen::preset::Model;
     use morphogen::sim::{Simulation, Start};
     use morphogen::stream::{Record, Sink, SinkError};
-    use morphogen_scenario::run::{MeshVecs, VecSurfaceStore};
+    use morphogen_scenario::run::MeshVecs;
+    use morphogen_scenario::store::VecStore;
+
+    /// The store on a mesh.
+    type VecSurfaceStore = VecStore<OnMesh>;
 
     struct Null;
     impl Sink for Null {
