@@ -27,6 +27,9 @@ fn main() {
     .expect("OUT_DIR is writable");
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rerun-if-changed=memory.x");
+    // QEMU's RISC-V `virt` machine's map, which the riscv32 build names
+    // itself (`-Tmemory-virt.x`, .cargo/config.toml).
+    println!("cargo:rerun-if-changed=memory-virt.x");
     println!("cargo:rerun-if-changed=build.rs");
 
     // Mosaics on a surface only with the feature `surface` (the runner
