@@ -58,7 +58,7 @@ for t in thumbv6m-none-eabi thumbv7m-none-eabi; do
     cargo check -p morphogen --target "$t" --features defmt,rig
 done
 
-step "core check for RISC-V (riscv32imac: the cores of ESP32-C3, CH32V and GD32V boards; built, no firmware or emulator run yet)"
+step "core check for RISC-V (riscv32imac: the cores of ESP32-C3, CH32V and GD32V boards; the firmware runs in QEMU's virt machine in scripts/targets-check.sh)"
 cargo check -p morphogen --target riscv32imac-unknown-none-elf --features rig
 
 step "the embedding examples build for Cortex-M0+ (firmware-example/examples, profile small: docs/embedding.md's flash and RAM table), the directly driven horn under 32 KB of flash"
@@ -92,8 +92,8 @@ cargo test -p morphogen-tests --features surface-runner --test mosaic
 step "golden fixtures: every built-in scenario re-run (release build)"
 "$morphogen" verify
 
-step "big-endian: every preset on s390x under qemu-user, bit-exact (scripts/targets-check.sh)"
-bash scripts/targets-check.sh
+step "other targets, bit-exact (scripts/targets-check.sh): every preset on s390x (big-endian) under qemu-user; the firmware's MCU presets on riscv32imac in qemu-system-riscv32"
+MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh
 
 step "the Python stream reader against every preset (python/)"
 MORPHOGEN_BIN="$morphogen" bash scripts/python-check.sh
