@@ -13,7 +13,7 @@ fn main() {
     fs::copy("memory.x", out.join("memory.x")).expect("memory.x is readable");
     // cortex-m-rt's `device` feature includes `device.x`, where a device
     // crate names its interrupt handlers; this firmware has none (its
-    // vectors are in src/board.rs).
+    // vectors are in src/board/lm3s6965.rs).
     // ARMv6-M takes at most 32 device interrupts (cfg `armv6m`, as in
     // cortex-m-rt).
     println!("cargo::rustc-check-cfg=cfg(armv6m)");
@@ -22,7 +22,7 @@ fn main() {
     }
     fs::write(
         out.join("device.x"),
-        "/* No device interrupt handlers: every vector is DefaultHandler (src/board.rs). */\n",
+        "/* No device interrupt handlers: every vector is DefaultHandler (src/board/lm3s6965.rs). */\n",
     )
     .expect("OUT_DIR is writable");
     println!("cargo:rustc-link-search={}", out.display());
