@@ -44,6 +44,9 @@ cargo clippy -p morphogen-tests --all-targets --features surface-runner -- -D wa
 (cd firmware-example && cargo clippy --release --lib --bins --examples -- -D warnings)
 (cd firmware-example && cargo clippy --release --no-default-features --features semihosting,bitwise-crc -- -D warnings)
 (cd firmware-example && cargo clippy --release --features surface -- -D warnings)
+# The same program on QEMU's RISC-V virt board, as scripts/targets-check.sh builds it.
+(cd firmware-example && cargo clippy --release --target riscv32imac-unknown-none-elf \
+    --no-default-features --features semihosting,surface -- -D warnings)
 # firmware-rp2040 shares firmware-example's target folder: the host-side
 # build dependencies (the scenario compiler) are built once.
 (cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo clippy --release -- -D warnings)
