@@ -251,9 +251,11 @@ impl InstructionClock {
         loop {
             let wraps = WRAPS.load(Ordering::Relaxed);
             let current = SYST::get_current();
-            // A wrap between the two reads re-runs the loop.
+            // A wrap between the two reads re-runs the loop. The counter
+            // is 24 bits wide, `current <= RELOAD`: the difference never
+            // wraps.
             if WRAPS.load(Ordering::Relaxed) == wraps {
-                return (u64::from(wraps) << 24) | u64::from(RELOAD - current);
+                return (u64::from(wraps) << 24) | u64::from(RELOAD.wrapping_sub(current));
             }
         }
     }
