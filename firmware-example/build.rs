@@ -13,7 +13,7 @@ fn main() {
     fs::copy("memory.x", out.join("memory.x")).expect("memory.x is readable");
     // cortex-m-rt's `device` feature includes `device.x`, where a device
     // crate names its interrupt handlers; this firmware has none (its
-    // vectors are in src/board.rs).
+    // vectors are in src/board/lm3s6965.rs).
     // ARMv6-M takes at most 32 device interrupts (cfg `armv6m`, as in
     // cortex-m-rt).
     println!("cargo::rustc-check-cfg=cfg(armv6m)");
@@ -22,11 +22,14 @@ fn main() {
     }
     fs::write(
         out.join("device.x"),
-        "/* No device interrupt handlers: every vector is DefaultHandler (src/board.rs). */\n",
+        "/* No device interrupt handlers: every vector is DefaultHandler (src/board/lm3s6965.rs). */\n",
     )
     .expect("OUT_DIR is writable");
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rerun-if-changed=memory.x");
+    // QEMU's RISC-V `virt` machine's map, which the riscv32 build names
+    // itself (`-Tmemory-virt.x`, .cargo/config.toml).
+    println!("cargo:rerun-if-changed=memory-virt.x");
     println!("cargo:rerun-if-changed=build.rs");
 
     // Mosaics on a surface only with the feature `surface` (the runner

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Cargo runner: boots the firmware ELF ($1) in QEMU's lm3s6965evb with a
-# deterministic instruction clock, UART0 captured to $MORPHOGEN_CAPTURE
+# Cargo runner: boots the firmware ELF ($1) in QEMU's lm3s6965evb (or, for
+# riscv32imac-unknown-none-elf, its RISC-V `virt` machine: the stream-only
+# build) with a deterministic instruction clock, UART0 captured to $MORPHOGEN_CAPTURE
 # (default: target/uart0.bin next to this file) and the defmt log (semihosting
 # stdout) decoded by defmt-print. Exits with QEMU's code (0 = all presets ok).
 #
@@ -26,8 +27,12 @@ if [ -n "${MORPHOGEN_FEED:-}" ]; then
   feeder=$!
   uart0=("unix:$sockets/uart0,server=on,wait=on")
 fi
+case "$elf" in
+  */riscv32imac-unknown-none-elf/*) machine=(qemu-system-riscv32 -machine virt -bios none) ;;
+  *) machine=(qemu-system-arm -machine lm3s6965evb -cpu cortex-m3) ;;
+esac
 set +e
-qemu-system-arm -machine lm3s6965evb -cpu cortex-m3 \
+"${machine[@]}" \
   -display none -monitor none -parallel none \
   -semihosting-config "$semihosting" \
   -icount shift=0 \

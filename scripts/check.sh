@@ -51,6 +51,9 @@ cargo clippy -p morphogen-tests --all-targets --features surface-runner -- -D wa
 (cd firmware-example && cargo clippy --release --lib --bins --examples -- -D warnings)
 (cd firmware-example && cargo clippy --release --no-default-features --features semihosting,bitwise-crc -- -D warnings)
 (cd firmware-example && cargo clippy --release --features surface -- -D warnings)
+# The same program on QEMU's RISC-V virt board, as scripts/targets-check.sh builds it.
+(cd firmware-example && cargo clippy --release --target riscv32imac-unknown-none-elf \
+    --no-default-features --features semihosting,surface -- -D warnings)
 # firmware-rp2040 shares firmware-example's target folder: the host-side
 # build dependencies (the scenario compiler) are built once.
 (cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo clippy --release -- -D warnings)
@@ -62,7 +65,7 @@ RUSTDOCFLAGS="-D warnings" cargo doc -p morphogen --no-deps --all-features
 step "core check for Cortex-M0+ without features (no_std, no alloc, no atomics: what a crate embedding the core builds; the firmware check builds it with defmt and rig for three Cortex-M targets and runs it)"
 cargo check -p morphogen --target thumbv6m-none-eabi
 
-step "core check for RISC-V (riscv32imac: the cores of ESP32-C3, CH32V and GD32V boards; built, no firmware or emulator run yet)"
+step "core check for RISC-V (riscv32imac: the cores of ESP32-C3, CH32V and GD32V boards; the firmware runs in QEMU's virt machine in scripts/targets-check.sh)"
 cargo check -p morphogen --target riscv32imac-unknown-none-elf --features rig
 
 step "the embedding examples build for Cortex-M0+ (firmware-example/examples, profile small: docs/embedding.md's flash and RAM table), the directly driven horn under 32 KB of flash"
@@ -96,8 +99,8 @@ cargo test -p morphogen-tests --features surface-runner --test mosaic
 step "golden fixtures: every built-in scenario re-run (release build)"
 "$morphogen" verify
 
-step "big-endian: every preset on s390x under qemu-user, bit-exact (scripts/targets-check.sh)"
-bash scripts/targets-check.sh
+step "other targets, bit-exact (scripts/targets-check.sh): every preset on s390x (big-endian) under qemu-user; the firmware's MCU presets on riscv32imac in qemu-system-riscv32"
+MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh
 
 step "the Python stream reader against every preset (python/)"
 MORPHOGEN_BIN="$morphogen" bash scripts/python-check.sh

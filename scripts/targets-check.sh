@@ -1,21 +1,35 @@
 #!/usr/bin/env bash
-# Every preset on a big-endian machine: builds `morphogen` for
-# s390x-unknown-linux-gnu (IBM Z, big-endian), runs `morphogen verify` under
-# qemu-user (qemu-s390x) over every built-in preset, host-only ones too, and
-# prints one line per preset: the target, `ok`, the preset, its frames and
-# its stream digest, which must equal the fixture's. The stream is meant to
-# be endian-neutral (docs/stream-format.md): this is where that is checked.
+# Every preset on targets other than the host's, bit-exact against the
+# fixtures, one line per preset: the target, `ok`, the preset, its frames
+# and its stream digest, which must equal the fixture's.
+#
+# - s390x: builds `morphogen` for s390x-unknown-linux-gnu (IBM Z,
+#   big-endian) and runs `morphogen verify` under qemu-user (qemu-s390x)
+#   over every built-in preset, host-only ones too. The stream is meant to
+#   be endian-neutral (docs/stream-format.md): this is where that is checked.
+# - riscv32: builds the firmware (firmware-example, the same program as on
+#   the Cortex-M, its board `src/board/virt.rs`) for
+#   riscv32imac-unknown-none-elf, stream only, with every MCU preset and
+#   the `surface` ones; boots it in QEMU's RISC-V `virt` machine
+#   (qemu-system-riscv32), its UART captured to a file, and checks the
+#   capture with `morphogen verify --stream`.
 #
 # The Cortex-M targets run in scripts/firmware-check.sh and the browser's
 # wasm32 in scripts/web-check.sh; the README's "Targets" table lists all.
 #
-# Usage: scripts/targets-check.sh
+# Usage: scripts/targets-check.sh [s390x] [riscv32]   (default: both)
 # Environment:
-#   CARGO_TARGET_DIR  honoured (default: target)
+#   CARGO_TARGET_DIR       honoured (default: target, and firmware-example/target
+#                          for the firmware)
+#   MORPHOGEN_BIN          the host's `morphogen` that verifies the RISC-V
+#                          capture (default: $MORPHOGEN_RELEASE_BIN, which
+#                          scripts/check.sh sets, else target/release/morphogen)
+#   QEMU_STALL             seconds QEMU may run without a sign of progress
+#                          (a byte of log or capture; default 300)
 #
-# Installs what is missing, and only that: the rustup target, the s390x
-# cross linker and C library (crossbuild-essential-s390x) and qemu-user
-# (apt-get).
+# Installs what is missing, and only that: the rustup targets, the s390x
+# cross linker and C library (crossbuild-essential-s390x), qemu-user and
+# qemu-system-misc (apt-get), defmt-print (cargo install --locked).
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -28,26 +42,132 @@ apt_install() {
   as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@"
 }
 
-target=s390x-unknown-linux-gnu
-sysroot=/usr/s390x-linux-gnu
-rustup target list --installed | grep -qx "$target" || { say "rustup target add $target"; rustup target add "$target"; }
-command -v s390x-linux-gnu-gcc >/dev/null || { say "installing crossbuild-essential-s390x"; apt_install crossbuild-essential-s390x; }
-command -v qemu-s390x >/dev/null || { say "installing qemu-user"; apt_install qemu-user; }
+wanted=("$@")
+[ ${#wanted[@]} -gt 0 ] || wanted=(s390x riscv32)
+for w in "${wanted[@]}"; do
+  case "$w" in s390x | riscv32) ;; *) say "targets-check: unknown target $w (s390x or riscv32)"; exit 2 ;; esac
+done
+wants() { [[ " ${wanted[*]} " == *" $1 "* ]]; }
+rustup_target() {
+  rustup target list --installed | grep -qx "$1" || { say "rustup target add $1"; rustup target add "$1"; }
+}
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
 
-# The release build without debug information (profile `cross`).
-export CARGO_TARGET_S390X_UNKNOWN_LINUX_GNU_LINKER=s390x-linux-gnu-gcc
-cargo build --profile cross -p morphogen-cli --target "$target"
-bin="${CARGO_TARGET_DIR:-$root/target}/$target/cross/morphogen"
+# ---- s390x: `morphogen verify` under qemu-user ----------------------------------
+check_s390x() {
+  local target=s390x-unknown-linux-gnu
+  local sysroot=/usr/s390x-linux-gnu
+  rustup_target "$target"
+  command -v s390x-linux-gnu-gcc >/dev/null || { say "installing crossbuild-essential-s390x"; apt_install crossbuild-essential-s390x; }
+  command -v qemu-s390x >/dev/null || { say "installing qemu-user"; apt_install qemu-user; }
 
-# `verify` re-runs every fixture's scenario and compares its digest; it
-# exits non-zero on any mismatch or missing fixture.
-log="$(mktemp)"
-trap 'rm -f "$log"' EXIT
-if ! qemu-s390x -L "$sysroot" "$bin" verify >"$log" 2>&1; then
-  sed "s/^/$target  /" "$log"
-  say "targets-check: a preset's stream on $target differs from its fixture"
-  exit 1
-fi
-grep -v '^[0-9]* ok, ' "$log" | sed "s/^/$target  /"
-tally=$(grep '^[0-9]* ok, ' "$log")
-say "$target (big-endian, qemu-s390x): $tally"
+  # The release build without debug information (profile `cross`).
+  export CARGO_TARGET_S390X_UNKNOWN_LINUX_GNU_LINKER=s390x-linux-gnu-gcc
+  cargo build --profile cross -p morphogen-cli --target "$target"
+  local bin="${CARGO_TARGET_DIR:-$root/target}/$target/cross/morphogen"
+
+  # `verify` re-runs every fixture's scenario and compares its digest; it
+  # exits non-zero on any mismatch or missing fixture.
+  local log="$work/s390x.log" tally
+  if ! qemu-s390x -L "$sysroot" "$bin" verify >"$log" 2>&1; then
+    sed "s/^/$target  /" "$log"
+    say "targets-check: a preset's stream on $target differs from its fixture"
+    exit 1
+  fi
+  grep -v '^[0-9]* ok, ' "$log" | sed "s/^/$target  /"
+  tally=$(grep '^[0-9]* ok, ' "$log")
+  say "$target (big-endian, qemu-s390x): $tally"
+}
+
+# ---- riscv32: the firmware in qemu-system-riscv32 -machine virt -----------------
+# watch_progress PID FILE...: waits while QEMU (PID) runs; when none of
+# FILE… (the defmt log, the UART capture) has grown for $QEMU_STALL
+# seconds, stops it and says so in $work/stalled. No wall-clock deadline:
+# a busy machine only runs slower.
+watch_progress() {
+  local pid="$1" stall="${QEMU_STALL:-300}" size last=-1 since=$SECONDS
+  shift
+  while kill -0 "$pid" 2>/dev/null; do
+    size="$(stat -c %s "$@" 2>/dev/null | awk '{s += $1} END {print s + 0}')"
+    if [ "$size" != "$last" ]; then
+      last="$size"; since=$SECONDS
+    elif [ $((SECONDS - since)) -ge "$stall" ]; then
+      echo "no progress for $stall s (no byte of defmt log or UART capture; QEMU_STALL): stopped" >"$work/stalled"
+      kill "$pid" 2>/dev/null
+      break
+    fi
+    sleep 1
+  done
+}
+
+check_riscv32() {
+  local target=riscv32imac-unknown-none-elf fw="$root/firmware-example"
+  local morphogen="${MORPHOGEN_BIN:-${MORPHOGEN_RELEASE_BIN:-${CARGO_TARGET_DIR:-$root/target}/release/morphogen}}"
+  [ -x "$morphogen" ] || {
+    say "targets-check: no morphogen binary at $morphogen (cargo build --release -p morphogen-cli, or set MORPHOGEN_BIN)"
+    exit 1
+  }
+  rustup_target "$target"
+  command -v qemu-system-riscv32 >/dev/null || { say "installing qemu-system-misc"; apt_install qemu-system-misc; }
+  command -v defmt-print >/dev/null || { say "cargo install defmt-print --locked"; cargo install defmt-print --locked; }
+
+  # Stream only (the OLED is the LM3S6965's), every MCU preset and the
+  # surface ones: the firmware's own build of its presets (build.rs).
+  say "build firmware-example for $target (--no-default-features --features semihosting,surface)"
+  (cd "$fw" && env -u MORPHOGEN_SCENARIOS cargo build --release --target "$target" \
+    --no-default-features --features semihosting,surface)
+  local elf="${CARGO_TARGET_DIR:-$fw/target}/$target/release/morphogen-firmware"
+  local capture="$work/riscv32.bin" defmt="$work/riscv32.defmt" log="$work/riscv32.log" qemu qemu_status started=$SECONDS
+
+  # The UART to the capture, defmt over semihosting to a file (decoded once
+  # QEMU is done), the exit code over semihosting. `-icount shift=0`: one
+  # instruction per ns, so that `mcycle` (the report's ticks) counts
+  # instructions.
+  say "QEMU virt (qemu-system-riscv32): $(basename "$elf")"
+  set +e
+  qemu-system-riscv32 -machine virt -bios none \
+    -display none -monitor none -parallel none \
+    -semihosting-config "enable=on,target=native,arg=morphogen-firmware" \
+    -icount shift=0 \
+    -serial "file:$capture" \
+    -kernel "$elf" >"$defmt" 2>"$work/riscv32.qemu.err" &
+  qemu=$!
+  watch_progress "$qemu" "$defmt" "$capture"
+  wait "$qemu"; qemu_status=$?
+  defmt-print -e "$elf" <"$defmt" >"$log" 2>&1
+  set -e
+  say "QEMU ran $((SECONDS - started)) s"
+  if [ -e "$work/stalled" ] || [ "$qemu_status" -ne 0 ] || ! grep -q "all .* presets streamed" "$log"; then
+    cat "$log" "$work/riscv32.qemu.err" >&2
+    say "targets-check: the firmware on $target $(cat "$work/stalled" 2>/dev/null || echo "exited $qemu_status")"
+    exit 1
+  fi
+
+  # Every stream of the capture against its fixture, bit for bit; then the
+  # frames and digest the device reported, which must be the fixture's.
+  if ! (cd "$root" && "$morphogen" verify --stream "$capture") >"$work/riscv32.verify.log" 2>&1; then
+    sed "s/^/$target  /" "$work/riscv32.verify.log"
+    say "targets-check: a preset's stream on $target differs from its fixture"
+    exit 1
+  fi
+  local status name rest frames digest fixture_frames fixture_digest ok=0
+  while read -r status name rest; do
+    [ "$status" = ok ] || continue
+    read -r frames digest < <(sed -n "s/.*report preset=$name seed=[0-9]* frames=\([0-9]*\) bytes=[0-9]* digest=\([0-9a-f]*\) .*/\1 \2/p" "$log") || true
+    fixture_frames="$(sed -n 's/^frames = \([0-9]*\)$/\1/p' "$root/fixtures/$name/summary.toml")"
+    fixture_digest="$(sed -n 's/^stream_digest = "\([0-9a-f]*\)"$/\1/p' "$root/fixtures/$name/summary.toml")"
+    if [ -z "${digest:-}" ] || [ "$frames" != "$fixture_frames" ] || [ "$digest" != "$fixture_digest" ]; then
+      say "targets-check: $name on $target reported ${frames:-no} frames, digest ${digest:-none}; its fixture has $fixture_frames, $fixture_digest"
+      exit 1
+    fi
+    printf '%s  ok        %s (%s frames, digest %s)\n' "$target" "$name" "$frames" "$digest"
+    ok=$((ok + 1))
+    unset frames digest
+  done <"$work/riscv32.verify.log"
+  grep -q "all $ok presets streamed" "$log" || { say "targets-check: $ok streams verified, not every preset the firmware ran"; exit 1; }
+  say "$target (QEMU virt, qemu-system-riscv32): $ok ok, $(stat -c %s "$capture") bytes captured"
+}
+
+if wants s390x; then check_s390x; fi
+if wants riscv32; then check_riscv32; fi

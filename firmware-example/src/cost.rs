@@ -1,60 +1,6 @@
-//! What a run costs: an instruction-count proxy from SysTick and the peak
-//! stack depth from stack painting.
-//!
-//! Under QEMU's `-icount shift=0` every instruction advances virtual time
-//! by 1 ns, and SysTick counts the modelled CPU clock
-//! ([`crate::board::QEMU_CPU_HZ`]), so SysTick deltas are repeatable to the
-//! tick: one tick ≈ 20 instructions. (DWT CYCCNT reads 0 in QEMU.)
-
-use core::sync::atomic::{AtomicU32, Ordering};
-
-use cortex_m::peripheral::SYST;
-use cortex_m::peripheral::syst::SystClkSource;
-
-/// SysTick's largest reload value (24-bit counter).
-const RELOAD: u32 = 0x00FF_FFFF;
-
-/// SysTick wrap-arounds; only the SysTick handler writes it (so plain
-/// load/store atomics suffice, also on ARMv6-M).
-static WRAPS: AtomicU32 = AtomicU32::new(0);
-
-/// Counts one wrap of the 24-bit counter.
-pub fn on_systick_wrap() {
-    WRAPS.store(
-        WRAPS.load(Ordering::Relaxed).wrapping_add(1),
-        Ordering::Relaxed,
-    );
-}
-
-/// A 64-bit tick counter built on SysTick and its wrap interrupt.
-/// (Owns SysTick, which has no `Debug`.)
-pub struct InstructionClock {
-    _syst: SYST,
-}
-
-impl InstructionClock {
-    /// Starts SysTick on the core clock with the largest reload.
-    pub fn start(mut syst: SYST) -> InstructionClock {
-        syst.set_clock_source(SystClkSource::Core);
-        syst.set_reload(RELOAD);
-        syst.clear_current();
-        syst.enable_interrupt();
-        syst.enable_counter();
-        InstructionClock { _syst: syst }
-    }
-
-    /// Ticks since [`InstructionClock::start`].
-    pub fn now(&self) -> u64 {
-        loop {
-            let wraps = WRAPS.load(Ordering::Relaxed);
-            let current = SYST::get_current();
-            // A wrap between the two reads re-runs the loop.
-            if WRAPS.load(Ordering::Relaxed) == wraps {
-                return (u64::from(wraps) << 24) | u64::from(RELOAD - current);
-            }
-        }
-    }
-}
+//! What a run's stack costs: the peak depth from stack painting, on a
+//! Cortex-M (`cortex-m-rt` paints the stack). The time a run costs is the
+//! board's [`InstructionClock`](crate::board::InstructionClock).
 
 /// Stack use measured against the paint `cortex-m-rt` (feature
 /// `paint-stack`) puts between `_stack_end` (end of `.bss`/`.uninit`) and

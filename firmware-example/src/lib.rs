@@ -1,9 +1,14 @@
 //! What the two Morphogen programs for the LM3S6965 evaluation board share:
-//! the board (`board`: clock, UART0/UART1), the stream a sender writes
-//! (`link`), its OLED (`oled`), what the OLED shows and the screen handshake
-//! of the check script (`screen`), the semihosting arguments (`args`), run
-//! costs (`cost`), how a program ends (`exit`) and where its `defmt` logs
-//! and panics go.
+//! the board (`board`: clock, UART0/UART1, instruction clock), the stream a
+//! sender writes (`link`), its OLED (`oled`), what the OLED shows and the
+//! screen handshake of the check script (`screen`), the semihosting
+//! arguments (`args`), stack costs (`cost`), how a program ends (`exit`)
+//! and where its `defmt` logs and panics go.
+//!
+//! The sender also runs on riscv32 (QEMU's RISC-V `virt` machine): the same
+//! program on the board `board` chooses by target, streaming only (no OLED,
+//! hence none of `oled`, `serve` or the receiver), its `defmt` logs and
+//! exit code over RISC-V semihosting.
 //!
 //! - The **sender** (`src/main.rs`, binary `morphogen-firmware`) runs every
 //!   built-in preset, streams it on UART0 and draws it on the OLED.
@@ -25,13 +30,23 @@ compile_error!(
 #[cfg(not(any(feature = "semihosting", feature = "rtt")))]
 compile_error!("enable a defmt transport: `semihosting` (default) or `rtt`");
 
+#[cfg(all(feature = "oled", not(target_arch = "arm")))]
+compile_error!(
+    "the OLED is the LM3S6965's: on RISC-V build the stream-only sender (--no-default-features --features semihosting)"
+);
+
 #[cfg(feature = "rtt")]
 use defmt_rtt as _;
 #[cfg(feature = "semihosting")]
 use defmt_semihosting as _;
+// The runtime (entry, trap handler, linker script) and the critical
+// section that defmt's logger takes.
+#[cfg(target_arch = "riscv32")]
+use {riscv as _, riscv_rt as _};
 
 pub mod args;
 pub mod board;
+#[cfg(target_arch = "arm")]
 pub mod cost;
 pub mod exit;
 #[cfg(feature = "extent")]

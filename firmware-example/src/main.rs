@@ -30,7 +30,8 @@
 //!
 //! Built for QEMU's `lm3s6965evb` (TI Stellaris LM3S6965: Cortex-M3, no FPU,
 //! 64 KB SRAM, 256 KB flash); see `README.md` for the check script, the
-//! cost report and real hardware.
+//! cost report and real hardware. The same program streams on QEMU's RISC-V
+//! `virt` machine (riscv32imac, `src/board/virt.rs`), without the OLED.
 //!
 //! Log lines that start with `report` are machine-read by
 //! `scripts/firmware-check.sh` and go into `REPORT.md`.
@@ -46,6 +47,7 @@ mod presets {
 
 use core::mem::MaybeUninit;
 
+#[cfg(target_arch = "arm")]
 use cortex_m_rt::{ExceptionFrame, entry, exception};
 use morphogen::embedded_io::Write;
 use morphogen::preset::{self, Preset, Runner};
@@ -55,9 +57,12 @@ use morphogen::rig::Bounds;
 use morphogen::sent::{SentReader, SentScenario};
 use morphogen::sim::Progress;
 use morphogen::stream::{Encoder, Sink};
+#[cfg(target_arch = "riscv32")]
+use riscv_rt::entry;
 
-use morphogen_firmware::board::{self, Uart0};
-use morphogen_firmware::cost::{self, InstructionClock, StackPaint};
+use morphogen_firmware::board::{self, InstructionClock, Uart0};
+#[cfg(target_arch = "arm")]
+use morphogen_firmware::cost::StackPaint;
 #[cfg(feature = "extent")]
 use morphogen_firmware::link::Linked;
 #[cfg(feature = "oled")]
@@ -90,6 +95,8 @@ static mut FRAME: Frame = Frame::new();
 static mut PLANE: [u8; morphogen::rig::plane_bytes(oled::SIZE)] =
     [0; morphogen::rig::plane_bytes(oled::SIZE)];
 
+/// Streams every preset (or `--serve N` sent scenarios) and exits with
+/// whether all ran to their end.
 #[entry]
 fn main() -> ! {
     // `main` runs once and never returns, and nothing else names RUNNER,
@@ -106,14 +113,14 @@ fn main() -> ! {
     #[cfg(feature = "oled")]
     let (frame, plane) = (&raw mut FRAME, &raw mut PLANE);
 
-    let Some(peripherals) = cortex_m::Peripherals::take() else {
+    let Some(clock) = InstructionClock::take() else {
         exit::failure()
     };
     board::init_clock();
     let mut stage = Stage {
         slot,
         uart: Uart0::init(),
-        clock: InstructionClock::start(peripherals.SYST),
+        clock,
         #[cfg(feature = "oled")]
         screen: Screen {
             oled: Oled::init(),
@@ -191,7 +198,9 @@ fn main() -> ! {
     }
     let Ok(()) = stage.uart.flush();
 
+    #[cfg(target_arch = "arm")]
     let stack = StackPaint::measure();
+    #[cfg(target_arch = "arm")]
     defmt::info!(
         "report stack peak={=u32} region={=u32} static={=u32}",
         stack.peak_bytes,
@@ -350,13 +359,29 @@ fn runner<'r>(slot: &'r mut MaybeUninit<Runner<'static>>) -> &'r mut Runner<'r> 
     }
 }
 
+#[cfg(target_arch = "arm")]
 #[exception]
 fn SysTick() {
-    cost::on_systick_wrap();
+    board::on_systick_wrap();
 }
 
+#[cfg(target_arch = "arm")]
 #[exception]
 unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
     defmt::error!("hard fault at pc={=u32:#010x}", frame.pc());
+    exit::failure()
+}
+
+/// Every RISC-V exception (riscv-rt's `ExceptionHandler`; no interrupt is
+/// enabled): a fault, as a HardFault on a Cortex-M.
+#[cfg(target_arch = "riscv32")]
+#[unsafe(export_name = "ExceptionHandler")]
+fn exception_handler(_frame: &riscv_rt::TrapFrame) -> ! {
+    defmt::error!(
+        "exception {=usize} at pc={=usize:#010x} (mtval {=usize:#010x})",
+        riscv::register::mcause::read().code(),
+        riscv::register::mepc::read(),
+        riscv::register::mtval::read()
+    );
     exit::failure()
 }
