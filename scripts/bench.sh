@@ -67,7 +67,7 @@ flash_full="$(flash_of "$fw_target/release/morphogen-firmware")"
 # ---- outputs ----------------------------------------------------------------
 # CPU for every preset; instructions (callgrind) for those whose simulation
 # takes under 0.1 s, below what a CPU clock resolves.
-say "run ÷ verify, every preset"
+say "writing the outputs (run ÷ verify, run − verify), every preset"
 ratios="$work/ratios.md"
 bash scripts/bench-outputs.sh --runs "$runs" --bin "$bin" | tee "$ratios" >&2
 fast=$(awk -F'|' '/^\|/ && NR > 2 && $3 + 0 < 0.1 {gsub(/ /, "", $2); print $2}' "$ratios")
@@ -132,7 +132,7 @@ cat <<EOF2
 
 Times are medians of $runs runs; $(nproc) cores, $(date -u +%F).
 
-run ÷ verify, CPU (median of $runs):
+writing the outputs, CPU (median of $runs): run ÷ verify, run − verify, and the presets within 1.3× or 0.3 s
 
 $(cat "$ratios")
 
