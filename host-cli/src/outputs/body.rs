@@ -22,6 +22,7 @@ use super::kinds::Kinds;
 use super::mesh;
 use super::numbered::FileSeries;
 use super::picture::Canvases;
+use super::plot::{self, Drawing, Pen};
 use super::slots::OrderedAnimation;
 use super::text::trimmed;
 use super::{normals, raster};
@@ -267,6 +268,18 @@ pub(crate) fn draw(
             Some(corners) => raster::smooth_triangle(pixmap, p, corners.map(|n| shade(n, 1.0))),
             None => raster::triangle(pixmap, p, shade(n, len)),
         }
+    }
+}
+
+/// The frame's outline for a pen plotter, in [`draw`]'s view (along −z,
+/// y up): one pen, `outline`.
+pub(crate) fn outline(frame: &Frame) -> Drawing {
+    Drawing {
+        pens: vec![Pen {
+            name: "outline".into(),
+            colour: [60, 50, 40],
+            strokes: plot::silhouette(&frame.vertices, &frame.triangles),
+        }],
     }
 }
 
