@@ -12,7 +12,8 @@ model gives:
 - long-bone: the outline;
 - croton-mcu (a torus): the Voronoi diagram of the last day's N cells
   has 3N edges; cut at the picture's sides, each crossing adds a path
-  and two ends facing each other across the picture.
+  and two ends facing each other across the picture;
+- watermelon-mcu (on a mesh): its type borders and its outline.
 
 Each file is then made into HPGL with vpype's command line (`read
 linemerge linesort write -d hp7475a -p a4`). Needs vpype (`pip install
@@ -174,7 +175,8 @@ def main():
     binary = parser.parse_args().bin
     failures = 0
     with tempfile.TemporaryDirectory() as tmp:
-        for preset in ("abop-2d-plant", "ram-horn", "long-bone", "croton-mcu"):
+        presets = ("abop-2d-plant", "ram-horn", "long-bone", "croton-mcu", "watermelon-mcu")
+        for preset in presets:
             out = os.path.join(tmp, preset)
             try:
                 path = run(binary, preset, out)
@@ -197,6 +199,10 @@ def main():
                     assert names == ["1 outline", "2 rings"], names
                     assert counts[0] >= 1 and rings <= counts[1] <= 2 * rings, (counts, rings)
                     said = f"outline {counts[0]} paths, {counts[1]} ring arcs of {rings} rings"
+                elif preset == "watermelon-mcu":
+                    assert names == ["1 type borders", "2 outline"], names
+                    assert min(counts) >= 1, counts
+                    said = f"type borders {counts[0]} paths, outline {counts[1]} paths"
                 elif preset == "long-bone":
                     assert names == ["1 outline"] and counts[0] >= 1, (names, counts)
                     said = f"outline {counts[0]} paths"
