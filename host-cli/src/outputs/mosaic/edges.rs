@@ -37,7 +37,7 @@ impl HasPosition for Site {
 /// the walls), pen 2 the edges between cells of one type.
 ///
 /// # Errors
-/// When a cell's place cannot be triangulated.
+/// When a cell's place cannot be triangulated (not a number).
 pub(super) fn drawing(domain: &Domain, cells: &[(u32, u8, Fx, Fx)]) -> Result<Drawing> {
     let size = domain.size.map(f64::from_fx);
     let image = |x: f64, axis: usize, side: i8| match (side, domain.periodic[axis]) {
@@ -46,16 +46,18 @@ pub(super) fn drawing(domain: &Domain, cells: &[(u32, u8, Fx, Fx)]) -> Result<Dr
         (-1, false) => -x,
         (_, false) => 2.0 * size[axis] - x,
     };
-    let mut diagram = DelaunayTriangulation::<Site>::new();
+    let mut sites = Vec::with_capacity(9 * cells.len());
     for (cell, &(_, kind, u, v)) in cells.iter().enumerate() {
         let (u, v) = (f64::from_fx(u), f64::from_fx(v));
         for (su, sv) in (-1..=1).flat_map(|a| (-1..=1).map(move |b| (a, b))) {
             let at = Point2::new(image(u, 0, su), image(v, 1, sv));
-            diagram
-                .insert(Site { at, cell, kind })
-                .with_context(|| format!("cell {cell} at ({u}, {v}) cannot be triangulated"))?;
+            sites.push(Site { at, cell, kind });
         }
     }
+    // Loaded at once (sorted round their centre): inserted one by one,
+    // each image's search would start a domain away from the last.
+    let diagram = DelaunayTriangulation::<Site>::bulk_load(sites)
+        .context("the cells' places cannot be triangulated")?;
     // A hair beyond the domain, so that the walls' own edges are kept.
     let tolerance = 1e-9 * size[0].max(size[1]);
     let (mut borders, mut inside) = (Vec::new(), Vec::new());
