@@ -9,7 +9,7 @@ model gives:
   path ends), a layer per colour index;
 - ram-horn: the outline, and at least one arc per growth ring (a ring
   where one monthly band meets the next, J rings a module);
-- long-bone: the outline;
+- long-bone, horse-growth: the outline;
 - croton-mcu (a torus): the Voronoi diagram of the last day's N cells
   has 3N edges; cut at the picture's sides, each crossing adds a path
   and two ends facing each other across the picture;
@@ -175,7 +175,14 @@ def main():
     binary = parser.parse_args().bin
     failures = 0
     with tempfile.TemporaryDirectory() as tmp:
-        presets = ("abop-2d-plant", "ram-horn", "long-bone", "croton-mcu", "watermelon-mcu")
+        presets = (
+            "abop-2d-plant",
+            "ram-horn",
+            "long-bone",
+            "horse-growth",
+            "croton-mcu",
+            "watermelon-mcu",
+        )
         for preset in presets:
             out = os.path.join(tmp, preset)
             try:
@@ -203,7 +210,7 @@ def main():
                     assert names == ["1 type borders", "2 outline"], names
                     assert min(counts) >= 1, counts
                     said = f"type borders {counts[0]} paths, outline {counts[1]} paths"
-                elif preset == "long-bone":
+                elif preset in ("long-bone", "horse-growth"):
                     assert names == ["1 outline"] and counts[0] >= 1, (names, counts)
                     said = f"outline {counts[0]} paths"
                 else:
