@@ -105,6 +105,18 @@ MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh
 step "the Python stream reader against every preset (python/)"
 MORPHOGEN_BIN="$morphogen" bash scripts/python-check.sh
 
+step "plot.svg read back with vpype, one preset per model (scripts/plot-check.py)"
+# Into the Python python-check uses; vpype is on PyPI only, so a Debian
+# python3 that refuses pip gets it past its marker of a system-managed
+# environment.
+python="${PYTHON:-python3}"
+if ! "$python" -c 'import vpype' 2>/dev/null; then
+    echo "plot-check: installing vpype"
+    "$python" -m pip install --quiet --disable-pip-version-check vpype 2>/dev/null \
+        || "$python" -m pip install --quiet --disable-pip-version-check --break-system-packages vpype
+fi
+"$python" scripts/plot-check.py --bin "$morphogen"
+
 step "every preset's scenario file, shown and run from a file, gives its fixture"
 shown=$(mktemp -d)
 trap 'rm -rf "$shown" "$timings"' EXIT

@@ -734,7 +734,7 @@ mod tests {
         let written = plant::write(
             &StreamFile::new(&path),
             dir.path(),
-            crate::outputs::Kinds::ALL,
+            crate::outputs::Kinds::DEFAULT,
         )
         .unwrap();
         // plant.png, plant.obj, plant.mtl, model.glb, segments.csv.
@@ -748,7 +748,7 @@ mod tests {
         assert_eq!(csv.lines().count(), segments + 1);
         // The same files from the records in memory.
         let again = tempfile::tempdir().unwrap();
-        plant::write(&records, again.path(), crate::outputs::Kinds::ALL).unwrap();
+        plant::write(&records, again.path(), crate::outputs::Kinds::DEFAULT).unwrap();
         for name in ["plant.png", "plant.obj", "model.glb", "segments.csv"] {
             assert_eq!(
                 std::fs::read(again.path().join(name)).unwrap(),

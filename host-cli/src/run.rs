@@ -81,8 +81,9 @@ pub struct Args {
     /// Write only these kinds of file, a comma list of png (pictures
     /// and chart bitmaps), obj (meshes and their .mtl), glb
     /// (model.glb), anim (animation.png), svg (charts), csv (tables),
-    /// jsonl (records.jsonl); stream.bin and summary.txt are always
-    /// written. Default: all of them.
+    /// jsonl (records.jsonl), plot (plot.svg: the last frame's strokes
+    /// for a pen plotter, in mm on A4, a layer per pen); stream.bin and
+    /// summary.txt are always written. Default: all of them but plot.
     #[arg(long, value_name = "KINDS", value_parser = Kinds::parse)]
     pub only: Option<Kinds>,
     /// Print nothing on standard output (no summary, no "wrote"
@@ -106,7 +107,7 @@ struct Writing {
 /// file that cannot be written.
 pub fn run(args: Args) -> Result<Outcome> {
     let writing = Writing {
-        kinds: args.only.unwrap_or(Kinds::ALL),
+        kinds: args.only.unwrap_or(Kinds::DEFAULT),
         quiet: args.quiet,
     };
     match (&args.target, &args.grammar) {

@@ -104,7 +104,7 @@ fn shrub(n: u32, dir: &Path) -> Cost {
     )
     .unwrap();
     let written = exec::write_outputs(&out, &run, false, |records, dir| {
-        plant::write(records, dir, Kinds::ALL)
+        plant::write(records, dir, Kinds::DEFAULT)
     })
     .unwrap();
     let peak = PEAK.load(Ordering::SeqCst) - before;

@@ -407,6 +407,27 @@ fn only_png_writes_no_meshes_and_quiet_prints_nothing() {
 }
 
 #[test]
+fn plot_svg_is_written_when_asked_for_and_a_model_without_strokes_says_so() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (dir, _) = run(tmp.path(), "long-bone", &["--only", "plot", "--quiet"]);
+    assert_eq!(files(&dir), ["plot.svg", "stream.bin", "summary.txt"]);
+    let svg = std::fs::read_to_string(dir.join("plot.svg")).unwrap();
+    assert!(
+        svg.contains(r#"height="297mm" viewBox="0 0 210 297" width="210mm""#),
+        "a bone is tall: A4 portrait, in mm: {svg}"
+    );
+    assert!(svg.contains(r#"inkscape:label="1 outline""#), "{svg}");
+    assert!(svg.contains("<path d=\"M"), "{svg}");
+    let (dir, o) = run(tmp.path(), "growth-curve", &["--only", "plot,csv"]);
+    assert!(!dir.join("plot.svg").exists());
+    let note = String::from_utf8_lossy(&o.stderr);
+    assert!(note.contains("no plot.svg"), "{note}");
+    let (dir, o) = run(tmp.path(), "abop-2d-plant", &["--quiet"]);
+    assert!(!dir.join("plot.svg").exists(), "plot is not a default kind");
+    assert!(o.stdout.is_empty());
+}
+
+#[test]
 fn a_run_replaces_an_earlier_runs_series_whole() {
     // 32 frames, then 16 into the same folder: frames 16 to 31 would mix
     // two runs; then `--only png` leaves the OBJ series alone.

@@ -3,8 +3,9 @@
 //! side-view PNG per frame (one age each) at one common scale and the
 //! same views as `animation.png`, a strip of the yearly ages side by side
 //! (`ages.png`, each labelled), the growth table's columns over age
-//! (`growth.png`, `growth.svg`) and `summary.txt` with the binding counts
-//! and per-frame sizes.
+//! (`growth.png`, `growth.svg`), `summary.txt` with the binding counts
+//! and per-frame sizes, and `plot.svg` the last frame's outline in the
+//! side view.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -22,6 +23,7 @@ use super::kinds::Kinds;
 use super::mesh;
 use super::numbered::FileSeries;
 use super::picture::Canvases;
+use super::plot::{self, Drawing, Pen};
 use super::slots::OrderedAnimation;
 use super::text::trimmed;
 use super::{normals, raster};
@@ -270,6 +272,18 @@ pub(crate) fn draw(
     }
 }
 
+/// The frame's outline for a pen plotter, in [`draw`]'s view (along −z,
+/// y up): one pen, `outline`.
+pub(crate) fn outline(frame: &Frame) -> Drawing {
+    Drawing {
+        pens: vec![Pen {
+            name: "outline".into(),
+            colour: [60, 50, 40],
+            strokes: plot::silhouette(&frame.vertices, &frame.triangles),
+        }],
+    }
+}
+
 /// The ground line at `y` (saved picture's pixels) across a [`canvas`].
 fn ground(pixmap: &mut Pixmap, y: f32) {
     let mut pb = PathBuilder::new();
@@ -369,9 +383,9 @@ fn label(age: f64) -> String {
 /// A body run's products ([`driver::write`]): `frame_NNN.obj`,
 /// `model.glb`, `side_NNN.png` and `animation.png` (every frame, or 60
 /// spread evenly) at one common scale, `ages.png` (the yearly ages, at
-/// most six), `growth.png`/`growth.svg` (with a growth table) and
+/// most six), `growth.png`/`growth.svg` (with a growth table),
 /// `summary.txt` (with the binding counts, when known, and each frame's
-/// side-view extent).
+/// side-view extent) and `plot.svg` (the last frame's outline).
 struct Body<'a> {
     title: &'a str,
     binding: Option<BindingSummary>,
@@ -386,6 +400,8 @@ struct Body<'a> {
     yearly: Vec<(usize, f64)>,
     /// The side views' bounds and canvases, once surveyed.
     sides: Option<(Bounds, Canvases)>,
+    /// The last frame, for its outline.
+    last: Option<Frame>,
 }
 
 /// Side-view bounds: least and most x, least and most y.
@@ -446,6 +462,7 @@ impl Products for Body<'_> {
             self.yearly.push((self.count, f.age));
         }
         self.count += 1;
+        self.last = Some(f);
         Ok(())
     }
 
@@ -520,6 +537,10 @@ impl Products for Body<'_> {
         Rgb::halved(&p).map(Some)
     }
 
+    fn plot(&self) -> Result<Option<Drawing>> {
+        Ok(self.last.as_ref().map(outline))
+    }
+
     fn close(self, dir: &Path, kinds: Kinds, run: Closing<()>) -> Result<Vec<PathBuf>> {
         let mut written = Vec::new();
         let mut summary = format!("{}: {} frames\n", self.title, self.count);
@@ -578,6 +599,7 @@ pub fn write<R: Records + ?Sized>(
         sizes: String::new(),
         yearly: Vec::new(),
         sides: None,
+        last: None,
     };
     driver::write(body, records, dir, kinds)
 }

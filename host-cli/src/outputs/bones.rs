@@ -6,7 +6,8 @@
 //! steps (the paper's Fig. 2 and 3), `summary.txt`, which
 //! checks each mesh again in f64: Euler characteristic and the worst
 //! |V − V0| / V0 over its vertices, and `wrap.png`/`.svg`: how the
-//! shrinkwrap of the last frame converged, iteration by iteration.
+//! shrinkwrap of the last frame converged, iteration by iteration;
+//! `plot.svg` the last frame's outline as its pictures show it.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -25,6 +26,7 @@ use super::kinds::{Kind, Kinds};
 use super::mesh;
 use super::numbered::FileSeries;
 use super::picture::Canvases;
+use super::plot::Drawing;
 use super::slots::OrderedAnimation;
 use super::text::trimmed;
 use crate::atomic::write_atomic;
@@ -222,6 +224,8 @@ struct Bones<'a> {
     summary: String,
     /// The last frame: its index, vertices, skeleton and wrap.
     last: Option<(u32, usize, Skeleton, WrapParams)>,
+    /// The last frame's mesh, for its outline.
+    last_mesh: Option<Frame>,
     scale: Option<Scale>,
 }
 
@@ -273,6 +277,7 @@ impl Products for Bones<'_> {
         self.extent.include(m);
         self.count += 1;
         self.last = Some((m.index, m.vertices.len(), f.skeleton, wrap));
+        self.last_mesh = Some(f.mesh);
         Ok(())
     }
 
@@ -369,6 +374,10 @@ impl Products for Bones<'_> {
         Rgb::halved(&p).map(Some)
     }
 
+    fn plot(&self) -> Result<Option<Drawing>> {
+        Ok(self.last_mesh.as_ref().map(body::outline))
+    }
+
     fn close(mut self, dir: &Path, kinds: Kinds, _run: Closing<()>) -> Result<Vec<PathBuf>> {
         let mut written = Vec::new();
         if let Some((frame, vertices, skeleton, wrap)) = self.last.take()
@@ -423,6 +432,7 @@ pub fn write<R: Records + ?Sized>(
         extent: Extent::new(),
         summary: String::new(),
         last: None,
+        last_mesh: None,
         scale: None,
     };
     driver::write(bones, records, dir, kinds)

@@ -1,10 +1,10 @@
 //! The one writer of a model's files. A model states its products as
 //! [`Products`] — frame → mesh, frame → picture with its label, frames →
-//! montage tiles, frame → tables of its own, run → charts and tables —
-//! and [`write`] writes every kind `--only` asks for, in two passes over
-//! the stream a frame at a time: the survey (the frame count, the common
-//! scale, the tables), then the files, drawn by parallel workers and
-//! handed over in order.
+//! montage tiles, frame → tables of its own, last frame → pen strokes,
+//! run → charts and tables — and [`write`] writes every kind `--only`
+//! asks for, in two passes over the stream a frame at a time: the survey
+//! (the frame count, the common scale, the tables), then the files, drawn
+//! by parallel workers and handed over in order.
 
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
@@ -19,6 +19,7 @@ use super::montage::{paste_rgb, save_montage_rgb};
 use super::numbered::{FileSeries, Numbering};
 use super::picture;
 use super::pipeline::pipeline;
+use super::plot::{self, Drawing};
 use super::slots::{ANIMATION_DELAY_MS, OrderedAnimation, animation_frames};
 use crate::records::{Place, Records};
 
@@ -243,6 +244,15 @@ pub(crate) trait Products: Sync {
         Ok((Vec::new(), None))
     }
 
+    /// The last frame as pen strokes, for `plot.svg`, if the model draws
+    /// one.
+    ///
+    /// # Errors
+    /// When the strokes cannot be found.
+    fn plot(&self) -> Result<Option<Drawing>> {
+        Ok(None)
+    }
+
     /// The run's own files, once the frames' are written: charts,
     /// tables, summaries.
     ///
@@ -441,6 +451,16 @@ pub(crate) fn write<M: Products, R: Records + ?Sized>(
         numbering: plan.numbering,
     };
     written.extend(plan.finish(labels)?);
+    if kinds.has(Kind::Plot) {
+        match model.plot()? {
+            Some(drawing) => {
+                let path = dir.join(plot::FILE);
+                drawing.save(&path)?;
+                written.push(path);
+            }
+            None => eprintln!("note: no {}: this model draws no strokes", plot::FILE),
+        }
+    }
     written.extend(model.close(dir, kinds, closing)?);
     Ok(written)
 }

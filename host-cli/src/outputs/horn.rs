@@ -27,6 +27,7 @@ use super::chart::{Axis, Chart, Series, write_chart};
 use super::driver::{self, Closing, MeshFiles, Montage, Products, Rgb};
 use super::kinds::{Kind, Kinds};
 use super::numbered::FileSeries;
+use super::plot::{self, Drawing, Pen, Stroke};
 use super::raster::depth_key;
 use super::slots::OrderedAnimation;
 use super::text::trimmed;
@@ -420,6 +421,87 @@ fn shaded(mesh: &Mesh, view: &View, origin: [f64; 2], at: [f32; 2], scale: f64) 
         .collect()
 }
 
+/// The last frame's plot in `horn.png`'s view: its outline (the
+/// mesh's [`plot::silhouette`]) and its growth rings, the rings where
+/// one monthly band of `horn.png` meets the next, each drawn where it
+/// faces the viewer (its points turned towards the viewer from the
+/// ring's centre).
+fn drawing(frame: &Frame, j: u32) -> Drawing {
+    let view = camera();
+    let m = mesh(frame, j);
+    let screen: Vec<[f64; 3]> = m.vertices.iter().map(|&p| view.apply(p).into()).collect();
+    let triangles: Vec<[u32; 3]> = m
+        .groups
+        .iter()
+        .flat_map(|(_, tris)| tris.iter().map(|(t, _)| t.map(|k| k as u32)))
+        .collect();
+    let month = |r: &Ring| u32::from(r.ring) * 12 / j.max(1);
+    let mut rings = Vec::new();
+    for (k, ring) in frame.rings.iter().enumerate() {
+        let before = k.checked_sub(1).map(|b| &frame.rings[b]);
+        let boundary = before.is_none_or(|b| month(b) != month(ring) || b.module != ring.module);
+        if !boundary || before.is_some_and(|b| b.points == ring.points) {
+            continue;
+        }
+        rings.extend(facing_arcs(ring, &view));
+    }
+    let pen = |name: &str, colour, strokes| Pen {
+        name: name.into(),
+        colour,
+        strokes,
+    };
+    Drawing {
+        pens: vec![
+            pen(
+                "outline",
+                [40, 30, 20],
+                plot::silhouette(&screen, &triangles),
+            ),
+            pen("rings", [160, 110, 50], rings),
+        ],
+    }
+}
+
+/// The arcs of `ring` that face the viewer, on the screen, each ending
+/// where the ring turns away (between its points): a whole ring facing
+/// it is one closed stroke.
+fn facing_arcs(ring: &Ring, view: &View) -> Vec<Stroke> {
+    let c = centroid(&ring.points);
+    // How far each point's side faces the viewer: its depth from the centre.
+    let depth: Vec<f64> = ring.points.iter().map(|&p| view.apply(p - c)[2]).collect();
+    let at = |i: usize| {
+        let q = view.apply(ring.points[i]);
+        [q[0], q[1]]
+    };
+    let n = ring.points.len();
+    let Some(start) = (0..n).find(|&i| depth[i] <= 0.0) else {
+        let mut whole = Stroke::open((0..n).map(at).collect());
+        whole.closed = true;
+        return vec![whole];
+    };
+    // From a point facing away, round the ring once.
+    let mut arcs = Vec::new();
+    let mut arc: Vec<[f64; 2]> = Vec::new();
+    let mut before = start;
+    for i in (1..=n).map(|k| (start + k) % n) {
+        let (d0, d1) = (depth[before], depth[i]);
+        if (d0 > 0.0) != (d1 > 0.0) {
+            let t = d0 / (d0 - d1);
+            let (p, q) = (at(before), at(i));
+            arc.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
+        }
+        if d1 > 0.0 {
+            arc.push(at(i));
+        } else if arc.len() > 1 {
+            arcs.push(Stroke::open(std::mem::take(&mut arc)));
+        } else {
+            arc.clear();
+        }
+        before = i;
+    }
+    arcs
+}
+
 /// Rows of `horn.png`'s drawing a band holds ([`save_picture`]): even, so
 /// halving pairs the rows the whole drawing would pair.
 const BAND: u32 = 150;
@@ -663,6 +745,10 @@ impl Products for Horn<'_> {
             return Ok(None);
         }
         self.drawn(&year_fit, frame).map(Some)
+    }
+
+    fn plot(&self) -> Result<Option<Drawing>> {
+        Ok(self.last.as_ref().map(|last| drawing(last, self.j)))
     }
 
     fn close(self, dir: &Path, kinds: Kinds, _run: Closing<()>) -> Result<Vec<PathBuf>> {

@@ -22,11 +22,13 @@ pub enum Kind {
     Csv,
     /// `records.jsonl`.
     Jsonl,
+    /// The last frame as pen strokes, `plot.svg` (not written by default).
+    Plot,
 }
 
 impl Kind {
     /// Every kind, in the order `--only` lists them.
-    pub const ALL: [Kind; 7] = [
+    pub const ALL: [Kind; 8] = [
         Kind::Png,
         Kind::Obj,
         Kind::Glb,
@@ -34,6 +36,7 @@ impl Kind {
         Kind::Svg,
         Kind::Csv,
         Kind::Jsonl,
+        Kind::Plot,
     ];
 
     /// The name `--only` knows it by.
@@ -47,6 +50,7 @@ impl Kind {
             Kind::Svg => "svg",
             Kind::Csv => "csv",
             Kind::Jsonl => "jsonl",
+            Kind::Plot => "plot",
         }
     }
 
@@ -72,8 +76,9 @@ impl fmt::Debug for Kinds {
 }
 
 impl Kinds {
-    /// Every kind: a run without `--only`.
-    pub const ALL: Kinds = Kinds(0x7f);
+    /// The kinds of a run without `--only`: every kind but
+    /// [`Kind::Plot`].
+    pub const DEFAULT: Kinds = Kinds(0x7f);
 
     /// Files of `kind` only.
     #[must_use]
@@ -121,9 +126,12 @@ mod tests {
         assert!(k.has(Kind::Png) && k.has(Kind::Glb) && !k.has(Kind::Obj));
         let e = Kinds::parse("png,gif").unwrap_err().to_string();
         assert!(
-            e.contains("'gif'") && e.contains("png, obj, glb, anim, svg, csv, jsonl"),
+            e.contains("'gif'") && e.contains("png, obj, glb, anim, svg, csv, jsonl, plot"),
             "{e}"
         );
-        assert!(Kind::ALL.iter().all(|k| Kinds::ALL.has(*k)));
+        let default = |k: &&Kind| Kinds::DEFAULT.has(**k);
+        let named: Vec<&str> = Kind::ALL.iter().filter(default).map(|k| k.name()).collect();
+        assert_eq!(named.join(","), "png,obj,glb,anim,svg,csv,jsonl");
+        assert!(Kinds::parse("plot").unwrap().has(Kind::Plot));
     }
 }

@@ -38,6 +38,7 @@ pub mod numbered;
 pub mod picture;
 pub(crate) mod pipeline;
 pub mod plant;
+pub mod plot;
 pub mod raster;
 pub(crate) mod slots;
 pub mod text;

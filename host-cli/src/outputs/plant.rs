@@ -6,9 +6,12 @@
 //! the palette's colours, for a last frame of at most
 //! [`GLB_MAX_VERTICES`] vertices), a CSV of every segment and, for a
 //! grammar that emits several frames (`animate = 1`), `animation.png` of
-//! its derivation steps (every frame, or 60 spread evenly). Pictures and
-//! meshes show the last frame; the CSV has them all.
+//! its derivation steps (every frame, or 60 spread evenly), and with
+//! `--only plot` `plot.svg` (the last frame's lines, a layer per colour).
+//! Pictures, meshes and the plot show the last frame; the CSV has them
+//! all.
 
+use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -23,6 +26,7 @@ use super::fill::Filler;
 use super::kinds::{Kind, Kinds};
 use super::mesh::{self, GlbWriter, GroupId, Numbers, ObjStyle};
 use super::picture::{self, rgb_bytes};
+use super::plot::{self, Drawing, Pen, Stroke};
 use super::slots::{ANIMATION_DELAY_MS, animation_frames};
 use super::text::{self, Whole};
 use crate::atomic::OutputFile;
@@ -229,6 +233,49 @@ fn render(
     Ok(pixmap)
 }
 
+/// A plant's strokes for `plot.svg`, seen as `plant.png` sees it (x–y,
+/// y up): a pen per colour index, a segment continuing the stroke its
+/// colour drew last when it starts where that stroke ends (the turtle's
+/// unbroken lines), a polygon of three or more points a closed stroke.
+#[derive(Debug, Default)]
+struct Strokes {
+    by_colour: BTreeMap<u16, Vec<Stroke>>,
+}
+
+impl Strokes {
+    /// Adds the next item in stream order.
+    fn push(&mut self, item: &Item) {
+        let colour = item.colour().min(LAST_COLOUR);
+        let strokes = self.by_colour.entry(colour).or_default();
+        match item {
+            Item::Segment { a, b, .. } => {
+                let (a, b) = ([a[0], a[1]], [b[0], b[1]]);
+                match strokes.last_mut() {
+                    Some(s) if !s.closed && s.points.last() == Some(&a) => s.points.push(b),
+                    _ => strokes.push(Stroke::open(vec![a, b])),
+                }
+            }
+            Item::Polygon { points, .. } if points.len() >= 3 => strokes.push(Stroke {
+                points: points.iter().map(|p| [p[0], p[1]]).collect(),
+                closed: true,
+            }),
+            Item::Polygon { .. } => {}
+        }
+    }
+
+    /// The drawing: a pen per colour index, in its palette colour.
+    fn drawing(self) -> Drawing {
+        let pens = self.by_colour.into_iter().map(|(colour, strokes)| Pen {
+            name: format!("colour {colour}"),
+            colour: palette(colour),
+            strokes,
+        });
+        Drawing {
+            pens: pens.collect(),
+        }
+    }
+}
+
 /// The most vertices of a plant's `model.glb` (its last frame, held whole
 /// while the file is built): a larger plant gets none, so the memory of
 /// drawing it stays bounded by its pictures.
@@ -341,11 +388,11 @@ fn csv<R: Records + ?Sized>(records: &R, path: Option<&Path>) -> Result<Frames> 
 }
 
 /// Writes (those of `kinds`) `plant.png`, `plant.obj`, `model.glb`,
-/// `segments.csv` and `animation.png`: the CSV in a pass over every
-/// record, then the mesh and the picture's extent in a pass over the last
-/// frame, which is drawn back to front from memory or, when larger than
-/// a budget of 1 MiB, from sorted runs spilled into `dir`; then each
-/// animated frame the same way.
+/// `segments.csv`, `plot.svg` and `animation.png`: the CSV in a pass over
+/// every record, then the mesh, the plot's strokes (held in memory) and
+/// the picture's extent in a pass over the last frame, which is drawn
+/// back to front from memory or, when larger than a budget of 1 MiB, from
+/// sorted runs spilled into `dir`; then each animated frame the same way.
 ///
 /// # Errors
 /// When the records cannot be read or a file cannot be written.
@@ -382,8 +429,12 @@ pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Resu
     };
     let mut extent = Extent::new();
     let mut sorted = kinds.has(Kind::Png).then(|| depth::Sort::new(dir));
+    let mut strokes = kinds.has(Kind::Plot).then(Strokes::default);
     frame_items(records, last, |item| {
         extent.include(&item);
+        if let Some(strokes) = &mut strokes {
+            strokes.push(&item);
+        }
         if let Some(out) = &mut obj {
             let mut piece = mesh::Mesh::new();
             let colour = material(&mut piece, item.colour())?;
@@ -416,27 +467,37 @@ pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Resu
         written.extend(library.written());
     }
     if kinds.has(Kind::Glb) {
-        match solid {
-            Some((m, _)) => {
-                let path = dir.join("model.glb");
-                let mut glb = GlbWriter::new("plant", 1.0);
-                glb.push_frame(&m, 0.0)?;
-                glb.write(&path)?;
-                written.push(path);
-            }
-            None => eprintln!(
-                "note: no model.glb: the plant's last frame has more than {GLB_MAX_VERTICES} vertices"
-            ),
-        }
+        written.extend(write_glb(solid.map(|(m, _)| m), dir)?);
     }
     if kinds.has(Kind::Csv) {
         written.push(csv_path);
+    }
+    if let Some(strokes) = strokes {
+        let path = dir.join(plot::FILE);
+        strokes.drawing().save(&path)?;
+        written.push(path);
     }
     if kinds.has(Kind::Anim) && frames.starts.len() > 1 {
         let path = dir.join("animation.png");
         written.push(animate(records, dir, &frames, extent, &path)?);
     }
     Ok(written)
+}
+
+/// Writes `model.glb` of the last frame's `solid` into `dir`, or says why
+/// there is none (a frame too large); returns its path.
+fn write_glb(solid: Option<mesh::Mesh>, dir: &Path) -> Result<Option<PathBuf>> {
+    let Some(m) = solid else {
+        eprintln!(
+            "note: no model.glb: the plant's last frame has more than {GLB_MAX_VERTICES} vertices"
+        );
+        return Ok(None);
+    };
+    let path = dir.join("model.glb");
+    let mut glb = GlbWriter::new("plant", 1.0);
+    glb.push_frame(&m, 0.0)?;
+    glb.write(&path)?;
+    Ok(Some(path))
 }
 
 /// Writes `animation.png` of a plant's frames (every frame, or 60 spread

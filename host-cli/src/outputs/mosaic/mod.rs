@@ -8,9 +8,11 @@
 //! bare surface and `mosaic.obj` the last day coloured on it;
 //! `animation.png` the days in order (every day, or 60 spread evenly);
 //! `cells.png`/`cells.svg` the number of cells of each type per day, in
-//! the types' colours; the control mask, if any, as `mask.pbm`. Days are
-//! written in parallel.
+//! the types' colours; the control mask, if any, as `mask.pbm`;
+//! `plot.svg` the last day's cell edges (`edges`). Days are written in
+//! parallel.
 
+mod edges;
 mod object;
 pub mod on_mesh;
 mod pattern;
@@ -32,6 +34,7 @@ use super::kinds::{Kind, Kinds};
 use super::mesh::{Mesh, ObjStyle, write_obj};
 use super::numbered::{FileSeries, Numbering};
 use super::picture;
+use super::plot::Drawing;
 use super::slots::OrderedAnimation;
 use super::text;
 use crate::atomic::{self, OutputFile, write_atomic};
@@ -314,6 +317,13 @@ impl Products for Plane<'_> {
             *latest = Some((position, picture));
         }
         Ok((paths, measured))
+    }
+
+    fn plot(&self) -> Result<Option<Drawing>> {
+        let domain = &self.params.domain;
+        let last = self.last.as_ref();
+        last.map(|day| edges::drawing(domain, &day.cells))
+            .transpose()
     }
 
     fn close(self, dir: &Path, kinds: Kinds, run: Closing<Measured>) -> Result<Vec<PathBuf>> {

@@ -6,9 +6,11 @@
 //! coloured on it (a colour per vertex, on the mesh split twice);
 //! `types.csv` each type's share of the cells and of the area (the area
 //! by sampling every triangle); the cell counts chart and the mask as for
-//! the plane.
+//! the plane; `plot.svg` the last day's type borders and the object's
+//! outline in the pictures' view (`edges`).
 
 mod control;
+mod edges;
 mod nearest;
 mod view;
 
@@ -30,6 +32,7 @@ use crate::outputs::driver::{self, Closing, Products, Still};
 use crate::outputs::kinds::{Kind, Kinds};
 use crate::outputs::mesh::{Mesh, ObjStyle, Rgb, write_obj};
 use crate::outputs::numbered::{FileSeries, Numbering};
+use crate::outputs::plot::Drawing;
 use crate::records::{Place, Records};
 use control::Unrolled;
 use nearest::{Along, Nearest};
@@ -254,6 +257,17 @@ struct Surface<'a> {
     last: Option<Day>,
 }
 
+impl Surface<'_> {
+    /// The elevation the object is seen from, radians: a plane's control
+    /// map from higher up.
+    fn elevation(&self) -> f64 {
+        match self.params.surface.map(|s| s.control) {
+            Some(ControlMap::Plane) => 1.0,
+            _ => 0.35,
+        }
+    }
+}
+
 impl Products for Surface<'_> {
     type Frame = Day;
     type Framer = ShellFramer;
@@ -278,14 +292,10 @@ impl Products for Surface<'_> {
 
     fn surveyed(&mut self, framer: ShellFramer) {
         self.shell = framer.shell;
-        let elevation = match self.params.surface.map(|s| s.control) {
-            Some(ControlMap::Plane) => 1.0,
-            _ => 0.35,
-        };
         self.view = self
             .kinds
             .has(Kind::Png)
-            .then(|| self.shell.view(elevation));
+            .then(|| self.shell.view(self.elevation()));
     }
 
     fn index(day: &Day) -> i64 {
@@ -354,6 +364,20 @@ impl Products for Surface<'_> {
             *latest = Some((position, near));
         }
         Ok((paths, measured))
+    }
+
+    fn plot(&self) -> Result<Option<Drawing>> {
+        let Some(last) = &self.last else {
+            return Ok(None);
+        };
+        let near = Nearest::new(&last.cells, &self.shell);
+        let axes = view::axes(self.elevation());
+        Ok(Some(edges::drawing(
+            &self.shell,
+            &near,
+            last.cells.len(),
+            axes,
+        )))
     }
 
     fn close(self, dir: &Path, kinds: Kinds, run: Closing<Measured>) -> Result<Vec<PathBuf>> {

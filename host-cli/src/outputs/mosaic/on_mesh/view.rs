@@ -44,10 +44,7 @@ impl Shell {
     /// depth of the nearest face and its shade there, found once for all
     /// the days (the mesh does not move).
     pub(super) fn view(&self, elevation: f64) -> View {
-        let (sin_e, cos_e) = elevation.sin_cos();
-        let towards = Vector3::new(0.0, -cos_e, sin_e); // towards the viewer
-        let right = Vector3::x();
-        let up = towards.cross(&right);
+        let [right, up, towards] = axes(elevation);
         let screen: Vec<[f64; 3]> = self
             .vertices
             .iter()
@@ -173,6 +170,15 @@ fn row_span(weights: [(f64, f64); 3], x0: usize, x1: usize) -> std::ops::Range<u
     }
     // `as` saturates: a bound below 0 is 0.
     (from as usize).max(x0)..(to as usize).min(x1)
+}
+
+/// The screen's right, up and the direction towards the viewer, who sees
+/// the object from `elevation` radians above its equator (z up).
+pub(super) fn axes(elevation: f64) -> [Vector3<f64>; 3] {
+    let (sin_e, cos_e) = elevation.sin_cos();
+    let towards = Vector3::new(0.0, -cos_e, sin_e);
+    let right = Vector3::x();
+    [right, towards.cross(&right), towards]
 }
 
 /// A surface mosaic's object as [`Shell::view`] sees it.
