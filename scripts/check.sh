@@ -105,6 +105,9 @@ bash scripts/targets-check.sh
 step "the Python stream reader against every preset (python/)"
 MORPHOGEN_BIN="$morphogen" bash scripts/python-check.sh
 
+step "the Python package: its wheel built once (maturin, release, reusing the release build), every preset against its fixture (python-ext/)"
+MORPHOGEN_BIN="$morphogen" bash scripts/python-ext-check.sh
+
 step "every preset's scenario file, shown and run from a file, gives its fixture"
 shown=$(mktemp -d)
 trap 'rm -rf "$shown" "$timings"' EXIT
