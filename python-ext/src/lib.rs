@@ -1,8 +1,8 @@
 //! Morphogen in Python: the extension module `morphogen._native` behind the
 //! `morphogen` package (`python-ext/morphogen/`). It finds scenarios as the
-//! command line does ([`scenario`]), runs them with the interpreter free
-//! and Ctrl-C heard ([`run`]), and writes a run's files with the CLI's own
-//! writers ([`files`]); the package turns its results into Python values.
+//! command line does (`scenario`), runs them with the interpreter free
+//! and Ctrl-C heard (`run`), and writes a run's files with the CLI's own
+//! writers (`files`); the package turns its results into Python values.
 
 mod files;
 mod run;
