@@ -80,7 +80,9 @@ def _item(value: Any) -> str:
 def run(scenario: Union[Scenario, str], seed: Optional[int] = None, *, max_stream_mb: int = _native.DEFAULT_MAX_STREAM_MB) -> "Run":
     """Runs ``scenario`` (or the preset named) with ``seed`` (default: the
     scenario's own, the one fixtures use) into memory. Other Python threads
-    go on meanwhile; Ctrl-C stops the run and raises ``KeyboardInterrupt``.
+    go on meanwhile; Ctrl-C stops the run at its next record (a model's
+    step, such as a mosaic's day, may take a while) and raises
+    ``KeyboardInterrupt``.
     A stream past ``max_stream_mb`` MiB is stopped (``MemoryError``)."""
     if not isinstance(scenario, Scenario):
         scenario = Scenario(os.fspath(scenario), [])
