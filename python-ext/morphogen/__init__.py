@@ -17,11 +17,12 @@ from __future__ import annotations
 import math
 import os
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Optional, Union
+from concurrent.futures import Executor
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Union
 
 from . import _native
 
-__all__ = ["Run", "Scenario", "presets", "run", "scenario", "__version__"]
+__all__ = ["Run", "Scenario", "presets", "run", "scenario", "sweep", "__version__"]
 
 #: The Morphogen this package runs: ``0.1.0``, or ``0.1.0 (git 0123456789ab)``
 #: when built from a checkout (as ``morphogen --version`` prints it).
@@ -89,6 +90,38 @@ def run(scenario: Union[Scenario, str], seed: Optional[int] = None, *, max_strea
     used = scenario.seed if seed is None else seed
     data, digest, frames = _native.run(scenario, used, max_stream_mb)
     return Run(scenario, used, data, digest, frames)
+
+
+def sweep(
+    scenario: Union[Scenario, str],
+    grid: Mapping[str, Iterable[Any]],
+    executor: Optional[Executor] = None,
+) -> str:
+    """Every combination of ``grid``'s values (a ``--set`` key, or
+    ``"seed"``, and its values; the first key changing slowest) run over
+    ``scenario``, on ``executor`` (any ``concurrent.futures.Executor`` whose
+    workers share this process, such as a ``ThreadPoolExecutor``: runs
+    release the interpreter; default: one after the other). Returns the
+    table ``morphogen sweep --set KEY=V1,V2,…`` writes as ``sweep.csv``: a
+    line per run with its values, seed, frames, bytes, digest, records per
+    kind, the last frame's cells per type and the Morphogen that ran it.
+    Every combination is checked before any runs (``ValueError``)."""
+    if not isinstance(scenario, Scenario):
+        scenario = Scenario(os.fspath(scenario), [])
+    sets = [f"{key}={','.join(_value(v) for v in values)}" for key, values in grid.items()]
+    plan = _native.Sweep(scenario, sets)
+    runs = [plan.scenario(k) for k in range(plan.runs)]
+
+    def line(k: int) -> str:
+        chosen, seed = runs[k]
+        data, _, _ = _native.run(chosen, seed, _native.DEFAULT_MAX_STREAM_MB)
+        return plan.line(k, data)
+
+    if executor is None:
+        lines = [line(k) for k in range(plan.runs)]
+    else:
+        lines = [f.result() for f in [executor.submit(line, k) for k in range(plan.runs)]]
+    return plan.header + "".join(lines)
 
 
 class Run:

@@ -1,12 +1,14 @@
 //! Morphogen in Python: the extension module `morphogen._native` behind the
 //! `morphogen` package (`python-ext/morphogen/`). It finds scenarios as the
 //! command line does (`scenario`), runs them with the interpreter free
-//! and Ctrl-C heard (`run`), and writes a run's files with the CLI's own
-//! writers (`files`); the package turns its results into Python values.
+//! and Ctrl-C heard (`run`), writes a run's files with the CLI's own
+//! writers (`files`) and plans sweeps (`sweep`); the package turns its
+//! results into Python values.
 
 mod files;
 mod run;
 mod scenario;
+mod sweep;
 
 use pyo3::prelude::*;
 
@@ -24,6 +26,7 @@ fn presets() -> Vec<String> {
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(presets, m)?)?;
     m.add_class::<scenario::Scenario>()?;
+    m.add_class::<sweep::Sweep>()?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_function(wrap_pyfunction!(files::write, m)?)?;
     m.add_function(wrap_pyfunction!(files::picture, m)?)?;

@@ -16,6 +16,7 @@ import tempfile
 import threading
 import time
 import unittest
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Dict, List, Optional
 
@@ -213,6 +214,39 @@ class Write(unittest.TestCase):
             with self.assertRaisesRegex(ValueError, "pdf"):
                 result.write(Path(tmp) / "out", only="png,pdf")
             self.assertFalse((Path(tmp) / "out").exists())
+
+
+class Sweeps(unittest.TestCase):
+    def check_against_the_command_line(self, target: str, grid: Dict[str, list], sets: List[str]) -> None:
+        with ThreadPoolExecutor(max_workers=2) as pool:
+            table = morphogen.sweep(target, grid, pool)
+        self.assertEqual(table, morphogen.sweep(target, grid), "on an executor and one after the other")
+        runs = 1
+        for values in grid.values():
+            runs *= len(values)
+        self.assertEqual(len(table.splitlines()), 1 + runs)
+        if BIN is None:
+            self.skipTest(NO_BIN)
+        with tempfile.TemporaryDirectory() as tmp:
+            cli("sweep", target, *[a for s in sets for a in ("--set", s)], "--out", tmp)
+            expected = Path(tmp, "sweep.csv").read_text()
+        # All but the last column, the Morphogen that ran it (its commit).
+        def cut(text: str) -> List[str]:
+            return [line.rsplit(",", 1)[0] for line in text.splitlines()]
+
+        self.assertEqual(cut(table), cut(expected))
+
+    def test_a_sweep_of_values_and_seeds_is_the_table_of_morphogen_sweep(self):
+        grid = {"horn.years": [2, 4], "horn.modules[0].bend": [60, 80.5], "seed": range(1, 3)}
+        sets = ["horn.years=2,4", "horn.modules[0].bend=60,80.5", "seed=1..2"]
+        self.check_against_the_command_line("ram-horn", grid, sets)
+
+    def test_a_mosaics_sweep_counts_the_last_days_cells_by_type(self):
+        self.check_against_the_command_line("croton-mcu", {"seed": [1, 2]}, ["seed=1,2"])
+
+    def test_a_bad_combination_is_a_value_error_before_any_run(self):
+        with self.assertRaisesRegex(ValueError, r"^the combination horn\.years=40: --set horn\.years=40: .*allowed: 1 to 8"):
+            morphogen.sweep("ram-horn", {"horn.years": [2, 40]})
 
 
 class Interrupt(unittest.TestCase):
