@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from pathlib import Path
 from concurrent.futures import Executor
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Union
@@ -84,9 +85,17 @@ def run(scenario: Union[Scenario, str], seed: Optional[int] = None, *, max_strea
     go on meanwhile; Ctrl-C stops the run at its next record (a model's
     step, such as a mosaic's day, may take a while) and raises
     ``KeyboardInterrupt``.
-    A stream past ``max_stream_mb`` MiB is stopped (``MemoryError``)."""
+    A stream past ``max_stream_mb`` MiB is stopped (``MemoryError``). A
+    seed given to a model that draws no random numbers is warned about, as
+    ``morphogen run --seed`` warns."""
     if not isinstance(scenario, Scenario):
         scenario = Scenario(os.fspath(scenario), [])
+    if seed is not None and not scenario.uses_seed:
+        warnings.warn(
+            f"seed has no effect on {scenario.name}: its model draws no random numbers "
+            "(only the stream header records the seed)",
+            stacklevel=2,
+        )
     used = scenario.seed if seed is None else seed
     data, digest, frames = _native.run(scenario, used, max_stream_mb)
     return Run(scenario, used, data, digest, frames)
