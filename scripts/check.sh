@@ -105,17 +105,18 @@ MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh
 step "the Python stream reader against every preset (python/)"
 MORPHOGEN_BIN="$morphogen" bash scripts/python-check.sh
 
+step "the Python package: its wheel built once (maturin, release, reusing the release build), every preset against its fixture (python-ext/)"
+MORPHOGEN_BIN="$morphogen" bash scripts/python-ext-check.sh
+
 step "plot.svg read back with vpype, one preset per model (scripts/plot-check.py)"
-# Into the Python python-check uses; vpype is on PyPI only, so a Debian
-# python3 that refuses pip gets it past its marker of a system-managed
-# environment.
-python="${PYTHON:-python3}"
-if ! "$python" -c 'import vpype' 2>/dev/null; then
+# In the Python package's environment (python-ext-check made it): vpype is
+# on PyPI only, and a Debian python3 refuses pip outside an environment.
+venv_python="${CARGO_TARGET_DIR:-target}/python-ext-venv/bin/python"
+if ! "$venv_python" -c 'import vpype' 2>/dev/null; then
     echo "plot-check: installing vpype"
-    "$python" -m pip install --quiet --disable-pip-version-check vpype 2>/dev/null \
-        || "$python" -m pip install --quiet --disable-pip-version-check --break-system-packages vpype
+    "$venv_python" -m pip install --quiet --disable-pip-version-check vpype
 fi
-"$python" scripts/plot-check.py --bin "$morphogen"
+"$venv_python" scripts/plot-check.py --bin "$morphogen"
 
 step "every preset's scenario file, shown and run from a file, gives its fixture"
 shown=$(mktemp -d)

@@ -151,6 +151,80 @@ fn scenario_sets(chosen: &[(String, String)]) -> Result<Vec<(String, String)>> {
         .collect()
 }
 
+/// A sweep's combinations over a scenario, for whoever runs them: `run`
+/// on all cores, or the Python package's `morphogen.sweep` on any
+/// executor. Gives each combination's scenario and seed, the table's
+/// header and each run's line, as `sweep.csv` holds them.
+#[derive(Debug)]
+pub struct Plan {
+    base: morphogen_scenario::Scenario,
+    axes: Vec<Axis>,
+    runs: usize,
+}
+
+impl Plan {
+    /// `base` swept over `sets` (`KEY=V1,V2,…` as `--set` takes them,
+    /// `seed=1..8` for seeds), the first key changing slowest.
+    ///
+    /// # Errors
+    /// A key given twice or without values, or more than [`MAX_RUNS`]
+    /// combinations.
+    pub fn new(base: morphogen_scenario::Scenario, sets: &[String]) -> Result<Plan> {
+        let axes = axes(sets)?;
+        let runs = axes
+            .iter()
+            .try_fold(1usize, |n, a| n.checked_mul(a.values.len()))
+            .filter(|&n| n <= MAX_RUNS)
+            .ok_or_else(|| anyhow!("more than {MAX_RUNS} combinations (sweep::MAX_RUNS)"))?;
+        Ok(Plan { base, axes, runs })
+    }
+
+    /// The number of combinations (runs).
+    #[must_use]
+    pub fn runs(&self) -> usize {
+        self.runs
+    }
+
+    /// The table's first line (with its line end).
+    #[must_use]
+    pub fn header(&self) -> String {
+        header(&self.axes)
+    }
+
+    /// Run `k`'s scenario and seed.
+    ///
+    /// # Errors
+    /// A `k` past the runs, or a bad value of the combination (named).
+    pub fn scenario(&self, k: usize) -> Result<(morphogen_scenario::Scenario, u64)> {
+        if k >= self.runs {
+            bail!("run {k}: the sweep has {} runs", self.runs);
+        }
+        let chosen = combination(k, &self.axes);
+        let scenario = scenario_sets(&chosen)
+            .and_then(|sets| Ok(self.base.clone_with_sets(&sets)?))
+            .with_context(|| {
+                let sets: Vec<String> = chosen.iter().map(|(k, v)| format!("{k}={v}")).collect();
+                format!("the combination {}", sets.join(" "))
+            })?;
+        let seed = match chosen.iter().find(|(k, _)| k == "seed") {
+            Some((_, v)) => v
+                .parse()
+                .map_err(|_| anyhow!("--set seed={v}: a seed is a whole number"))?,
+            None => scenario.seed(),
+        };
+        Ok((scenario, seed))
+    }
+
+    /// Run `k`'s line of the table (with its line end), its stream
+    /// `stream`.
+    #[must_use]
+    pub fn line(&self, k: usize, stream: &[u8]) -> String {
+        let mut line = row(k, &combination(k, &self.axes), stream);
+        let _ = writeln!(line, ",{}", csv(&crate::provenance::maker()));
+        line
+    }
+}
+
 fn shard(text: &str) -> Result<(usize, usize)> {
     let bad = || anyhow!("--shard {text}: give I/N with 1 ≤ I ≤ N");
     let (i, n) = text.split_once('/').ok_or_else(bad)?;
@@ -174,42 +248,30 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
         return merge(&args.merge, &args.out);
     }
     let target = args.target.as_deref().unwrap_or_default();
-    let axes = axes(&args.sets)?;
-    let total = axes
-        .iter()
-        .try_fold(1usize, |n, a| n.checked_mul(a.values.len()))
-        .filter(|&n| n <= MAX_RUNS)
-        .ok_or_else(|| anyhow!("more than {MAX_RUNS} combinations (sweep::MAX_RUNS)"))?;
+    let plan = Plan::new(exec::find(target, &[])?, &args.sets)?;
+    let total = plan.runs;
     let (index, count) = args
         .shard
         .as_deref()
         .map(shard)
         .transpose()?
         .unwrap_or((1, 1));
-    let base = exec::find(target, &[])?;
-    let combos: Vec<(usize, Vec<(String, String)>)> = (0..total)
-        .filter(|k| k % count == index - 1)
-        .map(|k| (k, combination(k, &axes)))
-        .collect();
+    let combos: Vec<usize> = (0..total).filter(|k| k % count == index - 1).collect();
     // Check every combination before running any.
-    for (_, chosen) in &combos {
-        base.clone_with_sets(&scenario_sets(chosen)?)
-            .with_context(|| {
-                let sets: Vec<String> = chosen.iter().map(|(k, v)| format!("{k}={v}")).collect();
-                format!("the combination {}", sets.join(" "))
-            })?;
+    for &k in &combos {
+        plan.scenario(k)?;
     }
     let _lock = FolderLock::take(&args.out)?;
     let earlier = listed_runs(&args.out)?;
     let manifest = Manifest {
-        scenario: base.name().to_string(),
+        scenario: plan.base.name().to_string(),
         scenario_digest: format!(
             "{:016x}",
-            StreamDigest::of(base.self_contained().as_bytes())
+            StreamDigest::of(plan.base.self_contained().as_bytes())
         ),
         runs: total,
         shard: format!("{index}/{count}"),
-        axes: axes.clone(),
+        axes: plan.axes.clone(),
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.jobs.map_or(0, usize::from))
@@ -218,16 +280,16 @@ pub fn run(args: &Args) -> Result<crate::Outcome> {
     let rows: Vec<Result<String>> = pool.install(|| {
         combos
             .par_iter()
-            .map(|(k, chosen)| one_run(&base, *k, chosen, &args.out))
+            .map(|&k| one_run(&plan, k, &args.out))
             .collect()
     });
-    let mut table = header(&axes);
+    let mut table = plan.header();
     for row in rows {
         table.push_str(&row?);
     }
     write_manifest(&args.out, &manifest)?;
     write_atomic(&args.out.join(TABLE), table.as_bytes())?;
-    let stale = remove_earlier_runs(&args.out, &earlier, combos.iter().map(|(k, _)| *k))?;
+    let stale = remove_earlier_runs(&args.out, &earlier, combos.iter().copied())?;
     crate::say!(
         "{} of {total} runs (shard {index}/{count}) -> {}",
         combos.len(),
@@ -404,19 +466,8 @@ fn csv(field: &str) -> String {
     }
 }
 
-fn one_run(
-    base: &morphogen_scenario::Scenario,
-    k: usize,
-    chosen: &[(String, String)],
-    out: &Path,
-) -> Result<String> {
-    let scenario = base.clone_with_sets(&scenario_sets(chosen)?)?;
-    let seed = match chosen.iter().find(|(k, _)| k == "seed") {
-        Some((_, v)) => v
-            .parse()
-            .map_err(|_| anyhow!("--set seed={v}: a seed is a whole number"))?,
-        None => scenario.seed(),
-    };
+fn one_run(plan: &Plan, k: usize, out: &Path) -> Result<String> {
+    let (scenario, seed) = plan.scenario(k)?;
     let run = exec::run(&scenario, seed, false)?;
     let dir = out.join(run_folder(k));
     fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
@@ -425,9 +476,7 @@ fn one_run(
         &dir.join("scenario.toml"),
         scenario.self_contained().as_bytes(),
     )?;
-    let mut line = row(k, chosen, &run.stream);
-    let _ = writeln!(line, ",{}", csv(&crate::provenance::maker()));
-    Ok(line)
+    Ok(plan.line(k, &run.stream))
 }
 
 /// A run folder's stream.
