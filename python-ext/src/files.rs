@@ -32,7 +32,7 @@ pub fn write(
 ) -> PyResult<Vec<PathBuf>> {
     let kinds = match only {
         Some(list) => Kinds::parse(list).map_err(value_error)?,
-        None => Kinds::ALL,
+        None => Kinds::DEFAULT,
     };
     py.detach(|| write_run(&scenario.inner, stream, &dir, kinds))
         .map_err(|e| PyOSError::new_err(format!("{e:#}")))
