@@ -76,7 +76,7 @@ step "the embedding examples build for Cortex-M0+ (firmware-example/examples, pr
 # (scripts/fixed-paths.sh): the same flash on any machine.
 (root="$PWD" && . scripts/fixed-paths.sh && cd firmware-example && cargo build --profile small \
     --target thumbv6m-none-eabi --no-default-features --features semihosting,oled --examples)
-direct_flash="$(size -A firmware-example/target/thumbv6m-none-eabi/small/examples/horn_direct \
+direct_flash="$(size -A "${CARGO_TARGET_DIR:-firmware-example/target}"/thumbv6m-none-eabi/small/examples/horn_direct \
     | awk '$1 ~ /^\.(vector_table|text|rodata|data)$/ {s += $2} END {print s}')"
 [ "$direct_flash" -lt 32768 ] || {
     echo "horn_direct (thumbv6m, profile small): $direct_flash B of flash, not under 32 KB (docs/embedding.md)" >&2
