@@ -88,7 +88,7 @@ step "the Raspberry Pi Pico firmware builds (firmware-rp2040, thumbv6m; no board
 
 step "release build (once: the determinism test, the fixtures and the firmware check reuse it)"
 cargo build --release -p morphogen-cli
-morphogen="$PWD/target/release/morphogen"
+morphogen="$(realpath "${CARGO_TARGET_DIR:-target}")/release/morphogen"
 export MORPHOGEN_RELEASE_BIN="$morphogen"
 
 step "tests"
