@@ -108,9 +108,12 @@ def sweep(
 ) -> str:
     """Every combination of ``grid``'s values (a ``--set`` key, or
     ``"seed"``, and its values; the first key changing slowest) run over
-    ``scenario``, on ``executor`` (any ``concurrent.futures.Executor`` whose
-    workers share this process, such as a ``ThreadPoolExecutor``: runs
-    release the interpreter; default: one after the other). Returns the
+    ``scenario``, on ``executor``: any ``concurrent.futures.Executor``,
+    such as a ``ThreadPoolExecutor`` (runs release the interpreter), a
+    ``ProcessPoolExecutor``, a Dask cluster's
+    ``Client(...).get_executor()`` or Ray's; default: one run after the
+    other here. A run sent to another process takes its scenario as one
+    self-contained file and sends back one line of the table. Returns the
     table ``morphogen sweep --set KEY=V1,V2,…`` writes as ``sweep.csv``: a
     line per run with its values, seed, frames, bytes, digest, records per
     kind, the last frame's cells per type and the Morphogen that ran it.
@@ -119,18 +122,24 @@ def sweep(
         scenario = Scenario(os.fspath(scenario), [])
     sets = [f"{key}={','.join(_value(v) for v in values)}" for key, values in grid.items()]
     plan = _native.Sweep(scenario, sets)
-    runs = [plan.scenario(k) for k in range(plan.runs)]
-
-    def line(k: int) -> str:
-        chosen, seed = runs[k]
-        data, _, _ = _native.run(chosen, seed, _native.DEFAULT_MAX_STREAM_MB)
-        return plan.line(k, data)
-
+    for k in range(plan.runs):
+        plan.scenario(k)
     if executor is None:
-        lines = [line(k) for k in range(plan.runs)]
+        lines = [_sweep_line(scenario, sets, k) for k in range(plan.runs)]
     else:
-        lines = [f.result() for f in [executor.submit(line, k) for k in range(plan.runs)]]
+        futures = [executor.submit(_sweep_line, scenario, sets, k) for k in range(plan.runs)]
+        lines = [f.result() for f in futures]
     return plan.header + "".join(lines)
+
+
+def _sweep_line(scenario: Scenario, sets: List[str], k: int) -> str:
+    """Run ``k`` of the sweep of ``scenario`` over ``sets``: its line of the
+    table. A function of its arguments alone, so that any executor's
+    worker can run it."""
+    plan = _native.Sweep(scenario, sets)
+    chosen, seed = plan.scenario(k)
+    data, _, _ = _native.run(chosen, seed, _native.DEFAULT_MAX_STREAM_MB)
+    return plan.line(k, data)
 
 
 class Run:

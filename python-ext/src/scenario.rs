@@ -25,6 +25,24 @@ impl Scenario {
         found.map(|inner| Scenario { inner }).map_err(value_error)
     }
 
+    /// The scenario from `text`, a self-contained scenario file (as
+    /// [`Scenario::text`] gives it); `origin` names it in errors.
+    #[staticmethod]
+    fn from_text(origin: &str, text: &str) -> PyResult<Scenario> {
+        morphogen_scenario::Scenario::from_text(origin, text)
+            .map(|inner| Scenario { inner })
+            .map_err(|e| value_error(e.into()))
+    }
+
+    /// Pickling, for an executor whose workers are other processes (a
+    /// process pool, a Dask or Ray cluster): the scenario as one
+    /// self-contained file, read back by [`Scenario::from_text`].
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (String, String))> {
+        let from_text = py.get_type::<Scenario>().getattr("from_text")?;
+        let origin = self.inner.name().to_string();
+        Ok((from_text, (origin, self.inner.self_contained())))
+    }
+
     /// This scenario with more `sets` applied after its own.
     fn with_sets(&self, sets: Vec<String>) -> PyResult<Scenario> {
         let sets = exec::parse_sets(&sets).map_err(value_error)?;
