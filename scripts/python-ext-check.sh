@@ -6,7 +6,9 @@
 # python-check uses (its own pip and numpy, whatever Debian's Python
 # allows), then its tests: every preset against its fixture, the --set
 # errors, the written files (compared with MORPHOGEN_BIN's, default
-# target/release/morphogen, when there is one) and Ctrl-C.
+# target/release/morphogen, when there is one), sweeps on a process pool
+# and on a Dask LocalCluster, and Ctrl-C; then docs/notebook.ipynb,
+# executed headless (nbclient's `jupyter execute`).
 #
 #   scripts/python-ext-check.sh        # PYTHON=python3.9 scripts/python-ext-check.sh
 set -euo pipefail
@@ -37,6 +39,9 @@ venv_python="$venv/bin/python"
 pip=("$venv_python" -m pip --quiet --disable-pip-version-check)
 "$venv_python" -c 'import numpy' 2>/dev/null || "${pip[@]}" install numpy
 "$venv/bin/maturin" --version >/dev/null 2>&1 || "${pip[@]}" install 'maturin>=1.9.4,<2'
+# The tests' Dask cluster; the notebook's kernel, runner and plots.
+"$venv_python" -c 'import dask.distributed, nbclient, ipykernel, matplotlib' 2>/dev/null ||
+    "${pip[@]}" install 'dask[distributed]' nbclient ipykernel matplotlib
 
 started=$SECONDS
 rm -rf "$wheels"
@@ -50,4 +55,5 @@ echo "python-ext-check: $(cd "$wheels" && ls) built in ${built} s"
 # the installed wheel's (python-ext/ is not on the path).
 "$venv_python" --version
 "$venv_python" -m unittest discover -b -s python-ext/tests -t python-ext/tests
+"$venv/bin/jupyter-execute" docs/notebook.ipynb
 echo "python-ext-check: build and tests took $((SECONDS - started)) s"
