@@ -105,7 +105,7 @@ MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh
 step "the Python stream reader against every preset (python/)"
 MORPHOGEN_BIN="$morphogen" bash scripts/python-check.sh
 
-step "the Python package: its wheel built once (maturin, release, reusing the release build), every preset against its fixture (python-ext/)"
+step "the Python package: its wheel built once (maturin, release, reusing the release build), every preset against its fixture, a sweep on Dask, the notebook (python-ext/, docs/notebook.ipynb)"
 MORPHOGEN_BIN="$morphogen" bash scripts/python-ext-check.sh
 
 step "plot.svg read back with vpype, one preset per model (scripts/plot-check.py)"
@@ -117,6 +117,18 @@ if ! "$venv_python" -c 'import vpype' 2>/dev/null; then
     "$venv_python" -m pip install --quiet --disable-pip-version-check vpype
 fi
 "$venv_python" scripts/plot-check.py --bin "$morphogen"
+
+step "the cluster recipes of docs/sweeps.md (Slurm array job, GNU parallel, Snakemake) merge into the one-machine table"
+if ! command -v parallel >/dev/null; then
+    as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
+    as_root apt-get update -qq
+    as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq parallel
+fi
+if ! "$venv_python" -c 'import snakemake' 2>/dev/null; then
+    echo "sweep-recipes-check: installing snakemake"
+    "$venv_python" -m pip install --quiet --disable-pip-version-check snakemake
+fi
+PATH="$(dirname "$venv_python"):$PATH" "$venv_python" scripts/sweep-recipes-check.py --bin "$morphogen"
 
 step "every preset's scenario file, shown and run from a file, gives its fixture"
 shown=$(mktemp -d)
