@@ -111,7 +111,7 @@ def sweep(
     ``scenario``, on ``executor``: any ``concurrent.futures.Executor``,
     such as a ``ThreadPoolExecutor`` (runs release the interpreter), a
     ``ProcessPoolExecutor``, a Dask cluster's
-    ``Client(...).get_executor()`` or Ray's; default: one run after the
+    ``Client(...).get_executor()``; default: one run after the
     other here. A run sent to another process takes its scenario as one
     self-contained file and sends back one line of the table. Returns the
     table ``morphogen sweep --set KEY=V1,V2,…`` writes as ``sweep.csv``: a
