@@ -4,12 +4,12 @@
 // bytes; data fills the display RAM (8 pages of 128 columns, a byte is 8
 // pixels down, the lowest bit on top) through the column and page window
 // the commands set, in horizontal addressing mode. Each time a write
-// reaches the window's last byte the panel shows a new frame; the frames
-// go to `frames.bin` in the folder given, 1 byte a pixel (0 dark, 1 lit),
-// 128 × 64 bytes a frame, rows top to bottom.
+// reaches the window's last byte the panel shows a new frame. The frames
+// go to a file as the panel shows them, in the layout of the display RAM
+// (8 pages of 128 bytes a frame, the lowest bit on top, lit 1): the layout
+// of `morphogen run … --rig 128x64:mono`'s rig-128x64-ssd1306.bin.
 
-import { mkdirSync, writeFileSync } from 'node:fs';
-import { join } from 'node:path';
+import { writeFileSync } from 'node:fs';
 import { I2CMode } from 'rp2040js';
 
 const ADDRESS = 0x3c;
@@ -45,8 +45,8 @@ function argumentCount(command) {
 }
 
 export class Ssd1306 {
-  constructor(i2c, dir, progress) {
-    this.dir = dir;
+  constructor(i2c, file, progress) {
+    this.file = file;
     this.progress = progress;
     this.ram = new Uint8Array(WIDTH * PAGES);
     this.frames = 0;
@@ -152,28 +152,27 @@ export class Ssd1306 {
   }
 
   /**
-   * The panel's picture: the `ssd1306` crate's upright orientation is
-   * segment remap on (0xA1) and COM scan reversed (0xC8), which shows RAM
-   * column x at x and RAM row y at y; the other settings mirror it.
+   * The panel's picture as display RAM in the upright orientation of the
+   * `ssd1306` crate (segment remap on, 0xA1; COM scan reversed, 0xC8:
+   * RAM column x shows at x, RAM row y at y); the other settings mirror it.
    */
   show() {
-    const picture = new Uint8Array(WIDTH * PAGES * 8);
+    const frame = new Uint8Array(WIDTH * PAGES);
     for (let y = 0; y < PAGES * 8; y++) {
       const row = this.comReversed ? y : PAGES * 8 - 1 - y;
       for (let x = 0; x < WIDTH; x++) {
         const column = this.segmentRemap ? x : WIDTH - 1 - x;
-        const lit = (this.ram[(row >> 3) * WIDTH + column] >> (row & 7)) & 1;
-        picture[y * WIDTH + x] = lit ^ (this.inverted ? 1 : 0);
+        const lit = ((this.ram[(row >> 3) * WIDTH + column] >> (row & 7)) & 1) ^ (this.inverted ? 1 : 0);
+        frame[(y >> 3) * WIDTH + x] |= lit << (y & 7);
       }
     }
-    this.out.push(picture);
+    this.out.push(frame);
     this.frames++;
   }
 
   finish() {
-    mkdirSync(this.dir, { recursive: true });
-    const all = new Uint8Array(this.out.length * WIDTH * PAGES * 8);
+    const all = new Uint8Array(this.out.length * WIDTH * PAGES);
     this.out.forEach((frame, i) => all.set(frame, i * frame.length));
-    writeFileSync(join(this.dir, 'frames.bin'), all);
+    writeFileSync(this.file, all);
   }
 }

@@ -5,12 +5,13 @@
 //   --uart FILE   every byte of UART0 (the framed streams)
 //   --rtt FILE    the defmt log's raw bytes from RTT up-channel 0 (decode
 //                 them with `defmt-print -e ELF < FILE`)
-//   --oled DIR    every frame the SSD1306 on I2C0 receives (oled.mjs)
+//   --oled FILE   every frame the SSD1306 on I2C0 shows (oled.mjs)
 //
 // The run ends when the firmware sleeps for good (WFI with no timer
 // armed: its end, after the last preset) or when it has run --stall
-// emulated seconds (default 60) without a byte on UART0, RTT or I2C0. Both are counted in emulated time, so a slow machine only
-// takes longer. Exit status 0 at the firmware's end, 1 on a stall.
+// emulated seconds (default 120) without a byte on UART0, RTT or I2C0.
+// Both are counted in emulated time, so a slow machine only takes longer.
+// Exit status 0 at the firmware's end, 1 on a stall or a stray access.
 //
 // The emulator starts the image the way the boot ROM would after its own
 // checks: at boot stage 2, the first 256 bytes of flash, which sets the
@@ -31,12 +32,12 @@ const { values: args, positionals } = parseArgs({
     uart: { type: 'string' },
     rtt: { type: 'string' },
     oled: { type: 'string' },
-    stall: { type: 'string', default: '60' },
+    stall: { type: 'string', default: '120' },
   },
 });
 if (positionals.length !== 1 || !args.uart) {
   console.error(
-    'usage: node run.mjs ELF --uart FILE [--rtt FILE] [--oled DIR] [--stall SECONDS]',
+    'usage: node run.mjs ELF --uart FILE [--rtt FILE] [--oled FILE] [--stall SECONDS]',
   );
   process.exit(2);
 }
