@@ -83,7 +83,7 @@ direct_flash="$(size -A "${CARGO_TARGET_DIR:-firmware-example/target}"/thumbv6m-
     exit 1
 }
 
-step "the Raspberry Pi Pico firmware builds (firmware-rp2040, thumbv6m; no board in CI: flashed by hand, see its README)"
+step "the Raspberry Pi Pico firmware builds (firmware-rp2040, thumbv6m; no board in CI: it runs in rp2040js in the other-targets step, see its README)"
 (cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo build --release)
 
 step "release build (once: the determinism test, the fixtures and the firmware check reuse it)"

@@ -11,7 +11,8 @@
 // armed: its end, after the last preset) or when it has run --stall
 // emulated seconds (default 120) without a byte on UART0, RTT or I2C0.
 // Both are counted in emulated time, so a slow machine only takes longer.
-// Exit status 0 at the firmware's end, 1 on a stall or a stray access.
+// Exit status 0 at the firmware's end, 1 on a stall, a stray access or
+// a command the SSD1306 model refuses.
 //
 // The emulator starts the image the way the boot ROM would after its own
 // checks: at boot stage 2, the first 256 bytes of flash, which sets the
@@ -54,7 +55,7 @@ const mcu = simulator.rp2040;
 // model (UART0's DMA control, I2C0's SDA hold time) is said once and the
 // run goes on.
 const unmodelled = new Set();
-const stray = (component, message) => {
+const strayAccess = (component, message) => {
   if (component !== 'RP2040' && component !== 'CortexM0Core') {
     const register = `${component}: ${message.replace(/: 0x[0-9a-f]+$/, '')}`;
     if (!unmodelled.has(register)) console.error(`pico: ${register} (not modelled)`);
@@ -63,7 +64,7 @@ const stray = (component, message) => {
   }
   throw new Error(`${component}: ${message}`);
 };
-mcu.logger = { debug() {}, info() {}, warn: stray, error: stray };
+mcu.logger = { debug() {}, info() {}, warn: strayAccess, error: strayAccess };
 const { symbols } = loadElf(readFileSync(positionals[0]), mcu);
 fixCarryOverflow(mcu.core);
 const clock = simulator.clock;
@@ -113,30 +114,42 @@ const cycleNanos = 1e9 / 125e6;
 const core = mcu.core;
 let ended = false;
 let stalled = false;
+let failure = null;
 const started = Date.now();
-while (!ended && !stalled) {
-  for (let i = 0; i < 100_000; i++) {
-    if (core.waiting) {
-      const next = clock.nanosToNextAlarm;
-      if (next <= 0) {
-        ended = true;
-        break;
+try {
+  while (!ended && !stalled) {
+    for (let i = 0; i < 100_000; i++) {
+      if (core.waiting) {
+        const next = clock.nanosToNextAlarm;
+        if (next <= 0) {
+          ended = true;
+          break;
+        }
+        clock.tick(next);
+      } else {
+        clock.tick(core.executeInstruction() * cycleNanos);
       }
-      clock.tick(next);
-    } else {
-      clock.tick(core.executeInstruction() * cycleNanos);
     }
+    drainRtt();
+    if (clock.nanos - lastProgress > stallNanos) stalled = true;
   }
-  drainRtt();
-  if (clock.nanos - lastProgress > stallNanos) stalled = true;
+} catch (error) {
+  failure = error;
 }
 drainRtt();
 
+// What came out until the end, a stall or a failure (a stray access, a
+// command the SSD1306 model refuses): the log then says where the
+// firmware was.
 writeFileSync(args.uart, Uint8Array.from(uart));
 if (args.rtt) writeFileSync(args.rtt, Uint8Array.from(rtt));
 oled?.finish();
 const seconds = (clock.nanos / 1e9).toFixed(2);
 const wall = ((Date.now() - started) / 1000).toFixed(0);
+if (failure) {
+  console.error(`pico: stopped at ${seconds} emulated s (PC ${core.PC.toString(16)}): ${failure.message}`);
+  process.exit(1);
+}
 if (stalled) {
   console.error(
     `pico: no byte on UART0, RTT or I2C0 for ${args.stall} emulated s: stopped at ${seconds} s (PC ${core.PC.toString(16)})`,
