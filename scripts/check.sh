@@ -99,7 +99,7 @@ cargo test -p morphogen-tests --features surface-runner --test mosaic
 step "golden fixtures: every built-in scenario re-run (release build)"
 "$morphogen" verify
 
-step "other targets, bit-exact (scripts/targets-check.sh): every preset on s390x (big-endian) under qemu-user; the firmware's MCU presets on riscv32imac in qemu-system-riscv32; the Pico's firmware in rp2040js, one preset per model, UART and OLED"
+step "other targets, bit-exact (scripts/targets-check.sh): every preset on s390x (big-endian) under qemu-user; the firmware's MCU presets on riscv32imac in qemu-system-riscv32; the Pico's firmware in rp2040js, one preset per model, its UART, OLED and LED matrix"
 MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh
 
 step "the Python stream reader against every preset (python/)"

@@ -17,9 +17,11 @@
 #   flashed on a board) with one MCU preset per model ($PICO_PRESETS) and
 #   runs it in rp2040js, a Raspberry Pi Pico emulator in Node.js
 #   (scripts/pico/run.mjs: UART0 captured to a file, the defmt log read
-#   from RTT, the SSD1306 on I2C0 modelled); checks the capture with
-#   `morphogen verify --stream` and the digests the firmware logged, and
-#   every frame its OLED showed against `morphogen run … --rig 128x64:mono`.
+#   from RTT, the SSD1306 on I2C0 modelled, the WS2812 chain's words
+#   taken from PIO0); checks the capture with `morphogen verify --stream`
+#   and the digests the firmware logged, every frame its OLED showed
+#   against `morphogen run … --rig 128x64:mono` and every byte its LED
+#   chain received against `morphogen run … --rig 16x16:ws2812`.
 #
 # The Cortex-M targets run in scripts/firmware-check.sh and the browser's
 # wasm32 in scripts/web-check.sh; the README's "Targets" table lists all.
@@ -34,7 +36,7 @@
 #   QEMU_STALL             seconds QEMU may run without a sign of progress
 #                          (a byte of log or capture; default 300)
 #   PICO_STALL             emulated seconds the Pico may run without a byte of
-#                          UART0, RTT or I2C0 (default 120; the emulator's own
+#                          UART0, RTT, I2C0 or the LEDs (default 120; the emulator's own
 #                          clock, so a slow machine only takes longer)
 #
 # Installs what is missing, and only that: the rustup targets, the s390x
@@ -219,6 +221,7 @@ check_pico() {
 
   say "rp2040js (scripts/pico/run.mjs): $(basename "$elf")"
   if ! node "$harness/run.mjs" "$elf" --uart "$capture" --rtt "$rtt" --oled "$work/pico-oled.bin" \
+    --leds "$work/pico-leds.bin" \
     --stall "${PICO_STALL:-120}" 2>"$work/pico.err"; then
     defmt-print -e "$elf" <"$rtt" >&2 2>&1 || true
     cat "$work/pico.err" >&2
@@ -258,14 +261,20 @@ check_pico() {
 
   # Every frame the emulated SSD1306 showed against the host's drawing of
   # the same preset on a monochrome 128x64 OLED, display RAM byte for byte
-  # (`run --rig 128x64:mono` writes rig-128x64-ssd1306.bin).
-  local shown=()
+  # (`run --rig 128x64:mono` writes rig-128x64-ssd1306.bin); every byte the
+  # LED chain received against the host's 16x16 serpentine WS2812 matrix
+  # (`run --rig 16x16:ws2812`, rig-16x16-ws2812.bin).
+  local shown=() lit=()
   for name in "${PICO_PRESETS[@]}"; do
     "$morphogen" run "$name" --rig 128x64:mono --only csv --quiet --out "$work/pico-host/$name"
+    "$morphogen" run "$name" --rig 16x16:ws2812 --only csv --quiet --out "$work/pico-host/$name"
     shown+=("$name=$work/pico-host/$name/rig-128x64-ssd1306.bin")
+    lit+=("$name=$work/pico-host/$name/rig-16x16-ws2812.bin")
   done
   node "$harness/compare.mjs" --frame-bytes 1024 --label "OLED frames" "$work/pico-oled.bin" "${shown[@]}" \
     | sed "s/^/pico  ok        /" || { say "targets-check: the emulated Pico's OLED differs from the host's rig-128x64-ssd1306.bin"; exit 1; }
+  node "$harness/compare.mjs" --frame-bytes 768 --label "LED frames" "$work/pico-leds.bin" "${lit[@]}" \
+    | sed "s/^/pico  ok        /" || { say "targets-check: the emulated Pico's LED chain differs from the host's rig-16x16-ws2812.bin"; exit 1; }
   say "pico (RP2040 in rp2040js): $ok ok, $(stat -c %s "$capture") bytes captured"
 }
 

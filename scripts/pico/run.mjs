@@ -6,10 +6,12 @@
 //   --rtt FILE    the defmt log's raw bytes from RTT up-channel 0 (decode
 //                 them with `defmt-print -e ELF < FILE`)
 //   --oled FILE   every frame the SSD1306 on I2C0 shows (oled.mjs)
+//   --leds FILE   every byte the WS2812 chain on PIO0 receives (leds.mjs)
 //
 // The run ends when the firmware sleeps for good (WFI with no timer
 // armed: its end, after the last preset) or when it has run --stall
-// emulated seconds (default 120) without a byte on UART0, RTT or I2C0.
+// emulated seconds (default 120) without a byte on UART0, RTT, I2C0 or
+// the LED chain.
 // Both are counted in emulated time, so a slow machine only takes longer.
 // Exit status 0 at the firmware's end, 1 on a stall, a stray access or
 // a command the SSD1306 model refuses.
@@ -25,6 +27,7 @@ import { parseArgs } from 'node:util';
 import { Simulator } from 'rp2040js';
 import { loadElf } from './elf.mjs';
 import { fixCarryOverflow } from './flags.mjs';
+import { LedChain } from './leds.mjs';
 import { Ssd1306 } from './oled.mjs';
 
 const { values: args, positionals } = parseArgs({
@@ -33,12 +36,13 @@ const { values: args, positionals } = parseArgs({
     uart: { type: 'string' },
     rtt: { type: 'string' },
     oled: { type: 'string' },
+    leds: { type: 'string' },
     stall: { type: 'string', default: '120' },
   },
 });
 if (positionals.length !== 1 || !args.uart) {
   console.error(
-    'usage: node run.mjs ELF --uart FILE [--rtt FILE] [--oled FILE] [--stall SECONDS]',
+    'usage: node run.mjs ELF --uart FILE [--rtt FILE] [--oled FILE] [--leds FILE] [--stall SECONDS]',
   );
   process.exit(2);
 }
@@ -80,6 +84,9 @@ mcu.uart[0].onByte = (byte) => {
 };
 
 const oled = args.oled ? new Ssd1306(mcu.i2c[0], args.oled, progress) : null;
+// The firmware always drives its LED chain: without a chain taking the
+// words, PIO0's TX FIFO would stay full.
+const leds = new LedChain(mcu, args.leds, progress);
 
 // defmt-rtt's control block: "SEGGER RTT" (16 bytes), the numbers of up
 // and down channels (2 × u32), then each up channel: name, buffer, size,
@@ -144,6 +151,7 @@ drainRtt();
 writeFileSync(args.uart, Uint8Array.from(uart));
 if (args.rtt) writeFileSync(args.rtt, Uint8Array.from(rtt));
 oled?.finish();
+leds.finish();
 const seconds = (clock.nanos / 1e9).toFixed(2);
 const wall = ((Date.now() - started) / 1000).toFixed(0);
 if (failure) {
@@ -152,11 +160,12 @@ if (failure) {
 }
 if (stalled) {
   console.error(
-    `pico: no byte on UART0, RTT or I2C0 for ${args.stall} emulated s: stopped at ${seconds} s (PC ${core.PC.toString(16)})`,
+    `pico: no byte on UART0, RTT, I2C0 or the LED chain for ${args.stall} emulated s: stopped at ${seconds} s (PC ${core.PC.toString(16)})`,
   );
   process.exit(1);
 }
 console.error(
   `pico: the firmware sleeps after ${seconds} emulated s (${wall} s here); UART0 ${uart.length} B` +
-    (oled ? `, ${oled.frames} OLED frames` : ''),
+    (oled ? `, ${oled.frames} OLED frames` : '') +
+    `, ${leds.leds} LED colours`,
 );
