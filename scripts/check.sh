@@ -83,7 +83,7 @@ direct_flash="$(size -A "${CARGO_TARGET_DIR:-firmware-example/target}"/thumbv6m-
     exit 1
 }
 
-step "the Raspberry Pi Pico firmware builds (firmware-rp2040, thumbv6m; no board in CI: flashed by hand, see its README)"
+step "the Raspberry Pi Pico firmware builds (firmware-rp2040, thumbv6m; no board in CI: it runs in rp2040js in the other-targets step, see its README)"
 (cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo build --release)
 
 step "release build (once: the determinism test, the fixtures and the firmware check reuse it)"
@@ -99,7 +99,7 @@ cargo test -p morphogen-tests --features surface-runner --test mosaic
 step "golden fixtures: every built-in scenario re-run (release build)"
 "$morphogen" verify
 
-step "other targets, bit-exact (scripts/targets-check.sh): every preset on s390x (big-endian) under qemu-user; the firmware's MCU presets on riscv32imac in qemu-system-riscv32"
+step "other targets, bit-exact (scripts/targets-check.sh): every preset on s390x (big-endian) under qemu-user; the firmware's MCU presets on riscv32imac in qemu-system-riscv32; the Pico's firmware in rp2040js, one preset per model, its UART, OLED and LED matrix"
 MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh
 
 step "the Python stream reader against every preset (python/)"

@@ -13,11 +13,20 @@
 #   the `surface` ones; boots it in QEMU's RISC-V `virt` machine
 #   (qemu-system-riscv32), its UART captured to a file, and checks the
 #   capture with `morphogen verify --stream`.
+# - pico: builds firmware-rp2040 (the Raspberry Pi Pico's firmware, as
+#   flashed on a board) with one MCU preset per model ($PICO_PRESETS) and
+#   runs it in rp2040js, a Raspberry Pi Pico emulator in Node.js
+#   (scripts/pico/run.mjs: UART0 captured to a file, the defmt log read
+#   from RTT, the SSD1306 on I2C0 modelled, the WS2812 chain's words
+#   taken from PIO0); checks the capture with `morphogen verify --stream`
+#   and the digests the firmware logged, every frame its OLED showed
+#   against `morphogen run … --rig 128x64:mono` and every byte its LED
+#   chain received against `morphogen run … --rig 16x16:ws2812`.
 #
 # The Cortex-M targets run in scripts/firmware-check.sh and the browser's
 # wasm32 in scripts/web-check.sh; the README's "Targets" table lists all.
 #
-# Usage: scripts/targets-check.sh [s390x] [riscv32]   (default: both)
+# Usage: scripts/targets-check.sh [s390x] [riscv32] [pico]   (default: all three)
 # Environment:
 #   CARGO_TARGET_DIR       honoured (default: target, and firmware-example/target
 #                          for the firmware)
@@ -26,10 +35,15 @@
 #                          scripts/check.sh sets, else target/release/morphogen)
 #   QEMU_STALL             seconds QEMU may run without a sign of progress
 #                          (a byte of log or capture; default 300)
+#   PICO_STALL             emulated seconds the Pico may run without a byte of
+#                          UART0, RTT, I2C0 or the LEDs (default 120; the emulator's own
+#                          clock, so a slow machine only takes longer)
 #
 # Installs what is missing, and only that: the rustup targets, the s390x
 # cross linker and C library (crossbuild-essential-s390x), qemu-user and
-# qemu-system-misc (apt-get), defmt-print (cargo install --locked).
+# qemu-system-misc (apt-get), defmt-print (cargo install --locked), Node.js
+# (apt-get nodejs npm) and rp2040js (npm ci from scripts/pico's
+# package-lock.json).
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -43,9 +57,9 @@ apt_install() {
 }
 
 wanted=("$@")
-[ ${#wanted[@]} -gt 0 ] || wanted=(s390x riscv32)
+[ ${#wanted[@]} -gt 0 ] || wanted=(s390x riscv32 pico)
 for w in "${wanted[@]}"; do
-  case "$w" in s390x | riscv32) ;; *) say "targets-check: unknown target $w (s390x or riscv32)"; exit 2 ;; esac
+  case "$w" in s390x | riscv32 | pico) ;; *) say "targets-check: unknown target $w (s390x, riscv32 or pico)"; exit 2 ;; esac
 done
 wants() { [[ " ${wanted[*]} " == *" $1 "* ]]; }
 rustup_target() {
@@ -101,13 +115,20 @@ watch_progress() {
   done
 }
 
-check_riscv32() {
-  local target=riscv32imac-unknown-none-elf fw="$root/firmware-example"
+# The host's `morphogen`, which verifies the captures.
+morphogen_bin() {
   local morphogen="${MORPHOGEN_BIN:-${MORPHOGEN_RELEASE_BIN:-${CARGO_TARGET_DIR:-$root/target}/release/morphogen}}"
   [ -x "$morphogen" ] || {
     say "targets-check: no morphogen binary at $morphogen (cargo build --release -p morphogen-cli, or set MORPHOGEN_BIN)"
     exit 1
   }
+  printf '%s\n' "$morphogen"
+}
+
+check_riscv32() {
+  local target=riscv32imac-unknown-none-elf fw="$root/firmware-example"
+  local morphogen
+  morphogen="$(morphogen_bin)"
   rustup_target "$target"
   command -v qemu-system-riscv32 >/dev/null || { say "installing qemu-system-misc"; apt_install qemu-system-misc; }
   command -v defmt-print >/dev/null || { say "cargo install defmt-print --locked"; cargo install defmt-print --locked; }
@@ -169,5 +190,94 @@ check_riscv32() {
   say "$target (QEMU virt, qemu-system-riscv32): $ok ok, $(stat -c %s "$capture") bytes captured"
 }
 
+# ---- pico: firmware-rp2040 in rp2040js (Node.js) ----------------------------------
+# One MCU preset per model, the cheaper ones (rp2040js runs some 40
+# million instructions a second): growth curve, horn, L-system, body,
+# bones, plane mosaic. (The Pico's runner has no surface mosaics.)
+PICO_PRESETS=(growth-curve sulaiman-markhor lsys-flower horse-growth long-bone croton-mcu)
+
+check_pico() {
+  local target=thumbv6m-none-eabi fw="$root/firmware-rp2040" harness="$root/scripts/pico"
+  local morphogen
+  morphogen="$(morphogen_bin)"
+  rustup_target "$target"
+  command -v node >/dev/null || { say "installing nodejs"; apt_install nodejs npm; }
+  command -v defmt-print >/dev/null || { say "cargo install defmt-print --locked"; cargo install defmt-print --locked; }
+  # rp2040js at the version package-lock.json names (npm ci installs
+  # exactly the lockfile, from npm's cache when it has it).
+  say "npm ci (scripts/pico: rp2040js)"
+  (cd "$harness" && npm ci --no-audit --no-fund --silent)
+
+  # The firmware as a board runs it, built with these presets only
+  # (MORPHOGEN_SCENARIOS), in firmware-example's target folder as
+  # scripts/check.sh builds it.
+  local scenarios=() name
+  for name in "${PICO_PRESETS[@]}"; do scenarios+=("$root/scenarios/$name.toml"); done
+  say "build firmware-rp2040 with ${PICO_PRESETS[*]}"
+  (cd "$fw" && MORPHOGEN_SCENARIOS="$(IFS=,; echo "${scenarios[*]}")" \
+    CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/firmware-example/target}" cargo build --release)
+  local elf="${CARGO_TARGET_DIR:-$root/firmware-example/target}/$target/release/morphogen-rp2040"
+  local capture="$work/pico.bin" rtt="$work/pico.rtt" log="$work/pico.log" started=$SECONDS
+
+  say "rp2040js (scripts/pico/run.mjs): $(basename "$elf")"
+  if ! node "$harness/run.mjs" "$elf" --uart "$capture" --rtt "$rtt" --oled "$work/pico-oled.bin" \
+    --leds "$work/pico-leds.bin" \
+    --stall "${PICO_STALL:-120}" 2>"$work/pico.err"; then
+    defmt-print -e "$elf" <"$rtt" >&2 2>&1 || true
+    cat "$work/pico.err" >&2
+    say "targets-check: the firmware on the emulated Pico did not finish"
+    exit 1
+  fi
+  defmt-print -e "$elf" <"$rtt" >"$log" 2>&1
+  say "rp2040js ran $((SECONDS - started)) s: $(tail -n 1 "$work/pico.err")"
+  grep -q "all ${#PICO_PRESETS[@]} presets streamed" "$log" || {
+    cat "$log" >&2
+    say "targets-check: the emulated Pico did not stream all ${#PICO_PRESETS[@]} presets"
+    exit 1
+  }
+
+  # Every stream of the capture against its fixture, bit for bit; then the
+  # frames and digest the device logged, which must be the fixture's.
+  if ! (cd "$root" && "$morphogen" verify --stream "$capture") >"$work/pico.verify.log" 2>&1; then
+    sed "s/^/pico  /" "$work/pico.verify.log"
+    say "targets-check: a preset's stream on the Pico differs from its fixture"
+    exit 1
+  fi
+  local status rest frames digest fixture_frames fixture_digest ok=0
+  while read -r status name rest; do
+    [ "$status" = ok ] || continue
+    read -r frames digest < <(sed -n "s/.*INFO  $name: \([0-9]*\) frames, [0-9]* bytes, digest \([0-9a-f]*\)$/\1 \2/p" "$log") || true
+    fixture_frames="$(sed -n 's/^frames = \([0-9]*\)$/\1/p' "$root/fixtures/$name/summary.toml")"
+    fixture_digest="$(sed -n 's/^stream_digest = "\([0-9a-f]*\)"$/\1/p' "$root/fixtures/$name/summary.toml")"
+    if [ -z "${digest:-}" ] || [ "$frames" != "$fixture_frames" ] || [ "$digest" != "$fixture_digest" ]; then
+      say "targets-check: $name on the Pico logged ${frames:-no} frames, digest ${digest:-none}; its fixture has $fixture_frames, $fixture_digest"
+      exit 1
+    fi
+    printf '%s  ok        %s (%s frames, digest %s)\n' pico "$name" "$frames" "$digest"
+    ok=$((ok + 1))
+    unset frames digest
+  done <"$work/pico.verify.log"
+  [ "$ok" -eq "${#PICO_PRESETS[@]}" ] || { say "targets-check: $ok streams verified, not the ${#PICO_PRESETS[@]} presets the Pico ran"; exit 1; }
+
+  # Every frame the emulated SSD1306 showed against the host's drawing of
+  # the same preset on a monochrome 128x64 OLED, display RAM byte for byte
+  # (`run --rig 128x64:mono` writes rig-128x64-ssd1306.bin); every byte the
+  # LED chain received against the host's 16x16 serpentine WS2812 matrix
+  # (`run --rig 16x16:ws2812`, rig-16x16-ws2812.bin).
+  local shown=() lit=()
+  for name in "${PICO_PRESETS[@]}"; do
+    "$morphogen" run "$name" --rig 128x64:mono --only csv --quiet --out "$work/pico-host/$name"
+    "$morphogen" run "$name" --rig 16x16:ws2812 --only csv --quiet --out "$work/pico-host/$name"
+    shown+=("$name=$work/pico-host/$name/rig-128x64-ssd1306.bin")
+    lit+=("$name=$work/pico-host/$name/rig-16x16-ws2812.bin")
+  done
+  node "$harness/compare.mjs" --frame-bytes 1024 --label "OLED frames" "$work/pico-oled.bin" "${shown[@]}" \
+    | sed "s/^/pico  ok        /" || { say "targets-check: the emulated Pico's OLED differs from the host's rig-128x64-ssd1306.bin"; exit 1; }
+  node "$harness/compare.mjs" --frame-bytes 768 --label "LED frames" "$work/pico-leds.bin" "${lit[@]}" \
+    | sed "s/^/pico  ok        /" || { say "targets-check: the emulated Pico's LED chain differs from the host's rig-16x16-ws2812.bin"; exit 1; }
+  say "pico (RP2040 in rp2040js): $ok ok, $(stat -c %s "$capture") bytes captured"
+}
+
 if wants s390x; then check_s390x; fi
 if wants riscv32; then check_riscv32; fi
+if wants pico; then check_pico; fi

@@ -1,5 +1,6 @@
 //! The Raspberry Pi Pico this firmware drives, through `rp2040-hal`: the
-//! clocks, UART0 to a USB-UART adapter and I2C0 to an SSD1306 OLED.
+//! clocks, UART0 to a USB-UART adapter, I2C0 to an SSD1306 OLED and PIO0
+//! to a WS2812 LED matrix.
 //!
 //! References: the RP2040 datasheet (sections named where used) and the
 //! Raspberry Pi Pico datasheet (its pinout, 2.1 "Raspberry Pi Pico
@@ -9,7 +10,7 @@ use rp2040_hal::Clock;
 use rp2040_hal::clocks::init_clocks_and_plls;
 use rp2040_hal::fugit::RateExtU32;
 use rp2040_hal::gpio::bank0::{Gpio0, Gpio1, Gpio4, Gpio5};
-use rp2040_hal::gpio::{FunctionI2C, FunctionUart, Pin, Pins, PullDown, PullUp};
+use rp2040_hal::gpio::{FunctionI2C, FunctionPio0, FunctionUart, Pin, Pins, PullDown, PullUp};
 use rp2040_hal::i2c::I2C;
 use rp2040_hal::pac;
 use rp2040_hal::uart::{DataBits, Enabled, StopBits, UartConfig, UartPeripheral};
@@ -17,6 +18,8 @@ use rp2040_hal::{Sio, Watchdog};
 use ssd1306::mode::{BufferedGraphicsMode, DisplayConfig};
 use ssd1306::prelude::{DisplayRotation, DisplaySize128x64, I2CInterface};
 use ssd1306::{I2CDisplayInterface, Ssd1306};
+
+use crate::leds::Chain;
 
 /// Boot stage 2 for the Pico's W25Q080 flash: the 256 bytes (with their
 /// CRC32) that the bootrom copies to SRAM and runs first to set up
@@ -76,10 +79,14 @@ pub struct Board {
     /// The OLED, or `None` when none answers on I2C0 (the presets still
     /// stream).
     pub oled: Option<Oled>,
+    /// The WS2812 chain on GP22 (PIO0), which has no way to answer: the
+    /// firmware always drives it.
+    pub leds: Chain,
 }
 
 impl Board {
-    /// Sets the clocks up from the crystal, then UART0 and the OLED.
+    /// Sets the clocks up from the crystal, then UART0, the OLED and the
+    /// LED chain.
     pub fn init() -> Board {
         let Some(mut pac) = pac::Peripherals::take() else {
             defmt::panic!("the peripherals were taken twice")
@@ -115,6 +122,13 @@ impl Board {
             defmt::panic!("UART0 cannot make {=u32} baud", BAUD)
         };
 
+        let leds = Chain::new(
+            pac.PIO0,
+            pins.gpio22.into_function::<FunctionPio0>(),
+            &mut pac.RESETS,
+            clocks.system_clock.freq(),
+        );
+
         let i2c: OledI2c = I2C::i2c0(
             pac.I2C0,
             pins.gpio4.reconfigure(),
@@ -136,6 +150,6 @@ impl Board {
                 None
             }
         };
-        Board { uart, oled }
+        Board { uart, oled, leds }
     }
 }

@@ -1,11 +1,14 @@
-//! `morphogen run … --rig WxH[:grey4]`: the picture a display rig of that
-//! size would show at the end of the run, drawn by the core's rig renderer
-//! ([`morphogen::rig`]) — the same code a device runs — into an in-memory
-//! `embedded-graphics` framebuffer, and saved as a PNG. `:grey4` draws in
-//! the 16 greys of a 4-bit OLED ([`PALETTE_GRAY4`], saved as 8-bit grey
-//! `17·level`, as QEMU shows its emulated SSD0323), the firmware's picture
-//! pixel for pixel.
+//! `morphogen run … --rig WxH[:grey4|:mono]`: the picture a display rig of
+//! that size would show at the end of the run, drawn by the core's rig
+//! renderer ([`morphogen::rig`]) — the same code a device runs — into an
+//! in-memory `embedded-graphics` framebuffer, and saved as a PNG. `:grey4`
+//! draws in the 16 greys of a 4-bit OLED ([`PALETTE_GRAY4`], saved as
+//! 8-bit grey `17·level`, as QEMU shows its emulated SSD0323), the
+//! firmware's picture pixel for pixel; `:mono` as firmware-rp2040 draws its
+//! monochrome SSD1306 ([`PALETTE_MONO`]), and every frame's display RAM
+//! beside it ([`render_ssd1306`]).
 
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
@@ -15,6 +18,7 @@ use morphogen::rig::embedded_graphics::prelude::*;
 use morphogen::rig::{Bounds, PALETTE_GRAY4, PALETTE_RGB888, Receiver, Rig, View, plane_bytes};
 use morphogen::stream::{FrameError, Header, Record};
 
+use crate::atomic::OutputFile;
 use crate::records::{Place, Records};
 use crate::ws2812::{Chain, ChainFile};
 
@@ -70,7 +74,7 @@ impl Framebuffer {
                 let (x, y) = (2 * i64::from(dx) - centre, 2 * i64::from(dy) - centre);
                 x * x + y * y <= radius2
             }
-            RigPalette::Grey4 => scale < 4 || (dx + 1 < scale && dy + 1 < scale),
+            RigPalette::Grey4 | RigPalette::Mono => scale < 4 || (dx + 1 < scale && dy + 1 < scale),
         };
         for (i, c) in big.pixels.iter_mut().enumerate() {
             let (x, y) = (i as u32 % big.width, i as u32 / big.width);
@@ -82,6 +86,27 @@ impl Framebuffer {
             };
         }
         big
+    }
+
+    /// The framebuffer as a monochrome SSD1306's display RAM: ⌈H/8⌉ pages
+    /// of W bytes, bit `k` of a byte the pixel `k` rows below its page's
+    /// top, set where the pixel is not black.
+    #[must_use]
+    pub fn ssd1306_pages(&self) -> Vec<u8> {
+        let pages = self.height.div_ceil(8);
+        let mut ram = vec![0u8; pages as usize * self.width as usize];
+        for (i, byte) in ram.iter_mut().enumerate() {
+            let (page, x) = (i as u32 / self.width, i as u32 % self.width);
+            for bit in 0..8 {
+                if self
+                    .get(x, page * 8 + bit)
+                    .is_some_and(|c| c != Rgb888::BLACK)
+                {
+                    *byte |= 1 << bit;
+                }
+            }
+        }
+        ram
     }
 
     /// Saves the framebuffer as an 8-bit RGBA PNG (opaque), atomically
@@ -133,18 +158,28 @@ pub enum RigPalette {
     Rgb,
     /// [`PALETTE_GRAY4`]: a 4-bit grey OLED (the firmware's SSD0323).
     Grey4,
+    /// [`PALETTE_MONO`]: a monochrome OLED (firmware-rp2040's SSD1306).
+    Mono,
 }
+
+/// A monochrome OLED's palette as firmware-rp2040 draws it
+/// (`firmware-rp2040/src/screen.rs`): the background dark, ink `n` lit
+/// when `n` is even and dark when odd, in white and black.
+pub const PALETTE_MONO: [Rgb888; 3] = [Rgb888::BLACK, Rgb888::WHITE, Rgb888::BLACK];
 
 impl RigPalette {
     /// The palette as RGB: greys as `17·level` on all three channels.
     #[must_use]
-    pub fn colours(self) -> [Rgb888; 8] {
+    pub fn colours(self) -> Vec<Rgb888> {
         match self {
-            RigPalette::Rgb => PALETTE_RGB888,
-            RigPalette::Grey4 => PALETTE_GRAY4.map(|g: Gray4| {
-                let v = g.luma() * 17;
-                Rgb888::new(v, v, v)
-            }),
+            RigPalette::Rgb => PALETTE_RGB888.to_vec(),
+            RigPalette::Grey4 => PALETTE_GRAY4
+                .map(|g: Gray4| {
+                    let v = g.luma() * 17;
+                    Rgb888::new(v, v, v)
+                })
+                .to_vec(),
+            RigPalette::Mono => PALETTE_MONO.to_vec(),
         }
     }
 }
@@ -177,7 +212,8 @@ impl RigSpec {
         Ok((Size::new(width, height), u32::from(width.min(height) >= 16)))
     }
 
-    /// The picture's file name: `rig-WxH.png` or `rig-WxH-grey4.png`.
+    /// The picture's file name: `rig-WxH.png`, `rig-WxH-grey4.png` or
+    /// `rig-WxH-mono.png`.
     #[must_use]
     pub fn file_name(&self) -> String {
         format!("{}.png", self.stem())
@@ -189,7 +225,13 @@ impl RigSpec {
         format!("rig-{}x{}-ws2812.bin", self.width, self.height)
     }
 
-    /// The enlarged preview's file name: `rig-WxH[-grey4]-preview.png`.
+    /// The display RAM's file name: `rig-WxH-ssd1306.bin`.
+    #[must_use]
+    pub fn ssd1306_name(&self) -> String {
+        format!("rig-{}x{}-ssd1306.bin", self.width, self.height)
+    }
+
+    /// The enlarged preview's file name: `rig-WxH[-grey4|-mono]-preview.png`.
     #[must_use]
     pub fn preview_name(&self) -> String {
         format!("{}-preview.png", self.stem())
@@ -199,6 +241,7 @@ impl RigSpec {
         let suffix = match self.palette {
             RigPalette::Rgb => "",
             RigPalette::Grey4 => "-grey4",
+            RigPalette::Mono => "-mono",
         };
         format!("rig-{}x{}{suffix}", self.width, self.height)
     }
@@ -211,12 +254,13 @@ impl RigSpec {
 }
 
 /// Parses a rig `WxH` (e.g. `64x64`, `128x64`), optionally followed by
-/// `:grey4` for a 4-bit grey OLED, or by `:ws2812` for an RGB matrix of
+/// `:grey4` for a 4-bit grey OLED, `:mono` for a monochrome one, or by
+/// `:ws2812` for an RGB matrix of
 /// WS2812 LEDs with its chain's options ([`Chain::parse`]).
 ///
 /// # Errors
 /// When it is not two positive integers ≤ [`MAX_RIG_SIDE`] around an `x`,
-/// the kind is neither `grey4` nor `ws2812`, or a chain option is wrong.
+/// the kind is not `grey4`, `mono` or `ws2812`, or a chain option is wrong.
 pub fn parse_rig(text: &str) -> Result<RigSpec> {
     let mut parts = text.split(':');
     let size = parts.next().unwrap_or_default();
@@ -224,11 +268,12 @@ pub fn parse_rig(text: &str) -> Result<RigSpec> {
     let (palette, chain) = match options.split_first() {
         None => (RigPalette::Rgb, None),
         Some((kind, [])) if kind.trim().eq_ignore_ascii_case("grey4") => (RigPalette::Grey4, None),
+        Some((kind, [])) if kind.trim().eq_ignore_ascii_case("mono") => (RigPalette::Mono, None),
         Some((kind, rest)) if kind.trim().eq_ignore_ascii_case("ws2812") => {
             (RigPalette::Rgb, Some(Chain::parse(rest)?))
         }
         Some((kind, _)) => bail!(
-            "unknown rig {kind:?}: grey4 (a 4-bit grey OLED, e.g. 128x64:grey4) or ws2812 (an LED matrix, e.g. 16x16:ws2812)"
+            "unknown rig {kind:?}: grey4 (a 4-bit grey OLED, e.g. 128x64:grey4), mono (a monochrome OLED, e.g. 128x64:mono) or ws2812 (an LED matrix, e.g. 16x16:ws2812)"
         ),
     };
     let parsed = size
@@ -296,6 +341,36 @@ pub fn render_chain<R: Records + ?Sized>(
     file.finish()
 }
 
+/// Writes into `dir` the display RAM of a monochrome SSD1306 on `rig` for
+/// every frame of `records` (as [`render_rig`] draws them in
+/// [`PALETTE_MONO`]): `rig-WxH-ssd1306.bin`, per frame ⌈H/8⌉ pages of W
+/// bytes, a byte the 8 pixels of a column down its page, the lowest bit
+/// on top, lit 1 — what the `ssd1306` crate sends the panel for a frame.
+/// Returns the file's path.
+///
+/// # Errors
+/// As [`render_rig`], or a failed write.
+pub fn render_ssd1306<R: Records + ?Sized>(
+    records: &R,
+    rig: RigSpec,
+    dir: &Path,
+) -> Result<PathBuf> {
+    let rig = RigSpec {
+        palette: RigPalette::Mono,
+        ..rig
+    };
+    let (fitted, _) = Fitted::new(records, rig, None)?;
+    let mut screen = Framebuffer::new(rig.width, rig.height);
+    let path = dir.join(rig.ssd1306_name());
+    let mut file = OutputFile::create(&path)?;
+    fitted.draw(records, (Place::START, 0), &mut screen, |screen| {
+        file.write_all(&screen.ssd1306_pages())
+            .with_context(|| format!("cannot write {}", path.display()))
+    })?;
+    file.finish()?;
+    Ok(path)
+}
+
 /// A rig's view fitted to a whole stream, and its colours.
 struct Fitted {
     view: View,
@@ -328,7 +403,7 @@ impl Fitted {
             (RigPalette::Rgb, Some(inks)) if !inks.is_empty() => std::iter::once(Rgb888::BLACK)
                 .chain(inks.iter().map(|&[r, g, b]| Rgb888::new(r, g, b)))
                 .collect(),
-            (palette, _) => palette.colours().to_vec(),
+            (palette, _) => palette.colours(),
         };
         let view = View::fit(&bounds, size, margin);
         Ok((Fitted { view, palette }, (last_frame, last_index)))
@@ -595,5 +670,44 @@ mod tests {
         .unwrap();
         let level = PALETTE_GRAY4[2].luma() * 17; // ink 1
         assert_eq!(picture.get(0, 0), Some(Rgb888::new(level, level, level)));
+    }
+
+    #[test]
+    fn mono_rigs_light_even_inks_and_write_each_frame_as_display_ram() {
+        // A line in ink 0 (lit) along row 0, then one in ink 7 (dark: an
+        // odd ink) over its right half, in each of two frames; the second
+        // frame also draws ink 2 (lit) along row 9 of a 4×10 panel.
+        let line = |y, x0, colour| Record::Segment {
+            a: [Fx::from_int(x0), Fx::from_int(y), Fx::ZERO],
+            b: [Fx::from_int(3), Fx::from_int(y), Fx::ZERO],
+            width: Fx::DELTA,
+            colour,
+        };
+        let frame = |n, extra: &[Record]| {
+            let mut records = vec![
+                Record::FrameStart {
+                    frame: n,
+                    time: Fx::ZERO,
+                },
+                line(9, 0, 0),
+                line(9, 2, 7),
+            ];
+            records.extend_from_slice(extra);
+            records.push(Record::FrameEnd { frame: n });
+            records
+        };
+        let mut records = frame(0, &[]);
+        records.extend(frame(1, &[line(0, 0, 2)]));
+        let mono = parse_rig("4x10:mono").unwrap();
+        assert_eq!(mono.file_name(), "rig-4x10-mono.png");
+        assert_eq!(
+            ascii(&render_rig(&records, mono, None).unwrap())[..1],
+            ["##.."]
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let ram = std::fs::read(render_ssd1306(&records, mono, dir.path()).unwrap()).unwrap();
+        // Two frames of two pages of 4 columns; v up is y down: v 9 is the
+        // top row (bit 0 of page 0), v 0 the bottom one (bit 1 of page 1).
+        assert_eq!(ram, [1, 1, 0, 0, 0, 0, 0, 0, 1, 1, 0, 0, 2, 2, 2, 2]);
     }
 }

@@ -9,7 +9,7 @@ use morphogen_scenario::Scenario;
 
 use crate::folder_lock::FolderLock;
 use crate::outputs::{self, Kind, Kinds};
-use crate::rig::{self, RigSpec};
+use crate::rig::{self, RigPalette, RigSpec};
 use crate::{Outcome, body_input, exec, say, written};
 
 /// `morphogen run`'s arguments.
@@ -53,16 +53,18 @@ pub struct Args {
     /// Also write rig-WxH.png: the last frame as a W×H display rig
     /// (LED matrix, OLED) shows it, drawn by the core's rig renderer;
     /// `WxH:grey4` draws the 16 greys of a 4-bit OLED, as the firmware
-    /// draws its SSD0323 (rig-WxH-grey4.png). In colour, mosaics and
-    /// plants take the colours of their main pictures. Also writes
-    /// rig-WxH[-grey4]-preview.png, enlarged as the LEDs or the OLED
-    /// look lit. `WxH:ws2812` also writes rig-WxH-ws2812.bin, the bytes a
+    /// draws its SSD0323 (rig-WxH-grey4.png); `WxH:mono` a monochrome
+    /// OLED as firmware-rp2040 draws its SSD1306 (rig-WxH-mono.png), and
+    /// every frame's display RAM in rig-WxH-ssd1306.bin. In colour,
+    /// mosaics and plants take the colours of their main pictures. Also
+    /// writes rig-WxH[-grey4|-mono]-preview.png, enlarged as the LEDs or
+    /// the OLED look lit. `WxH:ws2812` also writes rig-WxH-ws2812.bin, the bytes a
     /// chain of WS2812 LEDs wired as that matrix receives for each frame
     /// (green, red, blue; gamma and brightness as smart-leds applies
     /// them): `:serpentine` (the default) or `:progressive` rows, and a
     /// brightness 0 to 255 (default 255), e.g. 16x16:ws2812:64
     /// (docs/stream-format.md, "LED matrices").
-    #[arg(long, value_name = "WxH[:grey4|:ws2812[:LAYOUT][:B]]", value_parser = rig::parse_rig)]
+    #[arg(long, value_name = "WxH[:grey4|:mono|:ws2812[:LAYOUT][:B]]", value_parser = rig::parse_rig)]
     pub rig: Option<RigSpec>,
     /// With a mosaic: where F cells may start instead of the scenario's
     /// mask, a PBM (P1/P4) or PNG stretched over the whole domain; white
@@ -212,6 +214,9 @@ fn run_scenario(
             if let Some(chain) = rig.chain {
                 let path = rig::render_chain(records, rig, chain, inks.as_deref(), dir)?;
                 files.push(path);
+            }
+            if rig.palette == RigPalette::Mono {
+                files.push(rig::render_ssd1306(records, rig, dir)?);
             }
         }
         Ok(files)
