@@ -78,9 +78,14 @@ def main() -> int:
     binary = Path(args.bin).resolve()
     if not os.access(binary, os.X_OK):
         sys.exit(f"sweep-recipes-check: no morphogen binary at {binary}")
+    # Each recipe runs in a folder of its own: the tools' folders go on its
+    # PATH as absolute paths.
+    tools_found = []
     for tool in ("parallel", "snakemake"):
-        if shutil.which(tool) is None:
+        found = shutil.which(tool)
+        if found is None:
             sys.exit(f"sweep-recipes-check: `{tool}` is not on the PATH (scripts/check.sh installs it)")
+        tools_found.append(str(Path(found).absolute().parent))
 
     blocks = named_blocks(DOC.read_text(encoding="utf-8"))
     recipes = {
@@ -99,7 +104,7 @@ def main() -> int:
         (tools / "morphogen").symlink_to(binary)
         (tools / "sbatch").write_text(SBATCH)
         (tools / "sbatch").chmod(0o755)
-        env = dict(os.environ, PATH=f"{tools}{os.pathsep}{os.environ['PATH']}")
+        env = dict(os.environ, PATH=os.pathsep.join([str(tools), *tools_found, os.environ["PATH"]]))
 
         reference = Path(tmp, "one-machine")
         reference.mkdir()
