@@ -125,6 +125,38 @@ morphogen_bin() {
   printf '%s\n' "$morphogen"
 }
 
+# Checks a device's UART capture: every stream in it against its fixture,
+# bit for bit (`morphogen verify --stream`), then the frames and digest the
+# device logged for each, which must be the fixture's; prints a line per
+# preset and sets `verified` to how many were ok.
+#   verify_capture MORPHOGEN TARGET CAPTURE LOG SED
+# SED is the sed script that prints "FRAMES DIGEST" from the log's line of
+# a preset, `{}` standing for its name.
+verify_capture() {
+  local morphogen="$1" target="$2" capture="$3" log="$4" pattern="$5"
+  local log_of_verify="$work/$target.verify.log"
+  if ! (cd "$root" && "$morphogen" verify --stream "$capture") >"$log_of_verify" 2>&1; then
+    sed "s/^/$target  /" "$log_of_verify"
+    say "targets-check: a preset's stream on $target differs from its fixture"
+    exit 1
+  fi
+  local status name rest frames digest fixture_frames fixture_digest ok=0
+  while read -r status name rest; do
+    [ "$status" = ok ] || continue
+    read -r frames digest < <(sed -n "${pattern//\{\}/$name}" "$log") || true
+    fixture_frames="$(sed -n 's/^frames = \([0-9]*\)$/\1/p' "$root/fixtures/$name/summary.toml")"
+    fixture_digest="$(sed -n 's/^stream_digest = "\([0-9a-f]*\)"$/\1/p' "$root/fixtures/$name/summary.toml")"
+    if [ -z "${digest:-}" ] || [ "$frames" != "$fixture_frames" ] || [ "$digest" != "$fixture_digest" ]; then
+      say "targets-check: $name on $target logged ${frames:-no} frames, digest ${digest:-none}; its fixture has $fixture_frames, $fixture_digest"
+      exit 1
+    fi
+    printf '%s  ok        %s (%s frames, digest %s)\n' "$target" "$name" "$frames" "$digest"
+    ok=$((ok + 1))
+    unset frames digest
+  done <"$log_of_verify"
+  verified=$ok
+}
+
 check_riscv32() {
   local target=riscv32imac-unknown-none-elf fw="$root/firmware-example"
   local morphogen
@@ -165,27 +197,9 @@ check_riscv32() {
     exit 1
   fi
 
-  # Every stream of the capture against its fixture, bit for bit; then the
-  # frames and digest the device reported, which must be the fixture's.
-  if ! (cd "$root" && "$morphogen" verify --stream "$capture") >"$work/riscv32.verify.log" 2>&1; then
-    sed "s/^/$target  /" "$work/riscv32.verify.log"
-    say "targets-check: a preset's stream on $target differs from its fixture"
-    exit 1
-  fi
-  local status name rest frames digest fixture_frames fixture_digest ok=0
-  while read -r status name rest; do
-    [ "$status" = ok ] || continue
-    read -r frames digest < <(sed -n "s/.*report preset=$name seed=[0-9]* frames=\([0-9]*\) bytes=[0-9]* digest=\([0-9a-f]*\) .*/\1 \2/p" "$log") || true
-    fixture_frames="$(sed -n 's/^frames = \([0-9]*\)$/\1/p' "$root/fixtures/$name/summary.toml")"
-    fixture_digest="$(sed -n 's/^stream_digest = "\([0-9a-f]*\)"$/\1/p' "$root/fixtures/$name/summary.toml")"
-    if [ -z "${digest:-}" ] || [ "$frames" != "$fixture_frames" ] || [ "$digest" != "$fixture_digest" ]; then
-      say "targets-check: $name on $target reported ${frames:-no} frames, digest ${digest:-none}; its fixture has $fixture_frames, $fixture_digest"
-      exit 1
-    fi
-    printf '%s  ok        %s (%s frames, digest %s)\n' "$target" "$name" "$frames" "$digest"
-    ok=$((ok + 1))
-    unset frames digest
-  done <"$work/riscv32.verify.log"
+  verify_capture "$morphogen" "$target" "$capture" "$log" \
+    "s/.*report preset={} seed=[0-9]* frames=\([0-9]*\) bytes=[0-9]* digest=\([0-9a-f]*\) .*/\1 \2/p"
+  local ok=$verified
   grep -q "all $ok presets streamed" "$log" || { say "targets-check: $ok streams verified, not every preset the firmware ran"; exit 1; }
   say "$target (QEMU virt, qemu-system-riscv32): $ok ok, $(stat -c %s "$capture") bytes captured"
 }
@@ -236,27 +250,9 @@ check_pico() {
     exit 1
   }
 
-  # Every stream of the capture against its fixture, bit for bit; then the
-  # frames and digest the device logged, which must be the fixture's.
-  if ! (cd "$root" && "$morphogen" verify --stream "$capture") >"$work/pico.verify.log" 2>&1; then
-    sed "s/^/pico  /" "$work/pico.verify.log"
-    say "targets-check: a preset's stream on the Pico differs from its fixture"
-    exit 1
-  fi
-  local status rest frames digest fixture_frames fixture_digest ok=0
-  while read -r status name rest; do
-    [ "$status" = ok ] || continue
-    read -r frames digest < <(sed -n "s/.*INFO  $name: \([0-9]*\) frames, [0-9]* bytes, digest \([0-9a-f]*\)$/\1 \2/p" "$log") || true
-    fixture_frames="$(sed -n 's/^frames = \([0-9]*\)$/\1/p' "$root/fixtures/$name/summary.toml")"
-    fixture_digest="$(sed -n 's/^stream_digest = "\([0-9a-f]*\)"$/\1/p' "$root/fixtures/$name/summary.toml")"
-    if [ -z "${digest:-}" ] || [ "$frames" != "$fixture_frames" ] || [ "$digest" != "$fixture_digest" ]; then
-      say "targets-check: $name on the Pico logged ${frames:-no} frames, digest ${digest:-none}; its fixture has $fixture_frames, $fixture_digest"
-      exit 1
-    fi
-    printf '%s  ok        %s (%s frames, digest %s)\n' pico "$name" "$frames" "$digest"
-    ok=$((ok + 1))
-    unset frames digest
-  done <"$work/pico.verify.log"
+  verify_capture "$morphogen" pico "$capture" "$log" \
+    "s/.*INFO  {}: \([0-9]*\) frames, [0-9]* bytes, digest \([0-9a-f]*\)$/\1 \2/p"
+  local ok=$verified
   [ "$ok" -eq "${#PICO_PRESETS[@]}" ] || { say "targets-check: $ok streams verified, not the ${#PICO_PRESETS[@]} presets the Pico ran"; exit 1; }
 
   # Every frame the emulated SSD1306 showed against the host's drawing of
