@@ -3,10 +3,13 @@
 # fixtures, one line per preset: the target, `ok`, the preset, its frames
 # and its stream digest, which must equal the fixture's.
 #
-# - s390x: builds `morphogen` for s390x-unknown-linux-gnu (IBM Z,
-#   big-endian) and runs `morphogen verify` under qemu-user (qemu-s390x)
-#   over every built-in preset, host-only ones too. The stream is meant to
-#   be endian-neutral (docs/stream-format.md): this is where that is checked.
+# - s390x: builds the scenario crate's example `fixtures` for
+#   s390x-unknown-linux-gnu (IBM Z, big-endian) and runs it under qemu-user
+#   (qemu-s390x): every built-in preset, host-only ones too, run and its
+#   stream compared byte for byte with its fixture, as `morphogen verify`
+#   does, without the CLI's picture, mesh and chart dependencies to
+#   cross-build. The stream is meant to be endian-neutral
+#   (docs/stream-format.md): this is where that is checked.
 # - riscv32: builds the firmware (firmware-example, the same program as on
 #   the Cortex-M, its board `src/board/virt.rs`) for
 #   riscv32imac-unknown-none-elf, stream only, with every MCU preset and
@@ -21,7 +24,9 @@
 #   taken from PIO0); checks the capture with `morphogen verify --stream`
 #   and the digests the firmware logged, every frame its OLED showed
 #   against `morphogen run … --rig 128x64:mono` and every byte its LED
-#   chain received against `morphogen run … --rig 16x16:ws2812`.
+#   chain received against `morphogen run … --rig 16x16:ws2812`. Its
+#   emulator is single-threaded: with the other targets, it runs beside
+#   them, its lines printed after theirs.
 #
 # The Cortex-M targets run in scripts/firmware-check.sh and the browser's
 # wasm32 in scripts/web-check.sh; the README's "Targets" table lists all.
@@ -78,18 +83,18 @@ check_s390x() {
 
   # The release build without debug information (profile `cross`).
   export CARGO_TARGET_S390X_UNKNOWN_LINUX_GNU_LINKER=s390x-linux-gnu-gcc
-  cargo build --profile cross -p morphogen-cli --target "$target"
-  local bin="${CARGO_TARGET_DIR:-$root/target}/$target/cross/morphogen"
+  cargo build --profile cross -p morphogen-scenario --example fixtures --target "$target"
+  local bin="${CARGO_TARGET_DIR:-$root/target}/$target/cross/examples/fixtures"
 
-  # `verify` re-runs every fixture's scenario and compares its digest; it
-  # exits non-zero on any mismatch or missing fixture.
+  # Every built-in scenario re-run and its stream compared with its
+  # fixture's; exits non-zero on any mismatch or missing fixture.
   local log="$work/s390x.log" tally
-  if ! qemu-s390x -L "$sysroot" "$bin" verify >"$log" 2>&1; then
+  if ! qemu-s390x -L "$sysroot" "$bin" "$root/fixtures" >"$log" 2>&1; then
     sed "s/^/$target  /" "$log"
     say "targets-check: a preset's stream on $target differs from its fixture"
     exit 1
   fi
-  grep -v '^[0-9]* ok, ' "$log" | sed "s/^/$target  /"
+  grep -v '^[0-9]* ok, ' "$log" | sed "s/^ok /ok        /; s/^/$target  /"
   tally=$(grep '^[0-9]* ok, ' "$log")
   say "$target (big-endian, qemu-s390x): $tally"
 }
@@ -210,17 +215,22 @@ check_riscv32() {
 # bones, plane mosaic. (The Pico's runner has no surface mosaics.)
 PICO_PRESETS=(growth-curve sulaiman-markhor lsys-flower horse-growth long-bone croton-mcu)
 
-check_pico() {
-  local target=thumbv6m-none-eabi fw="$root/firmware-rp2040" harness="$root/scripts/pico"
-  local morphogen
-  morphogen="$(morphogen_bin)"
-  rustup_target "$target"
+# What the Pico's check needs, installed before it starts (it may run
+# beside the other targets' checks, which install theirs).
+prepare_pico() {
+  rustup_target thumbv6m-none-eabi
   command -v node >/dev/null || { say "installing nodejs"; apt_install nodejs npm; }
   command -v defmt-print >/dev/null || { say "cargo install defmt-print --locked"; cargo install defmt-print --locked; }
   # rp2040js at the version package-lock.json names (npm ci installs
   # exactly the lockfile, from npm's cache when it has it).
   say "npm ci (scripts/pico: rp2040js)"
-  (cd "$harness" && npm ci --no-audit --no-fund --silent)
+  (cd "$root/scripts/pico" && npm ci --no-audit --no-fund --silent)
+}
+
+check_pico() {
+  local target=thumbv6m-none-eabi fw="$root/firmware-rp2040" harness="$root/scripts/pico"
+  local morphogen
+  morphogen="$(morphogen_bin)"
 
   # The firmware as a board runs it, built with these presets only
   # (MORPHOGEN_SCENARIOS), in firmware-example's target folder as
@@ -274,6 +284,24 @@ check_pico() {
   say "pico (RP2040 in rp2040js): $ok ok, $(stat -c %s "$capture") bytes captured"
 }
 
+# The Pico's emulator is single-threaded and the longest of the three: it
+# runs beside the others, its output kept and printed after theirs.
+pico_pid=""
+if wants pico; then
+  prepare_pico
+  if wants s390x || wants riscv32; then
+    (check_pico) >"$work/pico.out" 2>&1 &
+    pico_pid=$!
+    trap 'pkill -P "$pico_pid" 2>/dev/null || true; kill "$pico_pid" 2>/dev/null || true; rm -rf "$work"' EXIT
+  else
+    check_pico
+  fi
+fi
 if wants s390x; then check_s390x; fi
 if wants riscv32; then check_riscv32; fi
-if wants pico; then check_pico; fi
+if [ -n "$pico_pid" ]; then
+  pico_status=0
+  wait "$pico_pid" || pico_status=$?
+  cat "$work/pico.out"
+  exit "$pico_status"
+fi
