@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # Fuzz smoke: builds every cargo-fuzz target of core/fuzz (the core's
 # readers) and fuzz/ (the host's readers) and runs each for SECONDS (default
-# 20), one after the other. Prints one line per target and exits non-zero if
-# any target crashed (its input is in <crate>/artifacts/<target>/).
+# 20), as many at a time as the machine has cores (FUZZ_JOBS; each libFuzzer
+# process is single-threaded). Prints one line per target, in the order
+# below, and exits non-zero if any target crashed (its input is in
+# <crate>/artifacts/<target>/).
 #
 #   bash scripts/fuzz.sh [SECONDS]
 #   FUZZ_TARGETS="mask scenario" bash scripts/fuzz.sh 600   # some targets
+#   FUZZ_JOBS=1 bash scripts/fuzz.sh 600                     # one after the other
 #
 # Runs on the stable toolchain: RUSTC_BOOTSTRAP=1 lets it take the nightly
 # flags cargo-fuzz passes (-Zsanitizer=address). Installs cargo-fuzz if it
@@ -16,12 +19,14 @@
 set -euo pipefail
 
 seconds="${1:-20}"
-case "$seconds" in
+jobs="${FUZZ_JOBS:-$(getconf _NPROCESSORS_ONLN)}"
+case "$seconds$jobs" in
 '' | *[!0-9]*)
-    echo "usage: bash scripts/fuzz.sh [SECONDS]" >&2
+    echo "usage: [FUZZ_JOBS=N] bash scripts/fuzz.sh [SECONDS]" >&2
     exit 2
     ;;
 esac
+[ "$jobs" -ge 1 ] || jobs=1
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 export RUSTC_BOOTSTRAP=1
@@ -85,17 +90,24 @@ for entry in "${selected[@]}"; do
 done
 build_time=$((SECONDS - started))
 
-failed=0
-for entry in "${selected[@]}"; do
-    dir="${entry%%:*}"
-    target="${entry#*:}"
-    corpus="$dir/corpus/$target"
-    log="$logs/$target.log"
+# fuzz_one ENTRY: runs one target for $seconds (the binary cargo-fuzz
+# built, with the arguments `cargo fuzz run` gives it), its log in
+# $logs/<target>.log and its exit status in $logs/<target>.status.
+fuzz_one() {
+    local dir="${1%%:*}" target="${1#*:}" status=0
+    local corpus="$dir/corpus/$target"
     mkdir -p "$corpus" "$dir/artifacts/$target"
-    status=0
-    cargo fuzz run --fuzz-dir "$dir" --target-dir "$target_dir" \
-        "$target" "$corpus" "$dir/seeds/$target" -- \
-        "${options[@]}" -max_total_time="$seconds" >"$log" 2>&1 || status=$?
+    "$target_dir/$triple/release/$target" -artifact_prefix="$root/$dir/artifacts/$target/" \
+        "${options[@]}" -max_total_time="$seconds" \
+        "$corpus" "$dir/seeds/$target" >"$logs/$target.log" 2>&1 || status=$?
+    echo "$status" >"$logs/$target.status"
+}
+
+# report ENTRY: one line for a target that ran; sets `failed` on a crash.
+report() {
+    local dir="${1%%:*}" target="${1#*:}"
+    local log="$logs/$target.log" status runs units slowest artifact
+    status="$(cat "$logs/$target.status")"
     runs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)"
     if [ -z "$runs" ]; then
         runs="$(grep -o '^#[0-9]*' "$log" | tail -n 1 | tr -d '#' || true)"
@@ -116,6 +128,16 @@ for entry in "${selected[@]}"; do
         echo "    reproduce: RUSTC_BOOTSTRAP=1 cargo fuzz run --fuzz-dir $dir --target-dir $target_dir $target ${artifact:-<input>}" >&2
         echo "    log: $log" >&2
     fi
+}
+
+# In batches of $jobs, reported in order once a batch is done.
+triple="$(rustc -vV | sed -n 's/^host: //p')"
+failed=0
+for ((i = 0; i < ${#selected[@]}; i += jobs)); do
+    batch=("${selected[@]:i:jobs}")
+    for entry in "${batch[@]}"; do fuzz_one "$entry" & done
+    wait
+    for entry in "${batch[@]}"; do report "$entry"; done
 done
-echo "fuzz: ${#selected[@]} targets, ${seconds} s each; build ${build_time} s, total $((SECONDS - started)) s"
+echo "fuzz: ${#selected[@]} targets, ${seconds} s each, $jobs at a time; build ${build_time} s, total $((SECONDS - started)) s"
 exit "$failed"
