@@ -230,13 +230,15 @@ trap 'rm -rf "$user_dir" "$sockets"' EXIT
 # QEMU runs for as long as it makes progress (watch_progress): no deadline.
 boot() {
   local name="$1" elf="$2" cpu="$3" feed="$4" done="$5" serial0 qemu qemu_status capturer feeder="" capture_status feed_status=0 arg
+  local sock="$sockets/$name"
   shift 5
   local semihosting="enable=on,target=native,arg=$(basename "$elf" .elf),arg=--screen-sync"
   for arg in "$@"; do semihosting+=",arg=$arg"; done
   say "QEMU lm3s6965evb -cpu $cpu: $name${feed:+, fed $(basename "$feed") ($(stat -c %s "$feed") bytes)}"
-  rm -f "$sockets"/* "$work/$name.bin" "$work/$name.feed.log"
+  rm -rf "$sock" "$work/$name.bin" "$work/$name.feed.log"
+  mkdir -p "$sock"
   serial0="file:$work/$name.bin"
-  [ -z "$feed" ] || serial0="unix:$sockets/rx,server=on,wait=on"
+  [ -z "$feed" ] || serial0="unix:$sock/rx,server=on,wait=on"
   set +e
   # defmt over semihosting to a file, decoded once QEMU is done: its size
   # is one of the signs of progress.
@@ -244,15 +246,15 @@ boot() {
     -display none -monitor none -parallel none \
     -semihosting-config "$semihosting" \
     -icount shift=0 \
-    -serial "$serial0" -serial "unix:$sockets/sync,server=on,wait=on" \
-    -qmp "unix:$sockets/qmp,server=on,wait=off" \
+    -serial "$serial0" -serial "unix:$sock/sync,server=on,wait=on" \
+    -qmp "unix:$sock/qmp,server=on,wait=off" \
     -kernel "$elf" >"$work/$name.defmt" 2>"$work/$name.qemu.err" &
   qemu=$!
-  python3 "$root/scripts/oled-screens.py" capture --while "$qemu" "$sockets/sync" "$sockets/qmp" "$work/screens-$name" \
+  python3 "$root/scripts/oled-screens.py" capture --while "$qemu" "$sock/sync" "$sock/qmp" "$work/screens-$name" \
     >"$work/$name.screens.log" 2>&1 &
   capturer=$!
   if [ -n "$feed" ]; then
-    python3 "$root/scripts/oled-screens.py" feed --while "$qemu" "$sockets/rx" "$feed" "$work/$name.bin" >"$work/$name.feed.log" 2>&1 &
+    python3 "$root/scripts/oled-screens.py" feed --while "$qemu" "$sock/rx" "$feed" "$work/$name.bin" >"$work/$name.feed.log" 2>&1 &
     feeder=$!
   fi
   watch_progress "$name" "$qemu" "$work/$name.defmt" "$work/$name.bin" "$work/$name.feed.log"
@@ -269,6 +271,26 @@ boot() {
   [ "$capture_status" -eq 0 ] || die "$name: the OLED pictures could not be taken"
   [ "$feed_status" -eq 0 ] || die "$name: $(basename "$feed") could not be fed"
   stack_check "$name"
+}
+
+# boot_start NAME ELF CPU FEED DONE [ARG...]: `boot` in the background, its
+# output kept in $work/NAME.boot; boot_wait NAME prints it once that boot is
+# done and fails if it failed. QEMU is single-threaded, so the boots that
+# do not need each other's output run at once, as many as there are.
+declare -A boot_pid=()
+# A failed check stops the boots still running (each boot's QEMU and
+# helpers are its subshell's children).
+trap 'for pid in "${boot_pid[@]}"; do pkill -P "$pid" 2>/dev/null || true; kill "$pid" 2>/dev/null || true; done
+rm -rf "$user_dir" "$sockets"' EXIT
+boot_start() {
+  (boot "$@") >"$work/$1.boot" 2>&1 &
+  boot_pid[$1]=$!
+}
+boot_wait() {
+  local status=0
+  wait "${boot_pid[$1]}" || status=$?
+  cat "$work/$1.boot"
+  [ "$status" -eq 0 ] || die "$1: its boot failed (above)"
 }
 
 # watch_progress NAME PID FILE...: waits while QEMU (PID) runs. Its signs of
@@ -322,46 +344,52 @@ oled_check() {
     || die "$name: the emulated OLED differs from the host's picture (see $work/screens-$name)"
 }
 
+# Every boot whose firmware and input are ready starts now, at once: the
+# three targets, the stream-only build, the surface and user-scenario
+# builds and the built-in firmware serving the scenarios `morphogen send`
+# wrote (below); the receiver's boots start once the first target's capture
+# they are fed is there. Each is checked in turn as it ends.
 for t in "${targets[@]}"; do
-  elf="$tdir/$t/release/morphogen-firmware"
-  cp "$elf" "$work/$t.elf"
-  boot "$t" "$elf" "$(qemu_cpu "$t")" "" "all .* presets streamed"
-  say "verify $t capture ($(stat -c %s "$work/$t.bin") bytes)"
-  verify "$work/$t.bin" "$work/$t.verify.log" || { cat "$work/$t.verify.log"; die "$t: capture does not match the fixtures"; }
-  cat "$work/$t.verify.log"
-  oled_check "$t"
+  cp "$tdir/$t/release/morphogen-firmware" "$work/$t.elf"
+  boot_start "$t" "$work/$t.elf" "$(qemu_cpu "$t")" "" "all .* presets streamed"
 done
-# The stream-only build (no `extent`, `oled` or `serve`) writes the default
-# build's streams without their extent frames: `morphogen run`'s stream.bin
-# of every preset, back to back.
-boot stream-only "$work/stream-only.elf" cortex-m3 "" "all .* presets streamed"
-PYTHONPATH="$root/python" python3 -c 'import sys, morphogen_stream as ms
-sys.stdout.buffer.write(b"".join(s.bytes for s in ms.read_capture(sys.argv[1])))' \
-  "$work/${targets[0]}.bin" >"$work/${targets[0]}.streams.bin"
-cmp "$work/stream-only.bin" "$work/${targets[0]}.streams.bin" \
-  || die "stream-only: its capture differs from the ${targets[0]} build's streams"
-say "stream-only: the same $(stat -c %s "$work/stream-only.bin") bytes as ${targets[0]}'s streams"
+boot_start stream-only "$work/stream-only.elf" cortex-m3 "" "all .* presets streamed"
+boot_start surface "$work/surface.elf" cortex-m3 "" "all 1 presets streamed"
+boot_start user "$work/user.elf" cortex-m3 "" "all .* presets streamed"
+
+# ---- scenarios sent over UART0 (morphogen send) ------------------------------------
+# The built-in firmware, started with `--serve 4`, waits for scenarios on
+# UART0 and runs what `morphogen send` wrote: my-horn (the user scenario
+# above), abop-shrub (an L-system), long-bone-random (a bone: the largest
+# message) and growth-curve. Its capture must match the fixtures bit for bit
+# and its OLED the host's pictures pixel for pixel.
+sent_feed="$work/sent.feed"
+: >"$sent_feed"
+: >"$work/send.log"
+for scenario in "$user_toml" abop-shrub long-bone-random growth-curve; do
+  (cd "$root" && "${send_cmd[@]}" "$scenario" "$work/sent.one") >>"$work/send.log" 2>&1 \
+    || { cat "$work/send.log"; die "morphogen send $scenario failed"; }
+  cat "$work/sent.one" >>"$sent_feed"
+done
+cat "$work/send.log"
+boot_start served "$work/thumbv7m-none-eabi.elf" cortex-m3 "$sent_feed" "all 4 presets streamed" --serve 4
 
 # ---- the receiver ------------------------------------------------------------
-cp "$tdir/thumbv7m-none-eabi/release/morphogen-receiver" "$work/receiver.elf"
+# start_receivers: the receiver's two boots, fed the first target's capture
+# and a damaged stream of ram-horn made from it.
+start_receivers() {
+  cp "$tdir/thumbv7m-none-eabi/release/morphogen-receiver" "$work/receiver.elf"
 
-# Every stream of the sender's capture, drawn exactly as the sender drew it.
-sent="${targets[0]}"
-streams=$(wc -l <"$work/screens-$sent/captured.txt")
-boot receiver "$work/receiver.elf" cortex-m3 "$work/$sent.bin" "all $streams streams received" --streams "$streams"
-[ "$(grep -c "report received .* skipped=0 bad=0" "$work/receiver.log")" -eq "$streams" ] \
-  || die "receiver: a frame of an intact capture was skipped"
-say "OLED: the receiver against the sender"
-# shellcheck disable=SC2046 # one name per line, no spaces
-python3 "$root/scripts/oled-screens.py" compare "$work/screens-receiver" "$work/screens-$sent" \
-  $(cat "$work/screens-$sent/captured.txt") | tee "$work/receiver-oled.log" \
-  || die "receiver: its OLED differs from the sender's (see $work/screens-receiver)"
+  # Every stream of the sender's capture, drawn exactly as the sender drew it.
+  sent="${targets[0]}"
+  streams=$(wc -l <"$work/screens-$sent/captured.txt")
+  boot_start receiver "$work/receiver.elf" cortex-m3 "$work/$sent.bin" "all $streams streams received" --streams "$streams"
 
-# ram-horn with a bit flipped in its middle frame and in its last: those two
-# frames are skipped, so the OLED ends on the frame before the last, as the
-# host's `listen` draws the same damaged stream.
-damaged="$work/ram-horn.damaged.bin"
-read -r frames mid last < <(PYTHONPATH="$root/python" python3 - "$work/$sent.bin" ram-horn "$damaged" <<'PY'
+  # ram-horn with a bit flipped in its middle frame and in its last: those two
+  # frames are skipped, so the OLED ends on the frame before the last, as the
+  # host's `listen` draws the same damaged stream.
+  damaged="$work/ram-horn.damaged.bin"
+  read -r frames mid last < <(PYTHONPATH="$root/python" python3 - "$work/$sent.bin" ram-horn "$damaged" <<'PY'
 import sys
 import morphogen_stream as ms
 capture, name, out = sys.argv[1:]
@@ -378,8 +406,41 @@ for k in hit:
 open(out, "wb").write(bytes(damaged))
 print(len(starts), *hit)
 PY
-)
-boot damaged "$work/receiver.elf" cortex-m3 "$damaged" "all 1 streams received" --streams 1
+  )
+  boot_start damaged "$work/receiver.elf" cortex-m3 "$damaged" "all 1 streams received" --streams 1
+}
+
+# ---- the Cortex-M targets ---------------------------------------------------------
+for t in "${targets[@]}"; do
+  boot_wait "$t"
+  say "verify $t capture ($(stat -c %s "$work/$t.bin") bytes)"
+  verify "$work/$t.bin" "$work/$t.verify.log" || { cat "$work/$t.verify.log"; die "$t: capture does not match the fixtures"; }
+  cat "$work/$t.verify.log"
+  oled_check "$t"
+  [ "$t" != "${targets[0]}" ] || start_receivers
+done
+# The stream-only build (no `extent`, `oled` or `serve`) writes the default
+# build's streams without their extent frames: `morphogen run`'s stream.bin
+# of every preset, back to back.
+boot_wait stream-only
+PYTHONPATH="$root/python" python3 -c 'import sys, morphogen_stream as ms
+sys.stdout.buffer.write(b"".join(s.bytes for s in ms.read_capture(sys.argv[1])))' \
+  "$work/${targets[0]}.bin" >"$work/${targets[0]}.streams.bin"
+cmp "$work/stream-only.bin" "$work/${targets[0]}.streams.bin" \
+  || die "stream-only: its capture differs from the ${targets[0]} build's streams"
+say "stream-only: the same $(stat -c %s "$work/stream-only.bin") bytes as ${targets[0]}'s streams"
+
+# ---- the receiver's checks ---------------------------------------------------
+boot_wait receiver
+[ "$(grep -c "report received .* skipped=0 bad=0" "$work/receiver.log")" -eq "$streams" ] \
+  || die "receiver: a frame of an intact capture was skipped"
+say "OLED: the receiver against the sender"
+# shellcheck disable=SC2046 # one name per line, no spaces
+python3 "$root/scripts/oled-screens.py" compare "$work/screens-receiver" "$work/screens-$sent" \
+  $(cat "$work/screens-$sent/captured.txt") | tee "$work/receiver-oled.log" \
+  || die "receiver: its OLED differs from the sender's (see $work/screens-receiver)"
+
+boot_wait damaged
 for k in "$mid" "$last"; do
   grep -q "frame $k skipped (damaged)" "$work/damaged.log" || die "damaged stream: frame $k was not skipped"
 done
@@ -402,9 +463,8 @@ rm -rf "$screens"; mkdir -p "$screens"
 cp "$work/screens-${targets[0]}"/*.png "$screens/"
 echo "OLED pictures: $screens"
 
-
 # ---- a mosaic on a surface (the feature `surface`) ------------------------------
-boot surface "$work/surface.elf" cortex-m3 "" "all 1 presets streamed"
+boot_wait surface
 grep -q "report preset=watermelon-mcu " "$work/surface.log" || die "surface: the firmware did not run watermelon-mcu"
 say "verify the surface capture ($(stat -c %s "$work/surface.bin") bytes)"
 verify "$work/surface.bin" "$work/surface.verify.log" \
@@ -415,7 +475,7 @@ oled_check surface
 # ---- user scenarios (MORPHOGEN_SCENARIOS) -----------------------------------------
 # The firmware built above from the two user scenarios alone streams exactly
 # what the host blesses from the same files.
-boot user "$work/user.elf" cortex-m3 "" "all .* presets streamed"
+boot_wait user
 grep -q "all 2 presets streamed" "$work/user.log" || die "user scenarios: the firmware did not run exactly two presets"
 for name in "$user_name" wagging-tail; do
   grep -q "report preset=$name " "$work/user.log" || die "user scenarios: the firmware did not run $name"
@@ -441,25 +501,11 @@ cmp -s "$work/user.streams.bin" "$work/user.expected.bin" \
 echo "user scenarios: $user_name and wagging-tail streamed on the firmware match the host's bless, byte for byte"
 oled_check user --fixtures "$user_dir/fixtures"
 
-# ---- scenarios sent over UART0 (morphogen send) ------------------------------------
-# The built-in firmware, started with `--serve 4`, waits for scenarios on
-# UART0 and runs what `morphogen send` wrote: my-horn (the user scenario
-# above), abop-shrub (an L-system), long-bone-random (a bone: the largest
-# message) and growth-curve. Its capture must match the fixtures bit for bit
-# and its OLED the host's pictures pixel for pixel.
-sent_feed="$work/sent.feed"
-: >"$sent_feed"
-: >"$work/send.log"
-for scenario in "$user_toml" abop-shrub long-bone-random growth-curve; do
-  (cd "$root" && "${send_cmd[@]}" "$scenario" "$work/sent.one") >>"$work/send.log" 2>&1 \
-    || { cat "$work/send.log"; die "morphogen send $scenario failed"; }
-  cat "$work/sent.one" >>"$sent_feed"
-done
-cat "$work/send.log"
+# ---- the scenarios sent over UART0: checks ---------------------------------------
 for name in abop-shrub long-bone-random growth-curve; do
   cp -r "$root/fixtures/$name" "$user_dir/fixtures/"
 done
-boot served "$work/thumbv7m-none-eabi.elf" cortex-m3 "$sent_feed" "all 4 presets streamed" --serve 4
+boot_wait served
 say "verify the capture of the sent scenarios ($(stat -c %s "$work/served.bin") bytes)"
 verify "$work/served.bin" "$work/served.verify.log" --fixtures "$user_dir/fixtures" \
   || { cat "$work/served.verify.log"; die "sent scenarios: the capture does not match the fixtures"; }
