@@ -44,10 +44,13 @@ cargo fmt --all --check
 (cd firmware-rp2040 && cargo fmt --check)
 
 step "lint"
-cargo clippy --workspace --all-targets -- -D warnings
-cargo clippy -p morphogen --all-targets --features rig,defmt,surface-runner -- -D warnings
-# The end-to-end mosaic test's runner on a surface (the core's feature).
-cargo clippy -p morphogen-tests --all-targets --features surface-runner -- -D warnings
+# One pass over the workspace with the core's optional features on (defmt,
+# the rig, the runner on a surface, as the firmware builds it; the
+# end-to-end mosaic test's surface runner): the dependencies are checked
+# once, with the features every crate sees. The core without features is
+# linted as an embedding crate builds it, in the next step but one.
+cargo clippy --workspace --all-targets \
+    --features morphogen/rig,morphogen/defmt,morphogen/surface-runner,morphogen-tests/surface-runner -- -D warnings
 (cd firmware-example && cargo clippy --release --lib --bins --examples -- -D warnings)
 (cd firmware-example && cargo clippy --release --no-default-features --features semihosting,bitwise-crc -- -D warnings)
 (cd firmware-example && cargo clippy --release --features surface -- -D warnings)
@@ -62,8 +65,8 @@ step "documentation: cargo doc without a warning (the core with every feature, a
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 RUSTDOCFLAGS="-D warnings" cargo doc -p morphogen --no-deps --all-features
 
-step "core check for Cortex-M0+ without features (no_std, no alloc, no atomics: what a crate embedding the core builds; the firmware check builds it with defmt and rig for three Cortex-M targets and runs it)"
-cargo check -p morphogen --target thumbv6m-none-eabi
+step "core check and lint for Cortex-M0+ without features (no_std, no alloc, no atomics: what a crate embedding the core builds; the firmware check builds it with defmt and rig for three Cortex-M targets and runs it)"
+cargo clippy -p morphogen --target thumbv6m-none-eabi -- -D warnings
 
 step "core check for RISC-V (riscv32imac: the cores of ESP32-C3, CH32V and GD32V boards; the firmware runs in QEMU's virt machine in scripts/targets-check.sh)"
 cargo check -p morphogen --target riscv32imac-unknown-none-elf --features rig
@@ -86,8 +89,11 @@ direct_flash="$(size -A "${CARGO_TARGET_DIR:-firmware-example/target}"/thumbv6m-
 step "the Raspberry Pi Pico firmware builds (firmware-rp2040, thumbv6m; no board in CI: it runs in rp2040js in the other-targets step, see its README)"
 (cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo build --release)
 
-step "release build (once: the determinism test, the fixtures and the firmware check reuse it)"
-cargo build --release -p morphogen-cli
+step "release build (once: the determinism test, the fixtures, the Python package's wheel and the firmware check reuse it)"
+# With the Python package, so that the CLI's dependencies are resolved with
+# the features the package adds (pyo3's macros ask more of syn): maturin's
+# build then finds them built and compiles the package alone.
+cargo build --release -p morphogen-cli -p morphogen-python
 morphogen="$(realpath "${CARGO_TARGET_DIR:-target}")/release/morphogen"
 export MORPHOGEN_RELEASE_BIN="$morphogen"
 
@@ -99,7 +105,7 @@ cargo test -p morphogen-tests --features surface-runner --test mosaic
 step "golden fixtures: every built-in scenario re-run (release build)"
 "$morphogen" verify
 
-step "other targets, bit-exact (scripts/targets-check.sh): every preset on s390x (big-endian) under qemu-user; the firmware's MCU presets on riscv32imac in qemu-system-riscv32; the Pico's firmware in rp2040js, one preset per model, its UART, OLED and LED matrix"
+step "other targets, bit-exact (scripts/targets-check.sh): every preset on s390x (big-endian) under qemu-user, its stream against its fixture; the firmware's MCU presets on riscv32imac in qemu-system-riscv32; the Pico's firmware in rp2040js beside them (its emulator is single-threaded), one preset per model, its UART, OLED and LED matrix"
 MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh
 
 step "the Python stream reader against every preset (python/)"
@@ -145,13 +151,13 @@ step "boundary probe: every number of one preset per model at both ends of its r
 python3 scripts/boundary-probe.py --bin "$morphogen" --timeout 5 \
     growth-curve ram-horn cow-growth long-bone croton-mcu watermelon-mcu
 
-step "fuzz smoke: every reader's libFuzzer target for 20 s (docs/robustness.md)"
+step "fuzz smoke: every reader's libFuzzer target for 20 s, as many at a time as there are cores (docs/robustness.md)"
 bash scripts/fuzz.sh 20
 
 step "the web page: every preset in Chromium through WebAssembly, bit-exact (Playwright)"
 MORPHOGEN_RELEASE_BIN="$morphogen" bash scripts/web-check.sh
 
-step "firmware in QEMU, bit-exact against the fixtures"
+step "firmware in QEMU, bit-exact against the fixtures (the boots that do not feed each other run at once)"
 MORPHOGEN_BIN="$morphogen" MORPHOGEN_VERIFY="$morphogen verify --stream" MORPHOGEN_BLESS="$morphogen bless" \
   MORPHOGEN_LISTEN="$morphogen listen" MORPHOGEN_SEND="$morphogen send" bash scripts/firmware-check.sh
 
