@@ -129,24 +129,38 @@ pub fn normalised<R: Real>(vertices: &[[R; 3]], r: &Vector3<R>, gradient: bool) 
 /// adds at most 4 LSB to Σ u_i). The same bits on every target.
 #[must_use]
 pub fn normalised_fx(vertices: &[[Fx; 3]], r: &Vector3<Fx>, gradient: bool) -> (Fx, Vector3<Fx>) {
+    // On a computer one copy each, without the gradient's stores when
+    // only V is asked (two in three calls of a shrinkwrap pass); on an
+    // MCU one copy for both.
+    if cfg!(target_pointer_width = "64") {
+        if gradient {
+            normalised_bits(vertices, r, true)
+        } else {
+            normalised_bits(vertices, r, false)
+        }
+    } else {
+        normalised_bits(vertices, r, gradient)
+    }
+}
+
+/// The kernel of [`normalised_fx`], inlined into it on a computer, a copy
+/// for each value of `gradient`.
+#[cfg_attr(target_pointer_width = "64", inline(always))]
+fn normalised_bits(vertices: &[[Fx; 3]], r: &Vector3<Fx>, gradient: bool) -> (Fx, Vector3<Fx>) {
     let rb = [r.x, r.y, r.z].map(Fx::to_bits);
-    let offset = |x: &[Fx; 3]| -> [i32; 3] {
-        // Within ±2³⁰: `dot_near`'s range.
-        [0, 1, 2].map(|k| {
-            (i64::from(rb[k]) - i64::from(x[k].to_bits())).clamp(-(1 << 30), 1 << 30) as i32
-        })
-    };
     // u_i, Q16 bits, at most 2²⁸.
     let mut inverses = [0u32; MAX_VERTICES];
-    // Σ u_i² in Q32 (each below 2⁵⁶, at most 2⁷ of them: below 2⁶³) and
-    // Σ u_i in Q16.
+    // Σ u_i² in Q32 (each at most 2⁵⁶, at most 2⁷ of them: below 2⁶³)
+    // and Σ u_i in Q16: no sum wraps.
     let (mut n, mut d) = (0u64, 0u64);
     for (x, kept) in vertices.iter().zip(inverses.iter_mut()) {
-        let p = offset(x);
+        let p = offset(&rb, x);
         let u = inverse_of_squared(dot_near(&p, &p) as u64);
-        *kept = u;
-        n = n.saturating_add(u64::from(u) * u64::from(u));
-        d = d.saturating_add(u64::from(u));
+        if gradient {
+            *kept = u;
+        }
+        n = n.wrapping_add(u64::from(u) * u64::from(u));
+        d = d.wrapping_add(u64::from(u));
     }
     if d == 0 {
         return (Fx::ZERO, Vector3::zeros());
@@ -159,16 +173,25 @@ pub fn normalised_fx(vertices: &[[Fx; 3]], r: &Vector3<Fx>, gradient: bool) -> (
     }
     let mut g = [0i64; 3];
     for (x, &u) in vertices.iter().zip(inverses.iter()) {
-        let p = offset(x);
+        let p = offset(&rb, x);
         let u_fx = Fx::from_bits(u as i32);
         // V − 2u within ±2³⁰.
         let s = u_fx
             .saturating_mul(u_fx)
             .saturating_mul(Fx::from_bits(v.to_bits() - 2 * u as i32));
+        // On a computer, where |s| < 2²⁹, no term saturates (|unit| <
+        // 2¹⁷ below: s · unit stays below 2⁴⁶) and none is tested; on an
+        // MCU every term is saturated (less flash).
+        let exact = cfg!(target_pointer_width = "64") && s.to_bits().unsigned_abs() < 1 << 29;
         for (gk, pk) in g.iter_mut().zip(p) {
-            // (r − R_i)/|r − R_i| in Q16: |p_k · u| ≤ 2³⁰ · 2²⁸.
-            let unit = (i64::from(pk) * i64::from(u) + (1 << 15)) >> 16;
-            *gk += i64::from(s.saturating_mul(Fx::from_bits(unit as i32)).to_bits());
+            // (r − R_i)/|r − R_i| in Q16, below 2¹⁷: |p_k| ≤ d + ½ and
+            // u ≤ 2³²/d + 1 with 16 ≤ d < 2³¹.
+            let unit = ((i64::from(pk) * i64::from(u) + (1 << 15)) >> 16) as i32;
+            *gk += if exact {
+                (i64::from(s.to_bits()) * i64::from(unit) + (1 << 15)) >> 16
+            } else {
+                i64::from(s.saturating_mul(Fx::from_bits(unit)).to_bits())
+            };
         }
     }
     // Each sum below 2⁷ · 2³¹; shifted, below 2⁵⁴. d ≥ 1.
@@ -176,6 +199,29 @@ pub fn normalised_fx(vertices: &[[Fx; 3]], r: &Vector3<Fx>, gradient: bool) -> (
         v,
         Vector3::from(g.map(|gk| Fx::from_wide_ratio(gk << 16, d))),
     )
+}
+
+/// r − x in Q16 bits (`r` as `rb`), each axis clamped to ±2³⁰, the range
+/// of `dot_near` (a vertex over 2¹⁴ units away on that axis). Inlined on
+/// a computer; on an MCU one copy for both loops.
+#[cfg_attr(target_pointer_width = "64", inline(always))]
+#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+fn offset(rb: &[i32; 3], x: &[Fx; 3]) -> [i32; 3] {
+    const LIMIT: i64 = 1 << 30;
+    let axis = |k: usize| i64::from(rb[k]) - i64::from(x[k].to_bits());
+    let p = [axis(0), axis(1), axis(2)];
+    // Every axis in [−2³⁰, 2³⁰) exactly when its sum with 2³⁰, unsigned,
+    // is below 2³¹, and then so is their bitwise or: on a computer, one
+    // test for three clamps that change nothing (on an MCU, the clamps
+    // alone take less flash).
+    let shifted = |c: i64| c.wrapping_add(LIMIT) as u64;
+    if cfg!(target_pointer_width = "64") && shifted(p[0]) | shifted(p[1]) | shifted(p[2]) < 1 << 31
+    {
+        [p[0] as i32, p[1] as i32, p[2] as i32]
+    } else {
+        let clamped = |c: i64| c.clamp(-LIMIT, LIMIT) as i32;
+        [clamped(p[0]), clamped(p[1]), clamped(p[2])]
+    }
 }
 
 #[cfg(test)]
