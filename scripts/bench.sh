@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Prints the README's table of speed and size figures, all measured in this
-# one run (this machine is noisy: times are medians of several runs, and
+# Prints the README's tables of speed and size figures (Morphogen against
+# its peers first: scripts/bench-peers.sh), all measured in this one run
+# (this machine is noisy: times are medians of several runs, and
 # each ratio compares runs made side by side). Not part of CI.
 #
 #   bash scripts/bench.sh [RUNS]      RUNS per timed figure (default 5)
@@ -115,7 +116,14 @@ say "shrinkwrap: bone-growth"
 triangles="$("$bin" decode fixtures/bone-growth/stream.bin | grep -c '"kind":"triangle"')"
 wrap_s="$(median cpu "$bin" verify bone-growth)"
 
+# ---- against the peers ------------------------------------------------------
+say "against the peers (scripts/bench-peers.sh)"
+peers="$(bash scripts/bench-peers.sh --bin "$bin")"
+
+
 cat <<EOF2
+
+$peers
 
 | figure | now | goal |
 |---|---|---|
