@@ -47,7 +47,14 @@ impl Unrolled {
         let map = |p: &[f64; 3]| -> [f64; 2] {
             let frac = |x: f64, c: usize| (x - lo[c]) / (hi[c] - lo[c]).max(1e-12);
             if cylinder {
-                let turn = p[1].atan2(p[0]).rem_euclid(std::f64::consts::TAU);
+                // atan2 is within ±π: its remainder by τ is itself, and
+                // rem_euclid(τ) only adds τ to a negative turn.
+                let turn = p[1].atan2(p[0]);
+                let turn = if turn < 0.0 {
+                    turn + std::f64::consts::TAU
+                } else {
+                    turn
+                };
                 [
                     turn / std::f64::consts::TAU * w as f64,
                     frac(p[2], 2) * h as f64,
@@ -91,10 +98,9 @@ impl Unrolled {
                     );
                     let p = [0, 1, 2].map(|k| a[k] + x * (b[k] - a[k]) + y * (c[k] - a[k]));
                     let q = map(&p);
-                    let (px, py) = (
-                        (q[0].floor() as usize).min(w - 1),
-                        (q[1].floor() as usize).min(h - 1),
-                    );
+                    // `as` saturates below 0 and truncates above it: the
+                    // floor's pixel, without a call to floor.
+                    let (px, py) = ((q[0] as usize).min(w - 1), (q[1] as usize).min(h - 1));
                     if let Some(kind) = along.kind_at(&p)
                         && usize::from(kind) < kinds
                     {
