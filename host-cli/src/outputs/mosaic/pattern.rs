@@ -326,6 +326,16 @@ impl Lines {
 mod tests {
     use super::*;
 
+    /// A xorshift generator from `state` (not zero).
+    fn xorshift(mut state: u64) -> impl FnMut() -> u64 {
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        }
+    }
+
     /// A picture `w` × `h` of index 1 where `inside(x, y)`, else 0.
     fn picture(w: usize, h: usize, inside: impl Fn(usize, usize) -> bool) -> Vec<u8> {
         (0..w * h).map(|i| u8::from(inside(i % w, i / w))).collect()
@@ -436,13 +446,7 @@ mod tests {
     fn correlation_by_words_is_the_pixel_by_pixel_one() {
         // Blobs of a random walk's size on sides that are and are not
         // multiples of 64, flat and wrapping.
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = xorshift(0x2545_f491_4f6c_dd1du64);
         for (w, h) in [(37, 23), (64, 64), (130, 70), (200, 9)] {
             let (cx, cy, r) = (
                 next() as usize % w,
@@ -541,13 +545,7 @@ mod tests {
 
     #[test]
     fn runs_and_patches_by_spans_are_the_pixel_by_pixel_ones() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = xorshift(0x9e37_79b9_7f4a_7c15u64);
         for (w, h) in [
             (1, 1),
             (1, 7),
@@ -605,13 +603,7 @@ mod tests {
 
     #[test]
     fn lines_by_words_are_the_pixel_by_pixel_ones() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = xorshift(0x2545_f491_4f6c_dd1du64);
         for (w, h) in [
             (1, 1),
             (1, 70),
@@ -621,7 +613,7 @@ mod tests {
             (130, 70),
             (200, 129),
         ] {
-            let mask: Vec<bool> = (0..w * h).map(|_| next() % 3 == 0).collect();
+            let mask: Vec<bool> = (0..w * h).map(|_| next().is_multiple_of(3)).collect();
             for axis in [0, 1] {
                 let rows = Lines::rows(&mask, w, h);
                 let fast = if axis == 0 { rows.columns(w, h) } else { rows };
