@@ -103,6 +103,7 @@ impl Nearest {
         let at = Self::index(self.lo, self.side, self.dims, p);
         let mut found = Found {
             best: (f64::INFINITY, u32::MAX, 0),
+            at: [0.0; 3],
             other: f64::INFINITY,
         };
         let mut gap = f64::MAX;
@@ -153,6 +154,8 @@ impl Nearest {
                 kind,
                 stays: ((others - d.sqrt()) / 2.0 - 1e-9 * self.side).max(0.0),
                 distance: d.sqrt(),
+                cell: found.at,
+                others: others - 2e-9 * self.side,
             }
         })
     }
@@ -291,13 +294,11 @@ pub(super) fn nearest_among(cells: &[Cell], p: &[f64; 3]) -> Option<(f64, u8)> {
 }
 
 /// [`Nearest::kind_at`] for points one after another, each near the one
-/// before: while a point is within the distance the last search's type
-/// stays the nearest's ([`Nearest::kind_near`]), that type, without a
-/// search.
+/// before, with a search only where the last search's answer may not
+/// hold ([`Known::kind_at`]).
 pub(super) struct Along<'n> {
     near: &'n Nearest,
-    /// The last point searched, its cell's type and that distance.
-    known: Option<([f64; 3], u8, f64)>,
+    known: Option<Known>,
 }
 
 impl<'n> Along<'n> {
@@ -306,14 +307,36 @@ impl<'n> Along<'n> {
     }
 
     pub(super) fn kind_at(&mut self, p: &[f64; 3]) -> Option<u8> {
-        if let Some((q, kind, stays)) = self.known
-            && (Vector3::from(*p) - Vector3::from(q)).norm_squared() < stays * stays
-        {
+        if let Some(kind) = self.known.as_ref().and_then(|k| k.kind_at(p)) {
             return Some(kind);
         }
         let found = self.near.kind_near(p)?;
-        self.known = Some((*p, found.kind, found.stays));
+        self.known = Some(Known { at: *p, found });
         Some(found.kind)
+    }
+}
+
+/// A search's answer at a point, and where it holds.
+struct Known {
+    /// The point searched, q.
+    at: [f64; 3],
+    found: Nearby,
+}
+
+impl Known {
+    /// The type of the cell nearest `p`, if it is the one found at q:
+    /// when `p` is within the distance that type stays the nearest's, or
+    /// nearer to the cell found than any cell of another type can be
+    /// (those were at least `others` from q, so at least `others` −
+    /// |p − q| from p).
+    fn kind_at(&self, p: &[f64; 3]) -> Option<u8> {
+        let found = &self.found;
+        let moved = (Vector3::from(*p) - Vector3::from(self.at)).norm_squared();
+        if moved < found.stays * found.stays {
+            return Some(found.kind);
+        }
+        let to_cell = (Vector3::from(*p) - Vector3::from(found.cell)).norm();
+        (to_cell + moved.sqrt() < found.others).then_some(found.kind)
     }
 }
 
@@ -326,12 +349,19 @@ struct Nearby {
     stays: f64,
     /// The nearest cell's distance.
     distance: f64,
+    /// The nearest cell's point.
+    cell: [f64; 3],
+    /// A bound below the distance of every cell of another type, less a
+    /// margin for rounding.
+    others: f64,
 }
 
 /// What a search of [`Nearest::kind_near`] has found so far.
 struct Found {
     /// (squared distance, index, type) of the nearest cell; no index: none.
     best: (f64, u32, u8),
+    /// The nearest cell's point.
+    at: [f64; 3],
     /// The squared distance of the nearest cell of another type than
     /// `best`'s.
     other: f64,
@@ -348,6 +378,7 @@ impl Found {
                     self.other = self.best.0;
                 }
                 self.best = (d, i, kind);
+                self.at = c;
             } else if d < self.other && kind != self.best.2 {
                 self.other = d;
             }
