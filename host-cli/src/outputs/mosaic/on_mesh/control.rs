@@ -125,9 +125,14 @@ struct Map {
 }
 
 impl Map {
+    /// How far `x` is along axis `c` of the bounds, from 0 to 1.
+    fn frac(&self, x: f64, c: usize) -> f64 {
+        (x - self.lo[c]) / (self.hi[c] - self.lo[c]).max(1e-12)
+    }
+
     /// (u, v) in pixels of a point.
     fn uv(&self, p: &[f64; 3]) -> [f64; 2] {
-        let frac = |x: f64, c: usize| (x - self.lo[c]) / (self.hi[c] - self.lo[c]).max(1e-12);
+        let frac = |x: f64, c: usize| self.frac(x, c);
         let [w, h] = self.size;
         if self.cylinder {
             // atan2 is within ±π: its remainder by τ is itself, and
@@ -217,9 +222,9 @@ impl<'m> Pixels<'m> {
     /// The pixel (column, row) the point `p` lands on.
     fn of(&mut self, p: &[f64; 3]) -> [usize; 2] {
         if let Some(column) = self.near_column(p[0], p[1]) {
+            // The row as `Map::pixel` finds it on the cylinder.
             let h = self.map.size[1];
-            let (lo, hi) = (self.map.lo[2], self.map.hi[2]);
-            let v = (p[2] - lo) / (hi - lo).max(1e-12) * h;
+            let v = self.map.frac(p[2], 2) * h;
             return [column, (v as usize).min(h as usize - 1)];
         }
         let pixel = self.map.pixel(p);
