@@ -1,6 +1,8 @@
 //! The host side of Morphogen: running scenarios into streams, decoding,
 //! drawing and exporting them, and checking them against golden fixtures.
 #![forbid(unsafe_code)]
+// No function of the host over `too-many-lines-threshold` (clippy.toml).
+#![deny(clippy::too_many_lines)]
 
 pub mod atomic;
 pub mod bless;

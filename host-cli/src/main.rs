@@ -1,4 +1,6 @@
 //! `morphogen`: run, draw, export and verify Morphogen's simulations.
+// No function of the host over `too-many-lines-threshold` (clippy.toml).
+#![deny(clippy::too_many_lines)]
 
 use std::process::ExitCode;
 
