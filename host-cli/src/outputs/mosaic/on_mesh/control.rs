@@ -132,7 +132,6 @@ impl Map {
 
     /// (u, v) in pixels of a point.
     fn uv(&self, p: &[f64; 3]) -> [f64; 2] {
-        let frac = |x: f64, c: usize| self.frac(x, c);
         let [w, h] = self.size;
         if self.cylinder {
             // atan2 is within ±π: its remainder by τ is itself, and
@@ -143,9 +142,9 @@ impl Map {
             } else {
                 turn
             };
-            [turn / std::f64::consts::TAU * w, frac(p[2], 2) * h]
+            [turn / std::f64::consts::TAU * w, self.frac(p[2], 2) * h]
         } else {
-            [frac(p[0], 0) * w, frac(p[1], 1) * h]
+            [self.frac(p[0], 0) * w, self.frac(p[1], 1) * h]
         }
     }
 
