@@ -12,7 +12,7 @@ use anyhow::{Context, Result};
 use morphogen::stream::{Decoded, Decoder, Record};
 use morphogen_scenario::Scenario;
 
-use crate::outputs::{self, Kind, Kinds};
+use crate::outputs::{self, Kinds};
 
 /// The folder beside a pending stream that holds its pictures.
 pub const REPORT_DIR: &str = "report";
@@ -147,7 +147,7 @@ pub fn draw(
             differing: Vec::new(),
         });
     };
-    let png = Kinds::only(Kind::Png);
+    let png = Kinds::parse("png")?;
     let (expected_dir, actual_dir) = (dir.join(SIDES[0]), dir.join(SIDES[1]));
     for (scenario, decoded, side) in [(blessed, &e, &expected_dir), (run, &a, &actual_dir)] {
         fs::create_dir_all(side).with_context(|| format!("cannot create {}", side.display()))?;

@@ -8,7 +8,7 @@ use anyhow::{Result, bail};
 use morphogen_scenario::Scenario;
 
 use crate::folder_lock::FolderLock;
-use crate::outputs::{self, Kind, Kinds};
+use crate::outputs::{self, Kinds, Product};
 use crate::rig::{self, RigPalette, RigSpec};
 use crate::{Outcome, body_input, exec, say, written};
 
@@ -80,13 +80,8 @@ pub struct Args {
         value_parser = clap::value_parser!(u32).range(1..)
     )]
     pub max_stream_mb: u32,
-    /// Write only these kinds of file, a comma list of png (pictures
-    /// and chart bitmaps), obj (meshes and their .mtl), glb
-    /// (model.glb), anim (animation.png), svg (charts), csv (tables),
-    /// jsonl (records.jsonl), plot (plot.svg: the last frame's strokes
-    /// for a pen plotter, in mm on A4, a layer per pen); stream.bin and
-    /// summary.txt are always written. Default: all of them but plot.
-    #[arg(long, value_name = "KINDS", value_parser = Kinds::parse)]
+    /// Write only these kinds of file (a comma list; `--help` lists them).
+    #[arg(long, value_name = "KINDS", value_parser = Kinds::parse, long_help = Kinds::help())]
     pub only: Option<Kinds>,
     /// Print nothing on standard output (no summary, no "wrote"
     /// lines) and show no progress bar; errors still go to standard
@@ -272,7 +267,7 @@ impl Folder {
             stream: &self.stream,
             jsonl: writing
                 .kinds
-                .has(Kind::Jsonl)
+                .wants(Product::Records)
                 .then_some(self.jsonl.as_path()),
         }
     }

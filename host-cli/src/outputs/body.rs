@@ -16,10 +16,9 @@ use morphogen::fx::{Fx, Real};
 use morphogen::stream::Record;
 use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
-use super::chart::write_chart;
 use super::chart::{Axis, Chart, Series, series_colour};
-use super::driver::{self, Closing, MeshFiles, Montage, Products, Rgb};
-use super::kinds::Kinds;
+use super::driver::{self, Closing, Montage, Products, Rgb};
+use super::kinds::{Kinds, MeshFiles};
 use super::mesh;
 use super::numbered::FileSeries;
 use super::picture::Canvases;
@@ -515,7 +514,7 @@ impl Products for Body<'_> {
         }
         let b = self.extent.bounds();
         Some(Montage {
-            name: "ages.png",
+            name: "ages",
             frames: strip.iter().map(|&(k, _)| k).collect(),
             tile: (PANEL, Body::height(b, PANEL)),
             columns: strip.len() as u32,
@@ -567,7 +566,7 @@ impl Products for Body<'_> {
         }
         if let Some(table) = self.table.filter(|t| !t.columns.is_empty()) {
             let chart = table_chart(table);
-            write_chart(&chart, dir, "growth", (900, 560), kinds, &mut written)?;
+            written.extend(kinds.chart(&chart, dir, "growth", (900, 560))?);
         }
         let path = dir.join("summary.txt");
         write_atomic(&path, summary.as_bytes())?;

@@ -20,9 +20,9 @@ use morphogen::stream::Record;
 use nalgebra::Vector3;
 
 use super::body::{self, Extent, Frame, Placement, Shading, canvas, canvases, draw, rgb_of, solid};
-use super::chart::{Axis, Chart, Series, write_chart};
-use super::driver::{self, Closing, MeshFiles, Montage, Products, Rgb};
-use super::kinds::{Kind, Kinds};
+use super::chart::{Axis, Chart, Series};
+use super::driver::{self, Closing, Montage, Products, Rgb};
+use super::kinds::{Kinds, MeshFiles, Product};
 use super::mesh;
 use super::numbered::FileSeries;
 use super::picture::Canvases;
@@ -350,7 +350,7 @@ impl Products for Bones<'_> {
     fn montage(&self) -> Option<Montage> {
         let scale = self.scale.as_ref()?;
         Some(Montage {
-            name: "bones.png",
+            name: "bones",
             frames: (0..self.count).collect(),
             tile: (scale.panel, scale.panel_height),
             columns: self.count.max(1) as u32,
@@ -381,7 +381,7 @@ impl Products for Bones<'_> {
     fn close(mut self, dir: &Path, kinds: Kinds, _run: Closing<()>) -> Result<Vec<PathBuf>> {
         let mut written = Vec::new();
         if let Some((frame, vertices, skeleton, wrap)) = self.last.take()
-            && (kinds.has(Kind::Png) || kinds.has(Kind::Svg))
+            && kinds.wants(Product::Chart)
         {
             let run = wrap_steps(&skeleton, &wrap)?;
             // The run done again is the one streamed.
@@ -396,7 +396,7 @@ impl Products for Bones<'_> {
                 run.last().map_or(0.0, |s| s.worst)
             )?;
             let chart = wrap_chart(&run, self.params.wrap.split_tolerance.to_f64(), frame);
-            write_chart(&chart, dir, "wrap", (900, 500), kinds, &mut written)?;
+            written.extend(kinds.chart(&chart, dir, "wrap", (900, 500))?);
         }
         let level = f64::from_fx(self.params.wrap.target);
         let levels = match self.params.wrap.target_max {

@@ -21,7 +21,7 @@
 //! ```
 
 use std::ops::Range;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::OnceLock;
 
 use ab_glyph::FontRef;
@@ -31,7 +31,6 @@ use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use super::kinds::{Kind, Kinds};
 use crate::atomic::write_atomic;
 
 /// The largest width or height of a chart, in pixels: a picture of
@@ -544,32 +543,6 @@ pub fn write_svg(chart: &Chart, path: &Path, width: u32, height: u32) -> Result<
     let svg = render_svg(chart, width, height)?;
     write_atomic(path, svg.as_bytes())
         .with_context(|| format!("cannot write the chart {}", path.display()))
-}
-
-/// Writes `chart` as `STEM.png` and `STEM.svg` (those `kinds` asks for),
-/// `width` × `height` pixels, and adds their paths to `written`.
-///
-/// # Errors
-/// A file that cannot be written, or a chart that cannot be drawn.
-pub fn write_chart(
-    chart: &Chart,
-    dir: &Path,
-    stem: &str,
-    (width, height): (u32, u32),
-    kinds: Kinds,
-    written: &mut Vec<PathBuf>,
-) -> Result<()> {
-    if kinds.has(Kind::Png) {
-        let path = dir.join(format!("{stem}.png"));
-        write_png(chart, &path, width, height)?;
-        written.push(path);
-    }
-    if kinds.has(Kind::Svg) {
-        let path = dir.join(format!("{stem}.svg"));
-        write_svg(chart, &path, width, height)?;
-        written.push(path);
-    }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -11,9 +11,9 @@ use morphogen::fx::Real as _;
 use morphogen::growth_curve::{SERIES_DAILY, SERIES_GROWTH};
 use morphogen::stream::Record;
 
-use super::chart::{Axis, Chart, Series, write_chart};
+use super::chart::{Axis, Chart, Series};
 use super::driver::{self, Closing, Products, Rgb};
-use super::kinds::{Kind, Kinds};
+use super::kinds::Kinds;
 use super::text::{self, Whole};
 use crate::atomic::OutputFile;
 use crate::records::Records;
@@ -67,11 +67,7 @@ impl Products for Curve {
     fn close(self, dir: &Path, kinds: Kinds, _run: Closing<()>) -> Result<Vec<PathBuf>> {
         let Curve { growth, daily } = self;
         let mut written = Vec::new();
-        if kinds.has(Kind::Csv) {
-            let csv_path = dir.join("growth.csv");
-            write_csv(&growth, &daily, &csv_path)?;
-            written.push(csv_path);
-        }
+        written.extend(kinds.table(dir, "growth", |path| write_csv(&growth, &daily, path))?);
         let days = growth.last().map_or(365.0, |p| f64::from_fx(p.0));
         let chart = Chart::new(
             "Seasonal growth",
@@ -83,7 +79,7 @@ impl Products for Curve {
         .with_series(
             Series::line("daily increment", daily.into_iter().map(real).collect()).on_right(),
         );
-        write_chart(&chart, dir, "growth", (900, 500), kinds, &mut written)?;
+        written.extend(kinds.chart(&chart, dir, "growth", (900, 500))?);
         Ok(written)
     }
 }

@@ -13,14 +13,14 @@ use std::sync::Mutex;
 use anyhow::{Result, anyhow, bail};
 use morphogen::stream::Record;
 
-use super::kinds::{Kind, Kinds};
-use super::mesh::{self, GlbWriter, Library, ObjStyle, write_frame_obj};
+use super::kinds::{ANIMATION, Kinds, MeshFiles, MeshSeries, Product};
+use super::mesh;
 use super::montage::{paste_rgb, save_montage_rgb};
 use super::numbered::{FileSeries, Numbering};
 use super::picture;
 use super::pipeline::pipeline;
 use super::plot::{self, Drawing};
-use super::slots::{ANIMATION_DELAY_MS, OrderedAnimation, animation_frames};
+use super::slots::{OrderedAnimation, animation_frames};
 use crate::records::{Place, Records};
 
 /// A picture as saved: RGB bytes row by row.
@@ -77,23 +77,11 @@ impl Rgb {
     }
 }
 
-/// The meshes' files: the material library beside the frames' OBJ files
-/// and the glTF scene.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct MeshFiles {
-    /// The material library's file name (`horn.mtl`).
-    pub library: &'static str,
-    /// The glTF scene's name.
-    pub scene: String,
-    /// Metres per model unit, for glTF.
-    pub metres: f32,
-}
-
 /// A picture of several frames side by side ([`save_montage_rgb`]), each
 /// tile labelled with its frame's label.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Montage {
-    /// Its file name (`years.png`).
+    /// Its file name without the extension its kind adds (`years`).
     pub name: &'static str,
     /// The frames it shows, by position in the stream, rising.
     pub frames: Vec<usize>,
@@ -289,8 +277,10 @@ type Done<M> = (Vec<PathBuf>, Option<String>, Option<(usize, M)>);
 /// The files a run's frames make together, planned after the survey.
 struct Plan<'a> {
     dir: &'a Path,
+    kinds: Kinds,
     numbering: Numbering,
-    library: Option<&'static str>,
+    /// Where the frames' meshes go, when each frame has files of its own.
+    meshes: Option<MeshFiles>,
     stills: Option<FileSeries>,
     /// Whether every frame has files of its own, and whether those need
     /// its picture.
@@ -304,7 +294,7 @@ struct Plan<'a> {
 impl<'a> Plan<'a> {
     /// The plan for `count` frames of `model`, those files of `kinds`.
     fn new<M: Products>(model: &M, count: usize, dir: &'a Path, kinds: Kinds) -> Result<Self> {
-        let mut picked = if kinds.has(Kind::Anim) && count > 1 {
+        let mut picked = if kinds.wants(Product::Animation) && count > 1 {
             animation_frames(count)
         } else {
             Vec::new()
@@ -317,17 +307,20 @@ impl<'a> Plan<'a> {
         if animation.is_none() {
             picked.clear();
         }
-        let montage = model.montage().filter(|_| kinds.has(Kind::Png)).map(|m| {
+        let pictures = kinds.wants(Product::FramePicture);
+        let montage = model.montage().filter(|_| pictures).map(|m| {
             let (w, h) = m.size();
             let rgb = m.background.repeat((w * h) as usize);
             (m, Mutex::new(rgb))
         });
-        let meshes = kinds.has(Kind::Obj) || kinds.has(Kind::Glb);
         Ok(Plan {
             dir,
+            kinds,
             numbering: model.numbering(count),
-            library: model.mesh_files().filter(|_| meshes).map(|f| f.library),
-            stills: model.stills().filter(|_| kinds.has(Kind::Png)),
+            meshes: model
+                .mesh_files()
+                .filter(|_| kinds.wants(Product::FrameMesh)),
+            stills: model.stills().filter(|_| pictures),
             frame_work: model.frame_work(),
             picked,
             animation,
@@ -364,9 +357,9 @@ impl<'a> Plan<'a> {
             let rgb = rgb.into_inner().map_err(|_| anyhow!("a drawing stopped"))?;
             let boxes = (0..labels.len()).map(|n| montage.tile_box(n));
             let labels: Vec<_> = boxes.zip(labels).collect();
-            let path = self.dir.join(montage.name);
-            save_montage_rgb(rgb, montage.size(), &labels, &path)?;
-            written.push(path);
+            let save = |path: &Path| save_montage_rgb(rgb.clone(), montage.size(), &labels, path);
+            let (kinds, dir) = (self.kinds, self.dir);
+            written.extend(kinds.picture(Product::FramePicture, dir, montage.name, save)?);
         }
         if let Some(animation) = self.animation {
             animation.finish()?;
@@ -375,9 +368,6 @@ impl<'a> Plan<'a> {
         Ok(written)
     }
 }
-
-/// The animation's file name.
-const ANIMATION: &str = "animation.png";
 
 /// Writes `model`'s files of `kinds` from `records` into `dir`; returns
 /// their paths.
@@ -393,12 +383,17 @@ pub(crate) fn write<M: Products, R: Records + ?Sized>(
 ) -> Result<Vec<PathBuf>> {
     let count = survey(&mut model, records)?;
     let plan = Plan::new(&model, count, dir, kinds)?;
-    let files = model.mesh_files();
-    let mut glb = files
-        .as_ref()
-        .filter(|_| kinds.has(Kind::Glb))
-        .map(|f| GlbWriter::new(&f.scene, f.metres));
-    let mut library = plan.library.map(|name| Library::new(dir, name));
+    let files = model
+        .mesh_files()
+        .filter(|_| kinds.wants(Product::FrameMesh) || kinds.wants(Product::FrameMeshes));
+    let mut series: Vec<Box<dyn MeshSeries>> = files
+        .iter()
+        .flat_map(|f| {
+            kinds
+                .formats(Product::FrameMeshes)
+                .filter_map(|k| k.frame_meshes(dir, f))
+        })
+        .collect();
     let (model_ref, plan_ref) = (&model, &plan);
     let done: Vec<Done<M::Measure>> = pipeline(
         |send| {
@@ -408,18 +403,16 @@ pub(crate) fn write<M: Products, R: Records + ?Sized>(
                 let Some(frame) = M::push(&mut framer, r)? else {
                     return Ok(());
                 };
-                let mesh = match &library {
+                let mesh = match &files {
                     Some(_) => model_ref.mesh(&frame)?,
                     None => None,
                 };
-                if let (Some(glb), Some(m)) = (&mut glb, &mesh) {
-                    let seconds = position as f32 * f32::from(ANIMATION_DELAY_MS) / 1000.0;
-                    glb.push_frame(m, seconds)?;
+                if let Some(m) = &mesh {
+                    for s in &mut series {
+                        s.push(m, position)?;
+                    }
                 }
-                let mesh = mesh.filter(|_| kinds.has(Kind::Obj));
-                if let (Some(library), Some(m)) = (&mut library, &mesh) {
-                    library.write_once(m)?;
-                }
+                let mesh = mesh.filter(|_| plan_ref.meshes.is_some());
                 let job = plan_ref.job(frame, position, mesh);
                 position += 1;
                 match job {
@@ -439,11 +432,8 @@ pub(crate) fn write<M: Products, R: Records + ?Sized>(
         labels.extend(label);
         measures.extend(measure);
     }
-    written.extend(library.and_then(Library::written));
-    if let Some(glb) = glb {
-        let path = dir.join("model.glb");
-        glb.write(&path)?;
-        written.push(path);
+    for s in series {
+        written.extend(s.finish()?);
     }
     let closing = Closing {
         montage: plan.montage.is_some(),
@@ -451,13 +441,9 @@ pub(crate) fn write<M: Products, R: Records + ?Sized>(
         numbering: plan.numbering,
     };
     written.extend(plan.finish(labels)?);
-    if kinds.has(Kind::Plot) {
+    if kinds.wants(Product::Drawing) {
         match model.plot()? {
-            Some(drawing) => {
-                let path = dir.join(plot::FILE);
-                drawing.save(&path)?;
-                written.push(path);
-            }
+            Some(drawing) => written.extend(kinds.drawing(&drawing, dir)?),
             None => eprintln!("note: no {}: this model draws no strokes", plot::FILE),
         }
     }
@@ -490,12 +476,13 @@ fn frame_files<M: Products>(
     job: Job<M::Frame>,
 ) -> Result<Done<M::Measure>> {
     let index = M::index(&job.frame);
+    let (kinds, dir) = (plan.kinds, plan.dir);
     let mut paths = Vec::with_capacity(2);
-    if let (Some(m), Some(library)) = (&job.mesh, plan.library) {
-        let name = plan.numbering.name(FileSeries::FRAMES, index);
-        let path = plan.dir.join(name);
-        write_frame_obj(&path, m, ObjStyle::PLAIN, library)?;
-        paths.push(path);
+    if let (Some(m), Some(files)) = (&job.mesh, &plan.meshes) {
+        let name = plan.numbering.stem(FileSeries::FRAMES, index);
+        for k in kinds.formats(Product::FrameMesh) {
+            paths.extend(k.frame_mesh(m, dir, &name, files)?);
+        }
     }
     let tile = match (&plan.montage, job.tile) {
         (Some(_), Some(n)) => Some((n, model.tile(&job.frame, n)?)),
@@ -510,9 +497,8 @@ fn frame_files<M: Products>(
         None
     };
     if let (Some(series), Some(p)) = (plan.stills, &picture) {
-        let path = plan.dir.join(plan.numbering.name(series, index));
-        p.save(&path)?;
-        paths.push(path);
+        let stem = plan.numbering.stem(series, index);
+        paths.extend(kinds.picture(Product::FramePicture, dir, &stem, |path| p.save(path))?);
     }
     let label = model.label(&job.frame);
     if let (Some((n, own)), Some((montage, rgb))) = (tile, &plan.montage) {

@@ -23,9 +23,9 @@ use morphogen::stream::Record;
 use nalgebra::Vector3;
 use tiny_skia::{Color, Pixmap};
 
-use super::chart::{Axis, Chart, Series, write_chart};
-use super::driver::{self, Closing, MeshFiles, Montage, Products, Rgb};
-use super::kinds::{Kind, Kinds};
+use super::chart::{Axis, Chart, Series};
+use super::driver::{self, Closing, Montage, Products, Rgb};
+use super::kinds::{Kinds, MeshFiles, Product};
 use super::numbered::FileSeries;
 use super::plot::{self, Drawing, Pen, Stroke};
 use super::raster::depth_key;
@@ -731,7 +731,7 @@ impl Products for Horn<'_> {
         self.last.as_ref()?;
         let c = background().to_color_u8();
         Some(Montage {
-            name: "years.png",
+            name: "years",
             frames: self.years.clone(),
             tile: (400, 400),
             columns: self.years.len().clamp(1, 4) as u32,
@@ -756,11 +756,8 @@ impl Products for Horn<'_> {
         let Some(last) = self.last else {
             return Ok(written);
         };
-        if kinds.has(Kind::Png) {
-            let path = dir.join("horn.png");
-            save_picture(&last, self.j, (1200, 900), &path)?;
-            written.push(path);
-        }
+        let save = |path: &Path| save_picture(&last, self.j, (1200, 900), path);
+        written.extend(kinds.picture(Product::Picture, dir, "horn", save)?);
         let lines = &self.lines;
         if lines.len() > 1 {
             let chart = Chart::new(
@@ -776,11 +773,11 @@ impl Products for Horn<'_> {
             .with_series(
                 Series::line("length", lines.iter().map(|&(t, l, _)| (t, l)).collect()).on_right(),
             );
-            write_chart(&chart, dir, "bend", (900, 500), kinds, &mut written)?;
+            written.extend(kinds.chart(&chart, dir, "bend", (900, 500))?);
         }
-        if kinds.has(Kind::Png) || kinds.has(Kind::Svg) {
+        if kinds.wants(Product::Chart) {
             let chart = tip_bend::chart(&tip_bend::samples(self.params)?);
-            write_chart(&chart, dir, "e1-bend", (900, 500), kinds, &mut written)?;
+            written.extend(kinds.chart(&chart, dir, "e1-bend", (900, 500))?);
         }
         Ok(written)
     }

@@ -1,9 +1,10 @@
 //! The model's natural files written by `morphogen run`: pictures, meshes,
 //! tables. Each model's module states its products (`driver::Products`:
 //! frame → mesh, frame → picture with its label, frames → montage, frame
-//! → tables of its own, run → charts and tables) and one driver writes
-//! every kind `--only` asks for; [`write()`] picks the model by the
-//! preset's. The driver reads the records in passes over a [`Records`]
+//! → tables of its own, run → charts and tables) and one driver hands
+//! them to the kinds of file `--only` asks for, each kind a module of
+//! [`kinds`] that writes the products it takes; [`write()`] picks the
+//! model by the preset's. The driver reads the records in passes over a [`Records`]
 //! source (the stream file, read back frame by frame), one frame or day
 //! at a time, so its memory is that of the frames in hand and their
 //! pictures, never that of the stream. The L-system's plant is the one
@@ -19,7 +20,7 @@ use morphogen_scenario::Scenario;
 
 use crate::records::Records;
 
-pub use self::kinds::{Kind, Kinds};
+pub use self::kinds::{Kinds, Product};
 
 pub mod animation;
 pub mod body;

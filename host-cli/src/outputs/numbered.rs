@@ -84,12 +84,13 @@ impl Numbering {
     /// File `n` of `series`, `n` zero-padded to the width.
     #[must_use]
     pub fn name(self, series: FileSeries, n: impl std::fmt::Display) -> String {
-        format!(
-            "{}{n:0width$}{}",
-            series.stem,
-            series.ext,
-            width = self.width
-        )
+        format!("{}{}", self.stem(series, n), series.ext)
+    }
+
+    /// File `n` of `series` without its extension, which its kind adds.
+    #[must_use]
+    pub fn stem(self, series: FileSeries, n: impl std::fmt::Display) -> String {
+        format!("{}{n:0width$}", series.stem, width = self.width)
     }
 }
 

@@ -23,10 +23,10 @@ use tiny_skia::{Color, Pixmap};
 
 use super::animation::{AnimationWriter, Pixels};
 use super::fill::Filler;
-use super::kinds::{Kind, Kinds};
-use super::mesh::{self, GlbWriter, GroupId, Numbers, ObjStyle};
+use super::kinds::{ANIMATION, Kinds, Product, StreamedMesh};
+use super::mesh::{self, GroupId, Numbers, ObjStyle};
 use super::picture::{self, rgb_bytes};
-use super::plot::{self, Drawing, Pen, Stroke};
+use super::plot::{Drawing, Pen, Stroke};
 use super::slots::{ANIMATION_DELAY_MS, animation_frames};
 use super::text::{self, Whole};
 use crate::atomic::OutputFile;
@@ -397,57 +397,45 @@ fn csv<R: Records + ?Sized>(records: &R, path: Option<&Path>) -> Result<Frames> 
 /// # Errors
 /// When the records cannot be read or a file cannot be written.
 pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Result<Vec<PathBuf>> {
-    let csv_path = dir.join("segments.csv");
-    let frames = csv(records, kinds.has(Kind::Csv).then_some(csv_path.as_path()))?;
+    let mut frames = None;
+    let tables = kinds.table(dir, "segments", |path| {
+        frames = Some(csv(records, Some(path))?);
+        Ok(())
+    })?;
+    let frames = match frames {
+        Some(frames) => frames,
+        None => csv(records, None)?,
+    };
     let last = frames.starts.last().map_or(Place::START, |s| s.0);
-    let obj_path = dir.join("plant.obj");
-    let mut library = mesh::Library::new(dir, "plant.mtl");
-    let mut obj = if kinds.has(Kind::Obj) {
-        // Every colour's material, so that the OBJ can stream.
-        let mut colours = mesh::Mesh::new();
-        for i in 0..=LAST_COLOUR {
-            material(&mut colours, i)?;
-        }
-        library.write_once(&colours)?;
-        let mut out = OutputFile::create(&obj_path)?;
-        out.write_all(
-            b"# morphogen L-system plant: segments as square prisms, polygons as faces\nmtllib plant.mtl\n",
-        )
-        .with_context(|| format!("cannot write {}", obj_path.display()))?;
-        Some(out)
-    } else {
-        None
+    // Every colour's material, so that the OBJ can stream.
+    let mut colours = mesh::Mesh::new();
+    for i in 0..=LAST_COLOUR {
+        material(&mut colours, i)?;
+    }
+    let streamed = StreamedMesh {
+        stem: "plant",
+        what: "the plant's last frame",
+        comment: "morphogen L-system plant: segments as square prisms, polygons as faces",
+        materials: &colours,
+        style: PLANT_OBJ,
+        max_vertices: GLB_MAX_VERTICES,
     };
-    // The OBJ's vertices so far; the glTF mesh while it stays small.
-    let mut before = 0u64;
-    let mut solid = if kinds.has(Kind::Glb) {
-        let mut m = mesh::Mesh::new();
-        let group = m.group(None, None)?;
-        Some((m, group))
-    } else {
-        None
-    };
+    let mut meshes = kinds.mesh_streams(dir, &streamed)?;
     let mut extent = Extent::new();
-    let mut sorted = kinds.has(Kind::Png).then(|| depth::Sort::new(dir));
-    let mut strokes = kinds.has(Kind::Plot).then(Strokes::default);
+    let mut sorted = kinds.wants(Product::Picture).then(|| depth::Sort::new(dir));
+    let mut strokes = kinds.wants(Product::Drawing).then(Strokes::default);
     frame_items(records, last, |item| {
         extent.include(&item);
         if let Some(strokes) = &mut strokes {
             strokes.push(&item);
         }
-        if let Some(out) = &mut obj {
+        if !meshes.is_empty() {
             let mut piece = mesh::Mesh::new();
             let colour = material(&mut piece, item.colour())?;
             let group = piece.group(None, Some(colour))?;
-            add(&mut piece, group, &item, false)?;
-            mesh::obj_part(&piece, PLANT_OBJ, before, out)
-                .with_context(|| format!("cannot write {}", obj_path.display()))?;
-            before += piece.positions().len() as u64;
-        }
-        if let Some((m, group)) = &mut solid {
-            add(m, *group, &item, true)?;
-            if m.positions().len() > GLB_MAX_VERTICES {
-                solid = None;
+            add(&mut piece, group, &item, true)?;
+            for m in &mut meshes {
+                m.piece(&piece)?;
             }
         }
         match &mut sorted {
@@ -457,47 +445,25 @@ pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Resu
     })?;
     let mut written = Vec::new();
     if let Some(sorted) = sorted {
-        let png_path = dir.join("plant.png");
-        picture::save(&render(extent, 1000, |draw| sorted.drain(draw))?, &png_path)?;
-        written.push(png_path);
+        let mut sorted = Some(sorted);
+        let save = |path: &Path| {
+            let sorted = sorted.take().context("the plant is drawn once")?;
+            picture::save(&render(extent, 1000, |draw| sorted.drain(draw))?, path)
+        };
+        written.extend(kinds.picture(Product::Picture, dir, "plant", save)?);
     }
-    if let Some(out) = obj {
-        out.finish()?;
-        written.push(obj_path);
-        written.extend(library.written());
+    for m in meshes {
+        written.extend(m.finish()?);
     }
-    if kinds.has(Kind::Glb) {
-        written.extend(write_glb(solid.map(|(m, _)| m), dir)?);
-    }
-    if kinds.has(Kind::Csv) {
-        written.push(csv_path);
-    }
+    written.extend(tables);
     if let Some(strokes) = strokes {
-        let path = dir.join(plot::FILE);
-        strokes.drawing().save(&path)?;
-        written.push(path);
+        written.extend(kinds.drawing(&strokes.drawing(), dir)?);
     }
-    if kinds.has(Kind::Anim) && frames.starts.len() > 1 {
-        let path = dir.join("animation.png");
+    if kinds.wants(Product::Animation) && frames.starts.len() > 1 {
+        let path = dir.join(ANIMATION);
         written.push(animate(records, dir, &frames, extent, &path)?);
     }
     Ok(written)
-}
-
-/// Writes `model.glb` of the last frame's `solid` into `dir`, or says why
-/// there is none (a frame too large); returns its path.
-fn write_glb(solid: Option<mesh::Mesh>, dir: &Path) -> Result<Option<PathBuf>> {
-    let Some(m) = solid else {
-        eprintln!(
-            "note: no model.glb: the plant's last frame has more than {GLB_MAX_VERTICES} vertices"
-        );
-        return Ok(None);
-    };
-    let path = dir.join("model.glb");
-    let mut glb = GlbWriter::new("plant", 1.0);
-    glb.push_frame(&m, 0.0)?;
-    glb.write(&path)?;
-    Ok(Some(path))
 }
 
 /// Writes `animation.png` of a plant's frames (every frame, or 60 spread

@@ -419,6 +419,29 @@ impl Mesh {
         Ok(())
     }
 
+    /// Adds the vertices of `piece` (with their colours, if it has them)
+    /// and the faces of its groups to `group`, their materials left out:
+    /// a mesh built a piece at a time.
+    ///
+    /// # Errors
+    /// As [`Mesh::push_vertex`] and [`Mesh::push_face`].
+    pub fn append(&mut self, group: GroupId, piece: &Mesh) -> Result<(), MeshError> {
+        let before = u32::try_from(self.positions.len()).map_err(|_| MeshError::TooManyVertices)?;
+        for (k, &p) in piece.positions.iter().enumerate() {
+            match piece.colours.as_ref().and_then(|c| c.get(k)) {
+                Some(&rgb) => self.push_coloured_vertex(p, rgb)?,
+                None => self.push_vertex(p)?,
+            };
+        }
+        let mut corners = Vec::new();
+        for face in piece.groups.iter().flat_map(Group::faces) {
+            corners.clear();
+            corners.extend(face.iter().map(|&c| before + c));
+            self.push_face(group, &corners)?;
+        }
+        Ok(())
+    }
+
     /// The vertex positions.
     #[must_use]
     pub fn positions(&self) -> &[[f64; 3]] {

@@ -28,10 +28,10 @@ use morphogen::fx::Real as _;
 use morphogen::mosaic::Params;
 use morphogen::stream::Record;
 
-use super::chart::{Axis, Chart, Series, write_chart};
+use super::chart::{Axis, Chart, Series};
 use super::driver::{self, Closing, Products};
-use super::kinds::{Kind, Kinds};
-use super::mesh::{Mesh, ObjStyle, write_obj};
+use super::kinds::{Kinds, Product};
+use super::mesh::{Mesh, ObjStyle};
 use super::numbered::{FileSeries, Numbering};
 use super::picture;
 use super::plot::Drawing;
@@ -271,8 +271,8 @@ impl Products for Plane<'_> {
     }
 
     fn frame_work(&self) -> (bool, bool) {
-        let csv = self.kinds.has(Kind::Csv);
-        (csv || self.kinds.has(Kind::Png), csv)
+        let tables = self.kinds.wants(Product::Table);
+        (tables || self.kinds.wants(Product::FramePicture), tables)
     }
 
     fn frame_files(
@@ -283,31 +283,33 @@ impl Products for Plane<'_> {
         numbering: Numbering,
     ) -> Result<(Vec<PathBuf>, Option<Measured>)> {
         let (dir, domain) = (self.dir, &self.params.domain);
-        let mut paths = Vec::with_capacity(2);
-        if self.kinds.has(Kind::Csv) {
-            let csv = dir.join(numbering.name(FileSeries::CELLS, d.day));
-            let unit = |v: Fx| f64::from_fx(v);
-            let points = d
-                .cells
+        let unit = |v: Fx| f64::from_fx(v);
+        let points = || {
+            d.cells
                 .iter()
-                .map(|&(id, kind, u, v)| (id, kind, self.surface.point(unit(u), unit(v))));
-            write_csv(points, &csv)?;
-            paths.push(csv);
-        }
+                .map(|&(id, kind, u, v)| (id, kind, self.surface.point(unit(u), unit(v))))
+        };
+        let stem = numbering.stem(FileSeries::CELLS, d.day);
+        let mut paths = self
+            .kinds
+            .table(dir, &stem, |path| write_csv(points(), path))?;
         let Some(picture) = picture else {
             return Ok((paths, None));
         };
-        let measured = self.kinds.has(Kind::Csv).then(|| {
+        let measured = self.kinds.wants(Product::Table).then(|| {
             let figures = (0..self.colours.len())
                 .map(|k| picture.raster(domain).figures(k as u8 + 2))
                 .collect();
             (picture.areas(self.colours.len()), figures)
         });
-        if let (Some(view), true) = (&self.view, self.kinds.has(Kind::Png)) {
-            let png = dir.join(numbering.name(FileSeries::SURFACES, d.day));
+        if let Some(view) = &self.view {
+            let stem = numbering.stem(FileSeries::SURFACES, d.day);
             let drawn = view.paint(picture.palette(), &|i| picture.index(i))?;
-            picture::save(&drawn, &png)?;
-            paths.push(png);
+            let save = |path: &Path| picture::save(&drawn, path);
+            paths.extend(
+                self.kinds
+                    .picture(Product::FramePicture, dir, &stem, save)?,
+            );
         }
         let mut latest = self
             .latest
@@ -328,17 +330,14 @@ impl Products for Plane<'_> {
 
     fn close(self, dir: &Path, kinds: Kinds, run: Closing<Measured>) -> Result<Vec<PathBuf>> {
         let mut written = write_tables(self.names, &self.counts, run.measures, dir, kinds)?;
-        if kinds.has(Kind::Obj) {
-            let path = dir.join("surface.obj");
-            written.extend(write_obj(
-                &path,
-                &self.surface.mesh(None)?,
-                ObjStyle::PLAIN,
-            )?);
+        let meshes = kinds.wants(Product::Mesh);
+        if meshes {
+            let bare = self.surface.mesh(None)?;
+            written.extend(kinds.mesh(&bare, dir, "surface", ObjStyle::PLAIN)?);
         }
         if let Some(last) = self
             .last
-            .filter(|_| kinds.has(Kind::Png) || kinds.has(Kind::Obj))
+            .filter(|_| kinds.wants(Product::Picture) || meshes)
         {
             let drawn = self
                 .latest
@@ -348,21 +347,19 @@ impl Products for Plane<'_> {
                 Some((at, picture)) if at + 1 == self.counts.len() => picture,
                 _ => voronoi(&self.params.domain, &self.colours, &last.cells),
             };
-            if kinds.has(Kind::Png) {
-                // Every day's pictures were written: the last day's again.
-                let mut copies = vec![(FileSeries::DAYS, "mosaic.png")];
-                if self.view.is_some() {
-                    copies.push((FileSeries::SURFACES, "surface.png"));
-                }
-                for (series, name) in copies {
-                    let path = dir.join(name);
-                    atomic::copy(&dir.join(run.numbering.name(series, last.day)), &path)?;
-                    written.push(path);
-                }
+            // Every day's pictures were written: the last day's again.
+            let mut copies = vec![(FileSeries::DAYS, "mosaic")];
+            if self.view.is_some() {
+                copies.push((FileSeries::SURFACES, "surface"));
             }
-            if kinds.has(Kind::Obj) {
+            for (series, stem) in copies {
+                let day = dir.join(run.numbering.name(series, last.day));
+                let copy = |path: &Path| atomic::copy(&day, path);
+                written.extend(kinds.picture(Product::Picture, dir, stem, copy)?);
+            }
+            if meshes {
                 let coloured = self.surface.mesh(Some(&|u, v| picture.at(u, v)))?;
-                written.extend(write_mosaic_obj(dir, &coloured)?);
+                written.extend(write_mosaic_obj(dir, &coloured, kinds)?);
             }
         }
         written.extend(write_counts_and_mask(
@@ -389,7 +386,7 @@ pub(super) fn write_tables(
     dir: &Path,
     kinds: Kinds,
 ) -> Result<Vec<PathBuf>> {
-    if !kinds.has(Kind::Csv) {
+    if !kinds.wants(Product::Table) {
         return Ok(Vec::new());
     }
     let mut areas = vec![None; counts.len()];
@@ -399,11 +396,12 @@ pub(super) fn write_tables(
             (*area, *figure) = (Some(a), Some(f));
         }
     }
-    let types = dir.join("types.csv");
-    write_shares(names, counts, &areas, &types)?;
-    let pattern = dir.join("pattern.csv");
-    write_pattern(names, counts, &figures, &pattern)?;
-    Ok(vec![types, pattern])
+    let mut written = kinds.table(dir, "types", |path| {
+        write_shares(names, counts, &areas, path)
+    })?;
+    let pattern = |path: &Path| write_pattern(names, counts, &figures, path);
+    written.extend(kinds.table(dir, "pattern", pattern)?);
+    Ok(written)
 }
 
 /// Writes (those of `kinds`) the files of `params`' run (`Plane`), the
@@ -420,7 +418,7 @@ pub fn write<R: Records + ?Sized>(
 ) -> Result<Vec<PathBuf>> {
     let surface = Surface::of(&params.domain);
     let (w, h) = picture_size(&params.domain);
-    let view = if kinds.has(Kind::Png) {
+    let view = if kinds.wants(Product::FramePicture) {
         surface.view([w, h])?
     } else {
         None
@@ -441,14 +439,15 @@ pub fn write<R: Records + ?Sized>(
     driver::write(plane, records, dir, kinds)
 }
 
-/// Writes `mosaic.obj`: `coloured`, the surface with the last day's
-/// cells on it as a colour per vertex, on the plane or on a mesh alike.
-pub(super) fn write_mosaic_obj(dir: &Path, coloured: &Mesh) -> Result<Vec<PathBuf>> {
+/// Writes `mosaic.obj` (of `kinds`): `coloured`, the surface with the
+/// last day's cells on it as a colour per vertex, on the plane or on a
+/// mesh alike.
+pub(super) fn write_mosaic_obj(dir: &Path, coloured: &Mesh, kinds: Kinds) -> Result<Vec<PathBuf>> {
     let style = ObjStyle {
         vertex_colours: true,
         ..ObjStyle::PLAIN
     };
-    write_obj(&dir.join("mosaic.obj"), coloured, style)
+    kinds.mesh(coloured, dir, "mosaic", style)
 }
 
 /// Writes the cells-per-type chart (`cells.png`, `cells.svg`, when there
@@ -468,7 +467,7 @@ pub(super) fn write_counts_and_mask(
     let mut written = Vec::new();
     if counts.len() > 1 {
         let chart = cells_chart(&colours, names, counts);
-        write_chart(&chart, dir, "cells", (900, 500), kinds, &mut written)?;
+        written.extend(kinds.chart(&chart, dir, "cells", (900, 500))?);
     }
     if let Some(mask) = &params.mask {
         let path = dir.join("mask.pbm");

@@ -29,8 +29,8 @@ use rayon::prelude::*;
 use super::{Measured, by_type, write_counts_and_mask, write_csv, write_mosaic_obj, write_tables};
 use crate::atomic;
 use crate::outputs::driver::{self, Closing, Products, Still};
-use crate::outputs::kinds::{Kind, Kinds};
-use crate::outputs::mesh::{Mesh, ObjStyle, Rgb, write_obj};
+use crate::outputs::kinds::{Kinds, Product};
+use crate::outputs::mesh::{Mesh, ObjStyle, Rgb};
 use crate::outputs::numbered::{FileSeries, Numbering};
 use crate::outputs::plot::Drawing;
 use crate::records::{Place, Records};
@@ -294,7 +294,7 @@ impl Products for Surface<'_> {
         self.shell = framer.shell;
         self.view = self
             .kinds
-            .has(Kind::Png)
+            .wants(Product::FramePicture)
             .then(|| self.shell.view(self.elevation()));
     }
 
@@ -327,7 +327,7 @@ impl Products for Surface<'_> {
 
     fn frame_work(&self) -> (bool, bool) {
         (
-            self.kinds.has(Kind::Csv) || self.kinds.has(Kind::Obj),
+            self.kinds.wants(Product::Table) || self.kinds.wants(Product::Mesh),
             false,
         )
     }
@@ -343,12 +343,11 @@ impl Products for Surface<'_> {
             Some(p) => p.near,
             None => Nearest::new(&d.cells, &self.shell),
         };
-        let mut paths = Vec::new();
+        let stem = numbering.stem(FileSeries::CELLS, d.day);
+        let cells = |path: &Path| write_csv(d.cells.iter().copied(), path);
+        let paths = self.kinds.table(self.dir, &stem, cells)?;
         let mut measured = None;
-        if self.kinds.has(Kind::Csv) {
-            let path = self.dir.join(numbering.name(FileSeries::CELLS, d.day));
-            write_csv(d.cells.iter().copied(), &path)?;
-            paths.push(path);
+        if self.kinds.wants(Product::Table) {
             let types = self.colours.len();
             let unrolled = Unrolled::new(&self.shell, &near, self.params, types);
             let figures = (0..types)
@@ -382,18 +381,18 @@ impl Products for Surface<'_> {
 
     fn close(self, dir: &Path, kinds: Kinds, run: Closing<Measured>) -> Result<Vec<PathBuf>> {
         let mut written = write_tables(self.names, &self.counts, run.measures, dir, kinds)?;
-        if kinds.has(Kind::Obj) {
-            let path = dir.join("surface.obj");
-            written.extend(write_obj(&path, &self.shell.bare()?, ObjStyle::PLAIN)?);
+        let meshes = kinds.wants(Product::Mesh);
+        if meshes {
+            let bare = self.shell.bare()?;
+            written.extend(kinds.mesh(&bare, dir, "surface", ObjStyle::PLAIN)?);
         }
         if let Some(last) = &self.last {
             if self.view.is_some() {
-                let path = dir.join("surface.png");
-                let day = run.numbering.name(FileSeries::SURFACES, last.day);
-                atomic::copy(&dir.join(day), &path)?;
-                written.push(path);
+                let day = dir.join(run.numbering.name(FileSeries::SURFACES, last.day));
+                let copy = |path: &Path| atomic::copy(&day, path);
+                written.extend(kinds.picture(Product::Picture, dir, "surface", copy)?);
             }
-            if kinds.has(Kind::Obj) {
+            if meshes {
                 let latest = self
                     .latest
                     .into_inner()
@@ -403,7 +402,7 @@ impl Products for Surface<'_> {
                     _ => Nearest::new(&last.cells, &self.shell),
                 };
                 let coloured = self.shell.coloured(&near, &self.colours, 2)?;
-                written.extend(write_mosaic_obj(dir, &coloured)?);
+                written.extend(write_mosaic_obj(dir, &coloured, kinds)?);
             }
         }
         written.extend(write_counts_and_mask(
