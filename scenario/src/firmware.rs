@@ -98,7 +98,7 @@ fn strip_for_flash(source: &mut String, scenarios: &[Scenario]) {
             let grammar = match p.model {
                 Model::LSystem(text) => Some(text.to_owned()),
                 Model::Bones(b) => Some(b.grammar.to_owned()),
-                _ => None,
+                Model::GrowthCurve(_) | Model::Horn(_) | Model::Mosaic(_) | Model::Body(_) => None,
             };
             (p.summary.to_owned(), grammar)
         });
@@ -205,7 +205,11 @@ pub fn on_own_mesh(scenario: &Scenario) -> Option<usize> {
             } => Some(size_of_val(vertices) + size_of_val(triangles)),
             morphogen::body::Mesh::Tubes(_) => None,
         },
-        _ => None,
+        Model::GrowthCurve(_)
+        | Model::Horn(_)
+        | Model::LSystem(_)
+        | Model::Mosaic(_)
+        | Model::Bones(_) => None,
     })
 }
 
@@ -252,7 +256,11 @@ fn user_scenarios(list: &str, surfaces: bool) -> Result<Vec<Scenario>, String> {
         if !scenario.with_preset(|p| p.model.fits_mcu()) {
             let why = scenario.with_preset(|p| match p.model {
                 Model::Bones(_) => NEEDS_BUFFER,
-                _ => "too big for the runner's fixed capacity; run it on the host with `morphogen run`",
+                Model::GrowthCurve(_)
+                | Model::Horn(_)
+                | Model::LSystem(_)
+                | Model::Mosaic(_)
+                | Model::Body(_) => "too big for the runner's fixed capacity; run it on the host with `morphogen run`",
             });
             return Err(format!(
                 "{VAR}: {}: {} does not fit the MCU ({why})",
