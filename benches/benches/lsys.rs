@@ -37,9 +37,11 @@ impl Sink for Count {
 /// The grammar text of the built-in L-system scenario `name`.
 fn grammar_text(name: &str) -> String {
     let scenario = morphogen_scenario::builtin(name).expect("a built-in scenario");
-    scenario.with_preset(|p| match p.model {
-        Model::LSystem(text) => text.to_owned(),
-        _ => unreachable!("{name} is an L-system"),
+    scenario.with_preset(|p| {
+        let Model::LSystem(text) = p.model else {
+            unreachable!("{name} is an L-system")
+        };
+        text.to_owned()
     })
 }
 

@@ -66,16 +66,18 @@ fn croton_cells() -> Relaxation {
     let scenario = Box::leak(Box::new(
         morphogen_scenario::builtin("croton").expect("a built-in scenario"),
     ));
-    let croton: Params<'static> = scenario.with_preset(|p| match p.model {
-        Model::Mosaic(params) => Params {
+    let croton: Params<'static> = scenario.with_preset(|p| {
+        let Model::Mosaic(params) = p.model else {
+            unreachable!("croton is a mosaic")
+        };
+        Params {
             types: params.types.to_vec().leak(),
             mask: None,
             anisotropy: None,
             frames: morphogen::mosaic::Frames::EveryDay,
             surface: None,
             ..*params
-        },
-        _ => unreachable!("croton is a mosaic"),
+        }
     });
     let side = f64::from(CELLS).sqrt().round() as i32;
     let params: &'static Params<'static> = Box::leak(Box::new(Params {
@@ -147,8 +149,11 @@ fn fruit_cells() -> SurfaceRelaxation {
     let scenario = Box::leak(Box::new(
         morphogen_scenario::builtin("watermelon-fruit").expect("a built-in scenario"),
     ));
-    let fruit: Params<'static> = scenario.with_preset(|p| match p.model {
-        Model::Mosaic(params) => Params {
+    let fruit: Params<'static> = scenario.with_preset(|p| {
+        let Model::Mosaic(params) = p.model else {
+            unreachable!("watermelon-fruit is a mosaic")
+        };
+        Params {
             types: params.types.to_vec().leak(),
             mask: None,
             anisotropy: None,
@@ -166,8 +171,7 @@ fn fruit_cells() -> SurfaceRelaxation {
                 SurfaceMesh::Triangles { .. } => unreachable!("a built-in shape"),
             }),
             ..*params
-        },
-        _ => unreachable!("watermelon-fruit is a mosaic"),
+        }
     });
     let params: &'static Params<'static> = Box::leak(Box::new(fruit));
     let surface = params.surface.as_ref().expect("a surface");
@@ -231,9 +235,11 @@ fn surface_relaxation_step_per_cell(mut r: SurfaceRelaxation) -> SurfaceRelaxati
 
 fn shrub_grammar() -> String {
     let scenario = morphogen_scenario::builtin("abop-shrub").expect("a built-in scenario");
-    scenario.with_preset(|p| match p.model {
-        Model::LSystem(text) => text.to_owned(),
-        _ => unreachable!("abop-shrub is an L-system"),
+    scenario.with_preset(|p| {
+        let Model::LSystem(text) = p.model else {
+            unreachable!("abop-shrub is an L-system")
+        };
+        text.to_owned()
     })
 }
 

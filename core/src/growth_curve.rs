@@ -35,9 +35,8 @@ pub struct GrowthCurve {
 }
 
 impl GrowthCurve {
-    /// A run over `params`.
-    #[must_use]
-    pub const fn new(params: Params) -> GrowthCurve {
+    /// A run over `params`, ready at day 0 (through [`Start`]).
+    const fn new(params: Params) -> GrowthCurve {
         GrowthCurve { params, day: 0 }
     }
 

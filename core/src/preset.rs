@@ -122,7 +122,7 @@ impl Model<'_> {
                 let mut grammar = crate::lsys::Grammar::new();
                 grammar.parse(p.grammar).is_ok() && !grammar.needs_buffer()
             }
-            _ => true,
+            Model::GrowthCurve(_) | Model::Horn(_) | Model::LSystem(_) => true,
         }
     }
 }

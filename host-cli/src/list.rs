@@ -21,7 +21,12 @@ pub fn list() -> Result<Outcome> {
                 "  (host only: its skeleton grammar needs buffered derivation; the MCU streams)"
                     .to_owned()
             }
-            _ => match morphogen_scenario::firmware::on_own_mesh(s) {
+            Model::GrowthCurve(_)
+            | Model::Horn(_)
+            | Model::LSystem(_)
+            | Model::Mosaic(_)
+            | Model::Body(_)
+            | Model::Bones(_) => match morphogen_scenario::firmware::on_own_mesh(s) {
                 Some(bytes) => format!(
                     "  (on the MCU only when named by MORPHOGEN_SCENARIOS: its own mesh takes {} KB of flash)",
                     bytes.div_ceil(1000)

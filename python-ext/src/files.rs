@@ -9,7 +9,7 @@ use anyhow::{Context, Result};
 use morphogen::preset::Model;
 use morphogen_cli::atomic::{OutputFile, write_atomic};
 use morphogen_cli::folder_lock::FolderLock;
-use morphogen_cli::outputs::{self, Kind, Kinds};
+use morphogen_cli::outputs::{self, Kinds, Product};
 use morphogen_cli::records::StreamFile;
 use morphogen_cli::{exec, jsonl};
 use pyo3::exceptions::PyOSError;
@@ -46,7 +46,7 @@ pub fn picture(py: Python<'_>, scenario: &Scenario, stream: &[u8]) -> PyResult<V
     let scenario = &scenario.inner;
     py.detach(|| {
         let dir = tempfile::tempdir().context("cannot make a temporary folder")?;
-        write_run(scenario, stream, dir.path(), Kinds::only(Kind::Png))?;
+        write_run(scenario, stream, dir.path(), Kinds::parse("png")?)?;
         let path = dir.path().join(main_picture(scenario));
         std::fs::read(&path).with_context(|| format!("cannot read {}", path.display()))
     })
@@ -78,7 +78,7 @@ fn write_run(
     let path = dir.join(exec::STREAM_FILE);
     write_atomic(&path, stream)?;
     let mut written = vec![path.clone()];
-    if kinds.has(Kind::Jsonl) {
+    if kinds.wants(Product::Records) {
         let lines = dir.join(exec::JSONL_FILE);
         let mut file = OutputFile::create(&lines)?;
         jsonl::write_stream(stream, &mut file)

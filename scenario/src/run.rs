@@ -184,7 +184,7 @@ pub fn run(
             body.start(params, seed)?;
             preset::drive(body.as_mut(), &header, sink, progress)
         }
-        model => {
+        model @ (Model::GrowthCurve(_) | Model::Horn(_)) => {
             let mut runner = Box::new(Runner::new());
             runner.start(&model, seed)?;
             preset::drive(runner.as_mut(), &header, sink, progress)

@@ -8,6 +8,7 @@ use morphogen::fx::{Fx, Real};
 use morphogen::geom::Rigid;
 use morphogen::horn::{Emit, Horn, HornError, HornKernel, HornParams, Moment};
 use morphogen::preset::{Model, Runner};
+use morphogen::sim::Start as _;
 use nalgebra::Vector3;
 
 /// Calls `f` with the parameters of the built-in horn scenario `name`.
@@ -312,8 +313,10 @@ fn bad_parameters_are_located_errors() {
                 capacity: 64
             })
         ));
-        // The simulation reports it at its first step, never panics.
-        let mut horn = Horn::new(&bad);
+        // Started, the simulation reports it at its first step too, never
+        // panics.
+        let mut horn = Horn::IDLE;
+        assert!(horn.start(&bad, 0).is_err());
         assert!(morphogen::sim::Simulation::step(&mut horn, &mut Counter(0)).is_err());
     });
 }

@@ -24,17 +24,6 @@ pub struct Horn<'a> {
     frame: u32,
 }
 
-impl<'a> Horn<'a> {
-    /// A run over `params`; invalid parameters make the first
-    /// [`Simulation::step`] fail with the reason.
-    #[must_use]
-    pub fn new(params: &'a HornParams<'a>) -> Horn<'a> {
-        let mut horn = Horn::IDLE;
-        let _ = horn.start(params, 0); // kept for the first step
-        horn
-    }
-}
-
 impl<'a> Start<'a> for Horn<'a> {
     type Params = HornParams<'a>;
 
