@@ -14,6 +14,7 @@ use anyhow::{Result, anyhow};
 use morphogen::body::{BindingSummary, GrowthTable};
 use morphogen::fx::{Fx, Real};
 use morphogen::stream::Record;
+use nalgebra::Vector3;
 use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
 use super::chart::{Axis, Chart, Series, series_colour};
@@ -219,19 +220,15 @@ pub(crate) fn draw(
     let Placement { s, ox, oy, left } = at;
     let left = left * OVERSAMPLE;
     let (s, ox, oy) = (s * OVERSAMPLE, ox * OVERSAMPLE, oy * OVERSAMPLE);
-    let light = {
-        let l = [-0.35f64, 0.65, 0.68];
-        let n = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt();
-        l.map(|c| c / n)
-    };
+    let light = Vector3::new(-0.35f64, 0.65, 0.68).normalize();
     let corners = match shading {
         Shading::Flat => Vec::new(),
         Shading::Smooth => normals::corner_normals(&frame.vertices, &frame.triangles),
     };
     // Red, green and blue of `base` Lambert-shaded by the normal `n` of
     // length `len`.
-    let shade = |n: [f64; 3], len: f64| {
-        let lambert = ((n[0] * light[0] + n[1] * light[1] + n[2] * light[2]) / len).max(0.0);
+    let shade = |n: Vector3<f64>, len: f64| {
+        let lambert = (n.dot(&light) / len).max(0.0);
         let k = (0.35 + 0.65 * lambert) as f32;
         let c = Color::from_rgba(base[0] * k, base[1] * k, base[2] * k, 1.0)
             .unwrap_or(Color::BLACK)
@@ -251,21 +248,19 @@ pub(crate) fn draw(
     for (_, i) in order {
         let t = frame.triangles[i];
         let [a, b, c] = t.map(|v| frame.vertices[v as usize]);
-        let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let n = [
-            e1[1] * e2[2] - e1[2] * e2[1],
-            e1[2] * e2[0] - e1[0] * e2[2],
-            e1[0] * e2[1] - e1[1] * e2[0],
-        ];
-        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-        if len <= 0.0 || n[2] < 0.0 {
+        let [pa, pb, pc] = [a, b, c].map(Vector3::from);
+        let n = (pb - pa).cross(&(pc - pa));
+        let len = n.norm();
+        if len <= 0.0 || n.z < 0.0 {
             continue; // degenerate, or facing away from the viewer
         }
         let at = |p: [f64; 3]| [ox + s * p[0] as f32 - left, oy - s * p[1] as f32];
         let p = [at(a), at(b), at(c)];
         match corners.get(i) {
-            Some(corners) => raster::smooth_triangle(pixmap, p, corners.map(|n| shade(n, 1.0))),
+            Some(corners) => {
+                let shaded = corners.map(|n| shade(Vector3::from(n), 1.0));
+                raster::smooth_triangle(pixmap, p, shaded);
+            }
             None => raster::triangle(pixmap, p, shade(n, len)),
         }
     }
