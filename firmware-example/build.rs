@@ -3,6 +3,11 @@
 //! scenario files by `morphogen_scenario::firmware` (the built-in ones that
 //! fit the MCU, or those `MORPHOGEN_SCENARIOS` names).
 
+#![allow(
+    clippy::expect_used,
+    reason = "a build script reports a failure by panicking"
+)]
+
 use std::env;
 use std::fs;
 use std::path::PathBuf;

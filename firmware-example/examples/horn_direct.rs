@@ -11,7 +11,6 @@
 //! ```
 #![no_std]
 #![no_main]
-#![deny(missing_docs, clippy::unwrap_used, clippy::expect_used)]
 
 #[path = "shared/ram_horn.rs"]
 mod ram_horn;

@@ -11,7 +11,6 @@
 //! ```
 #![no_std]
 #![no_main]
-#![deny(missing_docs, clippy::unwrap_used, clippy::expect_used)]
 
 /// The scenario file as Rust: `PRESETS` (one preset) and `PARAMS_DIGEST`.
 mod scenario {

@@ -18,6 +18,10 @@ pub struct StackPaint {
 impl StackPaint {
     /// Scans up from the bottom of the stack region for the first word the
     /// program has overwritten.
+    #[allow(
+        unsafe_code,
+        reason = "reads the painted stack region the linker script places"
+    )]
     pub fn measure() -> StackPaint {
         unsafe extern "C" {
             static _stack_end: u32;

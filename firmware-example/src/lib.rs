@@ -21,7 +21,6 @@
 //! the receiver needs it), `serve` runs scenarios sent over UART0 (and
 //! needs `oled`, whose idle cell plane holds the message).
 #![no_std]
-#![deny(missing_docs, clippy::unwrap_used, clippy::expect_used)]
 
 #[cfg(all(feature = "semihosting", feature = "rtt"))]
 compile_error!(

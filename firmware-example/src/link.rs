@@ -16,6 +16,14 @@ pub struct Linked<'a, W: Write> {
     pub extent: &'a Bounds,
 }
 
+impl<W: Write> core::fmt::Debug for Linked<'_, W> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Linked")
+            .field("extent", self.extent)
+            .finish_non_exhaustive()
+    }
+}
+
 impl<W: Write> Sink for Linked<'_, W> {
     fn record(&mut self, record: &Record) -> Result<(), SinkError> {
         self.encoder.record(record)?;

@@ -25,6 +25,14 @@ pub struct Screen {
     pub sync: Option<ScreenSync>,
 }
 
+impl core::fmt::Debug for Screen {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Screen")
+            .field("sync", &self.sync)
+            .finish_non_exhaustive()
+    }
+}
+
 impl Screen {
     /// Runs `run` into a [`Drawing`]: `stream` and this screen, its view
     /// fitted to the stream's extent.
@@ -68,6 +76,14 @@ pub struct Drawing<'a, 'p, W: Write> {
     pub oled: &'a mut Oled,
 }
 
+impl<W: Write> core::fmt::Debug for Drawing<'_, '_, W> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Drawing")
+            .field("stream", &self.stream)
+            .finish_non_exhaustive()
+    }
+}
+
 impl<W: Write> Sink for Drawing<'_, '_, W> {
     fn record(&mut self, record: &Record) -> Result<(), SinkError> {
         self.stream.record(record)?;
@@ -91,6 +107,12 @@ const FLAG: &str = "--screen-sync";
 /// script answers once it has taken the OLED's `screendump`).
 pub struct ScreenSync {
     uart: Uart1,
+}
+
+impl core::fmt::Debug for ScreenSync {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("ScreenSync").finish_non_exhaustive()
+    }
 }
 
 impl ScreenSync {

@@ -25,6 +25,7 @@ use crate::leds::Chain;
 /// CRC32) that the bootrom copies to SRAM and runs first to set up
 /// execute-in-place (RP2040 datasheet, 2.8.1 "Processor Controlled Boot
 /// Sequence"); `memory.x` puts them at the start of flash.
+#[allow(unsafe_code, reason = "the boot stage goes where the bootrom reads it")]
 #[unsafe(link_section = ".boot2")]
 #[unsafe(no_mangle)]
 #[used]

@@ -20,7 +20,6 @@
 //! wiring and the commands.
 #![no_std]
 #![no_main]
-#![deny(missing_docs, clippy::unwrap_used, clippy::expect_used)]
 
 use defmt_rtt as _;
 use panic_probe as _;
@@ -55,6 +54,7 @@ use crate::screen::Shown;
 /// flash (as `.data` would be: `Runner::Idle` is not all zeros) nor zeroed
 /// at reset; `main` writes `Runner::Idle` into it in place (as in
 /// `firmware-example`).
+#[allow(unsafe_code, reason = "placed in `.uninit`, not zeroed at reset")]
 #[unsafe(link_section = ".uninit.morphogen.RUNNER")]
 static mut RUNNER: MaybeUninit<Runner<'static>> = MaybeUninit::uninit();
 
@@ -71,6 +71,10 @@ const MATRIX_PLANE_BYTES: usize = plane_bytes(MATRIX);
 const MARGIN: u32 = 1;
 
 #[entry]
+#[allow(
+    unsafe_code,
+    reason = "the one reference to each of the program's statics"
+)]
 fn main() -> ! {
     // SAFETY: `main` runs once and never returns, and nothing else names
     // RUNNER or PLANE, so these are the only references to them, ever.

@@ -8,6 +8,11 @@
 //! `unsafe` block reads or writes one of the UART's byte registers, which
 //! are always mapped.
 
+#![allow(
+    unsafe_code,
+    reason = "raw volatile register accesses and the semihosting break, without a PAC"
+)]
+
 use core::ptr::{read_volatile, write_volatile};
 
 use morphogen::embedded_io::{ErrorType, Write};
