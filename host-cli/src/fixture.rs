@@ -88,8 +88,9 @@ pub const FIXTURES_ENV: &str = "MORPHOGEN_FIXTURES";
 
 /// The fixtures folder: `given` (`--fixtures`), else
 /// `$MORPHOGEN_FIXTURES`, else `fixtures/` in the current folder or the
-/// nearest parent that has one — so an installed `morphogen` works inside
-/// the repository and inside a user's project alike. With nothing found, a
+/// nearest parent that has one (as a path from here: `../fixtures`) — so
+/// an installed `morphogen` works inside the repository and inside a
+/// user's project alike. With nothing found, a
 /// writer (`bless`) gets a new `fixtures/` here.
 ///
 /// # Errors
@@ -102,12 +103,11 @@ pub fn locate(given: Option<PathBuf>, for_writing: bool) -> Result<PathBuf> {
         return Ok(PathBuf::from(dir));
     }
     let here = std::env::current_dir().context("cannot read the current folder")?;
-    if let Some(dir) = here
-        .ancestors()
-        .map(|a| a.join("fixtures"))
-        .find(|d| d.is_dir())
-    {
-        return Ok(dir);
+    // As a path from here (`fixtures`, `../fixtures`), as messages show it.
+    if let Some(up) = here.ancestors().position(|a| a.join("fixtures").is_dir()) {
+        return Ok(std::iter::repeat_n("..", up)
+            .collect::<PathBuf>()
+            .join("fixtures"));
     }
     if for_writing {
         return Ok(PathBuf::from("fixtures"));

@@ -1,7 +1,8 @@
 //! docs/golden-files.md, followed in a new empty folder: every `sh` block
 //! run in order, line by line (a line commented `exit 1` must exit 1, any
 //! other 0; `morphogen review` answered at a pseudo-terminal as its
-//! comment says), and each CI job's `morphogen verify` run with that CI
+//! comment says), what its lines printed compared with the `text` block
+//! after it, and each CI job's `morphogen verify` run with that CI
 //! system's variables.
 
 #![allow(
@@ -67,6 +68,35 @@ fn review(dir: &Path, answer: &str) -> String {
     all
 }
 
+/// Whether `printed` is what a `text` block shows: its lines in order,
+/// each line `…` standing for any number of lines (ends of lines, and
+/// the carriage returns of a terminal, left out).
+fn shows(block: &[String], printed: &str) -> bool {
+    let printed: Vec<&str> = printed
+        .lines()
+        .map(|l| l.trim_end_matches('\r').trim_end())
+        .collect();
+    let mut at = 0;
+    let mut skipping = false;
+    for line in block.iter().map(|l| l.trim_end()) {
+        if line.trim() == "…" {
+            skipping = true;
+            continue;
+        }
+        let found = if skipping {
+            printed[at..]
+                .iter()
+                .position(|p| *p == line)
+                .map(|k| at + k)
+        } else {
+            (printed.get(at) == Some(&line)).then_some(at)
+        };
+        let Some(k) = found else { return false };
+        (at, skipping) = (k + 1, false);
+    }
+    skipping || at == printed.len()
+}
+
 /// Runs the `morphogen verify` line of a CI job (a `yaml` block) as that
 /// CI system would, in `dir`: it must pass and write its JUnit report.
 fn ci_job(block: &Block, dir: &Path, scratch: &Path) {
@@ -107,10 +137,13 @@ fn the_golden_files_guide_runs_as_written() {
     let tmp = tempfile::tempdir().unwrap();
     let project = tmp.path().join("my-project");
     fs::create_dir(&project).unwrap();
-    let (mut commands, mut jobs) = (0, 0);
+    let (mut commands, mut jobs, mut outputs) = (0, 0, 0);
+    // What the lines of the last `sh` block printed.
+    let mut printed = String::new();
     for block in blocks(&text) {
         match block.info.as_str() {
             "sh" => {
+                printed.clear();
                 for line in block.lines.iter().filter(|l| !l.trim().is_empty()) {
                     commands += 1;
                     let comment = line.split_once(" # ").map_or("", |(_, c)| c.trim());
@@ -121,12 +154,22 @@ fn the_golden_files_guide_runs_as_written() {
                             .expect("a review line says its answer");
                         let shown = review(&project, answer);
                         assert!(shown.contains("1 accepted, 0 rejected"), "{shown}");
+                        printed.push_str(&shown);
                         continue;
                     }
                     let expected = if comment.starts_with("exit 1") { 1 } else { 0 };
                     let (code, out) = bash(line, &project, &[]);
                     assert_eq!(code, Some(expected), "{line}\n{out}");
+                    printed.push_str(&out);
                 }
+            }
+            "text" => {
+                assert!(
+                    shows(&block.lines, &printed),
+                    "the text block at line {} is not what was printed:\n{printed}",
+                    block.line
+                );
+                outputs += 1;
             }
             "sh skip" => assert!(
                 block.lines.iter().all(|l| l.starts_with("cargo install ")),
@@ -141,8 +184,8 @@ fn the_golden_files_guide_runs_as_written() {
         }
     }
     assert!(
-        commands >= 8 && jobs == 2,
-        "{commands} commands, {jobs} CI jobs"
+        commands >= 8 && jobs == 2 && outputs == 2,
+        "{commands} commands, {jobs} CI jobs, {outputs} outputs"
     );
     // Where the guide leaves the project: the accepted change blessed, by
     // this Morphogen, nothing pending.
@@ -151,4 +194,38 @@ fn the_golden_files_guide_runs_as_written() {
     assert!(!project.join("fixtures/my-horn/stream.bin.pending").exists());
     let scenario = fs::read_to_string(project.join("fixtures/my-horn/scenario.toml")).unwrap();
     assert!(scenario.contains("width = 26"), "{scenario}");
+}
+
+/// The README's example of a mismatch is what `verify` prints: a scenario
+/// file `my-curve.toml` (the growth curve renamed) blessed, then its
+/// sigmoid widened from 22 to 25 days.
+#[test]
+fn the_readme_mismatch_is_what_verify_prints() {
+    let readme = Path::new(env!("CARGO_MANIFEST_DIR")).join("../README.md");
+    let text = fs::read_to_string(&readme).unwrap();
+    let shown = blocks(&text)
+        .into_iter()
+        .find(|b| {
+            b.lines
+                .first()
+                .is_some_and(|l| l.starts_with("MISMATCH  my-curve"))
+        })
+        .expect("the README's mismatch example");
+    let project = tempfile::tempdir().unwrap();
+    let dir = project.path();
+    for line in [
+        r#"morphogen show growth-curve | sed 's/^name = "growth-curve"/name = "my-curve"/' > my-curve.toml"#,
+        "morphogen bless my-curve.toml",
+        "sed -i 's/width = 22/width = 25/' my-curve.toml",
+    ] {
+        let (code, out) = bash(line, dir, &[]);
+        assert_eq!(code, Some(0), "{line}\n{out}");
+    }
+    let (code, printed) = bash("morphogen verify my-curve.toml", dir, &[]);
+    assert_eq!(code, Some(1), "{printed}");
+    assert!(
+        shows(&shown.lines, &printed),
+        "README.md line {} is not what was printed:\n{printed}",
+        shown.line
+    );
 }
