@@ -1,9 +1,9 @@
 //! The kinds of output file `morphogen run` writes, as `--only` selects
 //! them. A model states its products ([`Product`]: a frame's mesh, a
 //! chart of the run, a table…); each kind, in a module of its own, says
-//! which products it takes and writes them in its format ([`Format`]);
-//! [`KINDS`] lists them. A new kind of file is a new module here and its
-//! line in [`KINDS`]: the models and the driver hand it their products
+//! which products it takes and writes them in its format (`Format`);
+//! `KINDS` lists them. A new kind of file is a new module here and its
+//! line in `KINDS`: the models and the driver hand it their products
 //! unchanged.
 
 use std::fmt;
