@@ -60,6 +60,13 @@ cargo clippy --workspace --all-targets \
 # firmware-rp2040 shares firmware-example's target folder: the host-side
 # build dependencies (the scenario compiler) are built once.
 (cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo clippy --release -- -D warnings)
+# The fuzz targets (workspaces of their own, built into fuzz/target as
+# scripts/fuzz.sh builds them) and the L-system peer (built where
+# scripts/bench-peers.sh builds it): a few seconds once built.
+(cd core/fuzz && CARGO_TARGET_DIR=../../fuzz/target cargo clippy --all-targets -- -D warnings)
+(cd fuzz && CARGO_TARGET_DIR=target cargo clippy --all-targets -- -D warnings)
+peers_target="$(realpath -m "${CARGO_TARGET_DIR:-target}")/peers"
+(cd scripts/peers/lsystem && CARGO_TARGET_DIR="$peers_target" cargo clippy --all-targets -- -D warnings)
 
 step "documentation: cargo doc without a warning (the core with every feature, as docs.rs builds it)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps

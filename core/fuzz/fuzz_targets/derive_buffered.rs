@@ -70,15 +70,17 @@ fuzz_target!(|data: &[u8]| {
     let mut a = vec![Module::default(); BUFFER_MODULES];
     let mut b = vec![Module::default(); BUFFER_MODULES];
     let mut links = vec![Neighbours::default(); BUFFER_MODULES];
-    let mut buffered = Box::new(LSystem::<_>::with_derivation(Buffered::new(&mut a, &mut b, &mut links)));
-    match buffered.start(text, 1) {
-        Err(Error::Lsys(LsysError::Parse(e))) => {
-            assert!(e.line >= 1 && e.column >= 1);
-            assert!(e.line as usize <= text.split('\n').count());
-            return;
-        }
-        Err(e) => panic!("load failed without a location: {e}"),
-        Ok(()) => {}
+    let mut buffered = Box::new(LSystem::<_>::with_derivation(Buffered::new(
+        &mut a, &mut b, &mut links,
+    )));
+    if let Err(e) = buffered.start(text, 1) {
+        let lines = text.split('\n').count();
+        assert!(
+            matches!(&e, Error::Lsys(LsysError::Parse(p))
+                if p.line >= 1 && p.column >= 1 && p.line as usize <= lines),
+            "refused without a line and column in the text: {e}"
+        );
+        return;
     }
     let (records, end) = drive(buffered.as_mut());
     if let End::Failed(Error::Lsys(LsysError::Capacity {
@@ -97,9 +99,11 @@ fuzz_target!(|data: &[u8]| {
         return;
     }
     let mut streaming = Box::new(LSystem::new());
-    streaming
-        .start(text, 1)
-        .expect("the buffered simulation parsed it");
+    assert_eq!(
+        streaming.start(text, 1),
+        Ok(()),
+        "the buffered simulation parsed it"
+    );
     let (streamed, streamed_end) = drive(streaming.as_mut());
     if is_capacity(&end) || is_capacity(&streamed_end) {
         // One derivation ran out of room: they agree up to there.

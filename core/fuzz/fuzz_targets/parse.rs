@@ -29,20 +29,20 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let mut sim = Box::new(LSystem::new());
-    match sim.start(text, 1) {
-        Err(Error::Lsys(LsysError::Parse(e))) => {
-            assert!(e.line >= 1 && e.column >= 1);
-            assert!(e.line as usize <= text.split('\n').count());
-        }
-        Err(e) => panic!("load failed without a location: {e}"),
-        Ok(()) => {
-            let mut sink = Budget(5000);
-            for _ in 0..64 {
-                match sim.step(&mut sink) {
-                    Ok(p) if !p.finished() => {}
-                    _ => break,
-                }
-            }
+    if let Err(e) = sim.start(text, 1) {
+        let lines = text.split('\n').count();
+        assert!(
+            matches!(&e, Error::Lsys(LsysError::Parse(p))
+                if p.line >= 1 && p.column >= 1 && p.line as usize <= lines),
+            "refused without a line and column in the text: {e}"
+        );
+        return;
+    }
+    let mut sink = Budget(5000);
+    for _ in 0..64 {
+        match sim.step(&mut sink) {
+            Ok(p) if !p.finished() => {}
+            _ => break,
         }
     }
 });
