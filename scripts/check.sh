@@ -78,7 +78,7 @@ cargo clippy -p morphogen --target thumbv6m-none-eabi -- -D warnings
 step "core check for RISC-V (riscv32imac: the cores of ESP32-C3, CH32V and GD32V boards; the firmware runs in QEMU's virt machine in scripts/targets-check.sh)"
 cargo check -p morphogen --target riscv32imac-unknown-none-elf --features rig
 
-step "the embedding examples build for Cortex-M0+ (firmware-example/examples, profile small: docs/embedding.md's flash and RAM table), the directly driven horn under 32 KB of flash"
+step "the embedding examples build for Cortex-M0+ (firmware-example/examples, profile small), with docs/embedding.md's flash and static RAM, the directly driven horn under 32 KB of flash"
 # One build of the four examples, as docs/embedding.md measures them (the
 # streams are checked on the host by tests/tests/embedding.rs). `size` is
 # binutils', which links every host build.
@@ -86,8 +86,39 @@ step "the embedding examples build for Cortex-M0+ (firmware-example/examples, pr
 # (scripts/fixed-paths.sh): the same flash on any machine.
 (root="$PWD" && . scripts/fixed-paths.sh && cd firmware-example && cargo build --profile small \
     --target thumbv6m-none-eabi --no-default-features --features semihosting,oled --examples)
-direct_flash="$(size -A "${CARGO_TARGET_DIR:-firmware-example/target}"/thumbv6m-none-eabi/small/examples/horn_direct \
-    | awk '$1 ~ /^\.(vector_table|text|rodata|data)$/ {s += $2} END {print s}')"
+# Each example's flash and static RAM, summed as the doc's commands sum
+# them, against its row of the doc's table. Its peak stack is left out: the
+# doc measures it by running the example in QEMU, which CI does not do.
+examples="${CARGO_TARGET_DIR:-firmware-example/target}/thumbv6m-none-eabi/small/examples"
+grouped() { sed ':a; s/\B[0-9]\{3\}\>/,&/; ta' <<<"$1"; } # 65500 -> 65,500
+# table_differs EXAMPLE COLUMN TABLE BUILT: true, and says so, when the
+# table's figure is not the built one.
+table_differs() {
+    [ "$3" != "$4" ] || return 1
+    echo "docs/embedding.md: $1's $2 is $(grouped "$3") B in the table, $(grouped "$4") B as built (thumbv6m, profile small)" >&2
+}
+table_wrong=0
+for example in horn_direct horn_runner horn_scenario horn_draw; do
+    read -r flash ram < <(size -A "$examples/$example" | awk '
+        $1 ~ /^\.(vector_table|text|rodata|data)$/ {f += $2}
+        $1 ~ /^\.(data|bss|uninit)$/ {r += $2}
+        END {print f, r}')
+    [ "$example" != horn_direct ] || direct_flash="$flash"
+    # The table's row whose example is `NAME.rs`: flash and static RAM are
+    # its fourth and fifth columns (awk's fields 5 and 6).
+    read -r table_flash table_ram < <(awk -F '|' -v name="\`$example.rs\`" 'index($3, name) {
+        gsub(/[^0-9]/, "", $5); gsub(/[^0-9]/, "", $6); print $5, $6; exit }' docs/embedding.md) || {
+        echo "docs/embedding.md: no row for $example.rs in the flash and RAM table" >&2
+        table_wrong=1
+        continue
+    }
+    if table_differs "$example" flash "$table_flash" "$flash"; then table_wrong=1; fi
+    if table_differs "$example" "static RAM" "$table_ram" "$ram"; then table_wrong=1; fi
+done
+[ "$table_wrong" -eq 0 ] || {
+    echo "if the change is meant, write the built figures in docs/embedding.md's table (its commands under \"How the figures are measured\" print them)" >&2
+    exit 1
+}
 [ "$direct_flash" -lt 32768 ] || {
     echo "horn_direct (thumbv6m, profile small): $direct_flash B of flash, not under 32 KB (docs/embedding.md)" >&2
     exit 1
