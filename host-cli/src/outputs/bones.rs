@@ -22,12 +22,11 @@ use nalgebra::Vector3;
 use super::body::{self, Extent, Frame, Placement, Shading, canvas, canvases, draw, rgb_of, solid};
 use super::chart::{Axis, Chart, Series};
 use super::driver::{self, Closing, Montage, Products, Rgb};
-use super::kinds::{Kinds, MeshFiles, Product};
+use super::kinds::{Kinds, MeshFiles, Product, Sequence};
 use super::mesh;
 use super::numbered::FileSeries;
 use super::picture::Canvases;
 use super::plot::Drawing;
-use super::slots::OrderedAnimation;
 use super::text::trimmed;
 use crate::atomic::write_atomic;
 use crate::records::Records;
@@ -324,9 +323,13 @@ impl Products for Bones<'_> {
         Some(FileSeries::BONES)
     }
 
-    fn animation(&self, path: &Path, frames: usize) -> Result<Option<OrderedAnimation>> {
+    fn animation(&self, frames: usize) -> Result<Option<Sequence>> {
         let height = self.scale()?.height;
-        OrderedAnimation::new(path, WIDTH, height, frames).map(Some)
+        Ok(Some(Sequence {
+            size: (WIDTH, height),
+            palette: None,
+            frames,
+        }))
     }
     fn picture(&self, f: &BoneFrame) -> Result<Rgb> {
         let Scale { b, s, ones, .. } = self.scale()?;

@@ -6,24 +6,23 @@
 //! (the frame count, the common scale, the tables), then the files, drawn
 //! by parallel workers and handed over in order.
 
-use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use anyhow::{Result, anyhow, bail};
 use morphogen::stream::Record;
 
-use super::kinds::{ANIMATION, Kinds, MeshFiles, MeshSeries, Product};
+use super::kinds::{Kinds, MeshFiles, MeshSeries, PictureSeries, Pixels, Product, Sequence};
 use super::mesh;
-use super::montage::{paste_rgb, save_montage_rgb};
+use super::montage::{labelled, paste_rgb};
 use super::numbered::{FileSeries, Numbering};
 use super::picture;
 use super::pipeline::pipeline;
 use super::plot::{self, Drawing};
-use super::slots::{OrderedAnimation, animation_frames};
+use super::slots::animation_frames;
 use crate::records::{Place, Records};
 
-/// A picture as saved: RGB bytes row by row.
+/// A picture as drawn: RGB bytes row by row.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct Rgb {
     /// Pixels across.
@@ -37,33 +36,29 @@ pub(crate) struct Rgb {
 /// A frame's picture, as its still, its animation frame and its tile use
 /// it.
 pub(crate) trait Still: Send + Sync {
-    /// Saves it as a PNG at `path`.
-    ///
-    /// # Errors
-    /// When the file cannot be written.
-    fn save(&self, path: &Path) -> Result<()>;
-
-    /// Its pixels as RGB bytes, row by row.
-    fn rgb(&self) -> Cow<'_, [u8]>;
-
-    /// Its pixels as indices into its palette, if it has one (an indexed
-    /// animation's frames).
-    fn indices(&self) -> Option<&[u8]> {
-        None
-    }
+    /// Its pixels.
+    fn pixels(&self) -> Pixels<'_>;
 }
 
 impl Still for Rgb {
-    fn save(&self, path: &Path) -> Result<()> {
-        picture::save_rgb(self.width, self.height, &self.bytes, path)
-    }
-
-    fn rgb(&self) -> Cow<'_, [u8]> {
-        Cow::Borrowed(&self.bytes)
+    fn pixels(&self) -> Pixels<'_> {
+        Pixels::Rgb {
+            size: (self.width, self.height),
+            rgb: &self.bytes,
+        }
     }
 }
 
 impl Rgb {
+    /// The pixels of `pixmap`, every one of which is opaque.
+    pub(crate) fn opaque(pixmap: &tiny_skia::Pixmap) -> Rgb {
+        Rgb {
+            width: pixmap.width(),
+            height: pixmap.height(),
+            bytes: picture::rgb_bytes(pixmap),
+        }
+    }
+
     /// A drawing at twice its size, averaged down ([`picture::half_rgb`]).
     ///
     /// # Errors
@@ -77,8 +72,8 @@ impl Rgb {
     }
 }
 
-/// A picture of several frames side by side ([`save_montage_rgb`]), each
-/// tile labelled with its frame's label.
+/// A picture of several frames side by side ([`labelled`]), each tile
+/// labelled with its frame's label.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Montage {
     /// Its file name without the extension its kind adds (`years`).
@@ -172,12 +167,12 @@ pub(crate) trait Products: Sync {
         None
     }
 
-    /// The animation of `frames` of the frames' pictures at `path`, if
-    /// the model shows one.
+    /// The sequence of `frames` of the frames' pictures (an animation),
+    /// if the model shows one.
     ///
     /// # Errors
-    /// When the file cannot be started.
-    fn animation(&self, _path: &Path, _frames: usize) -> Result<Option<OrderedAnimation>> {
+    /// When the run is not surveyed.
+    fn animation(&self, _frames: usize) -> Result<Option<Sequence>> {
         Ok(None)
     }
 
@@ -257,8 +252,6 @@ pub(crate) struct Closing<M> {
     /// What each frame's own files measured: the frame's position, its
     /// measure.
     pub measures: Vec<(usize, M)>,
-    /// How the numbered files are named.
-    pub numbering: Numbering,
 }
 
 /// A frame's work for the drawing workers.
@@ -285,9 +278,9 @@ struct Plan<'a> {
     /// Whether every frame has files of its own, and whether those need
     /// its picture.
     frame_work: (bool, bool),
-    /// The frames the animation shows (by position), and it.
+    /// The frames the animation shows (by position), and what takes them.
     picked: Vec<usize>,
-    animation: Option<OrderedAnimation>,
+    animation: Vec<Box<dyn PictureSeries>>,
     montage: Option<(Montage, Mutex<Vec<u8>>)>,
 }
 
@@ -299,12 +292,15 @@ impl<'a> Plan<'a> {
         } else {
             Vec::new()
         };
-        let animation = if picked.is_empty() {
-            None
-        } else {
-            model.animation(&dir.join(ANIMATION), picked.len())?
+        let sequence = match picked.len() {
+            0 => None,
+            frames => model.animation(frames)?,
         };
-        if animation.is_none() {
+        let animation = match sequence {
+            Some(sequence) => kinds.animations(dir, &sequence)?,
+            None => Vec::new(),
+        };
+        if animation.is_empty() {
             picked.clear();
         }
         let pictures = kinds.wants(Product::FramePicture);
@@ -357,13 +353,14 @@ impl<'a> Plan<'a> {
             let rgb = rgb.into_inner().map_err(|_| anyhow!("a drawing stopped"))?;
             let boxes = (0..labels.len()).map(|n| montage.tile_box(n));
             let labels: Vec<_> = boxes.zip(labels).collect();
-            let save = |path: &Path| save_montage_rgb(rgb.clone(), montage.size(), &labels, path);
+            let size = montage.size();
+            let rgb = labelled(rgb, size, &labels)?;
+            let pixels = Pixels::Rgb { size, rgb: &rgb };
             let (kinds, dir) = (self.kinds, self.dir);
-            written.extend(kinds.picture(Product::FramePicture, dir, montage.name, save)?);
+            written.extend(kinds.picture(Product::FramePicture, &pixels, dir, montage.name)?);
         }
-        if let Some(animation) = self.animation {
-            animation.finish()?;
-            written.push(self.dir.join(ANIMATION));
+        for animation in self.animation {
+            written.extend(animation.finish()?);
         }
         Ok(written)
     }
@@ -438,7 +435,6 @@ pub(crate) fn write<M: Products, R: Records + ?Sized>(
     let closing = Closing {
         montage: plan.montage.is_some(),
         measures,
-        numbering: plan.numbering,
     };
     written.extend(plan.finish(labels)?);
     if kinds.wants(Product::Drawing) {
@@ -488,7 +484,7 @@ fn frame_files<M: Products>(
         (Some(_), Some(n)) => Some((n, model.tile(&job.frame, n)?)),
         _ => None,
     };
-    let animated = plan.animation.as_ref().zip(job.slot);
+    let animated = job.slot.filter(|_| !plan.animation.is_empty());
     let shown_as_tile = matches!(tile, Some((_, None)));
     let (files, pictured) = plan.frame_work;
     let picture = if plan.stills.is_some() || animated.is_some() || shown_as_tile || pictured {
@@ -498,29 +494,23 @@ fn frame_files<M: Products>(
     };
     if let (Some(series), Some(p)) = (plan.stills, &picture) {
         let stem = plan.numbering.stem(series, index);
-        paths.extend(kinds.picture(Product::FramePicture, dir, &stem, |path| p.save(path))?);
+        paths.extend(kinds.picture(Product::FramePicture, &p.pixels(), dir, &stem)?);
     }
     let label = model.label(&job.frame);
     if let (Some((n, own)), Some((montage, rgb))) = (tile, &plan.montage) {
         let drawn = match (&own, &picture) {
-            (Some(own), _) => own.rgb(),
-            (None, Some(p)) => p.rgb(),
+            (Some(own), _) => own.pixels().rgb(),
+            (None, Some(p)) => p.pixels().rgb(),
             (None, None) => bail!("a montage tile was not drawn"),
         };
         let mut rgb = rgb.lock().map_err(|_| anyhow!("a drawing stopped"))?;
         let (width, _) = montage.size();
         paste_rgb(&mut rgb, width, montage.tile_box(n), &drawn)?;
     }
-    if let (Some((animation, slot)), Some(p)) = (animated, &picture) {
-        let bytes = if animation.is_indexed() {
-            let indices = p.indices();
-            indices
-                .ok_or_else(|| anyhow!("an indexed animation's frame has no palette"))?
-                .to_vec()
-        } else {
-            p.rgb().into_owned()
-        };
-        animation.frame(slot, bytes, label.clone())?;
+    if let (Some(slot), Some(p)) = (animated, &picture) {
+        for animation in &plan.animation {
+            animation.frame(slot, &p.pixels(), &label)?;
+        }
     }
     let measure = if files {
         let (own, measure) =

@@ -1,38 +1,35 @@
 //! Montages: pictures of several frames side by side, each tile
 //! labelled with its time, drawn at twice their size and halved.
 
-use std::path::Path;
-
 use anyhow::{Result, bail};
 use tiny_skia::Pixmap;
 
 use super::animation::{self, Pixels};
 use super::picture;
 
-/// Writes `pixmap`, a montage drawn at twice its size (opaque), as an
-/// RGB PNG of half that size at `path` ([`picture::half_rgb`]), each
-/// label drawn ([`animation::draw_label`]) into the top-left corner of
-/// its tile `[x, y, width, height]` of the halved picture.
+/// The pixels of `pixmap`, a montage drawn at twice its size (opaque),
+/// halved ([`picture::half_rgb`]) as RGB bytes, each label drawn
+/// ([`animation::draw_label`]) into the top-left corner of its tile
+/// `[x, y, width, height]` of the halved picture.
 ///
 /// # Errors
-/// When `pixmap` is less than 2 pixels wide or high, a tile is not
-/// inside the halved picture, or the file cannot be written.
-pub fn save_montage(pixmap: &Pixmap, labels: &[([u32; 4], String)], path: &Path) -> Result<()> {
+/// When `pixmap` is less than 2 pixels wide or high, or a tile is not
+/// inside the halved picture.
+pub fn montage(pixmap: &Pixmap, labels: &[([u32; 4], String)]) -> Result<Vec<u8>> {
     let rgb = picture::half_rgb(pixmap)?;
-    save_montage_rgb(rgb, (pixmap.width() / 2, pixmap.height() / 2), labels, path)
+    labelled(rgb, (pixmap.width() / 2, pixmap.height() / 2), labels)
 }
 
-/// [`save_montage`] of a montage already halved: `rgb`, `pw × ph` RGB
-/// pixels row by row.
+/// [`montage`] of a montage already halved: `rgb`, `pw × ph` RGB pixels
+/// row by row, its labels drawn in.
 ///
 /// # Errors
-/// As [`save_montage`].
-pub fn save_montage_rgb(
+/// When a tile is not inside the picture.
+pub fn labelled(
     mut rgb: Vec<u8>,
     (pw, ph): (u32, u32),
     labels: &[([u32; 4], String)],
-    path: &Path,
-) -> Result<()> {
+) -> Result<Vec<u8>> {
     for &([x, y, w, h], ref label) in labels {
         if x.checked_add(w).is_none_or(|r| r > pw) || y.checked_add(h).is_none_or(|b| b > ph) {
             bail!("the tile {x},{y} {w}×{h} is outside the {pw}×{ph} picture");
@@ -40,7 +37,7 @@ pub fn save_montage_rgb(
         let origin = [x as usize, y as usize];
         animation::Label::new(w, h, label)?.draw(&mut rgb, pw as usize, origin, Pixels::Rgb);
     }
-    picture::save_rgb(pw, ph, &rgb, path)
+    Ok(rgb)
 }
 
 /// Copies `tile`, RGB bytes row by row, into the box `[x, y, w, h]` of
@@ -81,11 +78,8 @@ mod tests {
             ([0, 0, 160, 120], "day 3".to_string()),
             ([160, 0, 160, 120], "age 6.0 months".to_string()),
         ];
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("m.png");
-        save_montage(&pixmap, &labels, &path).unwrap();
+        let shown = montage(&pixmap, &labels).unwrap();
         let whole = picture::half_rgb(&pixmap).unwrap();
-        let montage = Pixmap::load_png(&path).unwrap();
         for ([x, _, w, h], label) in &labels {
             let (x, w) = (*x as usize, *w as usize);
             let mut tile: Vec<u8> = whole
@@ -93,21 +87,14 @@ mod tests {
                 .flat_map(|row| row[x * 3..(x + w) * 3].to_vec())
                 .collect();
             animation::draw_label(&mut tile, w as u32, *h, Pixels::Rgb, label).unwrap();
-            let shown: Vec<u8> = montage
-                .pixels()
-                .chunks_exact(320)
-                .flat_map(|row| {
-                    row[x..x + w]
-                        .iter()
-                        .flat_map(|p| [p.red(), p.green(), p.blue()])
-                })
+            let shown: Vec<u8> = shown
+                .chunks_exact(320 * 3)
+                .flat_map(|row| row[x * 3..(x + w) * 3].to_vec())
                 .collect();
             assert_eq!(shown, tile, "{label}");
         }
         let outside = [([200, 0, 160, 120], "x".to_string())];
-        let e = save_montage(&pixmap, &outside, &path)
-            .unwrap_err()
-            .to_string();
+        let e = montage(&pixmap, &outside).unwrap_err().to_string();
         assert_eq!(e, "the tile 200,0 160×120 is outside the 320×120 picture");
     }
 }

@@ -21,13 +21,12 @@ use morphogen::fx::Real as _;
 use morphogen::stream::Record;
 use tiny_skia::{Color, Pixmap};
 
-use super::animation::{AnimationWriter, Pixels};
+use super::driver::{Rgb, Still};
 use super::fill::Filler;
-use super::kinds::{ANIMATION, Kinds, Product, StreamedMesh};
+use super::kinds::{Kinds, PictureSeries, Product, Sequence, StreamedMesh};
 use super::mesh::{self, GroupId, Numbers, ObjStyle};
-use super::picture::{self, rgb_bytes};
 use super::plot::{Drawing, Pen, Stroke};
-use super::slots::{ANIMATION_DELAY_MS, animation_frames};
+use super::slots::animation_frames;
 use super::text::{self, Whole};
 use crate::atomic::OutputFile;
 use crate::records::{Place, Records};
@@ -445,12 +444,8 @@ pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Resu
     })?;
     let mut written = Vec::new();
     if let Some(sorted) = sorted {
-        let mut sorted = Some(sorted);
-        let save = |path: &Path| {
-            let sorted = sorted.take().context("the plant is drawn once")?;
-            picture::save(&render(extent, 1000, |draw| sorted.drain(draw))?, path)
-        };
-        written.extend(kinds.picture(Product::Picture, dir, "plant", save)?);
+        let drawn = Rgb::opaque(&render(extent, 1000, |draw| sorted.drain(draw))?);
+        written.extend(kinds.picture(Product::Picture, &drawn.pixels(), dir, "plant")?);
     }
     for m in meshes {
         written.extend(m.finish()?);
@@ -460,50 +455,53 @@ pub fn write<R: Records + ?Sized>(records: &R, dir: &Path, kinds: Kinds) -> Resu
         written.extend(kinds.drawing(&strokes.drawing(), dir)?);
     }
     if kinds.wants(Product::Animation) && frames.starts.len() > 1 {
-        let path = dir.join(ANIMATION);
-        written.push(animate(records, dir, &frames, extent, &path)?);
+        written.extend(animate(records, dir, &frames, extent, kinds)?);
     }
     Ok(written)
 }
 
-/// Writes `animation.png` of a plant's frames (every frame, or 60 spread
-/// evenly), each drawn as `plant.png` is, to the extent of all of them.
+/// Writes (those of `kinds`) `animation.png` of a plant's frames (every
+/// frame, or 60 spread evenly), each drawn as `plant.png` is, to the
+/// extent of all of them; returns the paths.
 fn animate<R: Records + ?Sized>(
     records: &R,
     dir: &Path,
     frames: &Frames,
     last: Extent,
-    path: &Path,
-) -> Result<PathBuf> {
+    kinds: Kinds,
+) -> Result<Vec<PathBuf>> {
     let mut extent = frames.extent;
     for k in 0..2 {
         extent.lo[k] = extent.lo[k].min(last.lo[k]);
         extent.hi[k] = extent.hi[k].max(last.hi[k]);
     }
     let picked = animation_frames(frames.starts.len());
-    let mut apng: Option<AnimationWriter> = None;
-    for &k in &picked {
+    let mut series: Option<Vec<Box<dyn PictureSeries>>> = None;
+    for (slot, &k) in picked.iter().enumerate() {
         let (start, index) = frames.starts[k];
         let mut sorted = depth::Sort::new(dir);
         frame_items(records, start, |item| sorted.push(item))?;
-        let pixmap = render(extent, 480, |draw| sorted.drain(draw))?;
-        let apng = match &mut apng {
-            Some(a) => a,
-            None => apng.insert(AnimationWriter::new(
-                path,
-                pixmap.width(),
-                pixmap.height(),
-                Pixels::Rgb,
-                u32::try_from(picked.len())?,
-                ANIMATION_DELAY_MS,
+        let drawn = Rgb::opaque(&render(extent, 480, |draw| sorted.drain(draw))?);
+        let series = match &mut series {
+            Some(series) => series,
+            None => series.insert(kinds.animations(
+                dir,
+                &Sequence {
+                    size: (drawn.width, drawn.height),
+                    palette: None,
+                    frames: picked.len(),
+                },
             )?),
         };
-        apng.frame(rgb_bytes(&pixmap), &format!("step {index}"))?;
+        for s in series.iter() {
+            s.frame(slot, &drawn.pixels(), &format!("step {index}"))?;
+        }
     }
-    if let Some(apng) = apng {
-        apng.finish()?;
+    let mut written = Vec::new();
+    for s in series.into_iter().flatten() {
+        written.extend(s.finish()?);
     }
-    Ok(path.to_path_buf())
+    Ok(written)
 }
 
 #[cfg(test)]

@@ -17,12 +17,11 @@ use morphogen::stream::Record;
 
 use super::chart::{Axis, Chart, Series, series_colour};
 use super::driver::{self, Closing, Montage, Products, Rgb};
-use super::kinds::{Kinds, MeshFiles};
+use super::kinds::{Kinds, MeshFiles, Sequence};
 use super::mesh;
 use super::numbered::FileSeries;
 use super::picture::Canvases;
 use super::plot::Drawing;
-use super::slots::OrderedAnimation;
 use super::text::trimmed;
 use crate::atomic::write_atomic;
 use crate::records::Records;
@@ -196,9 +195,13 @@ impl Products for Body<'_> {
         Some(FileSeries::SIDES)
     }
 
-    fn animation(&self, path: &Path, frames: usize) -> Result<Option<OrderedAnimation>> {
+    fn animation(&self, frames: usize) -> Result<Option<Sequence>> {
         let height = Body::height(self.extent.bounds(), SIDE_WIDTH);
-        OrderedAnimation::new(path, SIDE_WIDTH, height, frames).map(Some)
+        Ok(Some(Sequence {
+            size: (SIDE_WIDTH, height),
+            palette: None,
+            frames,
+        }))
     }
     fn picture(&self, f: &Frame) -> Result<Rgb> {
         let (b, sides) = self.sides()?;

@@ -22,11 +22,10 @@ use morphogen::stream::Record;
 use tiny_skia::Pixmap;
 
 use super::chart::{Axis, Chart, Series};
-use super::driver::{self, Closing, Montage, Products, Rgb};
-use super::kinds::{Kinds, MeshFiles, Product};
+use super::driver::{self, Closing, Montage, Products, Rgb, Still};
+use super::kinds::{Kinds, MeshFiles, Product, Sequence};
 use super::numbered::FileSeries;
 use super::plot::Drawing;
-use super::slots::OrderedAnimation;
 use super::text::trimmed;
 use super::{mesh, tip_bend};
 use crate::records::Records;
@@ -37,7 +36,7 @@ mod view;
 
 pub use frames::{Frame, Framer, P3, Ring, frames};
 pub use shape::{Mesh, Triangle, mesh, solid};
-use view::{Fit, background, centre_line, drawing, save_picture};
+use view::{Fit, background, centre_line, drawing, whole_picture};
 
 /// The material library of the frames' OBJ files.
 const LIBRARY: &str = "horn.mtl";
@@ -141,8 +140,12 @@ impl Products for Horn<'_> {
         None
     }
 
-    fn animation(&self, path: &Path, frames: usize) -> Result<Option<OrderedAnimation>> {
-        OrderedAnimation::new(path, 400, 400, frames).map(Some)
+    fn animation(&self, frames: usize) -> Result<Option<Sequence>> {
+        Ok(Some(Sequence {
+            size: (400, 400),
+            palette: None,
+            frames,
+        }))
     }
     fn picture(&self, frame: &Frame) -> Result<Rgb> {
         self.drawn(&self.fits()?.1, frame)
@@ -181,8 +184,10 @@ impl Products for Horn<'_> {
         let Some(last) = self.last else {
             return Ok(written);
         };
-        let save = |path: &Path| save_picture(&last, self.j, (1200, 900), path);
-        written.extend(kinds.picture(Product::Picture, dir, "horn", save)?);
+        if kinds.wants(Product::Picture) {
+            let drawn = whole_picture(&last, self.j, (1200, 900))?;
+            written.extend(kinds.picture(Product::Picture, &drawn.pixels(), dir, "horn")?);
+        }
         let lines = &self.lines;
         if lines.len() > 1 {
             let chart = Chart::new(

@@ -2,13 +2,12 @@
 //! monthly bands, the pen strokes, and the fit of several frames to one
 //! scale (horn paper, Figs. 9–10).
 
-use std::path::Path;
-
 use anyhow::{Context, Result};
 use tiny_skia::{Color, Pixmap};
 
 use super::frames::{Frame, P3, Ring};
 use super::shape::{HORN, Mesh, Triangle, centroid, mesh};
+use crate::outputs::driver::Rgb;
 use crate::outputs::plot::{self, Drawing, Pen, Stroke};
 use crate::outputs::raster::depth_key;
 use crate::outputs::{normals, picture, raster};
@@ -225,20 +224,15 @@ fn facing_arcs(ring: &Ring, view: &View) -> Vec<Stroke> {
     arcs
 }
 
-/// Rows of `horn.png`'s drawing a band holds ([`save_picture`]): even, so
+/// Rows of `horn.png`'s drawing a band holds ([`whole_picture`]): even, so
 /// halving pairs the rows the whole drawing would pair.
 const BAND: u32 = 150;
 
-/// Saves `frame` alone as a `width × height` picture at `path`, fitted to
-/// a drawing of twice that size, drawn [`BAND`] rows at a time on one
-/// canvas and halved band by band: the pixels of the whole drawing, whose
-/// canvas (17 MB for `horn.png`) is never held.
-pub(super) fn save_picture(
-    frame: &Frame,
-    j: u32,
-    (width, height): (u32, u32),
-    path: &Path,
-) -> Result<()> {
+/// `frame` alone as a `width × height` picture, fitted to a drawing of
+/// twice that size, drawn [`BAND`] rows at a time on one canvas and
+/// halved band by band: the pixels of the whole drawing, whose canvas
+/// (17 MB for `horn.png`) is never held.
+pub(super) fn whole_picture(frame: &Frame, j: u32, (width, height): (u32, u32)) -> Result<Rgb> {
     let (w, h) = (2 * width, 2 * height);
     let view = camera();
     let b = bounds(&view, frame);
@@ -275,7 +269,11 @@ pub(super) fn save_picture(
         }
         picture::half_rgb_into(&canvas, rgb)?;
     }
-    picture::save_rgb(width, height, &rgb, path)
+    Ok(Rgb {
+        width,
+        height,
+        bytes: rgb,
+    })
 }
 
 /// Frames drawn to one scale, that of the full-grown horn, the skull end

@@ -6,6 +6,7 @@
 //! line in `KINDS`: the models and the driver hand it their products
 //! unchanged.
 
+use std::borrow::Cow;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -13,6 +14,7 @@ use anyhow::{Result, bail};
 
 use super::chart::Chart;
 use super::mesh::{Mesh, ObjStyle};
+use super::picture::pack_rgb;
 use super::plot::Drawing;
 
 mod anim;
@@ -23,8 +25,6 @@ mod obj;
 mod plot;
 mod png;
 mod svg;
-
-pub use self::anim::ANIMATION;
 
 /// What a model makes of its run, for the kinds of file that take it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -85,17 +85,23 @@ pub(crate) trait Format: Sync {
         Ok(None)
     }
 
-    /// Writes a picture as `dir/stem.*` by `save`, which saves it as a
-    /// PNG at the path it is given.
+    /// Writes `pixels` as `dir/stem.*`.
     ///
     /// # Errors
-    /// When `save` fails.
-    fn picture(
+    /// When the file cannot be written.
+    fn picture(&self, _pixels: &Pixels<'_>, _dir: &Path, _stem: &str) -> Result<Option<PathBuf>> {
+        Ok(None)
+    }
+
+    /// Starts what takes the frames' pictures in sequence, into `dir`.
+    ///
+    /// # Errors
+    /// When a file cannot be started.
+    fn animation(
         &self,
         _dir: &Path,
-        _stem: &str,
-        _save: &mut dyn FnMut(&Path) -> Result<()>,
-    ) -> Result<Option<PathBuf>> {
+        _sequence: &Sequence,
+    ) -> Result<Option<Box<dyn PictureSeries>>> {
         Ok(None)
     }
 
@@ -153,6 +159,92 @@ pub(crate) trait Format: Sync {
     fn drawing(&self, _drawing: &Drawing, _dir: &Path) -> Result<Option<PathBuf>> {
         Ok(None)
     }
+}
+
+/// A picture's pixels, row by row.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Pixels<'a> {
+    /// Red, green and blue bytes of each pixel.
+    Rgb {
+        /// Pixels across and down.
+        size: (u32, u32),
+        /// The bytes.
+        rgb: &'a [u8],
+    },
+    /// An index into `palette` for each pixel, a byte each.
+    Indexed {
+        /// Pixels across and down.
+        size: (u32, u32),
+        /// The colours indexed.
+        palette: &'a [[u8; 3]],
+        /// The indices.
+        indices: &'a [u8],
+    },
+}
+
+impl<'a> Pixels<'a> {
+    /// Pixels across and down.
+    pub(crate) fn size(&self) -> (u32, u32) {
+        match *self {
+            Pixels::Rgb { size, .. } | Pixels::Indexed { size, .. } => size,
+        }
+    }
+
+    /// Red, green and blue bytes of each pixel: an index past the palette
+    /// is black.
+    pub(crate) fn rgb(&self) -> Cow<'a, [u8]> {
+        let (palette, indices) = match *self {
+            Pixels::Rgb { rgb, .. } => return Cow::Borrowed(rgb),
+            Pixels::Indexed {
+                palette, indices, ..
+            } => (palette, indices),
+        };
+        // Every index a byte can hold: its RGB in the low three bytes of
+        // a little-endian word.
+        let mut colour = [0u32; 256];
+        for (c, p) in colour.iter_mut().zip(palette) {
+            *c = u32::from_le_bytes([p[0], p[1], p[2], 0]);
+        }
+        let word = |i: &u8| colour[usize::from(*i)];
+        let mut rgb = vec![0; 3 * indices.len()];
+        let (fours, rest) = indices.as_chunks::<4>();
+        let (out, out_rest) = rgb.as_chunks_mut::<12>();
+        for (out, four) in out.iter_mut().zip(fours) {
+            *out = pack_rgb(four.each_ref().map(word));
+        }
+        for (out, i) in out_rest.as_chunks_mut::<3>().0.iter_mut().zip(rest) {
+            let [r, g, b, _] = word(i).to_le_bytes();
+            *out = [r, g, b];
+        }
+        Cow::Owned(rgb)
+    }
+}
+
+/// The frames' pictures in sequence ([`Format::animation`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Sequence {
+    /// Each picture's size, pixels.
+    pub size: (u32, u32),
+    /// The palette of indexed pictures, if they are.
+    pub palette: Option<Vec<[u8; 3]>>,
+    /// How many pictures.
+    pub frames: usize,
+}
+
+/// The frames' pictures taken in sequence ([`Format::animation`]).
+pub(crate) trait PictureSeries: Send + Sync {
+    /// Takes the picture at `slot` in the sequence and its label, from
+    /// any drawing worker in any order.
+    ///
+    /// # Errors
+    /// When the picture cannot be taken or a file written.
+    fn frame(&self, slot: usize, pixels: &Pixels<'_>, label: &str) -> Result<()>;
+
+    /// Ends the sequence; returns the paths of its files.
+    ///
+    /// # Errors
+    /// When a picture is missing or a file cannot be written.
+    fn finish(self: Box<Self>) -> Result<Vec<PathBuf>>;
 }
 
 /// The meshes' files: the material library beside the frames' OBJ files
@@ -376,24 +468,40 @@ impl Kinds {
         Ok(written)
     }
 
-    /// Writes a picture of `product` (a frame's or the run's, `STEM.png`)
-    /// by `save`, which saves it as a PNG at the path given; returns the
-    /// paths.
+    /// Writes `pixels`, a picture of `product` (a frame's or the run's),
+    /// as `STEM.png`; returns the paths.
     ///
     /// # Errors
-    /// When `save` fails.
+    /// When a file cannot be written.
     pub(crate) fn picture(
         self,
         product: Product,
+        pixels: &Pixels<'_>,
         dir: &Path,
         stem: &str,
-        mut save: impl FnMut(&Path) -> Result<()>,
     ) -> Result<Vec<PathBuf>> {
         let mut written = Vec::new();
         for f in self.formats(product) {
-            written.extend(f.picture(dir, stem, &mut save)?);
+            written.extend(f.picture(pixels, dir, stem)?);
         }
         Ok(written)
+    }
+
+    /// Starts the frames' pictures in sequence (`animation.png`) in
+    /// every kind chosen that takes them.
+    ///
+    /// # Errors
+    /// When a file cannot be started.
+    pub(crate) fn animations(
+        self,
+        dir: &Path,
+        sequence: &Sequence,
+    ) -> Result<Vec<Box<dyn PictureSeries>>> {
+        let mut series = Vec::new();
+        for f in self.formats(Product::Animation) {
+            series.extend(f.animation(dir, sequence)?);
+        }
+        Ok(series)
     }
 
     /// Writes a mesh of the run (`STEM.obj` and its library); returns
@@ -465,6 +573,27 @@ mod tests {
         );
         assert_eq!(names(Kinds::DEFAULT), "png,obj,glb,anim,svg,csv,jsonl");
         assert!(Kinds::parse("plot").unwrap().wants(Product::Drawing));
+    }
+
+    /// Indexed pixels read as their palette's colours, four at a time
+    /// and one by one, black past the palette; RGB pixels as they are.
+    #[test]
+    fn pixels_read_as_rgb() {
+        let palette = [[1, 2, 3], [4, 5, 6]];
+        let indices = [0, 1, 1, 0, 7];
+        let indexed = Pixels::Indexed {
+            size: (5, 1),
+            palette: &palette,
+            indices: &indices,
+        };
+        let rgb = [1, 2, 3, 4, 5, 6, 4, 5, 6, 1, 2, 3, 0, 0, 0];
+        assert_eq!(*indexed.rgb(), rgb);
+        let same = Pixels::Rgb {
+            size: (5, 1),
+            rgb: &rgb,
+        };
+        assert!(matches!(same.rgb(), Cow::Borrowed(b) if b == rgb));
+        assert_eq!((indexed.size(), same.size()), ((5, 1), (5, 1)));
     }
 
     /// Each product goes to the kinds `--help` promises it to.

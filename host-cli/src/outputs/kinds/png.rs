@@ -1,12 +1,14 @@
 //! `png`: still pictures — a frame's, a montage of frames, the run's —
-//! and charts as bitmaps (every `*.png` but `animation.png`).
+//! and charts as bitmaps (every `*.png` but `animation.png`), each
+//! encoded here: RGB or indexed as its pixels are.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 
-use super::{Format, Kind, Product};
+use super::{Format, Kind, Pixels, Product};
 use crate::outputs::chart::{Chart, write_png};
+use crate::outputs::picture::{save_indexed, save_rgb};
 
 /// The kind.
 pub(super) const KIND: Kind = Kind {
@@ -38,14 +40,15 @@ impl Format for Png {
         Ok(Some(path))
     }
 
-    fn picture(
-        &self,
-        dir: &Path,
-        stem: &str,
-        save: &mut dyn FnMut(&Path) -> Result<()>,
-    ) -> Result<Option<PathBuf>> {
+    fn picture(&self, pixels: &Pixels<'_>, dir: &Path, stem: &str) -> Result<Option<PathBuf>> {
         let path = dir.join(format!("{stem}.png"));
-        save(&path)?;
+        let (w, h) = pixels.size();
+        match *pixels {
+            Pixels::Rgb { rgb, .. } => save_rgb(w, h, rgb, &path)?,
+            Pixels::Indexed {
+                palette, indices, ..
+            } => save_indexed(w, h, palette, indices, &path)?,
+        }
         Ok(Some(path))
     }
 }

@@ -29,15 +29,13 @@ use morphogen::mosaic::Params;
 use morphogen::stream::Record;
 
 use super::chart::{Axis, Chart, Series};
-use super::driver::{self, Closing, Products};
-use super::kinds::{Kinds, Product};
+use super::driver::{self, Closing, Products, Rgb, Still};
+use super::kinds::{Kinds, Product, Sequence};
 use super::mesh::{Mesh, ObjStyle};
 use super::numbered::{FileSeries, Numbering};
-use super::picture;
 use super::plot::Drawing;
-use super::slots::OrderedAnimation;
 use super::text;
-use crate::atomic::{self, OutputFile, write_atomic};
+use crate::atomic::{OutputFile, write_atomic};
 use crate::records::Records;
 use object::{Surface, SurfaceView};
 
@@ -252,14 +250,12 @@ impl Products for Plane<'_> {
         Some(FileSeries::DAYS)
     }
 
-    fn animation(&self, path: &Path, frames: usize) -> Result<Option<OrderedAnimation>> {
-        // Indexed frames (a third of the bytes, no RGB copy) when the
-        // labels' colours fit the palette beside the types'; RGB otherwise.
-        let palette = palette(&self.colours);
-        match OrderedAnimation::indexed(path, self.size, &palette, frames)? {
-            Some(indexed) => Ok(Some(indexed)),
-            None => OrderedAnimation::new(path, self.size.0, self.size.1, frames).map(Some),
-        }
+    fn animation(&self, frames: usize) -> Result<Option<Sequence>> {
+        Ok(Some(Sequence {
+            size: self.size,
+            palette: Some(palette(&self.colours)),
+            frames,
+        }))
     }
 
     fn picture(&self, day: &Day) -> Result<Indexed> {
@@ -304,12 +300,9 @@ impl Products for Plane<'_> {
         });
         if let Some(view) = &self.view {
             let stem = numbering.stem(FileSeries::SURFACES, d.day);
-            let drawn = view.paint(picture.palette(), &|i| picture.index(i))?;
-            let save = |path: &Path| picture::save(&drawn, path);
-            paths.extend(
-                self.kinds
-                    .picture(Product::FramePicture, dir, &stem, save)?,
-            );
+            let drawn = Rgb::opaque(&view.paint(picture.palette(), &|i| picture.index(i))?);
+            let kinds = self.kinds;
+            paths.extend(kinds.picture(Product::FramePicture, &drawn.pixels(), dir, &stem)?);
         }
         let mut latest = self
             .latest
@@ -347,15 +340,11 @@ impl Products for Plane<'_> {
                 Some((at, picture)) if at + 1 == self.counts.len() => picture,
                 _ => voronoi(&self.params.domain, &self.colours, &last.cells),
             };
-            // Every day's pictures were written: the last day's again.
-            let mut copies = vec![(FileSeries::DAYS, "mosaic")];
-            if self.view.is_some() {
-                copies.push((FileSeries::SURFACES, "surface"));
-            }
-            for (series, stem) in copies {
-                let day = dir.join(run.numbering.name(series, last.day));
-                let copy = |path: &Path| atomic::copy(&day, path);
-                written.extend(kinds.picture(Product::Picture, dir, stem, copy)?);
+            // The last day's pictures again.
+            written.extend(kinds.picture(Product::Picture, &picture.pixels(), dir, "mosaic")?);
+            if let Some(view) = self.view.as_ref().filter(|_| kinds.wants(Product::Picture)) {
+                let drawn = Rgb::opaque(&view.paint(picture.palette(), &|i| picture.index(i))?);
+                written.extend(kinds.picture(Product::Picture, &drawn.pixels(), dir, "surface")?);
             }
             if meshes {
                 let coloured = self.surface.mesh(Some(&|u, v| picture.at(u, v)))?;

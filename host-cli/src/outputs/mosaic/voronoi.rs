@@ -8,18 +8,13 @@
 //! placed once per tile) within that reach of the tile are compared, in
 //! plain arithmetic per pixel.
 
-use std::borrow::Cow;
-use std::path::Path;
-
-use anyhow::Result;
 use morphogen::fx::Fx;
 use morphogen::fx::Real as _;
 use morphogen::mosaic::Domain;
 
 use super::object::pattern_pixel;
 use crate::outputs::driver::Still;
-use crate::outputs::picture::pack_rgb;
-use crate::outputs::picture::save_indexed;
+use crate::outputs::kinds::Pixels;
 
 use super::pattern::Raster;
 
@@ -251,34 +246,16 @@ pub struct Indexed {
 }
 
 impl Still for Indexed {
-    fn save(&self, path: &Path) -> Result<()> {
-        Indexed::save(self, path)
-    }
-
-    fn rgb(&self) -> Cow<'_, [u8]> {
-        Cow::Owned(Indexed::rgb(self))
-    }
-
-    fn indices(&self) -> Option<&[u8]> {
-        Some(&self.pixels)
+    fn pixels(&self) -> Pixels<'_> {
+        Pixels::Indexed {
+            size: (self.width as u32, self.height as u32),
+            palette: &self.palette,
+            indices: &self.pixels,
+        }
     }
 }
 
 impl Indexed {
-    /// Writes it as an indexed PNG.
-    ///
-    /// # Errors
-    /// When the file cannot be written.
-    pub fn save(&self, path: &Path) -> Result<()> {
-        save_indexed(
-            self.width as u32,
-            self.height as u32,
-            &self.palette,
-            &self.pixels,
-            path,
-        )
-    }
-
     /// The pixels of each of the first `types` types (the Voronoi area of
     /// its cells, in pixels).
     #[must_use]
@@ -332,29 +309,6 @@ impl Indexed {
     #[must_use]
     pub fn indices(&self) -> &[u8] {
         &self.pixels
-    }
-
-    /// Its pixels as RGB bytes.
-    #[must_use]
-    pub fn rgb(&self) -> Vec<u8> {
-        // Every index a byte can hold, black past the palette: its RGB in
-        // the low three bytes of a little-endian word.
-        let mut colour = [0u32; 256];
-        for (c, p) in colour.iter_mut().zip(&self.palette) {
-            *c = u32::from_le_bytes([p[0], p[1], p[2], 0]);
-        }
-        let word = |i: &u8| colour[usize::from(*i)];
-        let mut rgb = vec![0; 3 * self.pixels.len()];
-        let (fours, rest) = self.pixels.as_chunks::<4>();
-        let (out, out_rest) = rgb.as_chunks_mut::<12>();
-        for (out, four) in out.iter_mut().zip(fours) {
-            *out = pack_rgb(four.each_ref().map(word));
-        }
-        for (out, i) in out_rest.as_chunks_mut::<3>().0.iter_mut().zip(rest) {
-            let [r, g, b, _] = word(i).to_le_bytes();
-            *out = [r, g, b];
-        }
-        rgb
     }
 }
 
@@ -547,6 +501,7 @@ pub fn voronoi(domain: &Domain, colours: &[[u8; 3]], cells: &[(u32, u8, Fx, Fx)]
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::outputs::picture::save_indexed;
 
     /// The nearest cell by brute force, ties to the first, periodic
     /// distances where the domain wraps.
@@ -626,7 +581,9 @@ mod tests {
                     }
                 }
                 assert_eq!(drawn.areas(types.len()), counted);
-                drawn.save(&path).unwrap();
+                let size = (drawn.width as u32, drawn.height as u32);
+                let (palette, indices) = (drawn.palette(), drawn.indices());
+                save_indexed(size.0, size.1, palette, indices, &path).unwrap();
                 let picture = tiny_skia::Pixmap::load_png(&path).unwrap();
                 let bins = Bins::new(&domain, Vec::new());
                 let scale = LONG_SIDE / bins.size[0];

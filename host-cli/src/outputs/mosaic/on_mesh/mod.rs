@@ -14,7 +14,6 @@ mod edges;
 mod nearest;
 mod view;
 
-use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -27,9 +26,8 @@ use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use super::{Measured, by_type, write_counts_and_mask, write_csv, write_mosaic_obj, write_tables};
-use crate::atomic;
 use crate::outputs::driver::{self, Closing, Products, Still};
-use crate::outputs::kinds::{Kinds, Product};
+use crate::outputs::kinds::{Kinds, Pixels, Product};
 use crate::outputs::mesh::{Mesh, ObjStyle, Rgb};
 use crate::outputs::numbered::{FileSeries, Numbering};
 use crate::outputs::plot::Drawing;
@@ -228,12 +226,8 @@ pub(super) struct Painted {
 }
 
 impl Still for Painted {
-    fn save(&self, path: &Path) -> Result<()> {
-        self.picture.save(path)
-    }
-
-    fn rgb(&self) -> Cow<'_, [u8]> {
-        self.picture.rgb()
+    fn pixels(&self) -> Pixels<'_> {
+        self.picture.pixels()
     }
 }
 
@@ -258,6 +252,14 @@ struct Surface<'a> {
 }
 
 impl Surface<'_> {
+    /// The object painted by the cells whose regions are `near`.
+    fn paint(&self, near: &Nearest) -> Result<driver::Rgb> {
+        let view = self.view.as_ref().context("the surface has no view")?;
+        let mut canvas = view.canvas()?;
+        view.paint(near, &self.colours, &mut canvas);
+        driver::Rgb::halved(&canvas)
+    }
+
     /// The elevation the object is seen from, radians: a plane's control
     /// map from higher up.
     fn elevation(&self) -> f64 {
@@ -311,12 +313,9 @@ impl Products for Surface<'_> {
     }
 
     fn picture(&self, day: &Day) -> Result<Painted> {
-        let view = self.view.as_ref().context("the surface has no view")?;
         let near = Nearest::new(&day.cells, &self.shell);
-        let mut canvas = view.canvas()?;
-        view.paint(&near, &self.colours, &mut canvas);
         Ok(Painted {
-            picture: driver::Rgb::halved(&canvas)?,
+            picture: self.paint(&near)?,
             near,
         })
     }
@@ -379,28 +378,30 @@ impl Products for Surface<'_> {
         )))
     }
 
-    fn close(self, dir: &Path, kinds: Kinds, run: Closing<Measured>) -> Result<Vec<PathBuf>> {
+    fn close(mut self, dir: &Path, kinds: Kinds, run: Closing<Measured>) -> Result<Vec<PathBuf>> {
         let mut written = write_tables(self.names, &self.counts, run.measures, dir, kinds)?;
         let meshes = kinds.wants(Product::Mesh);
         if meshes {
             let bare = self.shell.bare()?;
             written.extend(kinds.mesh(&bare, dir, "surface", ObjStyle::PLAIN)?);
         }
-        if let Some(last) = &self.last {
-            if self.view.is_some() {
-                let day = dir.join(run.numbering.name(FileSeries::SURFACES, last.day));
-                let copy = |path: &Path| atomic::copy(&day, path);
-                written.extend(kinds.picture(Product::Picture, dir, "surface", copy)?);
+        let pictured = self.view.is_some() && kinds.wants(Product::Picture);
+        if let Some(last) = self.last.as_ref().filter(|_| pictured || meshes) {
+            let latest = self
+                .latest
+                .get_mut()
+                .map_err(|_| anyhow!("a mosaic writer stopped"))?
+                .take();
+            let near = match latest {
+                Some((at, near)) if at + 1 == self.counts.len() => near,
+                _ => Nearest::new(&last.cells, &self.shell),
+            };
+            if pictured {
+                // The last day's picture again.
+                let drawn = self.paint(&near)?;
+                written.extend(kinds.picture(Product::Picture, &drawn.pixels(), dir, "surface")?);
             }
             if meshes {
-                let latest = self
-                    .latest
-                    .into_inner()
-                    .map_err(|_| anyhow!("a mosaic writer stopped"))?;
-                let near = match latest {
-                    Some((at, near)) if at + 1 == self.counts.len() => near,
-                    _ => Nearest::new(&last.cells, &self.shell),
-                };
                 let coloured = self.shell.coloured(&near, &self.colours, 2)?;
                 written.extend(write_mosaic_obj(dir, &coloured, kinds)?);
             }
