@@ -79,6 +79,7 @@ mod ground;
 mod mesh;
 mod params;
 mod relaxation;
+mod scan;
 mod shapes;
 mod store;
 mod surface;

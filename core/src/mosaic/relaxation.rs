@@ -1,10 +1,9 @@
 //! Relaxation on the plane (thesis Sec. 3.2.1.1, docs/mosaics.md): the
 //! pushes of the force law ([`super::force`]) of every neighbour within
-//! the repulsion radius r, found through a grid of bins at least r wide
+//! the repulsion radius r, found by the neighbour scan that the plane
+//! shares with a mesh ([`super::scan`]) in a grid of bins at least r wide
 //! ([`Grid`]) on the periodic or walled domain, summed into each cell's
-//! step. All pushes are computed (a Jacobi step) before any cell moves, so
-//! the order of the loops does not matter and integer sums make the result
-//! exact on every machine.
+//! step, taken along the anisotropy field and confined to the domain.
 
 use core::ops::Range;
 
@@ -14,6 +13,7 @@ use super::force::{self, Step};
 use super::grid::Grid;
 use super::ground::{CellSlices, Ground};
 use super::params::MAX_TYPES;
+use super::scan::{Bins, Probe, Scan};
 
 /// The constants of one relaxation step (all fixed point, Q16 unless
 /// noted).
@@ -82,11 +82,8 @@ impl Forces<'_> {
 /// ([`Relax`](super::store::Relax)), with the same result.
 #[derive(Debug)]
 pub struct Snapshot<'s> {
-    sorted: &'s [[i32; 2]],
-    order: &'s [u32],
-    bins: &'s [u32],
-    kind: &'s [u8],
-    grid: &'s Grid,
+    scan: Scan<'s, 2>,
+    bins: PlaneBins<'s>,
     /// [`Grid::shifts_exact`], once for every cell.
     shifted: bool,
     forces: &'s Forces<'s>,
@@ -96,19 +93,19 @@ impl Snapshot<'_> {
     /// Cells in the snapshot.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.order.len()
+        self.scan.order.len()
     }
 
     /// Whether it holds no cell.
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.order.is_empty()
+        self.scan.order.is_empty()
     }
 
     /// The index of the cell in grid slot `slot` (below [`Snapshot::len`]).
     #[must_use]
     pub fn cell(&self, slot: usize) -> usize {
-        self.order[slot] as usize
+        self.scan.order[slot] as usize
     }
 
     /// The new position of a cell at `p` displaced by `d` by its
@@ -152,22 +149,23 @@ impl Snapshot<'_> {
     /// pushes of its neighbours within the radius.
     pub fn sweep(&self, slots: Range<usize>, mut each: impl FnMut(usize, [i32; 2], [i32; 2])) {
         if self.shifted {
-            self.sweep_cells::<true>(slots, &mut each);
+            self.sweep_cells(&Shifted::<true>(&self.bins), slots, &mut each);
         } else {
-            self.sweep_cells::<false>(slots, &mut each);
+            self.sweep_cells(&Shifted::<false>(&self.bins), slots, &mut each);
         }
     }
 
-    /// [`Snapshot::sweep`] with [`Snapshot::pushes`].
+    /// [`Snapshot::sweep`] through `bins`.
     #[inline(always)]
-    fn sweep_cells<const SHIFTED: bool>(
+    fn sweep_cells<B: Bins<2>>(
         &self,
+        bins: &B,
         slots: Range<usize>,
         each: &mut impl FnMut(usize, [i32; 2], [i32; 2]),
     ) {
-        let end = slots.end.min(self.sorted.len());
+        let end = slots.end.min(self.scan.sorted.len());
         for slot in slots.start..end {
-            let (p, d) = self.displaced(slot, self.pushes::<SHIFTED>(slot));
+            let (p, d) = self.displaced(slot, self.scan.pushes(bins, slot));
             each(slot, p, d);
         }
     }
@@ -177,7 +175,7 @@ impl Snapshot<'_> {
     /// of its neighbours ([`Snapshot::pair_sums`]).
     #[must_use]
     pub fn displaced(&self, slot: usize, sum: [i64; 2]) -> ([i32; 2], [i32; 2]) {
-        let p = self.sorted[slot];
+        let p = self.scan.sorted[slot];
         (p, self.forces.displacement(sum, p))
     }
 
@@ -206,154 +204,62 @@ impl Snapshot<'_> {
     }
 
     /// Adds to `sums` the pushes (Q32) of every pair of cells within the
-    /// radius whose lower slot is in `slots`, on both of its cells
-    /// (`Forces::pair_pushes`): each pair is found once, from its lower
-    /// slot, so a step costs half the roots and half the candidates of
-    /// [`Snapshot::sweep`]. `sums[k]` is slot `slots.start + k`'s; a push
-    /// on a later slot past the end of `sums` goes to `beyond(slot, push)`
-    /// instead, so that threads can each take a share of the slots with its
-    /// own part of the sums (only pairs across a share's end, a few rows of
-    /// cells, go beyond). Over all slots the sums are exactly those of the
-    /// sweep: integer sums do not depend on their order.
+    /// radius whose lower slot is in `slots`, on both of its cells, each
+    /// pair once; a push on a later slot past the end of `sums` goes to
+    /// `beyond(slot, push)`, so that threads can each take a share of the
+    /// slots with its own part of the sums (only pairs across a share's
+    /// end, a few rows of cells, go beyond). Over all slots, the sums of
+    /// [`Snapshot::sweep`] with half its roots and candidates.
     pub fn pair_sums(
         &self,
         slots: Range<usize>,
         sums: &mut [[i64; 2]],
         beyond: &mut impl FnMut(usize, [i64; 2]),
     ) {
-        // All of them from the first (one thread): no share to leave.
-        let whole = slots.start == 0 && sums.len() >= self.sorted.len();
-        match (self.shifted, whole) {
-            (true, true) => self.pair_sums_in::<true, true>(slots, sums, beyond),
-            (true, false) => self.pair_sums_in::<true, false>(slots, sums, beyond),
-            (false, true) => self.pair_sums_in::<false, true>(slots, sums, beyond),
-            (false, false) => self.pair_sums_in::<false, false>(slots, sums, beyond),
+        if self.shifted {
+            (self.scan).pair_sums(&Shifted::<true>(&self.bins), slots, sums, beyond);
+        } else {
+            (self.scan).pair_sums(&Shifted::<false>(&self.bins), slots, sums, beyond);
         }
     }
+}
 
-    /// [`Snapshot::pair_sums`] with the displacements of `SHIFTED`
-    /// ([`Snapshot::pushes`]); `WHOLE`: `sums` holds every slot's sum. Out
-    /// of line, each of the four: its scan of the runs stays inlined.
-    #[inline(never)]
-    fn pair_sums_in<const SHIFTED: bool, const WHOLE: bool>(
-        &self,
-        slots: Range<usize>,
-        sums: &mut [[i64; 2]],
-        beyond: &mut impl FnMut(usize, [i64; 2]),
-    ) {
-        let base = slots.start;
-        // One past the last slot whose sum is in `sums`.
-        let held = base + sums.len();
-        for slot in base..slots.end.min(self.sorted.len()).min(held) {
-            let probe = self.probe(slot);
-            let mut own = [0i64; 2];
-            self.runs::<SHIFTED>(&probe, |edge, run| {
-                // The slots after this one: the pairs not yet found.
-                let later = run.start.max(slot + 1)..run.end;
-                if later.is_empty() {
-                    return;
-                }
-                if WHOLE {
-                    // base = 0: slots index the sums.
-                    if let Some(sums) = sums.get_mut(later.clone()) {
-                        own = self.run_pairs::<SHIFTED>(&probe, edge, later.start, own, sums);
-                    }
-                    return;
-                }
-                if later.end > held {
-                    own = self.run_across::<SHIFTED>(&probe, edge, later, own, sums, base, beyond);
-                    return;
-                }
-                // base ≤ slot < later.start < later.end: no underflow.
-                let local = later.start - base..later.end - base;
-                if let Some(sums) = sums.get_mut(local) {
-                    own = self.run_pairs::<SHIFTED>(&probe, edge, later.start, own, sums);
-                }
-            });
-            let sum = &mut sums[slot - base];
-            *sum = [sum[0] + own[0], sum[1] + own[1]];
-        }
-    }
+/// The plane's bins for the scan: the grid's runs of bins within the
+/// radius, across the wrap of a periodic domain.
+#[derive(Clone, Copy, Debug)]
+struct PlaneBins<'s> {
+    grid: &'s Grid,
+    /// Each bin's first slot (and one past the last).
+    bins: &'s [u32],
+    domain: &'s Domain,
+    radius: i32,
+}
 
-    /// [`Snapshot::run_pairs`] for the slots `later` (base ≤ the probe's
-    /// slot < `later.start`) that reach past the slots whose sums are in
-    /// `sums`: those past go `beyond` (rare: out of line).
-    #[cold]
-    #[inline(never)]
-    #[allow(clippy::too_many_arguments)] // one of run_pairs', rarely called
-    fn run_across<const SHIFTED: bool>(
-        &self,
-        probe: &Probe<'_>,
-        edge: [u32; 2],
-        later: Range<usize>,
-        mut own: [i64; 2],
-        sums: &mut [[i64; 2]],
-        base: usize,
-        beyond: &mut impl FnMut(usize, [i64; 2]),
-    ) -> [i64; 2] {
-        // base < later.start ≤ split < later.end: no underflow.
-        let split = (base + sums.len()).max(later.start);
-        if let Some(sums) = sums.get_mut(later.start - base..split - base) {
-            own = self.run_pairs::<SHIFTED>(probe, edge, later.start, own, sums);
-        }
-        let run = split..later.end;
-        let cells = self.sorted.get(run.clone()).unwrap_or_default();
-        let order = self.order.get(run.clone()).unwrap_or_default();
-        for (k, (q, &j)) in run.zip(cells.iter().zip(order)) {
-            let Some([on_p, on_q]) = self.pair::<SHIFTED>(probe, edge, *q, j) else {
-                continue;
-            };
-            own = [own[0] + on_p[0], own[1] + on_p[1]];
-            beyond(k, on_q);
-        }
-        own
-    }
+/// [`PlaneBins`] as the scan reads them; `SHIFTED`: the runs' shifts give
+/// each candidate's displacement ([`Grid::shifts_exact`]), else
+/// [`Domain::delta`] does.
+#[derive(Debug)]
+struct Shifted<'b, const SHIFTED: bool>(&'b PlaneBins<'b>);
 
-    /// The cell in grid slot `slot` (below [`Snapshot::len`]) as the
-    /// neighbour search sees it.
+impl<const SHIFTED: bool> Bins<2> for Shifted<'_, SHIFTED> {
+    /// Each row of the bins within the radius is one run of slots (a
+    /// row's run of bins is one slice of the sorted positions).
     #[inline(always)]
-    fn probe(&self, slot: usize) -> Probe<'_> {
-        let r = self.forces.radius;
-        let cell = self.cell(slot);
-        let kind = self.kind_of(cell);
-        Probe {
-            cell,
-            kind,
-            p: self.sorted[slot],
-            reach: r - 1,
-            window: (r as u32).wrapping_mul(2).wrapping_sub(1),
-            r2: i64::from(r) * i64::from(r),
-            repel: &self.forces.repel[kind],
-        }
-    }
-
-    /// The sum of the pushes on the cell in grid slot `slot`; `SHIFTED`:
-    /// displacements from the bins' shifts ([`Grid::span`]), else from
-    /// [`Domain::delta`](super::domain::Domain::delta).
-    #[inline(always)]
-    fn pushes<const SHIFTED: bool>(&self, slot: usize) -> [i64; 2] {
-        let probe = self.probe(slot);
-        let mut sum = [0i64; 2];
-        self.runs::<SHIFTED>(&probe, |edge, run| {
-            sum = self.run_pushes::<SHIFTED>(&probe, edge, run, sum);
-        });
-        sum
-    }
-
-    /// Calls `visit(edge, run)` for each run of grid slots that holds the
-    /// cells of one row of the bins within the radius of the probed cell
-    /// (a row's run of bins is one slice of the sorted positions), with
-    /// `edge`, the cell's position less the run's shifts and r − 1
-    /// ([`Snapshot::offsets`]).
-    #[inline(always)]
-    fn runs<const SHIFTED: bool>(
+    fn runs<A>(
         &self,
-        probe: &Probe<'_>,
-        mut visit: impl FnMut([u32; 2], Range<usize>),
-    ) {
-        let (grid, bins) = (self.grid, self.bins);
-        let size = self.forces.domain.size.map(|s| s.to_bits());
-        let (p, r) = (probe.p, self.forces.radius);
+        probe: &Probe<'_, 2>,
+        init: A,
+        mut visit: impl FnMut(A, [u32; 2], Range<usize>) -> A,
+    ) -> A {
+        let mut acc = init;
+        let PlaneBins {
+            grid,
+            bins,
+            domain,
+            radius: r,
+        } = *self.0;
+        let size = domain.size.map(|s| s.to_bits());
+        let p = probe.p;
         let (cols, nc) = grid.span::<SHIFTED>(0, p[0], r, size[0]);
         let (rows, nr) = grid.span::<SHIFTED>(1, p[1], r, size[1]);
         let stride = grid.cols as usize;
@@ -372,162 +278,45 @@ impl Snapshot<'_> {
                     else {
                         break;
                     };
-                    visit(edge, start as usize..end as usize);
+                    acc = visit(acc, edge, start as usize..end as usize);
                     first += stride;
                 }
             }
         }
+        acc
     }
 
-    /// The displacement p − q of a cell at `q` from the probed cell, with
-    /// its square (Q32), if it lies within the radius. Most candidates lie
-    /// beyond it and cost a comparison or two: |d| < r ⇔ r − 1 − d ∈
-    /// [0, 2r − 1), one unsigned comparison, exact in wrapping u32 as
-    /// r − 1 − d stays within ±2^31. With shifts, r − 1 − d = q − `edge`
-    /// ([`Snapshot::runs`]): no subtraction first.
+    /// With shifts, r − 1 − d = q − `edge`: no subtraction first; else
+    /// r − 1 − [`Domain::delta`] (exact in wrapping u32 as it stays within
+    /// ±2^31).
     #[inline(always)]
-    fn offsets<const SHIFTED: bool>(
+    fn offsets(
         &self,
-        probe: &Probe<'_>,
+        probe: &Probe<'_, 2>,
         edge: [u32; 2],
         q: [i32; 2],
-    ) -> Option<(i64, i64, i64)> {
-        let domain = self.forces.domain;
-        // r − 1 − d.
+    ) -> Option<([i64; 2], i64)> {
         let offset = |axis: usize, q: i32| {
             if SHIFTED {
                 (q as u32).wrapping_sub(edge[axis])
             } else {
-                probe
-                    .reach
-                    .wrapping_sub(domain.delta(axis, probe.p[axis], q)) as u32
+                let d = self.0.domain.delta(axis, probe.p[axis], q);
+                probe.reach.wrapping_sub(d) as u32
             }
         };
         // |dx| ≥ r: beyond the radius whatever dy is.
         let ox = offset(0, q[0]);
-        if ox >= probe.window {
+        if !probe.reaches(ox) {
             return None;
         }
         let oy = offset(1, q[1]);
-        if oy >= probe.window {
+        if !probe.reaches(oy) {
             return None;
         }
-        // |d| < r: the offsets are below 2r − 1 < 2^31.
-        let dx = i64::from(probe.reach - ox as i32);
-        let dy = i64::from(probe.reach - oy as i32);
+        let (dx, dy) = (probe.displacement(ox), probe.displacement(oy));
         let d2 = dx * dx + dy * dy; // < 2·r² ≤ 2^61, Q32
-        (d2 < probe.r2).then_some((dx, dy, d2))
+        (d2 < probe.r2).then_some(([dx, dy], d2))
     }
-
-    /// `sum` plus the pushes on the probed cell of the cells in the slots
-    /// `run` within the radius.
-    #[inline(always)]
-    fn run_pushes<const SHIFTED: bool>(
-        &self,
-        probe: &Probe<'_>,
-        edge: [u32; 2],
-        run: Range<usize>,
-        mut sum: [i64; 2],
-    ) -> [i64; 2] {
-        let (Some(cells), Some(order)) = (self.sorted.get(run.clone()), self.order.get(run)) else {
-            return sum;
-        };
-        for (q, &j) in cells.iter().zip(order) {
-            let Some((dx, dy, d2)) = self.offsets::<SHIFTED>(probe, edge, *q) else {
-                continue;
-            };
-            let j = j as usize;
-            if d2 == 0 && j == probe.cell {
-                continue; // the cell itself
-            }
-            let repel = probe.repel[self.kind_of(j)];
-            let f = force::push(probe.cell, j, [dx, dy], d2, self.radius(), i64::from(repel));
-            sum = [sum[0] + f[0], sum[1] + f[1]];
-        }
-        sum
-    }
-
-    /// `own` plus the pushes on the probed cell of the cells in the slots
-    /// from `first` on (all after its own), as many as `sums`, within the
-    /// radius, their pushes on it added to their `sums`.
-    #[inline(always)]
-    fn run_pairs<const SHIFTED: bool>(
-        &self,
-        probe: &Probe<'_>,
-        edge: [u32; 2],
-        first: usize,
-        mut own: [i64; 2],
-        sums: &mut [[i64; 2]],
-    ) -> [i64; 2] {
-        let run = first..first + sums.len();
-        let (Some(cells), Some(order)) = (self.sorted.get(run.clone()), self.order.get(run)) else {
-            return own;
-        };
-        for ((q, &j), sum) in cells.iter().zip(order).zip(sums) {
-            let Some([on_p, on_q]) = self.pair::<SHIFTED>(probe, edge, *q, j) else {
-                continue;
-            };
-            own = [own[0] + on_p[0], own[1] + on_p[1]];
-            *sum = [sum[0] + on_q[0], sum[1] + on_q[1]];
-        }
-        own
-    }
-
-    /// The pushes of the probed cell and of cell `j` at `q` on each other,
-    /// if `q` lies within the radius.
-    #[inline(always)]
-    fn pair<const SHIFTED: bool>(
-        &self,
-        probe: &Probe<'_>,
-        edge: [u32; 2],
-        q: [i32; 2],
-        j: u32,
-    ) -> Option<[[i64; 2]; 2]> {
-        let (dx, dy, d2) = self.offsets::<SHIFTED>(probe, edge, q)?;
-        let j = j as usize;
-        let kind = self.kind_of(j);
-        let repel = [probe.repel[kind], self.forces.repel[kind][probe.kind]];
-        Some(force::pair_pushes(
-            probe.cell,
-            j,
-            [dx, dy],
-            d2,
-            self.radius(),
-            repel,
-        ))
-    }
-
-    /// The repulsion radius r (Q16).
-    #[inline(always)]
-    fn radius(&self) -> i64 {
-        i64::from(self.forces.radius)
-    }
-
-    /// The type of cell `i`, as an index into the repulsion table.
-    #[inline(always)]
-    fn kind_of(&self, i: usize) -> usize {
-        self.kind.get(i).map_or(0, |&k| k as usize % MAX_TYPES)
-    }
-}
-
-/// The cell whose neighbours [`Snapshot::offsets`] finds, and what each
-/// candidate neighbour is compared with, computed once per cell.
-#[derive(Debug)]
-struct Probe<'f> {
-    /// The cell's index.
-    cell: usize,
-    /// Its type, as an index into the repulsion table.
-    kind: usize,
-    /// Its position.
-    p: [i32; 2],
-    /// r − 1.
-    reach: i32,
-    /// 2r − 1 (wrapping u32).
-    window: u32,
-    /// r² (Q32).
-    r2: i64,
-    /// The repulsion between its type and each other.
-    repel: &'f [i32; MAX_TYPES],
 }
 
 /// Where a relaxation step writes: the positions, which the
@@ -547,14 +336,20 @@ impl Moves<'_> {
     /// ([`Snapshot::moved`]), or with its momentum ([`Snapshot::carried`]).
     #[inline]
     fn settle(&mut self, snapshot: &Snapshot<'_>, slot: usize, p: [i32; 2], d: [i32; 2]) {
-        let i = snapshot.cell(slot);
+        let Some(&i) = snapshot.scan.order.get(slot) else {
+            return;
+        };
+        let i = i as usize;
+        let Some(pos) = self.pos.get_mut(i) else {
+            return;
+        };
         if snapshot.forces.momentum == 0 {
-            self.pos[i] = snapshot.moved(p, d);
+            *pos = snapshot.moved(p, d);
             return;
         }
         let last = self.velocity.get(i).copied().unwrap_or([0; 2]);
         let (to, step) = snapshot.carried(p, d, last);
-        self.pos[i] = to;
+        *pos = to;
         if let Some(v) = self.velocity.get_mut(i) {
             *v = step;
         }
@@ -589,11 +384,19 @@ pub fn sorted_snapshot<'s>(
 ) -> (Snapshot<'s>, Moves<'s>) {
     let (order, grid) = (&cells.order[..n], forces.grid);
     let snapshot = Snapshot {
-        sorted: &cells.sorted[..n],
-        order,
-        bins: &cells.bins[..=grid.bins()],
-        kind: &cells.kind[..n],
-        grid,
+        scan: Scan {
+            sorted: &cells.sorted[..n],
+            order,
+            kind: &cells.kind[..n],
+            repel: &forces.repel,
+            radius: forces.radius,
+        },
+        bins: PlaneBins {
+            grid,
+            bins: &cells.bins[..=grid.bins()],
+            domain: forces.domain,
+            radius: forces.radius,
+        },
         shifted: grid.shifts_exact(),
         forces,
     };
@@ -621,8 +424,8 @@ pub fn relax(cells: &mut CellSlices<'_, Plane>, n: usize, forces: &Forces<'_>) {
 /// found once ([`Snapshot::pair_sums`]) with the pushes summed in `sums`
 /// (one per cell: 16 B a cell, which a computer has and an MCU's store
 /// does not; fewer than `n`: as [`relax`]). The same positions as
-/// [`relax`] with half its roots and candidates (642 instructions a cell
-/// for its 784 on the croton bench).
+/// [`relax`] with half its roots and candidates (666 instructions a cell
+/// for its 807 on the croton bench).
 pub fn relax_pairs(
     cells: &mut CellSlices<'_, Plane>,
     n: usize,

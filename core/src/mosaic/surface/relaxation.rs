@@ -1,7 +1,8 @@
 //! Relaxation on a surface (MClone thesis, Secs. 3.2.1.1 and 4.1: the cells
 //! on the object itself): the plane's force law
 //! ρ_pq·(r − d)·(p − q)/d ([`crate::mosaic::force`]) by 3D distance
-//! d < r, summed over the neighbours a cube grid finds, blended with the
+//! d < r, summed over the neighbours that the scan shared with the plane
+//! ([`crate::mosaic::scan`]) finds in a grid of cubes, blended with the
 //! anisotropy field of the cell's face (w_a) and scaled by w_d as on the
 //! plane, taken into the cell's tangent plane and walked along the mesh
 //! ([`Mesh::walk`]). A Jacobi step on integer sums: the same result in any
@@ -16,11 +17,11 @@
 use core::num::NonZeroU32;
 use core::ops::Range;
 
-use crate::mosaic::force::{self, Step};
+use crate::mosaic::force::Step;
+use crate::mosaic::ground::{CellSlices, Ground};
 use crate::mosaic::mesh::{Mesh, Place, per_axis};
 use crate::mosaic::params::MAX_TYPES;
-
-use crate::mosaic::ground::{CellSlices, Ground};
+use crate::mosaic::scan::{Bins, Probe, Scan};
 
 /// The constants of one relaxation step on a surface.
 #[derive(Clone, Copy, Debug)]
@@ -186,293 +187,43 @@ impl CubeGrid {
 /// What one step reads: the points in bucket order, the grid, the forces.
 #[derive(Debug)]
 pub struct Snapshot<'s> {
-    sorted: &'s [[i32; 3]],
-    order: &'s [u32],
-    offsets: &'s [u32],
-    kind: &'s [u8],
-    grid: CubeGrid,
+    scan: Scan<'s, 3>,
+    bins: CubeBins<'s>,
     forces: &'s SurfaceForces<'s>,
-    /// The window of a probe at the origin ([`Window::around`]): what
-    /// depends on r alone, once a step.
-    around_origin: Window,
 }
 
 impl Snapshot<'_> {
     /// Cells in the snapshot.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.order.len()
+        self.scan.order.len()
     }
 
     /// Whether it holds no cell.
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.order.is_empty()
+        self.scan.order.is_empty()
     }
 
     /// The index of the cell in slot `slot`.
     #[must_use]
     pub fn cell(&self, slot: usize) -> usize {
-        self.order[slot] as usize
-    }
-
-    fn kind_of(&self, i: usize) -> usize {
-        self.kind.get(i).map_or(0, |&k| k as usize % MAX_TYPES)
-    }
-
-    /// The cell in slot `slot` as the scans see it, or `None` past the
-    /// snapshot.
-    #[inline(always)]
-    fn probe(&self, slot: usize) -> Option<Probe<'_>> {
-        let p = *self.sorted.get(slot)?;
-        let i = self.cell(slot);
-        let kind = self.kind_of(i);
-        let origin = self.around_origin;
-        Some(Probe {
-            cell: i,
-            kind,
-            p,
-            window: Window {
-                edge: p.map(|x| x.wrapping_sub(origin.reach) as u32),
-                ..origin
-            },
-            r: i64::from(self.forces.radius),
-            repel: &self.forces.repel[kind],
-        })
-    }
-
-    /// Folds `visit` over each run of consecutive slots that holds the
-    /// cells of one row of the buckets the probe's cube window covers,
-    /// from `sum`.
-    #[inline(always)]
-    fn runs(
-        &self,
-        probe: &Probe<'_>,
-        mut sum: [i64; 3],
-        mut visit: impl FnMut([i64; 3], Range<usize>) -> [i64; 3],
-    ) -> [i64; 3] {
-        let g = &self.grid;
-        let (p, reach) = (probe.p, i64::from(probe.window.reach));
-        let runs = |c: usize| {
-            let x = i64::from(p[c]);
-            g.runs(c, g.cube(c, x - reach), g.cube(c, x + reach))
-        };
-        let ((xs, nx), (ys, ny), (zs, nz)) = (runs(0), runs(1), runs(2));
-        let (xs, ys, zs) = (&xs[..nx.min(2)], &ys[..ny.min(2)], &zs[..nz.min(2)]);
-        let [ma, mb] = [g.modulus[0].get(), g.modulus[1].get()];
-        for &(z, nz) in zs {
-            for z in z..z + nz {
-                for &(y, ny) in ys {
-                    for y in y..y + ny {
-                        let row = (z * mb + y) * ma;
-                        for &(x, nx) in xs {
-                            let first = (row + x) as usize;
-                            let (Some(&start), Some(&end)) = (
-                                self.offsets.get(first),
-                                self.offsets.get(first + nx as usize),
-                            ) else {
-                                continue;
-                            };
-                            sum = visit(sum, start as usize..end as usize);
-                        }
-                    }
-                }
-            }
-        }
-        sum
-    }
-
-    /// The sum of the pushes (Q32) on the cell in slot `slot`: the cells
-    /// of each row of buckets its cube window covers, each row a run of
-    /// consecutive slots.
-    fn pushes(&self, slot: usize) -> [i64; 3] {
-        let Some(probe) = self.probe(slot) else {
-            return [0; 3];
-        };
-        self.runs(&probe, [0; 3], |sum, run| self.run_pushes(&probe, run, sum))
+        self.scan.order[slot] as usize
     }
 
     /// Adds to `sums` the pushes (Q32) of every pair of cells within the
-    /// radius whose lower slot is in `slots`, on both of its cells: each
-    /// pair once, as on the plane
-    /// ([`crate::mosaic::relaxation::Snapshot::pair_sums`], which also says
-    /// what goes `beyond`); the 3D pushes of a pair are equal and opposite
-    /// up to their floors, which `pair_pushes` takes from one product for
-    /// both.
+    /// radius whose lower slot is in `slots`, on both of its cells, each
+    /// pair once; a push on a later slot past the end of `sums` goes to
+    /// `beyond(slot, push)`, as on the plane. The 3D pushes of a pair are
+    /// equal and opposite up to their floors, which the force law takes
+    /// from one product for both.
     pub fn pair_sums(
         &self,
         slots: Range<usize>,
         sums: &mut [[i64; 3]],
         beyond: &mut impl FnMut(usize, [i64; 3]),
     ) {
-        // All of them from the first (one thread): no share to leave.
-        if slots.start == 0 && sums.len() >= self.sorted.len() {
-            self.pair_sums_in::<true>(slots, sums, beyond);
-        } else {
-            self.pair_sums_in::<false>(slots, sums, beyond);
-        }
-    }
-
-    /// [`Snapshot::pair_sums`]; `WHOLE`: `sums` holds every slot's sum.
-    #[inline(always)]
-    fn pair_sums_in<const WHOLE: bool>(
-        &self,
-        slots: Range<usize>,
-        sums: &mut [[i64; 3]],
-        beyond: &mut impl FnMut(usize, [i64; 3]),
-    ) {
-        let base = slots.start;
-        // One past the last slot whose sum is in `sums`.
-        let held = base + sums.len();
-        for slot in base..slots.end.min(self.sorted.len()).min(held) {
-            let Some(probe) = self.probe(slot) else {
-                return;
-            };
-            let own = self.runs(&probe, [0; 3], |mut own, run| {
-                // The slots after this one: the pairs not yet found.
-                let later = run.start.max(slot + 1)..run.end;
-                if later.is_empty() {
-                    return own;
-                }
-                if WHOLE {
-                    // base = 0: slots index the sums.
-                    return match sums.get_mut(later.clone()) {
-                        Some(sums) => self.run_pairs(&probe, later.start, own, sums),
-                        None => own,
-                    };
-                }
-                // base ≤ slot < later.start ≤ split ≤ later.end: no underflow.
-                let split = held.max(later.start).min(later.end);
-                if let Some(sums) = sums.get_mut(later.start - base..split - base) {
-                    own = self.run_pairs(&probe, later.start, own, sums);
-                }
-                if split < later.end {
-                    own = self.run_spills(&probe, split..later.end, own, beyond);
-                }
-                own
-            });
-            let sum = &mut sums[slot - base];
-            *sum = per_axis(|c| sum[c] + own[c]);
-        }
-    }
-
-    /// [`Snapshot::run_pairs`] for the slots `run` past the sums' end:
-    /// their pushes go `beyond` (rare: out of line).
-    #[cold]
-    #[inline(never)]
-    fn run_spills(
-        &self,
-        probe: &Probe<'_>,
-        run: Range<usize>,
-        mut own: [i64; 3],
-        beyond: &mut impl FnMut(usize, [i64; 3]),
-    ) -> [i64; 3] {
-        let points = self.sorted.get(run.clone()).unwrap_or_default();
-        let ids = self.order.get(run.clone()).unwrap_or_default();
-        for (k, (q, &j)) in run.zip(points.iter().zip(ids)) {
-            let Some([on_p, on_q]) = self.pair(probe, *q, j) else {
-                continue;
-            };
-            own = per_axis(|c| own[c] + on_p[c]);
-            beyond(k, on_q);
-        }
-        own
-    }
-
-    /// The displacement d = p − q (Q16) of a point `q` from the probe (its
-    /// [`Window`]) and
-    /// its square (Q32), if q lies within the radius. |d| < r on every
-    /// axis: q − (p − (r − 1)) in [0, 2r − 1) as u32, checked axis by axis
-    /// (most fail on the first). Points lie on the mesh, within ±2^26
-    /// (Q16), so r − 1 − d in (−2^27, 2^31 + 2^27): wrapped to u32 it is
-    /// below 2r − 1 exactly when it is in range.
-    #[inline(always)]
-    fn offsets(w: Window, q: [i32; 3]) -> Option<([i64; 3], i64)> {
-        let (edge, window, reach) = (w.edge, w.width, w.reach);
-        let ox = (q[0] as u32).wrapping_sub(edge[0]);
-        if ox >= window {
-            return None;
-        }
-        let oy = (q[1] as u32).wrapping_sub(edge[1]);
-        if oy >= window {
-            return None;
-        }
-        let oz = (q[2] as u32).wrapping_sub(edge[2]);
-        if oz >= window {
-            return None;
-        }
-        // d = r − 1 − o, in (−r, r).
-        let dx = i64::from(reach.wrapping_sub(ox as i32));
-        let dy = i64::from(reach.wrapping_sub(oy as i32));
-        let dz = i64::from(reach.wrapping_sub(oz as i32));
-        let d2 = dx * dx + dy * dy + dz * dz;
-        (d2 < w.r2).then_some(([dx, dy, dz], d2))
-    }
-
-    /// `sum` plus the pushes of the cells in the slots `run` within r of
-    /// the probe.
-    #[inline(always)]
-    fn run_pushes(&self, probe: &Probe<'_>, run: Range<usize>, mut sum: [i64; 3]) -> [i64; 3] {
-        let (Some(points), Some(ids)) = (self.sorted.get(run.clone()), self.order.get(run)) else {
-            return sum;
-        };
-        let window = probe.window;
-        for (q, &j) in points.iter().zip(ids) {
-            let Some((d, d2)) = Self::offsets(window, *q) else {
-                continue;
-            };
-            let j = j as usize;
-            if j == probe.cell {
-                continue;
-            }
-            let repel = i64::from(probe.repel[self.kind_of(j)]);
-            let f = force::push(probe.cell, j, d, d2, probe.r, repel);
-            sum = [sum[0] + f[0], sum[1] + f[1], sum[2] + f[2]];
-        }
-        sum
-    }
-
-    /// `own` plus the pushes on the probe of the cells in the slots from
-    /// `first` on (all after its own), as many as `sums`, within r, their
-    /// pushes from it added to their `sums`.
-    #[inline(always)]
-    fn run_pairs(
-        &self,
-        probe: &Probe<'_>,
-        first: usize,
-        mut own: [i64; 3],
-        sums: &mut [[i64; 3]],
-    ) -> [i64; 3] {
-        let run = first..first + sums.len();
-        let (Some(points), Some(ids)) = (self.sorted.get(run.clone()), self.order.get(run)) else {
-            return own;
-        };
-        for ((q, &j), sum) in points.iter().zip(ids).zip(sums) {
-            let Some([on_p, on_q]) = self.pair(probe, *q, j) else {
-                continue;
-            };
-            own = per_axis(|c| own[c] + on_p[c]);
-            *sum = per_axis(|c| sum[c] + on_q[c]);
-        }
-        own
-    }
-
-    /// The pushes of the probe and of cell `j` at `q` on each other, if
-    /// `q` lies within r.
-    #[inline(always)]
-    fn pair(&self, probe: &Probe<'_>, q: [i32; 3], j: u32) -> Option<[[i64; 3]; 2]> {
-        let (d, d2) = Self::offsets(probe.window, q)?;
-        let j = j as usize;
-        let kind = self.kind_of(j);
-        let repel = [probe.repel[kind], self.forces.repel[kind][probe.kind]];
-        Some(force::pair_pushes(probe.cell, j, d, d2, probe.r, repel))
-    }
-
-    /// The new place of the cell in slot `slot`, which was at `from` and
-    /// last moved by `last` (zero without momentum), and the move it made.
-    #[must_use]
-    pub fn moved(&self, slot: usize, from: Place, last: [i32; 3]) -> (Place, [i32; 3]) {
-        self.moved_by(self.pushes(slot), from, last)
+        self.scan.pair_sums(&self.bins, slots, sums, beyond);
     }
 
     /// The new place of a cell at `from`, pushed by `sum` (Q32, as
@@ -507,46 +258,85 @@ impl Snapshot<'_> {
     }
 }
 
-/// The cell whose neighbours a scan sums, and its reach (Q16).
+/// A mesh's bins for the scan: the buckets of the cubes that a probe's
+/// window (|d| < r on each axis) meets.
 #[derive(Debug)]
-struct Probe<'f> {
-    cell: usize,
-    /// Its type, as an index into the repulsion table.
-    kind: usize,
-    /// Its point.
-    p: [i32; 3],
-    /// What a candidate is compared with.
-    window: Window,
-    r: i64,
-    repel: &'f [i32; MAX_TYPES],
+struct CubeBins<'s> {
+    grid: CubeGrid,
+    /// Each bucket's first slot (and one past the last).
+    offsets: &'s [u32],
 }
 
-/// The box and ball of radius r around a probe's point, as
-/// [`Snapshot::offsets`] tests a candidate against them (a copy in
-/// registers while a run is scanned).
-#[derive(Clone, Copy, Debug)]
-struct Window {
-    /// p − (r − 1) on each axis, wrapped to u32.
-    edge: [u32; 3],
-    /// r − 1.
-    reach: i32,
-    /// 2r − 1.
-    width: u32,
-    /// r² (Q32).
-    r2: i64,
-}
-
-impl Window {
-    /// The window of radius `r` around the origin (its `edge` is then
-    /// −(r − 1)).
-    fn around(r: i32) -> Window {
-        let reach = r.wrapping_sub(1);
-        Window {
-            edge: [reach.wrapping_neg() as u32; 3],
-            reach,
-            width: (r as u32).wrapping_mul(2).wrapping_sub(1),
-            r2: i64::from(r) * i64::from(r),
+impl Bins<3> for CubeBins<'_> {
+    /// Each row of buckets is one run of consecutive slots (two at the
+    /// fold). Points lie on the mesh, within ±2^26 (Q16), so r − 1 − d
+    /// stays in (−2^27, 2^31 + 2^27): the default offset is exact.
+    #[inline(always)]
+    fn runs<A>(
+        &self,
+        probe: &Probe<'_, 3>,
+        init: A,
+        mut visit: impl FnMut(A, [u32; 3], Range<usize>) -> A,
+    ) -> A {
+        let mut acc = init;
+        let g = &self.grid;
+        let (p, reach) = (probe.p, probe.reach);
+        let edge = p.map(|x| x.wrapping_sub(reach) as u32);
+        let runs = |c: usize| {
+            let x = i64::from(p[c]);
+            let reach = i64::from(reach);
+            g.runs(c, g.cube(c, x - reach), g.cube(c, x + reach))
+        };
+        let ((xs, nx), (ys, ny), (zs, nz)) = (runs(0), runs(1), runs(2));
+        let (xs, ys, zs) = (&xs[..nx.min(2)], &ys[..ny.min(2)], &zs[..nz.min(2)]);
+        let [ma, mb] = [g.modulus[0].get(), g.modulus[1].get()];
+        for &(z, nz) in zs {
+            for z in z..z + nz {
+                for &(y, ny) in ys {
+                    for y in y..y + ny {
+                        let row = (z * mb + y) * ma;
+                        for &(x, nx) in xs {
+                            let first = (row + x) as usize;
+                            let (Some(&start), Some(&end)) = (
+                                self.offsets.get(first),
+                                self.offsets.get(first + nx as usize),
+                            ) else {
+                                continue;
+                            };
+                            acc = visit(acc, edge, start as usize..end as usize);
+                        }
+                    }
+                }
+            }
         }
+        acc
+    }
+
+    /// q − `edge` on each axis: no subtraction first.
+    #[inline(always)]
+    fn offsets(
+        &self,
+        probe: &Probe<'_, 3>,
+        edge: [u32; 3],
+        q: [i32; 3],
+    ) -> Option<([i64; 3], i64)> {
+        let offset = |axis: usize| (q[axis] as u32).wrapping_sub(edge[axis]);
+        // |dx| ≥ r: beyond the radius whatever dy and dz are.
+        let ox = offset(0);
+        if !probe.reaches(ox) {
+            return None;
+        }
+        let oy = offset(1);
+        if !probe.reaches(oy) {
+            return None;
+        }
+        let oz = offset(2);
+        if !probe.reaches(oz) {
+            return None;
+        }
+        let [dx, dy, dz] = [ox, oy, oz].map(|o| probe.displacement(o));
+        let d2 = dx * dx + dy * dy + dz * dz; // < 3·r², Q32
+        (d2 < probe.r2).then_some(([dx, dy, dz], d2))
     }
 }
 
@@ -562,22 +352,20 @@ pub fn snapshot<'s>(
         forces.radius,
         cells.bins.len().saturating_sub(1),
     );
-    let buckets = grid.buckets().min(cells.bins.len().saturating_sub(1));
     grid.build(
         &cells.pos[..n],
         &mut cells.order[..n],
         cells.bins,
         &mut cells.sorted[..n],
     );
-    let snapshot = Snapshot {
-        sorted: &cells.sorted[..n],
-        order: &cells.order[..n],
-        offsets: &cells.bins[..=buckets],
-        kind: &cells.kind[..n],
+    let snapshot = sorted_snapshot(
         grid,
+        &cells.order[..n],
+        &cells.sorted[..n],
+        cells.bins,
+        &cells.kind[..n],
         forces,
-        around_origin: Window::around(forces.radius),
-    };
+    );
     let velocity = match cells.velocity.get_mut(..n) {
         Some(v) => v,
         None => &mut [],
@@ -601,13 +389,18 @@ pub fn sorted_snapshot<'s>(
 ) -> Snapshot<'s> {
     let buckets = grid.buckets().min(offsets.len().saturating_sub(1));
     Snapshot {
-        sorted,
-        order,
-        offsets: &offsets[..=buckets],
-        kind,
-        grid,
+        scan: Scan {
+            sorted,
+            order,
+            kind,
+            repel: &forces.repel,
+            radius: forces.radius,
+        },
+        bins: CubeBins {
+            grid,
+            offsets: &offsets[..=buckets],
+        },
         forces,
-        around_origin: Window::around(forces.radius),
     }
 }
 
@@ -636,7 +429,8 @@ pub fn relax(cells: &mut CellSlices<'_, OnMesh>, n: usize, forces: &SurfaceForce
     for slot in 0..snapshot.len() {
         let i = snapshot.cell(slot);
         let last = velocity.get(i).copied().unwrap_or([0; 3]);
-        let (to, step) = snapshot.moved(slot, places[i], last);
+        let sum = snapshot.scan.pushes(&snapshot.bins, slot);
+        let (to, step) = snapshot.moved_by(sum, places[i], last);
         places[i] = to;
         if let Some(v) = velocity.get_mut(i) {
             *v = step;
@@ -662,7 +456,7 @@ pub fn relax_pairs(
     sums.fill([0; 3]);
     // Every later slot's sum is in `sums`: nothing goes beyond.
     snapshot.pair_sums(0..n, sums, &mut |_, _| {});
-    for (sum, &i) in sums.iter().zip(snapshot.order) {
+    for (sum, &i) in sums.iter().zip(snapshot.scan.order) {
         let i = i as usize;
         let Some(place) = places.get_mut(i) else {
             continue;
@@ -680,6 +474,7 @@ pub fn relax_pairs(
 mod tests {
     use super::*;
     use crate::fx::Fx;
+    use crate::mosaic::force;
     use crate::mosaic::mesh::{MeshParts, Place};
     use crate::mosaic::shapes::{Shape, Tessellation};
     use crate::mosaic::store::{ArrayStore, CellStore};
@@ -848,7 +643,8 @@ mod tests {
                     let f = force::push(i, j, d, d2, r, repel);
                     naive = [0, 1, 2].map(|c| naive[c] + f[c]);
                 }
-                assert_eq!(snapshot.pushes(slot), naive, "cell {i}");
+                let sum = snapshot.scan.pushes(&snapshot.bins, slot);
+                assert_eq!(sum, naive, "cell {i}");
             }
         });
     }
