@@ -63,7 +63,7 @@ pub fn palette(model: &Model<'_>) -> ([Rgb888; MAX_COLOURS], usize) {
     let used = match model {
         Model::Mosaic(p) => 1 + inks(&mut colours[1..], p.types.iter().map(|t| t.colour)),
         Model::LSystem(_) => 1 + inks(&mut colours[1..], PLANT_INKS.iter().copied()),
-        _ => {
+        Model::GrowthCurve(_) | Model::Horn(_) | Model::Body(_) | Model::Bones(_) => {
             colours[..PALETTE_RGB888.len()].copy_from_slice(&PALETTE_RGB888);
             PALETTE_RGB888.len()
         }

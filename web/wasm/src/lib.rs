@@ -13,6 +13,7 @@
 use std::mem;
 
 use morphogen::fx::Fx;
+use morphogen::preset::Model;
 use morphogen::sim::Progress;
 use morphogen::stream::{Encoder, Record, Sink, SinkError};
 use morphogen_scenario::Scenario as Loaded;
@@ -58,25 +59,23 @@ struct Info {
 }
 
 fn info(s: &Loaded) -> Info {
-    let f = s.file();
-    let model = match f {
-        _ if f.curve.is_some() => "curve",
-        _ if f.horn.is_some() => "horn",
-        _ if f.lsystem.is_some() => "lsystem",
-        _ if f.body.is_some() => "body",
-        _ if f.bones.is_some() => "bones",
-        _ => match &f.mosaic {
-            Some(m) if m.surface.is_some() => "surface-mosaic",
-            _ => "mosaic",
-        },
-    };
+    let model = s.with_preset(|p| match p.model {
+        Model::GrowthCurve(_) => "curve",
+        Model::Horn(_) => "horn",
+        Model::LSystem(_) => "lsystem",
+        Model::Body(_) => "body",
+        Model::Bones(_) => "bones",
+        Model::Mosaic(m) if m.surface.is_some() => "surface-mosaic",
+        Model::Mosaic(_) => "mosaic",
+    });
     Info {
         name: s.name().to_string(),
         summary: s.summary().to_string(),
         seed: s.seed(),
         model,
         mcu: s.with_preset(|p| p.model.fits_mcu()),
-        colours: f
+        colours: s
+            .file()
             .mosaic
             .as_ref()
             .map(|m| m.types.iter().map(|t| t.colour).collect())
