@@ -44,6 +44,14 @@ cargo fmt --all --check
 (cd firmware-rp2040 && cargo fmt --check)
 
 step "lint"
+# The workspaces of their own repeat the root's lint set word for word.
+lints() { awk '/^\[workspace\.lints/ {p = 1} /^\[/ && !/^\[workspace\.lints/ {p = 0} p && NF' "$1"; }
+for copy in firmware-example firmware-rp2040 fuzz core/fuzz scripts/peers/lsystem; do
+    diff <(lints Cargo.toml) <(lints "$copy/Cargo.toml") >/dev/null || {
+        echo "$copy/Cargo.toml: its [workspace.lints] is not the root Cargo.toml's (copy it over)" >&2
+        exit 1
+    }
+done
 # One pass over the workspace with the core's optional features on (defmt,
 # the rig, the runner on a surface, as the firmware builds it; the
 # end-to-end mosaic test's surface runner): the dependencies are checked
