@@ -9,6 +9,8 @@
 //! `bash scripts/fuzz.sh`; docs/robustness.md).
 #![no_main]
 
+mod refusal;
+
 use libfuzzer_sys::fuzz_target;
 use morphogen::Error;
 use morphogen::lsys::{Buffered, LSystem, LsysError, Module, Neighbours};
@@ -74,12 +76,7 @@ fuzz_target!(|data: &[u8]| {
         &mut a, &mut b, &mut links,
     )));
     if let Err(e) = buffered.start(text, 1) {
-        let lines = text.split('\n').count();
-        assert!(
-            matches!(&e, Error::Lsys(LsysError::Parse(p))
-                if p.line >= 1 && p.column >= 1 && p.line as usize <= lines),
-            "refused without a line and column in the text: {e}"
-        );
+        refusal::assert_located(text, &e);
         return;
     }
     let (records, end) = drive(buffered.as_mut());

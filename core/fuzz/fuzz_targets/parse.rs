@@ -5,9 +5,10 @@
 //! `core/` (or `bash scripts/fuzz.sh`; docs/robustness.md).
 #![no_main]
 
+mod refusal;
+
 use libfuzzer_sys::fuzz_target;
-use morphogen::Error;
-use morphogen::lsys::{LSystem, LsysError};
+use morphogen::lsys::LSystem;
 use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError};
 
@@ -30,12 +31,7 @@ fuzz_target!(|data: &[u8]| {
     };
     let mut sim = Box::new(LSystem::new());
     if let Err(e) = sim.start(text, 1) {
-        let lines = text.split('\n').count();
-        assert!(
-            matches!(&e, Error::Lsys(LsysError::Parse(p))
-                if p.line >= 1 && p.column >= 1 && p.line as usize <= lines),
-            "refused without a line and column in the text: {e}"
-        );
+        refusal::assert_located(text, &e);
         return;
     }
     let mut sink = Budget(5000);
