@@ -217,9 +217,11 @@ impl Snapshot<'_> {
         beyond: &mut impl FnMut(usize, [i64; 2]),
     ) {
         if self.shifted {
-            (self.scan).pair_sums(&Shifted::<true>(&self.bins), slots, sums, beyond);
+            self.scan
+                .pair_sums(&Shifted::<true>(&self.bins), slots, sums, beyond);
         } else {
-            (self.scan).pair_sums(&Shifted::<false>(&self.bins), slots, sums, beyond);
+            self.scan
+                .pair_sums(&Shifted::<false>(&self.bins), slots, sums, beyond);
         }
     }
 }

@@ -269,8 +269,7 @@ struct CubeBins<'s> {
 
 impl Bins<3> for CubeBins<'_> {
     /// Each row of buckets is one run of consecutive slots (two at the
-    /// fold). Points lie on the mesh, within ±2^26 (Q16), so r − 1 − d
-    /// stays in (−2^27, 2^31 + 2^27): the default offset is exact.
+    /// fold).
     #[inline(always)]
     fn runs<A>(
         &self,
@@ -312,7 +311,9 @@ impl Bins<3> for CubeBins<'_> {
         acc
     }
 
-    /// q − `edge` on each axis: no subtraction first.
+    /// q − `edge` on each axis: no subtraction first. Points lie on the
+    /// mesh, within ±2^26 (Q16), so r − 1 − d stays in (−2^27, 2^31 +
+    /// 2^27): exact in wrapping u32.
     #[inline(always)]
     fn offsets(
         &self,
