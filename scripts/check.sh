@@ -100,10 +100,12 @@ step "the embedding examples build for Cortex-M0+ (firmware-example/examples, pr
 examples="${CARGO_TARGET_DIR:-firmware-example/target}/thumbv6m-none-eabi/small/examples"
 grouped() { sed ':a; s/\B[0-9]\{3\}\>/,&/; ta' <<<"$1"; } # 65500 -> 65,500
 # table_differs EXAMPLE COLUMN TABLE BUILT: true, and says so, when the
-# table's figure is not the built one.
+# table's figure is more than 16 B from the built one. Flash moves by a
+# few bytes with the checkout's folder, which cargo hashes into the core's
+# symbol names, and so into the order of its functions (docs/embedding.md).
 table_differs() {
-    [ "$3" != "$4" ] || return 1
-    echo "docs/embedding.md: $1's $2 is $(grouped "$3") B in the table, $(grouped "$4") B as built (thumbv6m, profile small)" >&2
+    [ "$3" -gt $(($4 + 16)) ] || [ "$3" -lt $(($4 - 16)) ] || return 1
+    echo "docs/embedding.md: $1's $2 is $(grouped "$3") B in the table, $(grouped "$4") B as built (thumbv6m, profile small; more than 16 B apart)" >&2
 }
 table_wrong=0
 for example in horn_direct horn_runner horn_scenario horn_draw; do

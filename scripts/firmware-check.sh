@@ -47,8 +47,8 @@ set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
 fw="$root/firmware-example"
-# Cortex-M builds name their sources by fixed paths (flash figures the
-# same on any machine).
+# Cortex-M builds name their sources by fixed paths (flash figures within
+# a few bytes on any machine: docs/embedding.md).
 . "$root/scripts/fixed-paths.sh"
 capture_only=""
 flip=""

@@ -5,8 +5,10 @@
 # figures would move with the folders the sources sit in (in the
 # stream-only build, 14 files of the core and 11 of the registry: 14 B
 # of flash per character of the checkout's path). Every Cortex-M build
-# maps the checkout and the registry to fixed names, so a figure is the
-# same on any machine (a path with spaces is left as it is).
+# maps the checkout and the registry to fixed names (a path with spaces is
+# left as it is). A figure still moves by a few bytes with the checkout's
+# folder, which cargo hashes into the core's symbol names and so into the
+# order of its functions (docs/embedding.md).
 registry="${CARGO_HOME:-$HOME/.cargo}/registry/src"
 case "$root$registry" in
   *[[:space:]]*) ;;
