@@ -744,83 +744,106 @@ fn cargo_target_exists(words: &[String], packages: &BTreeMap<String, PathBuf>) -
 /// The value flags whose value a command writes, not reads.
 const WRITTEN: &[&str] = &["--out", "--report", "--junit", "--fixtures", "--dir"];
 
-#[test]
-fn every_command_the_documents_show_parses() {
-    let root = repository();
-    let packages = packages();
-    let file = Regex::new(r"^[\w./-]+\.(toml|obj|cylinders|txt|lsys|pbm|png|bin)$").unwrap();
-    let flag_word = Regex::new(r"--[a-z][a-z0-9-]*").unwrap();
-    let tracked_files: BTreeSet<String> = tracked().into_iter().collect();
-    let presets: BTreeSet<String> = morphogen_scenario::builtins()
-        .iter()
-        .map(|s| s.name().to_owned())
-        .collect();
-    let mut valued: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
-    let mut named_presets = 0;
-    let alias = fs::read_to_string(root.join(".cargo/config.toml")).unwrap_or_default();
-    let mut helps = BTreeMap::new();
-    let (mut wrong, mut run, mut synopses, mut targets) = (Vec::new(), 0, 0, 0);
-    for (doc, text) in documents() {
+/// The lines of a document a command may stand on, in the document's
+/// order, each with its line number and whether it is in a code block: the
+/// backtick spans of its prose, and the lines of its shell blocks. A
+/// synopsis (an untagged block) describes each command after two or more
+/// spaces; the description is cut off.
+fn command_lines(markdown: &str) -> Vec<(usize, String, bool)> {
+    let mut lines: Vec<(usize, String, bool)> = Vec::new();
+    for (line, paragraph) in paragraphs(markdown) {
+        for span in spans(&paragraph) {
+            lines.push((line, span, false));
+        }
+    }
+    for block in blocks(markdown) {
+        if !matches!(
+            block.info.as_str(),
+            "" | "sh" | "sh skip" | "console" | "bash"
+        ) {
+            continue;
+        }
+        for (i, l) in block.lines.iter().enumerate() {
+            let l = match (block.info.is_empty(), l.trim_start().find("  ")) {
+                (true, Some(at)) => {
+                    let indent = l.len() - l.trim_start().len();
+                    l[..indent + at].to_string()
+                }
+                _ => l.clone(),
+            };
+            lines.push((block.line + 1 + i, l, true));
+        }
+    }
+    lines.sort_by_key(|l| l.0);
+    lines
+}
+
+/// What the documents' commands are checked against (the workspace's
+/// packages, git's files, the presets, the cargo alias, each subcommand's
+/// help, asked once), and what the check found: the mistakes, and how many
+/// commands it ran, synopses, cargo targets and preset names it read, so
+/// that a reading that finds nothing fails too.
+struct CommandCheck {
+    packages: BTreeMap<String, PathBuf>,
+    tracked: BTreeSet<String>,
+    presets: BTreeSet<String>,
+    /// `.cargo/config.toml`, which makes `cargo morphogen` an alias.
+    alias: String,
+    /// A word that names a file a command reads.
+    file: Regex,
+    /// A flag in a synopsis's continuation line.
+    flag_word: Regex,
+    helps: BTreeMap<String, Option<BTreeSet<String>>>,
+    valued: BTreeMap<String, BTreeSet<String>>,
+    wrong: Vec<String>,
+    run: usize,
+    synopses: usize,
+    targets: usize,
+    named_presets: usize,
+}
+
+impl CommandCheck {
+    fn new() -> Self {
+        let presets = morphogen_scenario::builtins()
+            .iter()
+            .map(|s| s.name().to_owned())
+            .collect();
+        Self {
+            packages: packages(),
+            tracked: tracked().into_iter().collect(),
+            presets,
+            alias: fs::read_to_string(repository().join(".cargo/config.toml")).unwrap_or_default(),
+            file: Regex::new(r"^[\w./-]+\.(toml|obj|cylinders|txt|lsys|pbm|png|bin)$").unwrap(),
+            flag_word: Regex::new(r"--[a-z][a-z0-9-]*").unwrap(),
+            helps: BTreeMap::new(),
+            valued: BTreeMap::new(),
+            wrong: Vec::new(),
+            run: 0,
+            synopses: 0,
+            targets: 0,
+            named_presets: 0,
+        }
+    }
+
+    /// Checks every command a document shows, and every synopsis's
+    /// continuation line.
+    fn document(&mut self, doc: &str, markdown: &str) {
         // What an earlier command of the document wrote (`> my-horn.toml`).
         let mut written: BTreeSet<String> = BTreeSet::new();
-        let mut lines: Vec<(usize, String, bool)> = Vec::new();
-        for (line, paragraph) in paragraphs(&text) {
-            for span in spans(&paragraph) {
-                lines.push((line, span, false));
-            }
-        }
-        for block in blocks(&text) {
-            if !matches!(
-                block.info.as_str(),
-                "" | "sh" | "sh skip" | "console" | "bash"
-            ) {
-                continue;
-            }
-            for (i, l) in block.lines.iter().enumerate() {
-                // A synopsis (an untagged block) describes each command
-                // after two or more spaces.
-                let l = match (block.info.is_empty(), l.trim_start().find("  ")) {
-                    (true, Some(at)) => {
-                        let indent = l.len() - l.trim_start().len();
-                        l[..indent + at].to_string()
-                    }
-                    _ => l.clone(),
-                };
-                lines.push((block.line + 1 + i, l, true));
-            }
-        }
-        lines.sort_by_key(|l| l.0);
         let mut last_subcommand: Option<String> = None;
-        for (line, text, in_block) in lines {
+        for (line, code, in_block) in command_lines(markdown) {
             let at = format!("{doc}:{line}");
             // A synopsis's continuation line: `          [--seed N] …`.
-            if in_block && text.starts_with(' ') && text.trim_start().starts_with('[') {
+            if in_block && code.starts_with(' ') && code.trim_start().starts_with('[') {
                 if let Some(sub) = &last_subcommand {
-                    let known = flags_of(sub, &mut helps).unwrap_or_default();
-                    for flag in flag_word.find_iter(&text) {
-                        if !known.contains(flag.as_str()) {
-                            wrong.push(format!("{at}: `morphogen {sub}` has no {}", flag.as_str()));
-                        }
-                    }
+                    self.continuation(&at, sub, &code);
                 }
                 continue;
             }
-            for words in commands(&text) {
-                if let Some(exists) = cargo_target_exists(&words, &packages) {
-                    targets += 1;
-                    if !exists {
-                        wrong.push(format!("{at}: no such target: {}", words.join(" ")));
-                    }
-                }
+            for words in commands(&code) {
+                self.cargo_command(&at, &words);
                 if let Some(redirect) = words.iter().position(|w| w == ">") {
                     written.extend(words.get(redirect + 1).cloned());
-                }
-                if words.starts_with(&["cargo".to_string(), "morphogen".to_string()])
-                    && !alias.contains("morphogen = ")
-                {
-                    wrong.push(format!(
-                        "{at}: `cargo morphogen` is no alias of .cargo/config.toml"
-                    ));
                 }
                 let Some(arguments) = morphogen_arguments(&words) else {
                     continue;
@@ -829,68 +852,156 @@ fn every_command_the_documents_show_parses() {
                     continue;
                 };
                 last_subcommand = Some(sub.clone());
-                let Some(known) = flags_of(&sub, &mut helps) else {
-                    wrong.push(format!("{at}: `morphogen {sub}` is no subcommand"));
-                    continue;
-                };
-                for a in &arguments {
-                    let flag = a.split('=').next().unwrap_or_default();
-                    if flag.starts_with("--") && !known.contains(flag) {
-                        wrong.push(format!("{at}: `morphogen {sub}` has no {flag}"));
-                    }
-                }
-                if is_synopsis(&arguments) {
-                    synopses += 1;
-                    continue;
-                }
-                let valued = valued
-                    .entry(sub.clone())
-                    .or_insert_with(|| valued_flags(&sub));
-                for name in preset_arguments(&arguments, valued) {
-                    named_presets += 1;
-                    if !presets.contains(&name) && !readers_own(&name) {
-                        wrong.push(format!(
-                            "{at}: `morphogen {}`: {name} is no preset (`morphogen list`)",
-                            arguments.join(" ")
-                        ));
-                    }
-                }
-                // Every file it reads exists (or an earlier command of the
-                // document wrote it, or it is a reader's own).
-                for (i, a) in arguments.iter().enumerate() {
-                    let value_of_written = (i > 0 && WRITTEN.contains(&arguments[i - 1].as_str()))
-                        // `send SCENARIO PORT|FILE` writes to its last.
-                        || (sub == "send" && i + 1 == arguments.len() && i > 1);
-                    if file.is_match(a)
-                        && !value_of_written
-                        && !is_tracked(a, &tracked_files)
-                        && !written.contains(a)
-                        && !created(a)
-                        && !readers_own(a)
-                    {
-                        wrong.push(format!(
-                            "{at}: `morphogen {}` reads {a}, which git does not track",
-                            arguments.join(" ")
-                        ));
-                    }
-                }
-                let mut with_help: Vec<&str> = arguments.iter().map(String::as_str).collect();
-                with_help.push("--help");
-                let (ok, out) = morphogen(&with_help);
-                run += 1;
-                // Prose may name a flag without its value (`verify --stream`).
-                let mention = !in_block
-                    && arguments.last().is_some_and(|f| f.starts_with("--"))
-                    && out.contains("a value is required for");
-                if !ok && !mention {
-                    wrong.push(format!(
-                        "{at}: `morphogen {}` does not parse:\n{out}",
-                        arguments.join(" ")
-                    ));
-                }
+                self.morphogen_command(&at, &sub, &arguments, in_block, &written);
             }
         }
     }
+
+    /// A synopsis's continuation line names only flags of the subcommand
+    /// above it.
+    fn continuation(&mut self, at: &str, sub: &str, code: &str) {
+        let known = flags_of(sub, &mut self.helps).unwrap_or_default();
+        for flag in self.flag_word.find_iter(code) {
+            if !known.contains(flag.as_str()) {
+                self.wrong
+                    .push(format!("{at}: `morphogen {sub}` has no {}", flag.as_str()));
+            }
+        }
+    }
+
+    /// A `cargo bench|test` target the command names exists, and `cargo
+    /// morphogen` is an alias.
+    fn cargo_command(&mut self, at: &str, words: &[String]) {
+        if let Some(exists) = cargo_target_exists(words, &self.packages) {
+            self.targets += 1;
+            if !exists {
+                self.wrong
+                    .push(format!("{at}: no such target: {}", words.join(" ")));
+            }
+        }
+        if words.starts_with(&["cargo".to_string(), "morphogen".to_string()])
+            && !self.alias.contains("morphogen = ")
+        {
+            self.wrong.push(format!(
+                "{at}: `cargo morphogen` is no alias of .cargo/config.toml"
+            ));
+        }
+    }
+
+    /// A `morphogen` command's subcommand is one and its help names every
+    /// flag; a command to type (not a synopsis) names presets that are
+    /// presets, reads files that exist, and parses.
+    fn morphogen_command(
+        &mut self,
+        at: &str,
+        sub: &str,
+        arguments: &[String],
+        in_block: bool,
+        written: &BTreeSet<String>,
+    ) {
+        let Some(known) = flags_of(sub, &mut self.helps) else {
+            self.wrong
+                .push(format!("{at}: `morphogen {sub}` is no subcommand"));
+            return;
+        };
+        for a in arguments {
+            let flag = a.split('=').next().unwrap_or_default();
+            if flag.starts_with("--") && !known.contains(flag) {
+                self.wrong
+                    .push(format!("{at}: `morphogen {sub}` has no {flag}"));
+            }
+        }
+        if is_synopsis(arguments) {
+            self.synopses += 1;
+            return;
+        }
+        self.presets_named(at, sub, arguments);
+        self.files_read(at, sub, arguments, written);
+        self.parses(at, arguments, in_block);
+    }
+
+    /// Every preset the command names is one, or a reader's own.
+    fn presets_named(&mut self, at: &str, sub: &str, arguments: &[String]) {
+        let valued = self
+            .valued
+            .entry(sub.to_string())
+            .or_insert_with(|| valued_flags(sub));
+        for name in preset_arguments(arguments, valued) {
+            self.named_presets += 1;
+            if !self.presets.contains(&name) && !readers_own(&name) {
+                self.wrong.push(format!(
+                    "{at}: `morphogen {}`: {name} is no preset (`morphogen list`)",
+                    arguments.join(" ")
+                ));
+            }
+        }
+    }
+
+    /// Every file the command reads exists: git tracks it, an earlier
+    /// command of the document wrote it, a command shown creates it, or it
+    /// is a reader's own.
+    fn files_read(
+        &mut self,
+        at: &str,
+        sub: &str,
+        arguments: &[String],
+        written: &BTreeSet<String>,
+    ) {
+        for (i, a) in arguments.iter().enumerate() {
+            let value_of_written = (i > 0 && WRITTEN.contains(&arguments[i - 1].as_str()))
+                // `send SCENARIO PORT|FILE` writes to its last.
+                || (sub == "send" && i + 1 == arguments.len() && i > 1);
+            if self.file.is_match(a)
+                && !value_of_written
+                && !is_tracked(a, &self.tracked)
+                && !written.contains(a)
+                && !created(a)
+                && !readers_own(a)
+            {
+                self.wrong.push(format!(
+                    "{at}: `morphogen {}` reads {a}, which git does not track",
+                    arguments.join(" ")
+                ));
+            }
+        }
+    }
+
+    /// The command parses with the binary under test, `--help` appended;
+    /// prose may name a flag without its value (`verify --stream`).
+    fn parses(&mut self, at: &str, arguments: &[String], in_block: bool) {
+        let mut with_help: Vec<&str> = arguments.iter().map(String::as_str).collect();
+        with_help.push("--help");
+        let (ok, out) = morphogen(&with_help);
+        self.run += 1;
+        let mention = !in_block
+            && arguments.last().is_some_and(|f| f.starts_with("--"))
+            && out.contains("a value is required for");
+        if !ok && !mention {
+            self.wrong.push(format!(
+                "{at}: `morphogen {}` does not parse:\n{out}",
+                arguments.join(" ")
+            ));
+        }
+    }
+}
+
+/// Every `morphogen …` command line the documents show parses with the
+/// binary under test, and names flags, presets, files and cargo targets
+/// that are the project's (see `CommandCheck`).
+#[test]
+fn every_command_the_documents_show_parses() {
+    let mut check = CommandCheck::new();
+    for (doc, markdown) in documents() {
+        check.document(&doc, &markdown);
+    }
+    let CommandCheck {
+        wrong,
+        run,
+        synopses,
+        targets,
+        named_presets,
+        ..
+    } = check;
     assert!(
         run >= 10 && synopses >= 10 && targets >= 5 && named_presets >= 10,
         "{run} commands, {synopses} synopses, {targets} cargo targets, {named_presets} presets named: the reading is wrong"

@@ -210,12 +210,46 @@ fn examples() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
 }
 
-#[test]
-fn a_user_body_runs_from_its_files_and_their_mistakes_are_named() {
+/// Runs `morphogen` in `dir` and asserts that it succeeds, naming the
+/// arguments and what it said.
+fn runs(args: &[&str], dir: &Path) {
+    let o = morphogen(args, dir);
+    assert!(
+        o.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// Runs `morphogen` in `dir`, asserts that it refuses (exit 2) and returns
+/// what it said, trimmed.
+fn refused(args: &[&str], dir: &Path) -> String {
+    let o = morphogen(args, dir);
+    assert_eq!(o.status.code(), Some(2), "{args:?}");
+    String::from_utf8_lossy(&o.stderr).trim().to_string()
+}
+
+/// The stream a run in `dir` wrote to its `--out` folder `out`.
+fn stream_in(dir: &Path, out: &str) -> Vec<u8> {
+    std::fs::read(dir.join(out).join("stream.bin")).unwrap()
+}
+
+/// A folder holding the example user body: `wagging-tail.toml` and the
+/// mesh and cylinders it names.
+fn folder_with_the_tail() -> tempfile::TempDir {
     let tmp = tempfile::tempdir().unwrap();
     for file in ["wagging-tail.toml", "tail.obj", "tail.cylinders"] {
         std::fs::copy(examples().join(file), tmp.path().join(file)).unwrap();
     }
+    tmp
+}
+
+/// A user's body runs from its mesh and cylinders, every vertex in a
+/// cylinder; `show` inlines both files, so the shown scenario runs anywhere,
+/// alike.
+#[test]
+fn a_user_body_runs_from_its_files() {
+    let tmp = folder_with_the_tail();
     let o = morphogen(&["run", "wagging-tail.toml", "--out", "a"], tmp.path());
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let summary = std::fs::read_to_string(tmp.path().join("a/summary.txt")).unwrap();
@@ -224,7 +258,6 @@ fn a_user_body_runs_from_its_files_and_their_mistakes_are_named() {
             && summary.contains("vertices in no cylinder (following the nearest): 0"),
         "{summary}"
     );
-    // `show` inlines both files: the shown scenario runs anywhere, alike.
     let shown = morphogen(&["show", "wagging-tail.toml"], tmp.path());
     std::fs::create_dir(tmp.path().join("elsewhere")).unwrap();
     std::fs::write(tmp.path().join("elsewhere/tail.toml"), &shown.stdout).unwrap();
@@ -237,7 +270,12 @@ fn a_user_body_runs_from_its_files_and_their_mistakes_are_named() {
         std::fs::read(tmp.path().join("a/stream.bin")).unwrap(),
         std::fs::read(tmp.path().join("elsewhere/b/stream.bin")).unwrap()
     );
-    // Golden files guard it like any scenario.
+}
+
+/// Golden files guard a user's body like any scenario.
+#[test]
+fn a_user_body_is_blessed_and_verified() {
+    let tmp = folder_with_the_tail();
     let o = morphogen(
         &["bless", "wagging-tail.toml", "--fixtures", "fx"],
         tmp.path(),
@@ -250,13 +288,18 @@ fn a_user_body_runs_from_its_files_and_their_mistakes_are_named() {
         "{}",
         String::from_utf8_lossy(&o.stdout)
     );
-    // A mistake in a named file is located in that file, under the key.
+}
+
+/// A mistake in a file a user's scenario names is located in that file,
+/// under the scenario's key; a built-in body beside a user's is refused at
+/// its key.
+#[test]
+fn a_mistake_in_a_user_bodys_file_is_named_in_that_file() {
+    let tmp = folder_with_the_tail();
     let error = |cylinders: &str, toml: &str| {
         std::fs::write(tmp.path().join("bad.cylinders"), cylinders).unwrap();
         std::fs::write(tmp.path().join("bad.toml"), toml).unwrap();
-        let o = morphogen(&["run", "bad.toml"], tmp.path());
-        assert_eq!(o.status.code(), Some(2));
-        String::from_utf8_lossy(&o.stderr).trim().to_string()
+        refused(&["run", "bad.toml"], tmp.path())
     };
     let cylinders = std::fs::read_to_string(tmp.path().join("tail.cylinders")).unwrap();
     let toml = std::fs::read_to_string(tmp.path().join("wagging-tail.toml")).unwrap();
@@ -279,131 +322,197 @@ fn a_user_body_runs_from_its_files_and_their_mistakes_are_named() {
         ),
         "error: bad.toml:6: body.model: a built-in body or your own mesh and cylinders, not both (remove model, or mesh and cylinders)"
     );
-    // The command line's --mesh/--cylinders: the same readers and checks.
-    let o = morphogen(
-        &[
-            "run",
-            "horse-growth",
-            "--mesh",
-            "tail.obj",
-            "--cylinders",
-            "tail.cylinders",
-        ],
-        tmp.path(),
-    );
-    assert_eq!(o.status.code(), Some(2));
+}
+
+/// The command line's `--mesh`/`--cylinders` go through the same readers
+/// and checks as a scenario file's: the preset's growth table has no column
+/// the user's cylinders measure.
+#[test]
+fn a_body_given_on_the_command_line_is_checked_alike() {
+    let tmp = folder_with_the_tail();
     assert_eq!(
-        String::from_utf8_lossy(&o.stderr).trim(),
+        refused(
+            &[
+                "run",
+                "horse-growth",
+                "--mesh",
+                "tail.obj",
+                "--cylinders",
+                "tail.cylinders",
+            ],
+            tmp.path(),
+        ),
         "error: tail.cylinders:4: the growth table has no column 'length' (it has elbow-to-ground, cannon-diameter, hind-leg, head-width)"
     );
-    // Lengths the cylinders' features cannot have: the cylinder and the
-    // age of the frame that meets them.
-    let o = morphogen(
-        &[
-            "run",
-            "cow-trot",
-            "--set",
-            "body.table.columns[0].values[3]=30000",
-        ],
-        tmp.path(),
-    );
-    assert_eq!(o.status.code(), Some(2));
+}
+
+/// Lengths the cylinders' features cannot have are refused naming the
+/// cylinder and the age of the frame that meets them.
+#[test]
+fn lengths_a_cylinder_cannot_have_are_named_with_its_age() {
+    let tmp = tempfile::tempdir().unwrap();
     assert_eq!(
-        String::from_utf8_lossy(&o.stderr).trim(),
+        refused(
+            &[
+                "run",
+                "cow-trot",
+                "--set",
+                "body.table.columns[0].values[3]=30000",
+            ],
+            tmp.path(),
+        ),
         "error: cow-trot: body: cylinder 'torso' at age 3.00 months: the measured lengths give a \
          negative L² or R²"
     );
 }
 
-/// A user's skeleton: `--grammar` with a bone preset wraps it
-/// with the preset's shrinkwrap, as a scenario file naming it does; a
-/// `--set` names files relative to the current folder, even on a built-in;
-/// mistakes are named by the grammar file.
-#[test]
-fn a_user_skeleton_is_wrapped_by_a_bone_preset() {
+/// A folder holding the example skeleton, `wishbone.lsys`.
+fn folder_with_the_wishbone() -> tempfile::TempDir {
     let tmp = tempfile::tempdir().unwrap();
-    let grammars = Path::new(env!("CARGO_MANIFEST_DIR")).join("../grammars");
     std::fs::copy(
         examples().join("wishbone.lsys"),
         tmp.path().join("wishbone.lsys"),
     )
     .unwrap();
-    let stream = |out: &str| std::fs::read(tmp.path().join(out).join("stream.bin")).unwrap();
-    let ok = |args: &[&str]| {
-        let o = morphogen(args, tmp.path());
-        assert!(
-            o.status.success(),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
-    };
-    ok(&[
-        "run",
-        "long-bone",
-        "--grammar",
-        "wishbone.lsys",
-        "--out",
-        "a",
-        "-q",
-    ]);
-    ok(&[
-        "run",
-        "long-bone",
-        "--set",
-        "bones.grammar=wishbone.lsys",
-        "--out",
-        "b",
-        "-q",
-    ]);
+    tmp
+}
+
+/// long-bone's fixture stream.
+fn long_bone_fixture() -> Vec<u8> {
+    std::fs::read(fixtures().join("long-bone/stream.bin")).unwrap()
+}
+
+/// A user's skeleton: `--grammar` with a bone preset wraps it with the
+/// preset's shrinkwrap, as `--set bones.grammar=` (a file relative to the
+/// current folder, even on a built-in), a scenario file naming it, and a
+/// sweep over skeletons do.
+#[test]
+fn a_user_skeleton_is_wrapped_by_a_bone_preset() {
+    let tmp = folder_with_the_wishbone();
+    let dir = tmp.path();
+    runs(
+        &[
+            "run",
+            "long-bone",
+            "--grammar",
+            "wishbone.lsys",
+            "--out",
+            "a",
+            "-q",
+        ],
+        dir,
+    );
+    runs(
+        &[
+            "run",
+            "long-bone",
+            "--set",
+            "bones.grammar=wishbone.lsys",
+            "--out",
+            "b",
+            "-q",
+        ],
+        dir,
+    );
     let scenario = std::fs::read_to_string(
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/long-bone.toml"),
     )
     .unwrap()
     .replace("\"../grammars/long-bone.lsys\"", "\"wishbone.lsys\"");
-    std::fs::write(tmp.path().join("wishbone.toml"), scenario).unwrap();
-    ok(&["run", "wishbone.toml", "--out", "c", "-q"]);
-    assert_eq!(stream("a"), stream("b"));
-    assert_eq!(stream("a"), stream("c"));
-    let long_bone = std::fs::read(fixtures().join("long-bone/stream.bin")).unwrap();
-    assert_ne!(stream("a"), long_bone);
-    // The skeleton is the wishbone's: 8 steps, and 15 elements (two arms
-    // of 6 segments, the keel and two knobs).
-    let summary = std::fs::read_to_string(tmp.path().join("a/summary.txt")).unwrap();
+    std::fs::write(dir.join("wishbone.toml"), scenario).unwrap();
+    runs(&["run", "wishbone.toml", "--out", "c", "-q"], dir);
+    assert_eq!(stream_in(dir, "a"), stream_in(dir, "b"));
+    assert_eq!(stream_in(dir, "a"), stream_in(dir, "c"));
+    check_the_wishbones_skeleton(dir, "a");
+    check_a_sweep_over_skeletons(dir, &stream_in(dir, "a"));
+}
+
+/// The run in `out` is not long-bone's, and its skeleton is the
+/// wishbone's: 8 steps, and 15 elements (two arms of 6 segments, the keel
+/// and two knobs).
+fn check_the_wishbones_skeleton(dir: &Path, out: &str) {
+    assert_ne!(stream_in(dir, out), long_bone_fixture());
+    let summary = std::fs::read_to_string(dir.join(out).join("summary.txt")).unwrap();
     assert!(
         summary
             .lines()
             .any(|l| l.split_whitespace().take(3).eq(["0", "8", "15"])),
         "{summary}"
     );
-    // An absolute path on a built-in reads that file: long-bone's own
-    // grammar gives long-bone's fixture.
-    let own = grammars.join("long-bone.lsys");
-    ok(&[
-        "run",
-        "long-bone",
-        "--set",
-        &format!("bones.grammar={}", own.display()),
-        "--out",
-        "d",
-        "-q",
-    ]);
-    assert_eq!(stream("d"), long_bone);
-    ok(&[
-        "run",
-        "long-bone",
-        "--grammar",
-        own.to_str().unwrap(),
-        "--out",
-        "e",
-        "-q",
-    ]);
-    assert_eq!(stream("e"), long_bone);
-    // Mistakes name the grammar file, its line and column.
+}
+
+/// A sweep over skeletons reads each as a run does (the wishbone's run
+/// gave `wishbone`); its table keeps their names.
+fn check_a_sweep_over_skeletons(dir: &Path, wishbone: &[u8]) {
+    std::fs::copy(
+        grammars().join("long-bone.lsys"),
+        dir.join("long-bone.lsys"),
+    )
+    .unwrap();
+    runs(
+        &[
+            "sweep",
+            "long-bone",
+            "--set",
+            "bones.grammar=wishbone.lsys,long-bone.lsys",
+            "--out",
+            "sweep",
+        ],
+        dir,
+    );
+    let table = std::fs::read_to_string(dir.join("sweep/sweep.csv")).unwrap();
+    assert!(
+        table.contains("\n0,wishbone.lsys,") && table.contains("\n1,long-bone.lsys,"),
+        "{table}"
+    );
+    assert_eq!(stream_in(dir, "sweep/run-00000"), wishbone);
+    assert_eq!(stream_in(dir, "sweep/run-00001"), long_bone_fixture());
+}
+
+/// An absolute path on a built-in reads that file: long-bone's own grammar
+/// gives long-bone's fixture, by `--set` and by `--grammar`.
+#[test]
+fn an_absolute_grammar_path_on_a_built_in_reads_that_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let own = grammars().join("long-bone.lsys");
+    runs(
+        &[
+            "run",
+            "long-bone",
+            "--set",
+            &format!("bones.grammar={}", own.display()),
+            "--out",
+            "d",
+            "-q",
+        ],
+        dir,
+    );
+    assert_eq!(stream_in(dir, "d"), long_bone_fixture());
+    runs(
+        &[
+            "run",
+            "long-bone",
+            "--grammar",
+            own.to_str().unwrap(),
+            "--out",
+            "e",
+            "-q",
+        ],
+        dir,
+    );
+    assert_eq!(stream_in(dir, "e"), long_bone_fixture());
+}
+
+/// A skeleton's mistakes name the grammar file, its line and column, under
+/// the flag or key that gave it; a grammar on a preset that takes none, and
+/// a file that is not there, are named too.
+#[test]
+fn a_skeletons_mistakes_are_named_by_its_grammar_file() {
+    let tmp = tempfile::tempdir().unwrap();
     let error = |text: &str, args: &[&str]| {
         std::fs::write(tmp.path().join("bad.lsys"), text).unwrap();
-        let o = morphogen(args, tmp.path());
-        assert_eq!(o.status.code(), Some(2), "{args:?}");
-        String::from_utf8_lossy(&o.stderr).trim().to_string()
+        refused(args, tmp.path())
     };
     let unclosed = "n = 3\naxiom: F(1)\nF(l) -> F(l * 1.1\n";
     assert_eq!(
@@ -437,9 +546,14 @@ fn a_user_skeleton_is_wrapped_by_a_bone_preset() {
         ),
         "error: --set bones.grammar=missing.lsys: cannot read missing.lsys: No such file or directory (os error 2)"
     );
-    // Frames past the grammar's n, and a first sphere the mesh cannot
-    // hold, are refused before the run, with what is allowed.
-    let set = |kv: &str| error("", &["run", "bone-growth", "--set", kv]);
+}
+
+/// Frames past the grammar's n, and a first sphere the mesh cannot hold,
+/// are refused before the run, with what is allowed.
+#[test]
+fn frames_and_spheres_a_bone_preset_cannot_have_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let set = |kv: &str| refused(&["run", "bone-growth", "--set", kv], tmp.path());
     assert_eq!(
         set("bones.frames.every_step_from=13"),
         "error: --set bones.frames.every_step_from=13: bones.frames.every_step_from: 13 is out of \
@@ -451,34 +565,25 @@ fn a_user_skeleton_is_wrapped_by_a_bone_preset() {
          make a sphere of 1226 vertices, more than the shrinkwrap mesh holds (MCU_VERTICES = \
          1200; allowed with 24 meridians: 1 to 49)"
     );
-    // A sweep over skeletons reads them the same way; its table keeps
-    // their names.
-    std::fs::copy(&own, tmp.path().join("long-bone.lsys")).unwrap();
-    ok(&[
-        "sweep",
-        "long-bone",
-        "--set",
-        "bones.grammar=wishbone.lsys,long-bone.lsys",
-        "--out",
-        "sweep",
-    ]);
-    let table = std::fs::read_to_string(tmp.path().join("sweep/sweep.csv")).unwrap();
-    assert!(
-        table.contains("\n0,wishbone.lsys,") && table.contains("\n1,long-bone.lsys,"),
-        "{table}"
+}
+
+/// An L-system preset takes a user's grammar the same way, with its
+/// settings, and draws it.
+#[test]
+fn an_lsystem_preset_takes_a_user_grammar() {
+    let tmp = folder_with_the_wishbone();
+    runs(
+        &[
+            "run",
+            "abop-shrub",
+            "--grammar",
+            "wishbone.lsys",
+            "--out",
+            "f",
+            "-q",
+        ],
+        tmp.path(),
     );
-    assert_eq!(stream("sweep/run-00000"), stream("a"));
-    assert_eq!(stream("sweep/run-00001"), long_bone);
-    // An L-system preset takes a grammar the same way, with its settings.
-    ok(&[
-        "run",
-        "abop-shrub",
-        "--grammar",
-        "wishbone.lsys",
-        "--out",
-        "f",
-        "-q",
-    ]);
     assert!(tmp.path().join("f/plant.png").exists());
 }
 
@@ -724,62 +829,81 @@ fn grammars() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../grammars")
 }
 
+/// A grammar constant set from outside (`--set lsystem.delta=30`) changes
+/// the run, as the same constant in a scenario file, and in the grammar
+/// itself, would.
 #[test]
 fn a_grammar_constant_set_from_outside_changes_the_run_as_the_grammar_would() {
     let tmp = tempfile::tempdir().unwrap();
-    let run = |args: &[&str]| {
-        let o = morphogen(args, tmp.path());
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    };
-    let stream = |out: &str| std::fs::read(tmp.path().join(out).join("stream.bin")).unwrap();
-    run(&["run", "abop-shrub", "--out", "preset"]);
-    run(&[
-        "run",
-        "abop-shrub",
-        "--set",
-        "lsystem.delta=30",
-        "--out",
-        "set",
-    ]);
-    // The same constant in a scenario file, and in the grammar itself.
+    let dir = tmp.path();
+    runs(&["run", "abop-shrub", "--out", "preset"], dir);
+    runs(
+        &[
+            "run",
+            "abop-shrub",
+            "--set",
+            "lsystem.delta=30",
+            "--out",
+            "set",
+        ],
+        dir,
+    );
     let grammar = grammars().join("abop-shrub.lsys");
     std::fs::write(
-        tmp.path().join("shrub-30.toml"),
+        dir.join("shrub-30.toml"),
         format!(
             "name = \"abop-shrub\"\n[lsystem]\ngrammar = {:?}\ndelta = 30\n",
             grammar.to_str().unwrap()
         ),
     )
     .unwrap();
-    run(&["run", "shrub-30.toml", "--out", "file"]);
+    runs(&["run", "shrub-30.toml", "--out", "file"], dir);
     let edited = std::fs::read_to_string(&grammar)
         .unwrap()
         .replace("delta = 22.5", "delta = 30");
-    std::fs::write(tmp.path().join("shrub-30.lsys"), edited).unwrap();
-    run(&[
-        "run",
-        "abop-shrub",
-        "--grammar",
-        "shrub-30.lsys",
-        "--out",
-        "edited",
-    ]);
-    assert_ne!(stream("set"), stream("preset"));
-    assert_eq!(stream("set"), stream("file"));
-    assert_eq!(stream("set"), stream("edited"));
+    std::fs::write(dir.join("shrub-30.lsys"), edited).unwrap();
+    runs(
+        &[
+            "run",
+            "abop-shrub",
+            "--grammar",
+            "shrub-30.lsys",
+            "--out",
+            "edited",
+        ],
+        dir,
+    );
+    assert_ne!(stream_in(dir, "set"), stream_in(dir, "preset"));
+    assert_eq!(stream_in(dir, "set"), stream_in(dir, "file"));
+    assert_eq!(stream_in(dir, "set"), stream_in(dir, "edited"));
+}
 
-    // A sweep over a setting: one run per value, each its own digest.
-    run(&[
-        "sweep",
-        "abop-2d-plant",
-        "--set",
-        "lsystem.delta=20,25,30",
-        "--set",
-        "lsystem.n=2",
-        "--out",
-        "sweep",
-    ]);
+/// A sweep over a grammar constant: one run per value, each its own
+/// digest, each row naming the Morphogen that ran it.
+#[test]
+fn a_sweep_over_a_grammar_constant_runs_each_value() {
+    let tmp = tempfile::tempdir().unwrap();
+    runs(
+        &[
+            "sweep",
+            "abop-2d-plant",
+            "--set",
+            "lsystem.delta=20,25,30",
+            "--set",
+            "lsystem.n=2",
+            "--out",
+            "sweep",
+        ],
+        tmp.path(),
+    );
     let table = std::fs::read_to_string(tmp.path().join("sweep/sweep.csv")).unwrap();
+    check_one_digest_per_value(&table);
+    let version = String::from_utf8(morphogen(&["--version"], tmp.path()).stdout).unwrap();
+    check_each_row_names_its_morphogen(&table, version.trim());
+}
+
+/// The sweep table of three values holds three different stream digests.
+fn check_one_digest_per_value(table: &str) {
     let column = table
         .lines()
         .next()
@@ -793,9 +917,11 @@ fn a_grammar_constant_set_from_outside_changes_the_run_as_the_grammar_would() {
         .map(|row| row.split(',').nth(column).unwrap())
         .collect();
     assert_eq!(digests.len(), 3, "{table}");
-    // Each row names the Morphogen that ran it.
-    let version = String::from_utf8(morphogen(&["--version"], tmp.path()).stdout).unwrap();
-    let version = version.trim();
+}
+
+/// The sweep table's last column is `morphogen`, and every row holds the
+/// version that `morphogen --version` prints.
+fn check_each_row_names_its_morphogen(table: &str, version: &str) {
     assert!(table.starts_with("run,") && table.lines().next().unwrap().ends_with(",morphogen"));
     assert!(
         table
@@ -804,8 +930,12 @@ fn a_grammar_constant_set_from_outside_changes_the_run_as_the_grammar_would() {
             .all(|row| row.ends_with(&format!(",{version}"))),
         "{table}"
     );
+}
 
-    // An unknown name is refused with the closest one.
+/// An unknown grammar constant is refused, with the closest name.
+#[test]
+fn an_unknown_grammar_constant_is_refused_with_the_closest_name() {
+    let tmp = tempfile::tempdir().unwrap();
     let o = morphogen(
         &["run", "abop-shrub", "--set", "lsystem.detla=30"],
         tmp.path(),
