@@ -28,7 +28,6 @@ use super::numbered::FileSeries;
 use super::picture::Canvases;
 use super::plot::Drawing;
 use super::text::trimmed;
-use crate::atomic::write_atomic;
 use crate::records::Records;
 
 /// Bone colour.
@@ -410,9 +409,7 @@ impl Products for Bones<'_> {
             "{}: {} frames, V0 = {levels}\nframe  steps  elements  vertices  triangles  V-E+F  worst |V-V0|/V0\n",
             self.preset, self.count
         );
-        let path = dir.join("summary.txt");
-        write_atomic(&path, (head + &self.summary).as_bytes())?;
-        written.push(path);
+        written.extend(kinds.text(&(head + &self.summary), dir, "summary")?);
         Ok(written)
     }
 }

@@ -1,10 +1,10 @@
 //! The one writer of a model's files. A model states its products as
 //! [`Products`] — frame → mesh, frame → picture with its label, frames →
 //! montage tiles, frame → tables of its own, last frame → pen strokes,
-//! run → charts and tables — and [`write`] writes every kind `--only`
-//! asks for, in two passes over the stream a frame at a time: the survey
-//! (the frame count, the common scale, the tables), then the files, drawn
-//! by parallel workers and handed over in order.
+//! run → charts, tables, pictures and texts — and [`write`] writes every
+//! kind `--only` asks for, in two passes over the stream a frame at a
+//! time: the survey (the frame count, the common scale, the tables), then
+//! the files, drawn by parallel workers and handed over in order.
 
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;

@@ -1,8 +1,9 @@
 //! The model's natural files written by `morphogen run`: pictures, meshes,
 //! tables. Each model's module states its products (`driver::Products`:
 //! frame → mesh, frame → picture with its label, frames → montage, frame
-//! → tables of its own, run → charts and tables) and one driver hands
-//! them to the kinds of file `--only` asks for, each kind a module of
+//! → tables of its own, run → charts, tables, pictures and texts) and
+//! one driver hands them to the kinds of file `--only` asks for (and to
+//! those written with any: a summary, a mask), each kind a module of
 //! [`kinds`] that writes the products it takes; [`write()`] picks the
 //! model by the preset's. The driver reads the records in passes over a [`Records`]
 //! source (the stream file, read back frame by frame), one frame or day

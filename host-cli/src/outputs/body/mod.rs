@@ -23,7 +23,6 @@ use super::numbered::FileSeries;
 use super::picture::Canvases;
 use super::plot::Drawing;
 use super::text::trimmed;
-use crate::atomic::write_atomic;
 use crate::records::Records;
 
 /// The material library of the frames' OBJ files.
@@ -276,9 +275,7 @@ impl Products for Body<'_> {
             let chart = table_chart(table);
             written.extend(kinds.chart(&chart, dir, "growth", (900, 560))?);
         }
-        let path = dir.join("summary.txt");
-        write_atomic(&path, summary.as_bytes())?;
-        written.push(path);
+        written.extend(kinds.text(&summary, dir, "summary")?);
         Ok(written)
     }
 }

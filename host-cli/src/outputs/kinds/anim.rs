@@ -53,7 +53,7 @@ impl PictureSeries for Animation {
         let bytes = if self.animation.is_indexed() {
             match *pixels {
                 Pixels::Indexed { indices, .. } => indices.to_vec(),
-                Pixels::Rgb { .. } => {
+                Pixels::Rgb { .. } | Pixels::Bits { .. } => {
                     return Err(anyhow!("an indexed animation's frame has no palette"));
                 }
             }

@@ -2,9 +2,10 @@
 //! them. A model states its products ([`Product`]: a frame's mesh, a
 //! chart of the run, a table…); each kind, in a module of its own, says
 //! which products it takes and writes them in its format (`Format`);
-//! `KINDS` lists them. A new kind of file is a new module here and its
-//! line in `KINDS`: the models and the driver hand it their products
-//! unchanged.
+//! `KINDS` lists them, and `ALWAYS` the formats written with any kind (a
+//! run's summary, a mask). A new kind of file is a new module here and
+//! its line in `KINDS` (or `ALWAYS`): the models and the driver hand it
+//! their products unchanged.
 
 use std::borrow::Cow;
 use std::fmt;
@@ -22,9 +23,11 @@ mod csv;
 mod glb;
 mod jsonl;
 mod obj;
+mod pbm;
 mod plot;
 mod png;
 mod svg;
+mod txt;
 
 /// What a model makes of its run, for the kinds of file that take it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -49,6 +52,11 @@ pub enum Product {
     Drawing,
     /// Every record as text.
     Records,
+    /// A text of the run (`summary.txt`), written with any kind.
+    Text,
+    /// A 1-bit picture of the run (a mosaic's control mask, `mask.pbm`),
+    /// written with any kind.
+    Bitmap,
 }
 
 /// How a kind writes the products it takes; every product a kind does not
@@ -82,6 +90,14 @@ pub(crate) trait Format: Sync {
         _stem: &str,
         _write: &mut dyn FnMut(&Path) -> Result<()>,
     ) -> Result<Option<PathBuf>> {
+        Ok(None)
+    }
+
+    /// Writes `text` as `dir/stem.*`.
+    ///
+    /// # Errors
+    /// When the file cannot be written.
+    fn text(&self, _text: &str, _dir: &Path, _stem: &str) -> Result<Option<PathBuf>> {
         Ok(None)
     }
 
@@ -180,24 +196,37 @@ pub(crate) enum Pixels<'a> {
         /// The indices.
         indices: &'a [u8],
     },
+    /// A bit for each pixel, 1 white and 0 black, eight to a byte from
+    /// the high bit, each row from a byte of its own (a mosaic's mask).
+    Bits {
+        /// Pixels across and down.
+        size: (u32, u32),
+        /// The rows' bytes.
+        bits: &'a [u8],
+    },
 }
 
 impl<'a> Pixels<'a> {
     /// Pixels across and down.
     pub(crate) fn size(&self) -> (u32, u32) {
         match *self {
-            Pixels::Rgb { size, .. } | Pixels::Indexed { size, .. } => size,
+            Pixels::Rgb { size, .. } | Pixels::Indexed { size, .. } | Pixels::Bits { size, .. } => {
+                size
+            }
         }
     }
 
     /// Red, green and blue bytes of each pixel: an index past the palette
-    /// is black.
+    /// is black, and so is a bit past the rows' bytes.
     pub(crate) fn rgb(&self) -> Cow<'a, [u8]> {
         let (palette, indices) = match *self {
             Pixels::Rgb { rgb, .. } => return Cow::Borrowed(rgb),
             Pixels::Indexed {
                 palette, indices, ..
             } => (palette, indices),
+            Pixels::Bits { size: (w, h), bits } => {
+                return Cow::Owned(white_bits(bits, w as usize, h as usize));
+            }
         };
         // Every index a byte can hold: its RGB in the low three bytes of
         // a little-endian word.
@@ -218,6 +247,20 @@ impl<'a> Pixels<'a> {
         }
         Cow::Owned(rgb)
     }
+}
+
+/// The RGB bytes of `w` × `h` pixels of [`Pixels::Bits`]: white for 1.
+fn white_bits(bits: &[u8], w: usize, h: usize) -> Vec<u8> {
+    let stride = w.div_ceil(8);
+    let mut rgb = Vec::with_capacity(3 * w * h);
+    for y in 0..h {
+        for x in 0..w {
+            let byte = bits.get(y * stride + x / 8).copied().unwrap_or(0);
+            let white = (byte >> (7 - x % 8)) & 1 == 1;
+            rgb.extend([if white { 255 } else { 0 }; 3]);
+        }
+    }
+    rgb
 }
 
 /// The frames' pictures in sequence ([`Format::animation`]).
@@ -333,8 +376,12 @@ pub(crate) const KINDS: [Kind; 8] = [
     plot::KIND,
 ];
 
+/// The formats of the products written with any kind, which `--only`
+/// has no name for: texts and 1-bit pictures of the run.
+const ALWAYS: [&dyn Format; 2] = [txt::FORMAT, pbm::FORMAT];
+
 /// The kinds of output file a run writes (`stream.bin` always, and the
-/// small text summaries `summary.txt` and `mask.pbm` with any kind).
+/// `ALWAYS` formats' `summary.txt` and `mask.pbm` with any kind).
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub struct Kinds(u16);
 
@@ -418,10 +465,12 @@ impl Kinds {
             .map(|(_, kind)| kind)
     }
 
-    /// The formats of the kinds chosen that take `product`.
+    /// The formats of the kinds chosen, and those written with any
+    /// ([`ALWAYS`]), that take `product`.
     pub(crate) fn formats(self, product: Product) -> impl Iterator<Item = &'static dyn Format> {
         self.iter()
             .map(|k| k.format)
+            .chain(ALWAYS)
             .filter(move |f| f.takes(product))
     }
 
@@ -468,8 +517,21 @@ impl Kinds {
         Ok(written)
     }
 
+    /// Writes `text`, a text of the run, as `STEM.txt`; returns the
+    /// paths.
+    ///
+    /// # Errors
+    /// When a file cannot be written.
+    pub(crate) fn text(self, text: &str, dir: &Path, stem: &str) -> Result<Vec<PathBuf>> {
+        let mut written = Vec::new();
+        for f in self.formats(Product::Text) {
+            written.extend(f.text(text, dir, stem)?);
+        }
+        Ok(written)
+    }
+
     /// Writes `pixels`, a picture of `product` (a frame's or the run's),
-    /// as `STEM.png`; returns the paths.
+    /// as `STEM.png` (a 1-bit one as `STEM.pbm`); returns the paths.
     ///
     /// # Errors
     /// When a file cannot be written.
@@ -594,6 +656,16 @@ mod tests {
         };
         assert!(matches!(same.rgb(), Cow::Borrowed(b) if b == rgb));
         assert_eq!((indexed.size(), same.size()), ((5, 1), (5, 1)));
+        // Two rows of 9: each row from a byte of its own, the last bit
+        // past the bytes.
+        let bits = Pixels::Bits {
+            size: (9, 2),
+            bits: &[0b1000_0001, 0b1000_0000, 0b0100_0000],
+        };
+        let white: Vec<bool> = bits.rgb().iter().step_by(3).map(|&v| v == 255).collect();
+        // The rows one after the other.
+        let expected: Vec<bool> = "100000011010000000".chars().map(|c| c == '1').collect();
+        assert_eq!((white, bits.size()), (expected, (9, 2)));
     }
 
     /// Each product goes to the kinds `--help` promises it to.
@@ -616,8 +688,18 @@ mod tests {
             (Drawing, "plot"),
             (Records, "jsonl"),
         ];
+        let always = |p: Product| ALWAYS.iter().filter(|f| f.takes(p)).count();
         for (p, kinds) in routes {
-            assert_eq!(takers(p).join(","), kinds, "{p:?}");
+            assert_eq!((takers(p).join(","), always(p)), (kinds.into(), 0), "{p:?}");
+        }
+        // A text and a 1-bit picture go to no kind `--only` names, and
+        // are written with any.
+        let only = Kinds::parse("jsonl").unwrap();
+        for p in [Text, Bitmap] {
+            assert!(
+                takers(p).is_empty() && always(p) == 1 && only.wants(p),
+                "{p:?}"
+            );
         }
     }
 }

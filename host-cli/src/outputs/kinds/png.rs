@@ -1,6 +1,7 @@
 //! `png`: still pictures — a frame's, a montage of frames, the run's —
 //! and charts as bitmaps (every `*.png` but `animation.png`), each
-//! encoded here: RGB or indexed as its pixels are.
+//! encoded here: RGB or indexed as its pixels are (a bit a pixel as
+//! RGB).
 
 use std::path::{Path, PathBuf};
 
@@ -48,6 +49,7 @@ impl Format for Png {
             Pixels::Indexed {
                 palette, indices, ..
             } => save_indexed(w, h, palette, indices, &path)?,
+            Pixels::Bits { .. } => save_rgb(w, h, &pixels.rgb(), &path)?,
         }
         Ok(Some(path))
     }

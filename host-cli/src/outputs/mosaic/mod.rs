@@ -30,12 +30,12 @@ use morphogen::stream::Record;
 
 use super::chart::{Axis, Chart, Series};
 use super::driver::{self, Closing, Products, Rgb, Still};
-use super::kinds::{Kinds, Product, Sequence};
+use super::kinds::{Kinds, Pixels, Product, Sequence};
 use super::mesh::{Mesh, ObjStyle};
 use super::numbered::{FileSeries, Numbering};
 use super::plot::Drawing;
 use super::text;
-use crate::atomic::{OutputFile, write_atomic};
+use crate::atomic::OutputFile;
 use crate::records::Records;
 use object::{Surface, SurfaceView};
 
@@ -459,9 +459,11 @@ pub(super) fn write_counts_and_mask(
         written.extend(kinds.chart(&chart, dir, "cells", (900, 500))?);
     }
     if let Some(mask) = &params.mask {
-        let path = dir.join("mask.pbm");
-        write_atomic(&path, morphogen_scenario::mask::to_pbm(mask).as_bytes())?;
-        written.push(path);
+        let pixels = Pixels::Bits {
+            size: (mask.width.into(), mask.height.into()),
+            bits: mask.bits,
+        };
+        written.extend(kinds.picture(Product::Bitmap, &pixels, dir, "mask")?);
     }
     Ok(written)
 }
