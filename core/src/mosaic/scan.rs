@@ -313,12 +313,20 @@ impl<const D: usize> Probe<'_, D> {
     }
 }
 
-/// The sum of two pushes, axis by axis.
+/// The sum of two pushes, axis by axis, written out for the plane's two
+/// axes and a mesh's three: at opt-level "s" (the firmware's) a loop over
+/// them is kept, with the sums in memory.
 #[inline(always)]
-fn add<const D: usize>(a: [i64; D], b: [i64; D]) -> [i64; D] {
-    let mut s = a;
-    for (s, b) in s.iter_mut().zip(&b) {
+fn add<const D: usize>(mut a: [i64; D], b: [i64; D]) -> [i64; D] {
+    const { assert!(D <= 3, "a push has at most three axes") };
+    if let (Some(s), Some(b)) = (a.get_mut(0), b.first()) {
         *s += b;
     }
-    s
+    if let (Some(s), Some(b)) = (a.get_mut(1), b.get(1)) {
+        *s += b;
+    }
+    if let (Some(s), Some(b)) = (a.get_mut(2), b.get(2)) {
+        *s += b;
+    }
+    a
 }

@@ -335,7 +335,13 @@ impl Bins<3> for CubeBins<'_> {
         if !probe.reaches(oz) {
             return None;
         }
-        let [dx, dy, dz] = [ox, oy, oz].map(|o| probe.displacement(o));
+        // Axis by axis, not by `map`: at opt-level "s" that stays a loop
+        // through memory, and the squares below lose that d fits an i32.
+        let (dx, dy, dz) = (
+            probe.displacement(ox),
+            probe.displacement(oy),
+            probe.displacement(oz),
+        );
         let d2 = dx * dx + dy * dy + dz * dz; // < 3·r², Q32
         (d2 < probe.r2).then_some(([dx, dy, dz], d2))
     }
