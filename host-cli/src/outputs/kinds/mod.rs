@@ -450,7 +450,7 @@ impl Kinds {
             .map(|k| k.name)
             .collect();
         help.push_str(&format!(
-            "; stream.bin and summary.txt are always written. Default: all of them but {}.",
+            "; stream.bin, summary.txt and a masked mosaic's mask.pbm are always written. Default: all of them but {}.",
             unasked.join(", ")
         ));
         help
