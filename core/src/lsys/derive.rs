@@ -20,7 +20,7 @@ use crate::rng::KeyedRng;
 
 use super::context::{self, Context, Neighbours};
 use super::grammar::{AXIOM, Grammar, Production, Section, Span, bind, matches};
-use super::{LsysError, MAX_DECOMPOSITION_DEPTH, MAX_FORMALS, MAX_PARAMS, Module};
+use super::{LsysError, MAX_FORMALS, MAX_PARAMS, Module};
 
 /// The RNG stream of the choice for the module at `position` of the string
 /// rewritten by derivation step `step` (from 1): the step in the top 8 bits,
@@ -742,15 +742,35 @@ fn cut(s: &mut [Module], len: usize) -> usize {
 /// context-sensitive grammars, whose contexts are matched through
 /// [`Neighbours`] linked once a step (a third caller-provided buffer, one
 /// per module); the capacity is the shortest buffer's length
-/// (`BUFFER_MODULES` in errors).
+/// (`BUFFER_MODULES` in errors). Decomposition rules (L-Py's
+/// `decomposition:`) nest at most `DECOMPOSITION` deep: a grammar whose
+/// `maximum depth:` is more is refused by [`Derivation::restart`].
 ///
 /// [`Derivation::restart`] writes the axiom; the steps are derived by
 /// [`Derivation::next_module`], [`VISITS_PER_CALL`] visits a call (a
 /// module rewritten, a module or decomposition frame written, a step
 /// closed), pending until the string is derived, then read module by
 /// module.
+///
+/// ```
+/// use morphogen::lsys::{Buffered, Derivation, Grammar, LsysError, Module, Neighbours};
+/// let mut g = Grammar::new();
+/// g.parse("n = 1\naxiom: A\nA -> X\ndecomposition:\nmaximum depth: 3\nX -> Y\nY -> Z\nZ -> W")
+///     .unwrap();
+/// let (mut a, mut b) = ([Module::default(); 8], [Module::default(); 8]);
+/// let mut links = [Neighbours::default(); 8];
+/// // The default nests 16 decomposition rules; this one 2.
+/// let mut d = Buffered::<'_, 2>::over(&mut a, &mut b, &mut links);
+/// assert_eq!(
+///     d.restart(&g, 1, 0),
+///     Err(LsysError::Capacity {
+///         limit: "DECOMPOSITION",
+///         capacity: 2
+///     })
+/// );
+/// ```
 #[derive(Debug)]
-pub struct Buffered<'b> {
+pub struct Buffered<'b, const DECOMPOSITION: usize = 16> {
     a: &'b mut [Module],
     b: &'b mut [Module],
     links: &'b mut [Neighbours],
@@ -773,19 +793,31 @@ pub struct Buffered<'b> {
     expanding: Option<Frame<MAX_FORMALS>>,
     /// The decomposition rules being applied to a module written, depth
     /// first (L-Py's `Lsystem::__recursiveSteps`).
-    decomposing: Vec<Frame, MAX_DECOMPOSITION_DEPTH>,
+    decomposing: Vec<Frame, DECOMPOSITION>,
 }
 
 impl<'b> Buffered<'b> {
     /// A derivation over two module buffers and the context links of the
     /// string being rewritten (all three the same length: the shortest is
-    /// the capacity).
+    /// the capacity), nesting up to 16 decomposition rules;
+    /// [`Buffered::over`] for other depths.
     #[must_use]
     pub fn new(
         a: &'b mut [Module],
         b: &'b mut [Module],
         links: &'b mut [Neighbours],
     ) -> Buffered<'b> {
+        Buffered::over(a, b, links)
+    }
+}
+
+impl<'b, const DECOMPOSITION: usize> Buffered<'b, DECOMPOSITION> {
+    /// A derivation over two module buffers and the context links of the
+    /// string being rewritten, as [`Buffered::new`], nesting up to
+    /// `DECOMPOSITION` decomposition rules:
+    /// `Buffered::<'_, 4>::over(&mut a, &mut b, &mut links)`.
+    #[must_use]
+    pub fn over(a: &'b mut [Module], b: &'b mut [Module], links: &'b mut [Neighbours]) -> Self {
         Buffered {
             a,
             b,
@@ -830,6 +862,12 @@ impl<'b> Buffered<'b> {
             capacity: self.capacity() as u32,
         }
     }
+
+    /// A grammar nesting more decomposition rules than the type holds.
+    const DEPTH_ERROR: LsysError = LsysError::Capacity {
+        limit: "DECOMPOSITION",
+        capacity: DECOMPOSITION as u32,
+    };
 
     /// Links the front string for context matching, if the grammar has
     /// contexts.
@@ -880,11 +918,9 @@ impl<'b> Buffered<'b> {
             return self.put(m);
         }
         match Frame::for_rule(g, Section::Decomposition, &m) {
-            // Only pushed with the stack empty: it fits.
-            Some(frame) => {
-                let _ = self.decomposing.push(frame);
-                Ok(())
-            }
+            // Pushed with the stack empty: it fits unless `DECOMPOSITION`
+            // is 0, which `restart` refuses for a grammar that decomposes.
+            Some(frame) => self.decomposing.push(frame).map_err(|_| Self::DEPTH_ERROR),
             None => self.put(m),
         }
     }
@@ -905,12 +941,13 @@ impl<'b> Buffered<'b> {
                 self.decomposing.pop();
                 return Ok(());
             };
-            // At most `maximum depth` (<= MAX_DECOMPOSITION_DEPTH, parse)
-            // nested rules; the modules of the deepest are kept as they are.
+            // At most `maximum depth` (<= DECOMPOSITION, checked by
+            // `restart`: a full stack is an error only for a grammar other
+            // than the one restarted on) nested rules; the modules of the
+            // deepest are kept as they are.
             return match Frame::for_rule(g, Section::Decomposition, &x) {
                 Some(frame) if self.decomposing.len() < g.decomposition_depth as usize => {
-                    let _ = self.decomposing.push(frame);
-                    Ok(())
+                    self.decomposing.push(frame).map_err(|_| Self::DEPTH_ERROR)
                 }
                 _ => self.put(x),
             };
@@ -971,7 +1008,7 @@ impl<'b> Buffered<'b> {
     }
 }
 
-impl Derivation for Buffered<'_> {
+impl<const DECOMPOSITION: usize> Derivation for Buffered<'_, DECOMPOSITION> {
     fn restart<
         const PRODUCTIONS: usize,
         const SUCCESSORS: usize,
@@ -995,6 +1032,9 @@ impl Derivation for Buffered<'_> {
         self.out = 0;
         self.expanding = None;
         self.decomposing.clear();
+        if grammar.has_decomposition() && grammar.decomposition_depth as usize > DECOMPOSITION {
+            return Err(Self::DEPTH_ERROR);
+        }
         let axiom = grammar.axiom.range();
         if axiom.len() > self.capacity() {
             return Err(self.capacity_error());

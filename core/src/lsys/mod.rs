@@ -50,14 +50,21 @@
 //!   `Grammar::<8, 64, 8, 256, 16>::empty()` holds under 1 KB.
 //! - [`Streaming<STEPS>`](Streaming) (32): derivation steps, one frame and
 //!   its counters (~44 bytes) each.
-//! - [`LSystem<D, PRODUCTIONS, …>`](LSystem) owns a derivation `D` and a
-//!   grammar of those pools; [`Buffered`] borrows its buffers, whose length
-//!   is its capacity.
+//! - [`LSystem<D, PRODUCTIONS, …, INTERPRETATION>`](LSystem) owns a
+//!   derivation `D` and a grammar of those pools, and draws through at
+//!   most `INTERPRETATION` (8) nested interpretation rules, a frame
+//!   (24 bytes) each.
+//! - [`Buffered<'b, DECOMPOSITION>`](Buffered) borrows its buffers, whose
+//!   length is its capacity, and applies at most `DECOMPOSITION` (16)
+//!   nested decomposition rules, a frame each.
 //!
 //! A grammar or derivation too big for them is a
 //! [`ParseErrorKind::Capacity`] or [`LsysError::Capacity`] naming the type
 //! and parameter (`Grammar<PRODUCTIONS>`, `Streaming<STEPS>`,
-//! `BUFFER_MODULES`) with its value in that type.
+//! `LSystem<INTERPRETATION>`, `Buffered<DECOMPOSITION>`,
+//! `BUFFER_MODULES`) with its value in that type. A grammar's `maximum
+//! depth:` (1 to 255) is such a need: it is checked where the grammar meets
+//! the type, when [`LSystem`] starts it or [`Buffered`] restarts on it.
 //!
 //! The `MAX_*` constants below stay constants: they are limits of the
 //! grammar language, which every grammar file may rely on whatever type
@@ -66,10 +73,8 @@
 //! buffers share; [`MAX_FORMALS`], [`MAX_NAME`], [`MAX_EXPR_STACK`] and
 //! [`MAX_NESTING`] bound one production or expression (stack, not pools);
 //! [`MAX_CONSTANTS`] is the parser's table, on the stack only while it
-//! parses; [`MAX_DECOMPOSITION_DEPTH`] and [`MAX_INTERPRETATION_DEPTH`]
-//! bound the `maximum depth:` a grammar writes, checked when it is parsed,
-//! before any derivation exists; [`MAX_BUFFERED_STEPS`] is the 8-bit step
-//! field of [`stream_id`]; [`MAX_PLANT_MODULES`] bounds work, not memory.
+//! parses; [`MAX_BUFFERED_STEPS`] is the 8-bit step field of
+//! [`stream_id`]; [`MAX_PLANT_MODULES`] bounds work, not memory.
 
 mod context;
 mod derive;
@@ -108,12 +113,6 @@ pub const MAX_NESTING: usize = 16;
 /// [`stream_id`]. Beyond a [`Streaming`]'s `STEPS` (32 by default) only
 /// [`Buffered`] derives it.
 pub const MAX_BUFFERED_STEPS: usize = 255;
-/// Nesting of decomposition rules applied to one module (`maximum depth:`
-/// of a `decomposition:` section, at most this).
-pub const MAX_DECOMPOSITION_DEPTH: usize = 16;
-/// Nesting of interpretation rules applied to one module (`maximum
-/// depth:` of an `interpretation:` section, at most this).
-pub const MAX_INTERPRETATION_DEPTH: usize = 8;
 
 /// Where a grammar is wrong: 1-based line and column (in characters).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

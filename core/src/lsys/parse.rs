@@ -11,9 +11,8 @@ use crate::fx::Fx;
 use super::expr::{self, FUNCTIONS};
 use super::grammar::{Grammar, Pattern, Production, Section, Span, Template};
 use super::{
-    Definition, MAX_BUFFERED_STEPS, MAX_CONSTANTS, MAX_DECOMPOSITION_DEPTH, MAX_EXPR_STACK,
-    MAX_FORMALS, MAX_INTERPRETATION_DEPTH, MAX_NAME, MAX_NESTING, MAX_PARAMS, ParseError,
-    ParseErrorKind, UNSUPPORTED_SYMBOLS,
+    Definition, MAX_BUFFERED_STEPS, MAX_CONSTANTS, MAX_EXPR_STACK, MAX_FORMALS, MAX_NAME,
+    MAX_NESTING, MAX_PARAMS, ParseError, ParseErrorKind, UNSUPPORTED_SYMBOLS,
 };
 use crate::turtle::SURFACES;
 
@@ -658,7 +657,7 @@ impl<
         self.literals.truncate(literal_len);
         let whole = value.to_bits() & 0xFFFF == 0;
         let depth = value.floor_int();
-        let (slot, limit, message) = match state.section {
+        let slot = match state.section {
             Section::Production => {
                 return Err(c.err_at(
                     start,
@@ -667,19 +666,19 @@ impl<
                     ),
                 ));
             }
-            Section::Decomposition => (
-                &mut self.decomposition_depth,
-                MAX_DECOMPOSITION_DEPTH,
-                "`maximum depth` of decomposition must be a whole number from 1 to MAX_DECOMPOSITION_DEPTH = 16",
-            ),
-            Section::Interpretation => (
-                &mut self.interpretation_depth,
-                MAX_INTERPRETATION_DEPTH,
-                "`maximum depth` of interpretation must be a whole number from 1 to MAX_INTERPRETATION_DEPTH = 8",
-            ),
+            Section::Decomposition => &mut self.decomposition_depth,
+            Section::Interpretation => &mut self.interpretation_depth,
         };
-        if !whole || !(1..=limit as i32).contains(&depth) {
-            return Err(c.err_at(value_at, ParseErrorKind::InvalidValue(message)));
+        // The language's range, the field's; the capacity of the type
+        // that derives or draws the grammar is checked where it meets it
+        // (`Buffered<DECOMPOSITION>`, `LSystem<INTERPRETATION>`).
+        if !whole || !(1..=u8::MAX as i32).contains(&depth) {
+            return Err(c.err_at(
+                value_at,
+                ParseErrorKind::InvalidValue(
+                    "`maximum depth` must be a whole number from 1 to 255",
+                ),
+            ));
         }
         *slot = depth as u8;
         Ok(())

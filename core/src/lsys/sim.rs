@@ -22,10 +22,7 @@ use heapless::Vec;
 
 use super::derive::Frame;
 use super::grammar::Section;
-use super::{
-    Derivation, Grammar, LsysError, MAX_INTERPRETATION_DEPTH, Module, Next, Streaming,
-    VISITS_PER_CALL,
-};
+use super::{Derivation, Grammar, LsysError, Module, Next, Streaming, VISITS_PER_CALL};
 
 /// Modules interpreted per [`Simulation::step`] at most.
 pub const MODULES_PER_STEP: usize = 512;
@@ -39,17 +36,29 @@ pub const MAX_PLANT_MODULES: u32 = 1 << 22;
 
 /// A grammar being derived and drawn: by `D` ([`Streaming`] or
 /// [`super::Buffered`]), the grammar parsed into the pools of a
-/// [`Grammar`] of the same sizes.
+/// [`Grammar`] of the same sizes, its interpretation rules (L-Py's
+/// homomorphism) nested at most `INTERPRETATION` deep.
 ///
 /// ```
-/// use morphogen::lsys::{LSystem, Streaming};
-/// // The defaults: 32 steps streaming, the default grammar pools.
+/// use morphogen::lsys::{LSystem, LsysError, Streaming};
+/// use morphogen::sim::Start;
+/// // The defaults: 32 steps streaming, the default grammar pools, 8
+/// // nested interpretation rules.
 /// static PLANT: LSystem = LSystem::new();
 /// // A smaller one: 8 steps, 8 productions, 64 successor modules, 8
-/// // context modules, 256 bytes of code, 16 literals.
-/// static SMALL: LSystem<Streaming<8>, 8, 64, 8, 256, 16> =
+/// // context modules, 256 bytes of code, 16 literals, 2 nested rules.
+/// let mut small: LSystem<Streaming<8>, 8, 64, 8, 256, 16, 2> =
 ///     LSystem::with_derivation(Streaming::empty());
-/// assert!(core::mem::size_of_val(&SMALL) < core::mem::size_of_val(&PLANT) / 2);
+/// assert!(core::mem::size_of_val(&small) < core::mem::size_of_val(&PLANT) / 2);
+/// // A grammar nesting its rules deeper than that is refused.
+/// let deep = "n = 0\naxiom: A\ninterpretation:\nmaximum depth: 3\nA -> F A";
+/// assert_eq!(
+///     small.start(deep, 0),
+///     Err(morphogen::Error::Lsys(LsysError::Capacity {
+///         limit: "INTERPRETATION",
+///         capacity: 2
+///     }))
+/// );
 /// ```
 #[derive(Debug)]
 pub struct LSystem<
@@ -59,12 +68,13 @@ pub struct LSystem<
     const CONTEXTS: usize = 32,
     const CODE: usize = 1024,
     const LITERALS: usize = 64,
+    const INTERPRETATION: usize = 8,
 > {
     grammar: Grammar<PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>,
     derivation: D,
     /// Interpretation rules being expanded for the turtle (L-Py's
     /// `interpretation:`, a homomorphism): one frame per nested rule.
-    interpreting: Vec<Frame, MAX_INTERPRETATION_DEPTH>,
+    interpreting: Vec<Frame, INTERPRETATION>,
     turtle: Turtle<Fx>,
     seed: u64,
     frame: u32,
@@ -119,7 +129,8 @@ impl<
     const CONTEXTS: usize,
     const CODE: usize,
     const LITERALS: usize,
-> LSystem<D, PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>
+    const INTERPRETATION: usize,
+> LSystem<D, PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS, INTERPRETATION>
 {
     /// An empty simulation over `derivation` (e.g. [`super::Buffered`]),
     /// its grammar pools those of the type (`LSystem<Buffered>` for the
@@ -227,8 +238,8 @@ impl<
             if !self.grammar.has_rule_for(Section::Interpretation, m.symbol) {
                 return Ok(Next::Module(m));
             }
-            // At `maximum depth` (<= MAX_INTERPRETATION_DEPTH, so the push
-            // fits) the module is drawn as it is.
+            // At `maximum depth` (<= INTERPRETATION, checked by `start`,
+            // so the push fits) the module is drawn as it is.
             if self.interpreting.len() >= self.grammar.interpretation_depth as usize {
                 return Ok(Next::Module(m));
             }
@@ -307,20 +318,34 @@ impl<
     const CONTEXTS: usize,
     const CODE: usize,
     const LITERALS: usize,
-> Start<'_> for LSystem<D, PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>
+    const INTERPRETATION: usize,
+> Start<'_> for LSystem<D, PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS, INTERPRETATION>
 {
     /// The grammar's text (docs/lsystems.md).
     type Params = str;
 
     /// Parses `grammar` in place and rewinds to its first frame; a parse
-    /// error ([`Error::Lsys`]) is also every step's.
+    /// error, or a `maximum depth:` of interpretation rules above
+    /// `INTERPRETATION` ([`LsysError::Capacity`]), is also every step's
+    /// ([`Error::Lsys`]).
     fn start(&mut self, grammar: &str, seed: u64) -> Result<(), Error> {
         self.seed = seed;
         self.frame = 0;
         self.plant = 0;
         self.drawing = false;
         self.done = 0;
-        let parsed = self.grammar.parse(grammar).map_err(LsysError::from);
+        let parsed = match self.grammar.parse(grammar) {
+            Ok(())
+                if self.grammar.has_interpretation()
+                    && self.grammar.interpretation_depth as usize > INTERPRETATION =>
+            {
+                Err(LsysError::Capacity {
+                    limit: "INTERPRETATION",
+                    capacity: INTERPRETATION as u32,
+                })
+            }
+            parsed => parsed.map_err(LsysError::from),
+        };
         if parsed.is_ok() {
             self.turtle = Turtle::new(turtle_params(&self.grammar));
         }
@@ -335,7 +360,8 @@ impl<
     const CONTEXTS: usize,
     const CODE: usize,
     const LITERALS: usize,
-> Simulation for LSystem<D, PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS>
+    const INTERPRETATION: usize,
+> Simulation for LSystem<D, PRODUCTIONS, SUCCESSORS, CONTEXTS, CODE, LITERALS, INTERPRETATION>
 {
     fn step(&mut self, sink: &mut dyn Sink) -> Result<Progress, Error> {
         self.failed.check()?;

@@ -881,18 +881,16 @@ fn interpretation_rules_draw_without_changing_the_derivation() {
     assert_eq!(segments(nested, 0).len(), 2);
     // At it, the deepest rule's modules are drawn as they are (L-Py): with
     // depth 1 the turtle sees B B and draws nothing; `A -> F A` draws one
-    // F, at the default depth 1 and at the largest.
+    // F, at the default depth 1 and at the largest a default `LSystem`
+    // draws (`INTERPRETATION` = 8).
     assert_eq!(
         segments(&nested.replace("depth: 2", "depth: 1"), 0).len(),
         0
     );
     let endless = "n = 0\naxiom: A\ninterpretation:\nA -> F A";
     assert_eq!(segments(endless, 0).len(), 1);
-    let deepest = endless.replace(
-        "interpretation:",
-        &format!("interpretation:\nmaximum depth: {MAX_INTERPRETATION_DEPTH}"),
-    );
-    assert_eq!(segments(&deepest, 0).len(), MAX_INTERPRETATION_DEPTH);
+    let deepest = endless.replace("interpretation:", "interpretation:\nmaximum depth: 8");
+    assert_eq!(segments(&deepest, 0).len(), 8);
 }
 
 #[test]
@@ -936,6 +934,105 @@ fn decomposition_rules_apply_after_each_step_to_maximum_depth() {
 }
 
 #[test]
+fn maximum_depth_is_checked_against_the_capacity_of_the_type() {
+    // Interpretation rules nest in the `LSystem`: `A -> F A` draws one F
+    // per level, so a depth is visible as a segment count.
+    let endless =
+        |depth: u32| format!("n = 0\naxiom: A\ninterpretation:\nmaximum depth: {depth}\nA -> F A");
+    let capacity = |capacity| {
+        crate::Error::Lsys(LsysError::Capacity {
+            limit: "INTERPRETATION",
+            capacity,
+        })
+    };
+    let mut small: LSystem<Streaming, 32, 256, 32, 1024, 64, 2> =
+        LSystem::with_derivation(Streaming::new());
+    assert_eq!(small.start(&endless(3), 0), Err(capacity(2)));
+    assert_eq!(small.step(&mut Records::default()), Err(capacity(2)));
+    assert_eq!(
+        capacity(2).to_string(),
+        "L-system: capacity INTERPRETATION = 2 exceeded"
+    );
+    small.start(&endless(2), 0).unwrap();
+    assert_eq!(
+        run_sim(&mut small)
+            .iter()
+            .filter(|r| matches!(r, Record::Segment { .. }))
+            .count(),
+        2
+    );
+    // The default (8) refuses 9; a larger type draws it.
+    let mut default = LSystem::new();
+    assert_eq!(default.start(&endless(9), 0), Err(capacity(8)));
+    let mut large: LSystem<Streaming, 32, 256, 32, 1024, 64, 9> =
+        LSystem::with_derivation(Streaming::new());
+    large.start(&endless(9), 0).unwrap();
+    assert_eq!(
+        run_sim(&mut large)
+            .iter()
+            .filter(|r| matches!(r, Record::Segment { .. }))
+            .count(),
+        9
+    );
+    // Without interpretation rules a depth is never used: none fits.
+    let mut none: LSystem<Streaming, 32, 256, 32, 1024, 64, 0> =
+        LSystem::with_derivation(Streaming::new());
+    none.start("n = 1\naxiom: A\nA -> F F", 0).unwrap();
+    assert_eq!(
+        run_sim(&mut none)
+            .iter()
+            .filter(|r| matches!(r, Record::Segment { .. }))
+            .count(),
+        2
+    );
+    assert_eq!(
+        core::mem::size_of::<LSystem>() - core::mem::size_of_val(&small),
+        6 * core::mem::size_of::<super::derive::Frame>()
+    );
+
+    // Decomposition rules nest in the `Buffered`: a chain of rules
+    // applies one per level.
+    fn derived<const DECOMPOSITION: usize>(depth: u32) -> Result<String, LsysError> {
+        let g = grammar(&format!(
+            "n = 1\naxiom: A\nA -> X\ndecomposition:\nmaximum depth: {depth}\nX -> Y\nY -> Z\nZ -> W"
+        ));
+        let (mut a, mut b) = (vec![Module::default(); 64], vec![Module::default(); 64]);
+        let mut links = vec![Neighbours::default(); 64];
+        let mut d = Buffered::<'_, DECOMPOSITION>::over(&mut a, &mut b, &mut links);
+        d.restart(&g, 1, 0)?;
+        let mut out = Vec::new();
+        each_module(&mut d, &g, |m| out.push(m));
+        Ok(text(&out))
+    }
+    let capacity = |capacity| {
+        Err(LsysError::Capacity {
+            limit: "DECOMPOSITION",
+            capacity,
+        })
+    };
+    assert_eq!(derived::<2>(3), capacity(2));
+    assert_eq!(derived::<2>(2), Ok("Z".into()));
+    // The default (`Buffered::new`, 16) refuses 17; a larger type
+    // derives it (the chain ends at W).
+    let (mut a, mut b) = ([Module::default(); 1], [Module::default(); 1]);
+    let mut links = [Neighbours::default(); 1];
+    let deep = grammar("n = 1\naxiom: A\ndecomposition:\nmaximum depth: 17\nA -> F");
+    assert_eq!(
+        Buffered::new(&mut a, &mut b, &mut links).restart(&deep, 1, 0),
+        Err(LsysError::Capacity {
+            limit: "DECOMPOSITION",
+            capacity: 16
+        })
+    );
+    assert_eq!(derived::<16>(17), capacity(16));
+    assert_eq!(derived::<17>(17), Ok("W".into()));
+    // Without decomposition rules a depth is never used: none fits.
+    let mut d = Buffered::<'_, 0>::over(&mut a, &mut b, &mut links);
+    d.restart(&grammar("n = 1\naxiom: A\nA -> F"), 1, 0)
+        .unwrap();
+}
+
+#[test]
 fn section_rules_are_checked_where_they_are_written() {
     use ParseErrorKind as K;
     for (text, line, kind) in [
@@ -961,11 +1058,14 @@ fn section_rules_are_checked_where_they_are_written() {
             ),
         ),
         (
-            "n = 1\naxiom: A\ndecomposition:\nmaximum depth: 17",
+            "n = 1\naxiom: A\ndecomposition:\nmaximum depth: 256",
             4,
-            K::InvalidValue(
-                "`maximum depth` of decomposition must be a whole number from 1 to MAX_DECOMPOSITION_DEPTH = 16",
-            ),
+            K::InvalidValue("`maximum depth` must be a whole number from 1 to 255"),
+        ),
+        (
+            "n = 1\naxiom: A\ninterpretation:\nmaximum depth: 1.5",
+            4,
+            K::InvalidValue("`maximum depth` must be a whole number from 1 to 255"),
         ),
         (
             "n = 1\naxiom: A\ninterpretation:\nA -> F %",
@@ -1152,7 +1252,7 @@ fn lpy_training_circle_decomposes_into_n_sides() {
     // produce S(dl)C(n-1)` under `decomposition:` with `maximum depth: N`,
     // and the homomorphism `S(dl) : produce _(2)-(dalpha)F(dl)`, with
     // dalpha = 360/N and dl = dalpha*r. The file has N = 100; here N = 16,
-    // MAX_DECOMPOSITION_DEPTH, and `_` (width) is `!`. At depth N the
+    // a default `Buffered`'s `DECOMPOSITION`, and `_` (width) is `!`. At depth N the
     // recursion stops (src/cpp/lsystem.cpp lines 1105-1110 append the
     // deepest rule's string as it is), so C(N) becomes N S's and C(0): a
     // closed polygon of N sides, each dl long.
@@ -1188,7 +1288,7 @@ fn lpy_training_fibonacci_decomposes_then_sums_its_left_context() {
     // depth: nbValue+1` of `A(i): if i>0: produce I(1)A(i-1) else:
     // produce` (nothing), homomorphism `I(i): produce
     // f(1)F(1)[+(135);(4)f(sqrt(2.0)*0.5);(2)@L(str(i))]F(5)`. The file
-    // has nbValue = 20; here 15 (depth 16 = MAX_DECOMPOSITION_DEPTH),
+    // has nbValue = 20; here 15 (depth 16, a default `Buffered`'s),
     // without the colours `;` and the label `@L`, which are not drawn
     // here. The first step decomposes A(15) into fifteen I(1); the next
     // fifteen make each I the sum of its two left neighbours in the
