@@ -153,6 +153,14 @@ fn run_sim(sim: &mut impl Simulation) -> Vec<Record> {
     }
 }
 
+/// How many segments `records` holds.
+fn segments_in(records: &[Record]) -> usize {
+    records
+        .iter()
+        .filter(|r| matches!(r, Record::Segment { .. }))
+        .count()
+}
+
 #[test]
 fn streaming_and_buffered_simulations_emit_identical_streams() {
     for (name, source) in ALL {
@@ -680,12 +688,7 @@ fn interpretation_rules_erasing_millions_are_pending_too() {
     let visits = 2 * 8u64.pow(7);
     let calls = (VISITS_PER_CALL as u64) * (MODULES_PER_STEP as u64);
     assert!(steps as u64 >= visits / calls, "{steps} steps");
-    let segments = sink
-        .0
-        .iter()
-        .filter(|r| matches!(r, Record::Segment { .. }))
-        .count();
-    assert_eq!(segments, 2);
+    assert_eq!(segments_in(&sink.0), 2);
 }
 
 #[test]
@@ -954,37 +957,19 @@ fn maximum_depth_is_checked_against_the_capacity_of_the_type() {
         "L-system: capacity INTERPRETATION = 2 exceeded"
     );
     small.start(&endless(2), 0).unwrap();
-    assert_eq!(
-        run_sim(&mut small)
-            .iter()
-            .filter(|r| matches!(r, Record::Segment { .. }))
-            .count(),
-        2
-    );
+    assert_eq!(segments_in(&run_sim(&mut small)), 2);
     // The default (8) refuses 9; a larger type draws it.
     let mut default = LSystem::new();
     assert_eq!(default.start(&endless(9), 0), Err(capacity(8)));
     let mut large: LSystem<Streaming, 32, 256, 32, 1024, 64, 9> =
         LSystem::with_derivation(Streaming::new());
     large.start(&endless(9), 0).unwrap();
-    assert_eq!(
-        run_sim(&mut large)
-            .iter()
-            .filter(|r| matches!(r, Record::Segment { .. }))
-            .count(),
-        9
-    );
+    assert_eq!(segments_in(&run_sim(&mut large)), 9);
     // Without interpretation rules a depth is never used: none fits.
     let mut none: LSystem<Streaming, 32, 256, 32, 1024, 64, 0> =
         LSystem::with_derivation(Streaming::new());
     none.start("n = 1\naxiom: A\nA -> F F", 0).unwrap();
-    assert_eq!(
-        run_sim(&mut none)
-            .iter()
-            .filter(|r| matches!(r, Record::Segment { .. }))
-            .count(),
-        2
-    );
+    assert_eq!(segments_in(&run_sim(&mut none)), 2);
     assert_eq!(
         core::mem::size_of::<LSystem>() - core::mem::size_of_val(&small),
         6 * core::mem::size_of::<super::derive::Frame>()
