@@ -422,14 +422,17 @@ mod tests {
     /// The nearest cell by looking at every one, the lowest-numbered of
     /// equally near ones.
     fn nearest_of_all(cells: &[(u32, u8, [f64; 3])], p: &[f64; 3]) -> Option<u8> {
-        let d = |c: &[f64; 3]| (0..3).map(|k| (c[k] - p[k]).powi(2)).sum::<f64>();
-        let mut best: Option<(f64, usize)> = None;
-        for (i, c) in cells.iter().enumerate() {
-            if best.is_none_or(|(b, _)| d(&c.2) < b) {
-                best = Some((d(&c.2), i));
+        // A plain loop, quick in a debug build: the tests ask it about
+        // hundreds of thousands of points.
+        let mut best: Option<(f64, u8)> = None;
+        for &(_, kind, c) in cells {
+            let e = [c[0] - p[0], c[1] - p[1], c[2] - p[2]];
+            let d = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+            if best.is_none_or(|(b, _)| d < b) {
+                best = Some((d, kind));
             }
         }
-        best.map(|(_, i)| cells[i].1)
+        best.map(|(_, kind)| kind)
     }
 
     #[test]
