@@ -10,6 +10,7 @@
 
 use morphogen::preset::Model;
 use morphogen::stream::Encoder;
+use rayon::prelude::*;
 
 /// The stream of `name` with `seed`, without its header record.
 fn body(scenario: &morphogen_scenario::Scenario, seed: u64) -> Vec<u8> {
@@ -27,15 +28,19 @@ fn body(scenario: &morphogen_scenario::Scenario, seed: u64) -> Vec<u8> {
 #[test]
 fn the_seed_changes_a_stream_exactly_when_the_scenario_says_so() {
     // Mosaics are slow in a debug build: the MCU-sized croton stands for
-    // them (a mosaic always draws its cells' positions).
-    for scenario in morphogen_scenario::builtins() {
-        let name = scenario.name();
-        let mosaic = scenario.with_preset(|p| matches!(p.model, Model::Mosaic(_)));
-        if mosaic && name != "croton-mcu" {
-            assert!(scenario.uses_seed(), "{name}");
-            continue;
-        }
-        let differs = body(&scenario, 3) != body(&scenario, 4);
-        assert_eq!(scenario.uses_seed(), differs, "{name}");
-    }
+    // them (a mosaic always draws its cells' positions). The built-ins run
+    // on every core.
+    morphogen_scenario::builtins()
+        .par_iter()
+        .for_each(|scenario| {
+            let name = scenario.name();
+            let mosaic = scenario.with_preset(|p| matches!(p.model, Model::Mosaic(_)));
+            if mosaic && name != "croton-mcu" {
+                assert!(scenario.uses_seed(), "{name}");
+                return;
+            }
+            let (three, four) = rayon::join(|| body(scenario, 3), || body(scenario, 4));
+            let differs = three != four;
+            assert_eq!(scenario.uses_seed(), differs, "{name}");
+        });
 }

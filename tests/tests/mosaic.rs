@@ -16,6 +16,7 @@ use morphogen::mosaic::{
 use morphogen::preset::Model;
 use morphogen::sim::{Simulation, Start};
 use morphogen::stream::{Record, Sink, SinkError, StreamDigest};
+use rayon::prelude::*;
 
 /// Calls `f` with the parameters of the built-in mosaic scenario `name`.
 fn with_mosaic<R>(name: &str, f: impl FnOnce(&Params<'_>) -> R) -> R {
@@ -293,6 +294,7 @@ fn the_same_seed_gives_the_same_stream() {
 fn croton_mcu_fits_its_store_over_many_seeds() {
     let largest = with_mosaic("croton-mcu", |croton_mcu| {
         (0..40)
+            .into_par_iter()
             .map(|seed| run(croton_mcu, seed).0.len())
             .max()
             .unwrap()

@@ -16,6 +16,7 @@
 
 use std::path::Path;
 use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use morphogen_tests::release_binary;
 
@@ -172,96 +173,124 @@ fn read_cells(path: &Path) -> Vec<P> {
 fn cells_lie_on_their_mesh_and_start_regularly_spread() {
     let binary = release_binary();
     let tmp = tempfile::tempdir().unwrap();
-    let mut report = Vec::new();
-    for name in SURFACE_PRESETS {
-        let out = tmp.path().join(name);
-        let o = Command::new(&binary)
-            .args(["run", name, "--only", "csv,obj", "--quiet", "--out"])
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let (vertices, faces) = read_obj(&out.join("surface.obj"));
-        let tri = |f: &[usize; 3]| f.map(|i| vertices[i]);
-        let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
-        for v in &vertices {
-            for k in 0..3 {
-                lo[k] = lo[k].min(v[k]);
-                hi[k] = hi[k].max(v[k]);
-            }
-        }
-        let size = dot(sub(hi, lo), sub(hi, lo)).sqrt();
-        let area: f64 = faces
-            .iter()
-            .map(|f| {
-                let [a, b, c] = tri(f);
-                dot(cross(sub(b, a), sub(c, a)), cross(sub(b, a), sub(c, a))).sqrt() / 2.0
-            })
-            .sum();
-        // Triangles binned by their boxes; a cell within 10⁻³·size of one
-        // lies in a cube next to one its box touches.
-        let side = (area / faces.len() as f64).sqrt() * 2.0;
-        let boxes = faces.iter().map(|f| {
-            let t = tri(f);
-            let lo = [0, 1, 2].map(|k| t.iter().map(|p| p[k]).fold(f64::MAX, f64::min));
-            let hi = [0, 1, 2].map(|k| t.iter().map(|p| p[k]).fold(f64::MIN, f64::max));
-            (lo, hi)
-        });
-        let triangles = Bins::new(lo, side, boxes);
-        let mut days: Vec<_> = std::fs::read_dir(&out)
-            .unwrap()
-            .filter_map(|e| {
-                let n = e.unwrap().file_name().into_string().unwrap();
-                n.starts_with("cells_day").then_some(n)
+    // The presets shared among as many threads as there are cores, each
+    // taking the next one left.
+    let next = AtomicUsize::new(0);
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut report: Vec<String> = std::thread::scope(|s| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                s.spawn(|| {
+                    let mut found = Vec::new();
+                    while let Some(name) = SURFACE_PRESETS.get(next.fetch_add(1, Ordering::Relaxed))
+                    {
+                        found.extend(check(&binary, tmp.path(), name));
+                    }
+                    found
+                })
             })
             .collect();
-        days.sort();
-        assert!(!days.is_empty(), "{name}: no cells_dayNN.csv");
-        for day in &days {
-            let cells = read_cells(&out.join(day));
-            let worst = cells
-                .iter()
-                .map(|&p| {
-                    triangles
-                        .near(p, 1)
-                        .map(|i| to_triangle(p, tri(&faces[i])))
-                        .fold(f64::INFINITY, f64::min)
-                })
-                .fold(0.0, f64::max);
-            if worst >= 1e-3 * size {
-                report.push(format!(
-                    "{name} {day}: a cell {worst:.2e} off the mesh (size {size:.1})"
-                ));
-            }
-        }
-        // Clark–Evans on day 0 (after the initial relaxation).
-        let cells = read_cells(&out.join(&days[0]));
-        let spacing = (area / cells.len() as f64).sqrt();
-        let points = Bins::new(lo, spacing, cells.iter().map(|&p| (p, p)));
-        let mean = cells
-            .iter()
-            .enumerate()
-            .map(|(i, &p)| {
-                let mut reach = 1;
-                loop {
-                    let d = points
-                        .near(p, reach)
-                        .filter(|&j| j != i)
-                        .map(|j| dot(sub(cells[j], p), sub(cells[j], p)).sqrt())
-                        .fold(f64::INFINITY, f64::min);
-                    if d <= reach as f64 * spacing {
-                        break d;
-                    }
-                    reach += 1;
-                }
-            })
-            .sum::<f64>()
-            / cells.len() as f64;
-        let index = mean / (0.5 * spacing);
-        eprintln!("{name}: Clark–Evans {index:.3} on day 0, mesh size {size:.1}");
-        if index < 1.4 {
-            report.push(format!("{name}: Clark–Evans index {index:.3} on day 0"));
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().unwrap())
+            .collect()
+    });
+    report.sort();
+    assert!(report.is_empty(), "{}", report.join("\n"));
+}
+
+/// What is wrong with surface preset `name`, run by `binary` into a folder
+/// of `tmp`: cells off the mesh, or a day 0 less regular than Clark–Evans
+/// 1.4.
+fn check(binary: &Path, tmp: &Path, name: &str) -> Vec<String> {
+    let mut report = Vec::new();
+    let out = tmp.join(name);
+    let o = Command::new(binary)
+        .args(["run", name, "--only", "csv,obj", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (vertices, faces) = read_obj(&out.join("surface.obj"));
+    let tri = |f: &[usize; 3]| f.map(|i| vertices[i]);
+    let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
+    for v in &vertices {
+        for k in 0..3 {
+            lo[k] = lo[k].min(v[k]);
+            hi[k] = hi[k].max(v[k]);
         }
     }
-    assert!(report.is_empty(), "{}", report.join("\n"));
+    let size = dot(sub(hi, lo), sub(hi, lo)).sqrt();
+    let area: f64 = faces
+        .iter()
+        .map(|f| {
+            let [a, b, c] = tri(f);
+            dot(cross(sub(b, a), sub(c, a)), cross(sub(b, a), sub(c, a))).sqrt() / 2.0
+        })
+        .sum();
+    // Triangles binned by their boxes; a cell within 10⁻³·size of one
+    // lies in a cube next to one its box touches.
+    let side = (area / faces.len() as f64).sqrt() * 2.0;
+    let boxes = faces.iter().map(|f| {
+        let t = tri(f);
+        let lo = [0, 1, 2].map(|k| t.iter().map(|p| p[k]).fold(f64::MAX, f64::min));
+        let hi = [0, 1, 2].map(|k| t.iter().map(|p| p[k]).fold(f64::MIN, f64::max));
+        (lo, hi)
+    });
+    let triangles = Bins::new(lo, side, boxes);
+    let mut days: Vec<_> = std::fs::read_dir(&out)
+        .unwrap()
+        .filter_map(|e| {
+            let n = e.unwrap().file_name().into_string().unwrap();
+            n.starts_with("cells_day").then_some(n)
+        })
+        .collect();
+    days.sort();
+    assert!(!days.is_empty(), "{name}: no cells_dayNN.csv");
+    for day in &days {
+        let cells = read_cells(&out.join(day));
+        let worst = cells
+            .iter()
+            .map(|&p| {
+                triangles
+                    .near(p, 1)
+                    .map(|i| to_triangle(p, tri(&faces[i])))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0, f64::max);
+        if worst >= 1e-3 * size {
+            report.push(format!(
+                "{name} {day}: a cell {worst:.2e} off the mesh (size {size:.1})"
+            ));
+        }
+    }
+    // Clark–Evans on day 0 (after the initial relaxation).
+    let cells = read_cells(&out.join(&days[0]));
+    let spacing = (area / cells.len() as f64).sqrt();
+    let points = Bins::new(lo, spacing, cells.iter().map(|&p| (p, p)));
+    let mean = cells
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| {
+            let mut reach = 1;
+            loop {
+                let d = points
+                    .near(p, reach)
+                    .filter(|&j| j != i)
+                    .map(|j| dot(sub(cells[j], p), sub(cells[j], p)).sqrt())
+                    .fold(f64::INFINITY, f64::min);
+                if d <= reach as f64 * spacing {
+                    break d;
+                }
+                reach += 1;
+            }
+        })
+        .sum::<f64>()
+        / cells.len() as f64;
+    let index = mean / (0.5 * spacing);
+    eprintln!("{name}: Clark–Evans {index:.3} on day 0, mesh size {size:.1}");
+    if index < 1.4 {
+        report.push(format!("{name}: Clark–Evans index {index:.3} on day 0"));
+    }
+    report
 }
