@@ -11,7 +11,7 @@
 
 use libfuzzer_sys::fuzz_target;
 use morphogen::stream::Decoder;
-use morphogen_cli::{capture, jsonl, verify};
+use morphogen_stream_text::{capture, jsonl, verify};
 
 /// A real stream: the fixture of `growth-curve`.
 const STREAM: &[u8] = include_bytes!("../../fixtures/growth-curve/stream.bin");

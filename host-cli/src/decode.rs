@@ -4,9 +4,10 @@
 use std::path::PathBuf;
 
 use anyhow::{Result, bail};
+use morphogen_stream_text::jsonl;
 
 use crate::stdout::StdoutError;
-use crate::{Outcome, atomic, jsonl};
+use crate::{Outcome, atomic};
 
 /// `morphogen decode`'s arguments.
 #[derive(Debug, clap::Args)]

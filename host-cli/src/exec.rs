@@ -19,9 +19,9 @@ use morphogen::sim::Progress;
 use morphogen::stream::{Encoder, Record, Sink, SinkError};
 use morphogen_scenario::Scenario;
 use morphogen_scenario::quoted;
+use morphogen_stream_text::jsonl::Lines;
 
 use crate::atomic::OutputFile;
-use crate::jsonl::Lines;
 use crate::records::StreamFile;
 
 /// The default cap on a run's stream, MiB (`--max-stream-mb`): far above
@@ -724,7 +724,7 @@ mod tests {
         assert_eq!(records.len() as u32, run.frames);
         assert_eq!(
             std::fs::read_to_string(&jsonl).unwrap(),
-            crate::jsonl::stream(&bytes)
+            morphogen_stream_text::jsonl::stream(&bytes)
         );
         let segments = records
             .iter()

@@ -7,9 +7,10 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use morphogen_scenario::Scenario;
+use morphogen_stream_text::verify;
 
 use crate::verdict::{Case, Counts, Mismatch, Pending, Verdict};
-use crate::{Outcome, ci_report, exec, fixture, report, say, verify};
+use crate::{Outcome, ci_report, exec, fixture, report, say};
 
 /// How `verify` prints its cases.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]

@@ -14,7 +14,6 @@ pub mod exec;
 pub mod fixture;
 pub mod folder_lock;
 pub mod golden;
-pub mod jsonl;
 pub mod list;
 pub mod listen;
 pub mod outputs;
@@ -30,7 +29,6 @@ pub mod serve;
 pub mod stdout;
 pub mod sweep;
 pub mod verdict;
-pub mod verify;
 pub mod written;
 pub mod ws2812;
 

@@ -10,9 +10,10 @@ use std::time::Duration;
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use morphogen::stream::{FrameError, Header, MAX_FRAME, Reader, Record};
+use morphogen_stream_text::verify;
 
 use crate::fixture::{self, Fixture};
-use crate::{Outcome, say, serial, verify};
+use crate::{Outcome, say, serial};
 
 /// Arguments of `morphogen listen`.
 #[derive(Debug, clap::Args)]

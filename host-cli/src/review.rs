@@ -7,9 +7,10 @@ use std::io::{BufRead, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
+use morphogen_stream_text::verify;
 
 use crate::verdict::{Mismatch, Pending};
-use crate::{Outcome, bless, fixture, report, say, verify};
+use crate::{Outcome, bless, fixture, report, say};
 
 /// `morphogen review`'s arguments.
 #[derive(Debug, clap::Args)]

@@ -3,10 +3,10 @@
 use std::path::PathBuf;
 
 use morphogen_scenario::Scenario;
+use morphogen_stream_text::verify::{self, Difference, Tally};
 
 use crate::fixture;
 use crate::report::{self, Pictures};
-use crate::verify::{self, Difference, Tally};
 
 /// One fixture checked.
 #[derive(Debug, Clone)]

@@ -13,7 +13,8 @@ use std::process::{Command, Output};
 
 use morphogen::stream::{Decoder, Record};
 use morphogen_cli::outputs::mosaic;
-use morphogen_cli::{exec, fixture, verify};
+use morphogen_cli::{exec, fixture};
+use morphogen_stream_text::verify;
 use tiny_skia::{ColorU8, Pixmap};
 
 /// `morphogen ARGS`, outside CI (whose variables change what `verify`

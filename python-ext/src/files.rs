@@ -8,10 +8,11 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use morphogen::preset::Model;
 use morphogen_cli::atomic::{OutputFile, write_atomic};
+use morphogen_cli::exec;
 use morphogen_cli::folder_lock::FolderLock;
 use morphogen_cli::outputs::{self, Kinds, Product};
 use morphogen_cli::records::StreamFile;
-use morphogen_cli::{exec, jsonl};
+use morphogen_stream_text::jsonl;
 use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 

@@ -2,7 +2,8 @@
 //! host's decoder and JSONL.
 
 use morphogen::stream::{Decoder, Record, StreamDigest};
-use morphogen_cli::{exec, fixture, jsonl};
+use morphogen_cli::{exec, fixture};
+use morphogen_stream_text::jsonl;
 
 #[test]
 fn every_fixture_decodes_cleanly_starts_with_its_header_and_balances_frames() {

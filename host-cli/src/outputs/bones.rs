@@ -17,6 +17,7 @@ use morphogen::bones::{BonesParams, MCU_TRIANGLES, MCU_VERTICES};
 use morphogen::fx::{Fx, Real};
 use morphogen::shrinkwrap::{Element, Phase, Shrinkwrap, WrapParams, worst_level_error};
 use morphogen::stream::Record;
+use morphogen_stream_text::text::trimmed;
 use nalgebra::Vector3;
 
 use super::body::{self, Extent, Frame, Placement, Shading, canvas, canvases, draw, rgb_of, solid};
@@ -27,7 +28,6 @@ use super::mesh;
 use super::numbered::FileSeries;
 use super::picture::Canvases;
 use super::plot::Drawing;
-use super::text::trimmed;
 use crate::records::Records;
 
 /// Bone colour.

@@ -10,11 +10,11 @@ use morphogen::fx::Fx;
 use morphogen::fx::Real as _;
 use morphogen::growth_curve::{SERIES_DAILY, SERIES_GROWTH};
 use morphogen::stream::Record;
+use morphogen_stream_text::text::{self, Whole};
 
 use super::chart::{Axis, Chart, Series};
 use super::driver::{self, Closing, Products, Rgb};
 use super::kinds::Kinds;
-use super::text::{self, Whole};
 use crate::atomic::OutputFile;
 use crate::records::Records;
 

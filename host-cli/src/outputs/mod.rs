@@ -43,7 +43,6 @@ pub mod plant;
 pub mod plot;
 pub mod raster;
 pub(crate) mod slots;
-pub mod text;
 pub mod tip_bend;
 
 /// Writes the files natural to `scenario`'s model into `dir`, of the

@@ -19,6 +19,7 @@ use anyhow::{Context, Result};
 use morphogen::fx::Fx;
 use morphogen::fx::Real as _;
 use morphogen::stream::Record;
+use morphogen_stream_text::text::{self, Whole};
 use tiny_skia::{Color, Pixmap};
 
 use super::driver::{Rgb, Still};
@@ -27,7 +28,6 @@ use super::kinds::{Kinds, PictureSeries, Product, Sequence, StreamedMesh};
 use super::mesh::{self, GroupId, Numbers, ObjStyle};
 use super::plot::{Drawing, Pen, Stroke};
 use super::slots::animation_frames;
-use super::text::{self, Whole};
 use crate::atomic::OutputFile;
 use crate::records::{Place, Records};
 

@@ -14,6 +14,7 @@ use anyhow::{Result, anyhow};
 use morphogen::body::{BindingSummary, GrowthTable};
 use morphogen::fx::{Fx, Real};
 use morphogen::stream::Record;
+use morphogen_stream_text::text::trimmed;
 
 use super::chart::{Axis, Chart, Series, series_colour};
 use super::driver::{self, Closing, Montage, Products, Rgb};
@@ -22,7 +23,6 @@ use super::mesh;
 use super::numbered::FileSeries;
 use super::picture::Canvases;
 use super::plot::Drawing;
-use super::text::trimmed;
 use crate::records::Records;
 
 /// The material library of the frames' OBJ files.

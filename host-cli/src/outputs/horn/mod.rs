@@ -19,6 +19,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use morphogen::horn::HornParams;
 use morphogen::stream::Record;
+use morphogen_stream_text::text::trimmed;
 use tiny_skia::Pixmap;
 
 use super::chart::{Axis, Chart, Series};
@@ -26,7 +27,6 @@ use super::driver::{self, Closing, Montage, Products, Rgb, Still};
 use super::kinds::{Kinds, MeshFiles, Product, Sequence};
 use super::numbered::FileSeries;
 use super::plot::Drawing;
-use super::text::trimmed;
 use super::{mesh, tip_bend};
 use crate::records::Records;
 

@@ -13,7 +13,7 @@
 //! (per-vertex colours).
 //!
 //! Numbers: positions are `f64`, which hold a fixed-point (`Fx`) value
-//! exactly; OBJ prints them through [`super::text`] (5 decimals read off
+//! exactly; OBJ prints them through [`morphogen_stream_text::text`] (5 decimals read off
 //! the fixed-point bits, or the exact text), glTF stores them as `f32`.
 
 mod glb;

@@ -6,10 +6,10 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
+use morphogen_stream_text::text;
 
 use super::{Material, Mesh};
 use crate::atomic::OutputFile;
-use crate::outputs::text;
 
 /// How coordinates are printed in an OBJ.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

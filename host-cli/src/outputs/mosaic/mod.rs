@@ -27,6 +27,7 @@ use morphogen::fx::Fx;
 use morphogen::fx::Real as _;
 use morphogen::mosaic::Params;
 use morphogen::stream::Record;
+use morphogen_stream_text::text;
 
 use super::chart::{Axis, Chart, Series};
 use super::driver::{self, Closing, Products, Rgb, Still};
@@ -34,7 +35,6 @@ use super::kinds::{Kinds, Pixels, Product, Sequence};
 use super::mesh::{Mesh, ObjStyle};
 use super::numbered::{FileSeries, Numbering};
 use super::plot::Drawing;
-use super::text;
 use crate::atomic::OutputFile;
 use crate::records::Records;
 use object::{Surface, SurfaceView};

@@ -10,7 +10,7 @@ use std::io::{self, Write};
 use morphogen::fx::Fx;
 use morphogen::stream::{Decoded, Decoder, FrameError, Record, Sink, SinkError};
 
-use crate::outputs::text::{self, Whole};
+use crate::text::{self, Whole};
 
 /// A JSON object being written field by field into a line buffer.
 struct Object<'a> {
