@@ -14,7 +14,16 @@ export CARGO_PROFILE_DEV_DEBUG=line-tables-only
 # Each step's time, printed at the end slowest first (the README's "Checks"
 # lists them).
 timings="$(mktemp)"
-trap 'rm -f "$timings"' EXIT
+shown=""
+pico_out=""
+pico_pid=""
+cleanup() {
+    # The Pico's check, if it still runs in the background: its whole
+    # process group (the script, Node.js).
+    [ -z "$pico_pid" ] || kill -- -"$pico_pid" 2>/dev/null || true
+    rm -rf "$timings" "$shown" "$pico_out"
+}
+trap cleanup EXIT
 step_name=""
 step_started=$SECONDS
 step_done() {
@@ -145,6 +154,17 @@ cargo build --release -p morphogen-cli -p morphogen-python
 morphogen="$(realpath "${CARGO_TARGET_DIR:-target}")/release/morphogen"
 export MORPHOGEN_RELEASE_BIN="$morphogen"
 
+# The Pico's check (scripts/targets-check.sh pico: its firmware built with
+# six presets, then some 6 min in rp2040js, a single-threaded emulator)
+# starts here, in its own process group, and runs beside the tests, whose
+# test binaries often leave a core idle; the other-targets step waits for
+# it. What it installs is installed first, in the foreground, so that no
+# two apt-get run at once.
+MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh --prepare pico
+pico_out="$(mktemp)"
+MORPHOGEN_BIN="$morphogen" setsid bash scripts/targets-check.sh pico >"$pico_out" 2>&1 &
+pico_pid=$!
+
 step "tests"
 cargo test --workspace
 # The runner with a surface mosaic (the firmware's feature `surface`).
@@ -153,8 +173,16 @@ cargo test -p morphogen-tests --features surface-runner --test mosaic
 step "golden fixtures: every built-in scenario re-run (release build)"
 "$morphogen" verify
 
-step "other targets, bit-exact (scripts/targets-check.sh): every preset on s390x (big-endian) under qemu-user, its stream against its fixture; the firmware's MCU presets on riscv32imac in qemu-system-riscv32; the Pico's firmware in rp2040js beside them (its emulator is single-threaded), one preset per model, its UART, OLED and LED matrix"
-MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh
+step "other targets, bit-exact (scripts/targets-check.sh): every preset on s390x (big-endian) under qemu-user, its stream against its fixture; the firmware's MCU presets on riscv32imac in qemu-system-riscv32; the Pico's firmware in rp2040js (started after the release build), one preset per model, its UART, OLED and LED matrix"
+MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh s390x riscv32
+pico_status=0
+wait "$pico_pid" || pico_status=$?
+pico_pid=""
+cat "$pico_out"
+[ "$pico_status" -eq 0 ] || {
+    echo "the Pico's check (scripts/targets-check.sh pico) failed: exit $pico_status" >&2
+    exit "$pico_status"
+}
 
 step "the Python stream reader against every preset (python/)"
 MORPHOGEN_BIN="$morphogen" bash scripts/python-check.sh
@@ -186,7 +214,6 @@ PATH="$(dirname "$venv_python"):$PATH" "$venv_python" scripts/sweep-recipes-chec
 
 step "every preset's scenario file, shown and run from a file, gives its fixture"
 shown=$(mktemp -d)
-trap 'rm -rf "$shown" "$timings"' EXIT
 for name in $("$morphogen" list | cut -d' ' -f1); do
     "$morphogen" show "$name" >"$shown/$name.toml"
     "$morphogen" run "$shown/$name.toml" --out "$shown/out-$name" >/dev/null

@@ -32,6 +32,10 @@
 # wasm32 in scripts/web-check.sh; the README's "Targets" table lists all.
 #
 # Usage: scripts/targets-check.sh [s390x] [riscv32] [pico]   (default: all three)
+#        scripts/targets-check.sh --prepare pico
+#          installs what the Pico's check needs and exits (scripts/check.sh
+#          does this before it runs the Pico's check in the background, so
+#          that no two apt-get run at once)
 # Environment:
 #   CARGO_TARGET_DIR       honoured (default: target, and firmware-example/target
 #                          for the firmware)
@@ -61,6 +65,11 @@ apt_install() {
   as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@"
 }
 
+prepare_only=0
+if [ "${1:-}" = --prepare ]; then
+  prepare_only=1
+  shift
+fi
 wanted=("$@")
 [ ${#wanted[@]} -gt 0 ] || wanted=(s390x riscv32 pico)
 for w in "${wanted[@]}"; do
@@ -283,6 +292,11 @@ check_pico() {
     | sed "s/^/pico  ok        /" || { say "targets-check: the emulated Pico's LED chain differs from the host's rig-16x16-ws2812.bin"; exit 1; }
   say "pico (RP2040 in rp2040js): $ok ok, $(stat -c %s "$capture") bytes captured"
 }
+
+if [ "$prepare_only" -eq 1 ]; then
+  if wants pico; then prepare_pico; fi
+  exit 0
+fi
 
 # The Pico's emulator is single-threaded and the longest of the three: it
 # runs beside the others, its output kept and printed after theirs.
