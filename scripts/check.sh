@@ -67,7 +67,7 @@ done
 # once, with the features every crate sees. The core without features is
 # linted as an embedding crate builds it, in the next step but one.
 cargo clippy --workspace --all-targets \
-    --features morphogen/rig,morphogen/defmt,morphogen/surface-runner,morphogen-tests/surface-runner -- -D warnings
+    --features morphogen/rig,morphogen/defmt,morphogen/surface-runner,morphogen-scenario/surface-runner -- -D warnings
 (cd firmware-example && cargo clippy --release --lib --bins --examples -- -D warnings)
 (cd firmware-example && cargo clippy --release --no-default-features --features semihosting,bitwise-crc -- -D warnings)
 (cd firmware-example && cargo clippy --release --features surface -- -D warnings)
@@ -168,8 +168,9 @@ pico_pid=$!
 
 step "tests"
 cargo test --workspace
-# The runner with a surface mosaic (the firmware's feature `surface`).
-cargo test -p morphogen-tests --features surface-runner --test mosaic
+# The runner with a surface mosaic (the firmware's feature `surface`): the
+# scenario crate's test, which builds the core and that crate alone again.
+cargo test -p morphogen-scenario --features surface-runner --test runner
 
 step "golden fixtures: every built-in scenario re-run (release build)"
 "$morphogen" verify
