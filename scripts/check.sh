@@ -155,18 +155,18 @@ cargo build --release -p morphogen-cli -p morphogen-python
 morphogen="$(realpath "${CARGO_TARGET_DIR:-target}")/release/morphogen"
 export MORPHOGEN_RELEASE_BIN="$morphogen"
 
+step "tests"
+cargo test --workspace --no-run
 # The Pico's check (scripts/targets-check.sh pico: its firmware built with
-# six presets, then some 6 min in rp2040js, a single-threaded emulator)
-# starts here, in its own process group, and runs beside the tests, whose
-# test binaries often leave a core idle; the other-targets step waits for
-# it. What it installs is installed first, in the foreground, so that no
-# two apt-get run at once.
+# six presets, then some 5 min in rp2040js, a single-threaded emulator)
+# starts once the tests are built, in its own process group, and runs
+# beside the tests, whose binaries often leave a core idle, and the next
+# steps; the other-targets step waits for it. What it installs is
+# installed first, in the foreground, so that no two apt-get run at once.
 MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh --prepare pico
 pico_out="$(mktemp)"
 MORPHOGEN_BIN="$morphogen" setsid bash scripts/targets-check.sh pico >"$pico_out" 2>&1 &
 pico_pid=$!
-
-step "tests"
 cargo test --workspace
 # The runner with a surface mosaic (the firmware's feature `surface`): the
 # scenario crate's test, which builds the core and that crate alone again.
@@ -175,7 +175,7 @@ cargo test -p morphogen-scenario --features surface-runner --test runner
 step "golden fixtures: every built-in scenario re-run (release build)"
 "$morphogen" verify
 
-step "other targets, bit-exact (scripts/targets-check.sh): every preset on s390x (big-endian) under qemu-user, its stream against its fixture; the firmware's MCU presets on riscv32imac in qemu-system-riscv32; the Pico's firmware in rp2040js (started after the release build), one preset per model, its UART, OLED and LED matrix"
+step "other targets, bit-exact (scripts/targets-check.sh): every preset on s390x (big-endian) under qemu-user, its stream against its fixture; the firmware's MCU presets on riscv32imac in qemu-system-riscv32; the Pico's firmware in rp2040js (started once the tests are built), one preset per model, its UART, OLED and LED matrix"
 MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh s390x riscv32
 pico_status=0
 wait "$pico_pid" || pico_status=$?
