@@ -322,10 +322,82 @@ pub fn dir(fixtures: &Path, name: &str) -> PathBuf {
 /// digest), so that a corrupt fixture is never taken for a regression.
 ///
 /// # Errors
-/// A name that is not a scenario name, a missing or unreadable file, a
-/// summary that is not valid TOML of the expected shape, or a stream that
-/// does not match its summary ("fixture corrupt"); each names the file.
+/// As [`read`] and [`Unchecked::checked`].
 pub fn load(fixtures: &Path, name: &str) -> Result<Fixture> {
+    read(fixtures, name)?.checked(None)
+}
+
+/// A fixture read from disk, its stream not yet checked against its
+/// summary ([`Unchecked::checked`]).
+#[derive(Debug)]
+pub struct Unchecked {
+    fixture: Fixture,
+    name: String,
+    stream_path: PathBuf,
+}
+
+impl Unchecked {
+    /// Its summary, as read.
+    #[must_use]
+    pub fn summary(&self) -> &Summary {
+        &self.fixture.summary
+    }
+
+    /// Its stream bytes, as read.
+    #[must_use]
+    pub fn stream(&self) -> &[u8] {
+        &self.fixture.stream
+    }
+
+    /// The fixture, once its stream has the size and digest its summary
+    /// states and a header that names it. `same` is the digest of a stream
+    /// known to hold the same bytes (a run that matched it byte for byte),
+    /// which spares computing it again.
+    ///
+    /// # Errors
+    /// A stream that does not match its summary, or a header of another
+    /// preset ("fixture corrupt"), naming the file.
+    pub fn checked(self, same: Option<u64>) -> Result<Fixture> {
+        let Unchecked {
+            fixture,
+            name,
+            stream_path,
+        } = self;
+        let (summary, stream) = (&fixture.summary, &fixture.stream);
+        let digest = same.unwrap_or_else(|| morphogen::stream::StreamDigest::of(stream));
+        let digest = format!("{digest:016x}");
+        if stream.len() as u64 != summary.bytes || digest != summary.stream_digest {
+            bail!(
+                "fixture corrupt: {} has {} bytes with digest {digest}, its summary says {} bytes with digest {} (re-bless it if the summary is right about nothing else)",
+                stream_path.display(),
+                stream.len(),
+                summary.bytes,
+                summary.stream_digest
+            );
+        }
+        // A header that reads names this fixture (one that does not read is a
+        // difference for `verify` to name).
+        if let Some(Ok(Record::Header(h))) = Decoder::new(stream).next().map(|d| d.result)
+            && h.preset.as_str() != name
+        {
+            bail!(
+                "fixture corrupt: {} is a stream of '{}', but lives in the folder of '{name}'",
+                stream_path.display(),
+                h.preset.as_str().escape_debug()
+            );
+        }
+        Ok(fixture)
+    }
+}
+
+/// Reads `name`'s fixture: its summary, and no more of its stream than the
+/// summary says it holds.
+///
+/// # Errors
+/// A name that is not a scenario name, a missing or unreadable file, or a
+/// summary that is not valid TOML of the expected shape or lives in
+/// another preset's folder ("fixture corrupt"); each names the file.
+pub fn read(fixtures: &Path, name: &str) -> Result<Unchecked> {
     morphogen_scenario::check::name(name).map_err(|e| {
         anyhow::anyhow!(
             "'{}' is not a fixture name: {}",
@@ -361,28 +433,11 @@ pub fn load(fixtures: &Path, name: &str) -> Result<Fixture> {
     let stream_path = dir.join(STREAM_FILE);
     let stream = read_at_most(&stream_path, summary.bytes, "the size its summary states")
         .with_context(|| format!("cannot read {}", stream_path.display()))?;
-    let digest = format!("{:016x}", morphogen::stream::StreamDigest::of(&stream));
-    if stream.len() as u64 != summary.bytes || digest != summary.stream_digest {
-        bail!(
-            "fixture corrupt: {} has {} bytes with digest {digest}, its summary says {} bytes with digest {} (re-bless it if the summary is right about nothing else)",
-            stream_path.display(),
-            stream.len(),
-            summary.bytes,
-            summary.stream_digest
-        );
-    }
-    // A header that reads names this fixture (one that does not read is a
-    // difference for `verify` to name).
-    if let Some(Ok(Record::Header(h))) = Decoder::new(&stream).next().map(|d| d.result)
-        && h.preset.as_str() != name
-    {
-        bail!(
-            "fixture corrupt: {} is a stream of '{}', but lives in the folder of '{name}'",
-            stream_path.display(),
-            h.preset.as_str().escape_debug()
-        );
-    }
-    Ok(Fixture { summary, stream })
+    Ok(Unchecked {
+        fixture: Fixture { summary, stream },
+        name: name.to_string(),
+        stream_path,
+    })
 }
 
 /// The scenario a fixture was made from: its `scenario.toml`, or else the
