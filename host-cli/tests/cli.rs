@@ -42,14 +42,15 @@ fn workspace_fixtures() -> PathBuf {
 
 /// A private copy of the growth-curve fixture.
 fn fixture_copy(tmp: &Path) -> PathBuf {
-    let dir = tmp.join("fixtures/growth-curve");
+    fixture_copy_of(tmp, "growth-curve")
+}
+
+/// A fixtures folder in `tmp` that holds a copy of `name`'s fixture alone.
+fn fixture_copy_of(tmp: &Path, name: &str) -> PathBuf {
+    let dir = tmp.join("fixtures").join(name);
     fs::create_dir_all(&dir).unwrap();
     for f in [fixture::STREAM_FILE, fixture::SUMMARY_FILE] {
-        fs::copy(
-            workspace_fixtures().join("growth-curve").join(f),
-            dir.join(f),
-        )
-        .unwrap();
+        fs::copy(workspace_fixtures().join(name).join(f), dir.join(f)).unwrap();
     }
     tmp.join("fixtures")
 }
@@ -121,13 +122,15 @@ fn verify_passes_on_the_workspace_fixtures() {
 #[test]
 fn flipping_any_byte_of_a_fixture_is_a_mismatch_naming_the_record() {
     let tmp = tempfile::tempdir().unwrap();
-    let fixtures = fixture_copy(tmp.path());
-    let stream_path = fixtures.join("growth-curve/stream.bin");
+    let fixtures = fixture_copy_of(tmp.path(), "lsys-flower");
+    let stream_path = fixtures.join("lsys-flower/stream.bin");
     let clean = fs::read(&stream_path).unwrap();
-    let preset = exec::find("growth-curve", &[]).unwrap();
+    let preset = exec::find("lsys-flower", &[]).unwrap();
     let run = exec::run(&preset, 0, false).unwrap();
     assert_eq!(run.stream, clean);
-    // Every byte, in process: the comparison names a record at or before it.
+    // Every byte, in process: the comparison names a record at or before it
+    // (a small fixture of every kind of record a plant has: each
+    // comparison decodes up to its byte).
     for i in 0..clean.len() {
         let mut flipped = clean.clone();
         flipped[i] ^= 0x01;
@@ -143,7 +146,7 @@ fn flipping_any_byte_of_a_fixture_is_a_mismatch_naming_the_record() {
     // fixture's summary is made to match the flipped stream (a fixture of
     // other code); a stream that does not match its own summary is a
     // corrupt fixture instead (exit 2).
-    let summary_path = fixtures.join("growth-curve/summary.toml");
+    let summary_path = fixtures.join("lsys-flower/summary.toml");
     let summary = fs::read_to_string(&summary_path).unwrap();
     for i in [0, 1, 17, clean.len() / 2, clean.len() - 2, clean.len() - 1] {
         let mut flipped = clean.clone();
@@ -152,7 +155,7 @@ fn flipping_any_byte_of_a_fixture_is_a_mismatch_naming_the_record() {
         fs::write(&summary_path, &summary).unwrap();
         let corrupt = morphogen(&[
             "verify",
-            "growth-curve",
+            "lsys-flower",
             "--fixtures",
             fixtures.to_str().unwrap(),
         ]);
@@ -179,13 +182,13 @@ fn flipping_any_byte_of_a_fixture_is_a_mismatch_naming_the_record() {
         .unwrap();
         let o = morphogen(&[
             "verify",
-            "growth-curve",
+            "lsys-flower",
             "--fixtures",
             fixtures.to_str().unwrap(),
         ]);
         assert_eq!(o.status.code(), Some(1), "flip at {i}: {}", text(&o));
         assert!(
-            text(&o).contains("MISMATCH  growth-curve: first difference"),
+            text(&o).contains("MISMATCH  lsys-flower: first difference"),
             "{}",
             text(&o)
         );
