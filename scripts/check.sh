@@ -15,13 +15,14 @@ export CARGO_PROFILE_DEV_DEBUG=line-tables-only
 # lists them).
 timings="$(mktemp)"
 shown=""
-pico_out=""
-pico_pid=""
+# Checks that run in the background beside the steps (`beside`), each in
+# a process group of its own, its output kept until `joined`.
+declare -A beside_pid=() beside_out=()
 cleanup() {
-    # The Pico's check, if it still runs in the background: its whole
-    # process group (the script, Node.js).
-    [ -z "$pico_pid" ] || kill -- -"$pico_pid" 2>/dev/null || true
-    rm -rf "$timings" "$shown" "$pico_out"
+    # A check still running in the background: its whole process group
+    # (the script, Node.js, Python).
+    for pid in "${beside_pid[@]}"; do kill -- -"$pid" 2>/dev/null || true; done
+    rm -rf "$timings" "$shown" "${beside_out[@]}"
 }
 trap cleanup EXIT
 step_name=""
@@ -35,6 +36,27 @@ step() {
     step_name="${step_name%% (*}"
     step_started=$SECONDS
     printf '\n==> %s\n' "$*"
+}
+# beside ID COMMAND...: starts COMMAND in the background, in a process
+# group of its own, its output kept for `joined ID`.
+beside() {
+    local id="$1"
+    shift
+    beside_out[$id]="$(mktemp)"
+    setsid "$@" >"${beside_out[$id]}" 2>&1 &
+    beside_pid[$id]=$!
+}
+# joined ID WHAT: waits for the background check ID, prints its output
+# and fails as it failed, naming it WHAT.
+joined() {
+    local status=0
+    wait "${beside_pid[$1]}" || status=$?
+    unset "beside_pid[$1]"
+    cat "${beside_out[$1]}"
+    [ "$status" -eq 0 ] || {
+        echo "$2 (run in the background) failed: exit $status" >&2
+        exit "$status"
+    }
 }
 
 step "toolchain: rustfmt, clippy, the Cortex-M targets and RISC-V's riscv32imac"
@@ -53,6 +75,13 @@ cargo fmt --all --check
 (cd firmware-rp2040 && cargo fmt --check)
 
 step "lint"
+# linted COMMAND...: COMMAND (a cargo build) with clippy's driver as the
+# compiler of the workspace's own crates, as `cargo clippy` runs it, and
+# warnings denied: the crates are linted and built in one pass. For the
+# builds CI makes anyway whose code size nothing checks (clippy's driver
+# leaves MIR unoptimised for its lints).
+clippy_driver="$(dirname "$(rustup which cargo-clippy)")/clippy-driver"
+linted() { RUSTC_WORKSPACE_WRAPPER="$clippy_driver" CLIPPY_ARGS="-Dwarnings" "$@"; }
 # The workspaces of their own repeat the root's lint set word for word.
 lints() { awk '/^\[workspace\.lints/ {p = 1} /^\[/ && !/^\[workspace\.lints/ {p = 0} p && NF' "$1"; }
 for copy in firmware-example firmware-rp2040 fuzz core/fuzz scripts/peers/lsystem; do
@@ -74,14 +103,10 @@ cargo clippy --workspace --all-targets \
 # The same program on QEMU's RISC-V virt board, as scripts/targets-check.sh builds it.
 (cd firmware-example && cargo clippy --release --target riscv32imac-unknown-none-elf \
     --no-default-features --features semihosting,surface -- -D warnings)
-# firmware-rp2040 shares firmware-example's target folder: the host-side
-# build dependencies (the scenario compiler) are built once.
-(cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo clippy --release -- -D warnings)
-# The fuzz targets (workspaces of their own, built into fuzz/target as
-# scripts/fuzz.sh builds them) and the L-system peer (built where
-# scripts/bench-peers.sh builds it): a few seconds once built.
-(cd core/fuzz && CARGO_TARGET_DIR=../../fuzz/target cargo clippy --all-targets -- -D warnings)
-(cd fuzz && CARGO_TARGET_DIR=target cargo clippy --all-targets -- -D warnings)
+# The Pico's firmware and the fuzz targets are linted as CI builds them
+# (`linted`, below): their dependencies are not checked a second time.
+# The L-system peer (built where scripts/bench-peers.sh builds it): a few
+# seconds once built.
 peers_target="$(realpath -m "${CARGO_TARGET_DIR:-target}")/peers"
 (cd scripts/peers/lsystem && CARGO_TARGET_DIR="$peers_target" cargo clippy --all-targets -- -D warnings)
 
@@ -144,8 +169,10 @@ done
     exit 1
 }
 
-step "the Raspberry Pi Pico firmware builds (firmware-rp2040, thumbv6m; no board in CI: it runs in rp2040js in the other-targets step, see its README)"
-(cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo build --release)
+step "the Raspberry Pi Pico firmware lints and builds (firmware-rp2040, thumbv6m; no board in CI: it runs in rp2040js in the other-targets step, see its README)"
+# firmware-rp2040 shares firmware-example's target folder: the host-side
+# build dependencies (the scenario compiler) are built once.
+(cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target linted cargo build --release)
 
 step "release build (once: the determinism test, the fixtures, the Python package's wheel and the firmware check reuse it)"
 # With the Python package, so that the CLI's dependencies are resolved with
@@ -164,9 +191,7 @@ cargo test --workspace --no-run
 # steps; the other-targets step waits for it. What it installs is
 # installed first, in the foreground, so that no two apt-get run at once.
 MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh --prepare pico
-pico_out="$(mktemp)"
-MORPHOGEN_BIN="$morphogen" setsid bash scripts/targets-check.sh pico >"$pico_out" 2>&1 &
-pico_pid=$!
+beside pico env MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh pico
 cargo test --workspace
 # The runner with a surface mosaic (the firmware's feature `surface`): the
 # scenario crate's test, which builds the core and that crate alone again.
@@ -177,42 +202,13 @@ step "golden fixtures: every built-in scenario re-run (release build)"
 
 step "other targets, bit-exact (scripts/targets-check.sh): every preset on s390x (big-endian) under qemu-user, its stream against its fixture; the firmware's MCU presets on riscv32imac in qemu-system-riscv32; the Pico's firmware in rp2040js (started once the tests are built), one preset per model, its UART, OLED and LED matrix"
 MORPHOGEN_BIN="$morphogen" bash scripts/targets-check.sh s390x riscv32
-pico_status=0
-wait "$pico_pid" || pico_status=$?
-pico_pid=""
-cat "$pico_out"
-[ "$pico_status" -eq 0 ] || {
-    echo "the Pico's check (scripts/targets-check.sh pico) failed: exit $pico_status" >&2
-    exit "$pico_status"
-}
+joined pico "the Pico's check (scripts/targets-check.sh pico)"
 
-step "the Python stream reader against every preset (python/)"
-MORPHOGEN_BIN="$morphogen" bash scripts/python-check.sh
-
-step "the Python package: its wheel built once (maturin, release, reusing the release build), every preset against its fixture, a sweep on Dask, the notebook (python-ext/, docs/notebook.ipynb)"
-MORPHOGEN_BIN="$morphogen" bash scripts/python-ext-check.sh
-
-step "plot.svg read back with vpype, one preset per model (scripts/plot-check.py)"
-# In the Python package's environment (python-ext-check made it): vpype is
-# on PyPI only, and a Debian python3 refuses pip outside an environment.
-venv_python="${CARGO_TARGET_DIR:-target}/python-ext-venv/bin/python"
-if ! "$venv_python" -c 'import vpype' 2>/dev/null; then
-    echo "plot-check: installing vpype"
-    "$venv_python" -m pip install --quiet --disable-pip-version-check vpype
-fi
-"$venv_python" scripts/plot-check.py --bin "$morphogen"
-
-step "the cluster recipes of docs/sweeps.md (Slurm array job, GNU parallel, Snakemake) merge into the one-machine table"
-if ! command -v parallel >/dev/null; then
-    as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
-    as_root apt-get update -qq
-    as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq parallel
-fi
-if ! "$venv_python" -c 'import snakemake' 2>/dev/null; then
-    echo "sweep-recipes-check: installing snakemake"
-    "$venv_python" -m pip install --quiet --disable-pip-version-check snakemake
-fi
-PATH="$(dirname "$venv_python"):$PATH" "$venv_python" scripts/sweep-recipes-check.py --bin "$morphogen"
+# The Python checks (the reader, the package, vpype, the cluster recipes:
+# scripts/python-checks.sh) wait on pip, the disk and one Python thread
+# for much of their time: they run beside the next three steps, whose
+# cores they share, and are joined before the web page's.
+beside python env CHECK_TIMINGS="$timings" MORPHOGEN_BIN="$morphogen" bash scripts/python-checks.sh
 
 step "every preset's scenario file, shown and run from a file, gives its fixture"
 shown=$(mktemp -d)
@@ -228,8 +224,11 @@ step "boundary probe: every number of one preset per model at both ends of its r
 python3 scripts/boundary-probe.py --bin "$morphogen" --timeout 5 \
     growth-curve ram-horn cow-growth long-bone croton-mcu watermelon-mcu
 
-step "fuzz smoke: every reader's libFuzzer target for 20 s, as many at a time as there are cores (docs/robustness.md)"
-bash scripts/fuzz.sh 20
+step "fuzz smoke: every reader's libFuzzer target, linted as it builds, for 20 s, as many at a time as there are cores (docs/robustness.md)"
+linted bash scripts/fuzz.sh 20
+
+step "the Python checks, run beside the last three steps: the stream reader, the package, vpype, the cluster recipes (scripts/python-checks.sh; each part's own time is listed with the steps)"
+joined python "the Python checks (scripts/python-checks.sh)"
 
 step "the web page: every preset in Chromium through WebAssembly, bit-exact (Playwright)"
 MORPHOGEN_RELEASE_BIN="$morphogen" bash scripts/web-check.sh
