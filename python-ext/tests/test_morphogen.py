@@ -322,6 +322,11 @@ class Interrupt(unittest.TestCase):
 
     @unittest.skipIf(threading.current_thread() is not threading.main_thread(), "signals reach the main thread")
     def test_ctrl_c_from_a_thread_running_meanwhile_stops_the_run(self):
+        # Ctrl-C raises KeyboardInterrupt whatever this process started
+        # with: a shell starts its background jobs with SIGINT ignored, and
+        # Python then installs no handler for it.
+        previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+        self.addCleanup(signal.signal, signal.SIGINT, previous)
         long = self.long()
         running, done = threading.Event(), threading.Event()
         ticks = []
