@@ -77,9 +77,10 @@ cargo fmt --all --check
 step "lint"
 # linted COMMAND...: COMMAND (a cargo build) with clippy's driver as the
 # compiler of the workspace's own crates, as `cargo clippy` runs it, and
-# warnings denied: the crates are linted and built in one pass. For the
-# builds CI makes anyway whose code size nothing checks (clippy's driver
-# leaves MIR unoptimised for its lints).
+# warnings denied: the crates are linted and built in one pass. For a
+# build CI makes anyway whose code size nothing checks (clippy's driver
+# leaves MIR unoptimised for its lints) and whose dependencies a separate
+# `cargo clippy` would only check again: the fuzz targets'.
 clippy_driver="$(dirname "$(rustup which cargo-clippy)")/clippy-driver"
 linted() { RUSTC_WORKSPACE_WRAPPER="$clippy_driver" CLIPPY_ARGS="-Dwarnings" "$@"; }
 # The workspaces of their own repeat the root's lint set word for word.
@@ -103,10 +104,13 @@ cargo clippy --workspace --all-targets \
 # The same program on QEMU's RISC-V virt board, as scripts/targets-check.sh builds it.
 (cd firmware-example && cargo clippy --release --target riscv32imac-unknown-none-elf \
     --no-default-features --features semihosting,surface -- -D warnings)
-# The Pico's firmware and the fuzz targets are linted as CI builds them
-# (`linted`, below): their dependencies are not checked a second time.
-# The L-system peer (built where scripts/bench-peers.sh builds it): a few
-# seconds once built.
+# firmware-rp2040 shares firmware-example's target folder: the host-side
+# build dependencies (the scenario compiler) are built once.
+(cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo clippy --release -- -D warnings)
+# The fuzz targets are linted as the fuzz smoke builds them (`linted`,
+# below): their dependencies are not checked a second time. The L-system
+# peer (built where scripts/bench-peers.sh builds it): a few seconds once
+# built.
 peers_target="$(realpath -m "${CARGO_TARGET_DIR:-target}")/peers"
 (cd scripts/peers/lsystem && CARGO_TARGET_DIR="$peers_target" cargo clippy --all-targets -- -D warnings)
 
@@ -169,10 +173,8 @@ done
     exit 1
 }
 
-step "the Raspberry Pi Pico firmware lints and builds (firmware-rp2040, thumbv6m; no board in CI: it runs in rp2040js in the other-targets step, see its README)"
-# firmware-rp2040 shares firmware-example's target folder: the host-side
-# build dependencies (the scenario compiler) are built once.
-(cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target linted cargo build --release)
+step "the Raspberry Pi Pico firmware builds (firmware-rp2040, thumbv6m; no board in CI: it runs in rp2040js in the other-targets step, see its README)"
+(cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo build --release)
 
 step "release build (once: the determinism test, the fixtures, the Python package's wheel and the firmware check reuse it)"
 # With the Python package, so that the CLI's dependencies are resolved with
