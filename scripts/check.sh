@@ -75,14 +75,6 @@ cargo fmt --all --check
 (cd firmware-rp2040 && cargo fmt --check)
 
 step "lint"
-# linted COMMAND...: COMMAND (a cargo build) with clippy's driver as the
-# compiler of the workspace's own crates, as `cargo clippy` runs it, and
-# warnings denied: the crates are linted and built in one pass. For a
-# build CI makes anyway whose code size nothing checks (clippy's driver
-# leaves MIR unoptimised for its lints) and whose dependencies a separate
-# `cargo clippy` would only check again: the fuzz targets'.
-clippy_driver="$(dirname "$(rustup which cargo-clippy)")/clippy-driver"
-linted() { RUSTC_WORKSPACE_WRAPPER="$clippy_driver" CLIPPY_ARGS="-Dwarnings" "$@"; }
 # The workspaces of their own repeat the root's lint set word for word.
 lints() { awk '/^\[workspace\.lints/ {p = 1} /^\[/ && !/^\[workspace\.lints/ {p = 0} p && NF' "$1"; }
 for copy in firmware-example firmware-rp2040 fuzz core/fuzz scripts/peers/lsystem; do
@@ -107,8 +99,8 @@ cargo clippy --workspace --all-targets \
 # firmware-rp2040 shares firmware-example's target folder: the host-side
 # build dependencies (the scenario compiler) are built once.
 (cd firmware-rp2040 && CARGO_TARGET_DIR=../firmware-example/target cargo clippy --release -- -D warnings)
-# The fuzz targets are linted as the fuzz smoke builds them (`linted`,
-# below): their dependencies are not checked a second time. The L-system
+# The fuzz targets are linted as the fuzz smoke builds them (below):
+# their dependencies are not checked a second time. The L-system
 # peer (built where scripts/bench-peers.sh builds it): a few seconds once
 # built.
 peers_target="$(realpath -m "${CARGO_TARGET_DIR:-target}")/peers"
@@ -227,7 +219,12 @@ python3 scripts/boundary-probe.py --bin "$morphogen" --timeout 5 \
     growth-curve ram-horn cow-growth long-bone croton-mcu watermelon-mcu
 
 step "fuzz smoke: every reader's libFuzzer target, linted as it builds, for 20 s, as many at a time as there are cores (docs/robustness.md)"
-linted bash scripts/fuzz.sh 20
+# Built with clippy's driver as the compiler of the fuzz crates' own code,
+# as `cargo clippy` runs it, warnings denied: linted and built in one pass
+# (clippy's driver leaves MIR unoptimised for its lints; nothing measures
+# these builds).
+RUSTC_WORKSPACE_WRAPPER="$(dirname "$(rustup which cargo-clippy)")/clippy-driver" CLIPPY_ARGS="-Dwarnings" \
+    bash scripts/fuzz.sh 20
 
 step "the Python checks, run beside the last three steps: the stream reader, the package, vpype, the cluster recipes (scripts/python-checks.sh; each part's own time is listed with the steps)"
 joined python "the Python checks (scripts/python-checks.sh)"
